@@ -1,0 +1,8 @@
+//! Bit-accurate golden models of the units that `rtl-gen` generates.
+//!
+//! Written independently of the generator: nothing here calls the DSL or its
+//! arithmetic. Each model computes, for one transaction, exactly the bits the
+//! RTL must produce.
+#![warn(missing_docs)]
+
+pub mod mulcmp;

@@ -1,0 +1,1 @@
+//! rtl-gen: the DSL.

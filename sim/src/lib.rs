@@ -1,0 +1,1 @@
+//! Verilator driver, vector format and cross-check.
