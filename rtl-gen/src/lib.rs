@@ -1,1 +1,19 @@
-//! rtl-gen: the DSL.
+//! `rtl-gen`: a hardware-construction DSL embedded in Rust that emits
+//! synthesizable Verilog-2005 for ray-tracing intersection datapaths.
+//!
+//! Layers, each depending only on those before it:
+//! [`ir`] (types, operations, modules) ← [`builder`] (the DSL) ← [`arith`]
+//! (operators) ← [`units`] (what users generate). [`emit`] and [`eval`] read
+//! the IR only. [`flow`] ties a unit to its golden model and to Verilator.
+#![warn(missing_docs)]
+
+pub mod arith;
+pub mod builder;
+pub mod emit;
+pub mod eval;
+pub mod ir;
+pub mod params;
+pub mod units;
+
+/// The generator's name and version, written into every emitted file.
+pub const GENERATOR: &str = concat!("rtl-gen ", env!("CARGO_PKG_VERSION"));

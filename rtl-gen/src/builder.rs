@@ -1,0 +1,1112 @@
+//! The DSL: a module builder that records typed operations into the IR.
+//!
+//! Operations check their operand types when the generator runs. A type or
+//! width error does not stop the build: it is recorded with the signal name
+//! and the Rust source line (`#[track_caller]`), and [`ModuleBuilder::finish`]
+//! returns all of them.
+//!
+//! Pipelining is first class: [`ModuleBuilder::stage`] closes a pipeline
+//! stage. Every value lives in the stage it was computed in; reading it in a
+//! later stage inserts (and shares) the registers that carry it there, so
+//! exactly the values live across a boundary are registered, together with
+//! the `valid` bit. The latency of the module is the number of stages closed.
+
+use crate::eval::eval_op;
+use crate::ir::*;
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+use std::panic::Location;
+use std::sync::Arc;
+
+/// A typed handle to a value in the module being built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sig {
+    id: NodeId,
+    ty: Ty,
+}
+
+impl Sig {
+    /// The value's type.
+    pub fn ty(self) -> Ty {
+        self.ty
+    }
+    /// The value's width in bits.
+    pub fn width(self) -> u32 {
+        self.ty.width()
+    }
+    /// The IR node.
+    pub fn id(self) -> NodeId {
+        self.id
+    }
+}
+
+/// A generator error: what went wrong, on which signal, and the Rust line that built it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DslError {
+    /// module being built
+    pub module: String,
+    /// the signal concerned (derived or given name)
+    pub signal: String,
+    /// what is wrong
+    pub message: String,
+    /// Rust source location of the offending call
+    pub location: &'static Location<'static>,
+}
+
+impl fmt::Display for DslError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: module `{}`, signal `{}`: {}",
+            self.location.file(),
+            self.location.line(),
+            self.location.column(),
+            self.module,
+            self.signal,
+            self.message
+        )
+    }
+}
+
+/// All errors of one build.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BuildErrors(pub Vec<DslError>);
+
+impl fmt::Display for BuildErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, e) in self.0.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{e}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for BuildErrors {}
+
+/// A register created with [`ModuleBuilder::reg`], to be given its next value.
+#[derive(Debug, Clone, Copy)]
+pub struct RegHandle {
+    index: usize,
+    /// the register's current value
+    pub q: Sig,
+}
+
+/// Outputs of an instance, looked up by port name.
+#[derive(Debug, Clone)]
+pub struct InstanceOutputs {
+    names: Vec<String>,
+    sigs: Vec<Sig>,
+}
+
+impl InstanceOutputs {
+    /// The output port `name`; `None` if the module has no such output.
+    pub fn get(&self, name: &str) -> Option<Sig> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| self.sigs[i])
+    }
+    /// All outputs in port order.
+    pub fn all(&self) -> &[Sig] {
+        &self.sigs
+    }
+}
+
+/// Builds one [`Module`].
+pub struct ModuleBuilder {
+    name: String,
+    description: String,
+    params: BTreeMap<String, String>,
+    inputs: Vec<Port>,
+    outputs: Vec<(Port, NodeId)>,
+    nodes: Vec<Node>,
+    /// stage each node is computed in; `None` for constants (valid in every stage)
+    stage_of: Vec<Option<u32>>,
+    registers: Vec<Register>,
+    /// registers created by `reg` that still lack a next value
+    pending_regs: Vec<(usize, &'static Location<'static>)>,
+    instances: Vec<Instance>,
+    errors: Vec<DslError>,
+    current_stage: u32,
+    /// (node, stage) -> the node carried into that stage by pipeline registers
+    carried: HashMap<(NodeId, u32), NodeId>,
+    constants: HashMap<(Ty, u128), NodeId>,
+    /// valid bit per stage, when the module has a handshake
+    valid: Option<Vec<NodeId>>,
+}
+
+/// Verilog-2005 reserved words that a derived or given name must not be.
+const VERILOG_KEYWORDS: &[&str] = &[
+    "always",
+    "and",
+    "assign",
+    "automatic",
+    "begin",
+    "buf",
+    "case",
+    "casex",
+    "casez",
+    "cell",
+    "cmos",
+    "config",
+    "deassign",
+    "default",
+    "defparam",
+    "design",
+    "disable",
+    "edge",
+    "else",
+    "end",
+    "endcase",
+    "endconfig",
+    "endfunction",
+    "endgenerate",
+    "endmodule",
+    "endprimitive",
+    "endspecify",
+    "endtable",
+    "endtask",
+    "event",
+    "for",
+    "force",
+    "forever",
+    "fork",
+    "function",
+    "generate",
+    "genvar",
+    "if",
+    "ifnone",
+    "incdir",
+    "include",
+    "initial",
+    "inout",
+    "input",
+    "instance",
+    "integer",
+    "join",
+    "large",
+    "liblist",
+    "library",
+    "localparam",
+    "macromodule",
+    "medium",
+    "module",
+    "nand",
+    "negedge",
+    "nmos",
+    "nor",
+    "noshowcancelled",
+    "not",
+    "notif0",
+    "notif1",
+    "or",
+    "output",
+    "parameter",
+    "pmos",
+    "posedge",
+    "primitive",
+    "pull0",
+    "pull1",
+    "pulldown",
+    "pullup",
+    "pulsestyle_ondetect",
+    "pulsestyle_onevent",
+    "rcmos",
+    "real",
+    "realtime",
+    "reg",
+    "release",
+    "repeat",
+    "rnmos",
+    "rpmos",
+    "rtran",
+    "rtranif0",
+    "rtranif1",
+    "scalared",
+    "showcancelled",
+    "signed",
+    "small",
+    "specify",
+    "specparam",
+    "strong0",
+    "strong1",
+    "supply0",
+    "supply1",
+    "table",
+    "task",
+    "time",
+    "tran",
+    "tranif0",
+    "tranif1",
+    "tri",
+    "tri0",
+    "tri1",
+    "triand",
+    "trior",
+    "trireg",
+    "unsigned",
+    "use",
+    "uwire",
+    "vectored",
+    "wait",
+    "wand",
+    "weak0",
+    "weak1",
+    "while",
+    "wire",
+    "wor",
+    "xnor",
+    "xor",
+    "logic",
+    "bit",
+];
+
+/// True if `name` is a plain Verilog identifier that is not a keyword.
+pub fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !VERILOG_KEYWORDS.contains(&name)
+}
+
+/// Longest derived name before it is cut (names stay readable, not exhaustive).
+const DERIVED_NAME_MAX: usize = 40;
+
+impl ModuleBuilder {
+    /// Starts a module without valid ports (a datapath meant to be instantiated).
+    pub fn new(name: impl Into<String>) -> Self {
+        ModuleBuilder {
+            name: name.into(),
+            description: String::new(),
+            params: BTreeMap::new(),
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            nodes: Vec::new(),
+            stage_of: Vec::new(),
+            registers: Vec::new(),
+            pending_regs: Vec::new(),
+            instances: Vec::new(),
+            errors: Vec::new(),
+            current_stage: 0,
+            carried: HashMap::new(),
+            constants: HashMap::new(),
+            valid: None,
+        }
+    }
+
+    /// Starts a module with the `in_valid`/`out_valid` handshake (a top-level unit).
+    #[track_caller]
+    pub fn with_handshake(name: impl Into<String>) -> Self {
+        let mut b = Self::new(name);
+        let v = b.input(control::IN_VALID, Ty::Bool);
+        b.valid = Some(vec![v.id]);
+        b
+    }
+
+    /// Sets the one-paragraph description written in the Verilog header.
+    pub fn describe(&mut self, text: impl Into<String>) -> &mut Self {
+        self.description = text.into();
+        self
+    }
+
+    /// Records a parameter for the header and the port list.
+    pub fn param(&mut self, key: impl Into<String>, value: impl ToString) -> &mut Self {
+        self.params.insert(key.into(), value.to_string());
+        self
+    }
+
+    /// The stage new operations are computed in (= cycles since the inputs).
+    pub fn current_stage(&self) -> u32 {
+        self.current_stage
+    }
+
+    #[track_caller]
+    fn error(&mut self, signal: impl Into<String>, message: impl Into<String>) {
+        self.errors.push(DslError {
+            module: self.name.clone(),
+            signal: signal.into(),
+            message: message.into(),
+            location: Location::caller(),
+        });
+    }
+
+    fn sig(&self, id: NodeId) -> Sig {
+        Sig {
+            id,
+            ty: self.nodes[id.0 as usize].ty,
+        }
+    }
+
+    fn name_of(&self, id: NodeId) -> &str {
+        &self.nodes[id.0 as usize].name
+    }
+
+    #[track_caller]
+    fn push(&mut self, op: Op, ty: Ty, name: String, stage: Option<u32>) -> Sig {
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(Node {
+            op,
+            ty,
+            name,
+            location: Location::caller(),
+        });
+        self.stage_of.push(stage);
+        Sig { id, ty }
+    }
+
+    /// A placeholder returned after an error so that building can go on.
+    fn poison(&mut self, ty: Ty) -> Sig {
+        let ty = if ty.width() == 0 || ty.width() > MAX_WIDTH {
+            Ty::Bool
+        } else {
+            ty
+        };
+        self.constant_unchecked(ty, 0)
+    }
+
+    fn constant_unchecked(&mut self, ty: Ty, value: u128) -> Sig {
+        if let Some(&id) = self.constants.get(&(ty, value)) {
+            return self.sig(id);
+        }
+        let name = format!("k{value:x}");
+        let s = self.push(Op::Const(value), ty, name, None);
+        self.constants.insert((ty, value), s.id);
+        s
+    }
+
+    /// Declares a data input port.
+    #[track_caller]
+    pub fn input(&mut self, name: &str, ty: Ty) -> Sig {
+        if !is_identifier(name) {
+            self.error(name, "port name is not a Verilog identifier");
+        } else if self.inputs.iter().any(|p| p.name == name) {
+            self.error(name, "input port declared twice");
+        }
+        if ty.width() == 0 || ty.width() > MAX_WIDTH {
+            self.error(
+                name,
+                format!("port width {} outside 1..={MAX_WIDTH}", ty.width()),
+            );
+            return self.poison(ty);
+        }
+        let index = self.inputs.len();
+        self.inputs.push(Port {
+            name: name.to_string(),
+            ty,
+        });
+        self.push(Op::Input(index), ty, name.to_string(), Some(0))
+    }
+
+    /// Declares a data output port driven by `value`, taken at the last stage.
+    #[track_caller]
+    pub fn output(&mut self, name: &str, value: Sig) {
+        if !is_identifier(name) {
+            self.error(name, "port name is not a Verilog identifier");
+        } else if self.outputs.iter().any(|(p, _)| p.name == name)
+            || self.inputs.iter().any(|p| p.name == name)
+            || name == control::OUT_VALID
+        {
+            self.error(name, "port name already used");
+        }
+        self.outputs.push((
+            Port {
+                name: name.to_string(),
+                ty: value.ty,
+            },
+            value.id,
+        ));
+    }
+
+    /// Gives a value the name it will carry in the Verilog.
+    #[track_caller]
+    pub fn name(&mut self, value: Sig, name: &str) -> Sig {
+        if !is_identifier(name) {
+            self.error(name, "signal name is not a Verilog identifier");
+            return value;
+        }
+        let node = &mut self.nodes[value.id.0 as usize];
+        match node.op {
+            // ports and registers keep their declared names
+            Op::Input(_) | Op::Reg(_) | Op::Const(_) => {}
+            _ => node.name = name.to_string(),
+        }
+        value
+    }
+
+    /// A constant of type `ty`.
+    #[track_caller]
+    pub fn constant(&mut self, ty: Ty, value: u128) -> Sig {
+        let w = ty.width();
+        if w == 0 || w > MAX_WIDTH {
+            self.error(
+                format!("{value:#x}"),
+                format!("constant width {w} outside 1..={MAX_WIDTH}"),
+            );
+            return self.poison(Ty::Bool);
+        }
+        if w < 128 && value >> w != 0 {
+            self.error(format!("{value:#x}"), format!("constant does not fit {ty}"));
+            return self.poison(ty);
+        }
+        self.constant_unchecked(ty, value)
+    }
+
+    /// An unsigned constant of width `w`.
+    #[track_caller]
+    pub fn uint(&mut self, w: u32, value: u128) -> Sig {
+        self.constant(Ty::UInt(w), value)
+    }
+
+    /// A signed constant of width `w`.
+    #[track_caller]
+    pub fn sint(&mut self, w: u32, value: i128) -> Sig {
+        let fits = w >= 128 || (value >= -(1i128 << (w - 1)) && value < (1i128 << (w - 1)));
+        if w == 0 || w > MAX_WIDTH || !fits {
+            self.error(
+                format!("{value}"),
+                format!("constant does not fit SInt<{w}>"),
+            );
+            return self.poison(Ty::SInt(w.clamp(1, MAX_WIDTH)));
+        }
+        self.constant_unchecked(Ty::SInt(w), crate::eval::mask(value as u128, w))
+    }
+
+    /// A `Bool` constant.
+    pub fn bool(&mut self, value: bool) -> Sig {
+        self.constant_unchecked(Ty::Bool, value as u128)
+    }
+
+    /// Brings `id` into stage `stage`, inserting or reusing pipeline registers.
+    #[track_caller]
+    fn at_stage(&mut self, id: NodeId, stage: u32) -> NodeId {
+        let Some(from) = self.stage_of[id.0 as usize] else {
+            return id;
+        };
+        if from == stage {
+            return id;
+        }
+        if from > stage {
+            let name = self.name_of(id).to_string();
+            self.error(
+                name,
+                format!("value of stage {from} read in earlier stage {stage}"),
+            );
+            return id;
+        }
+        if let Some(&c) = self.carried.get(&(id, stage)) {
+            return c;
+        }
+        let prev = self.at_stage(id, stage - 1);
+        let ty = self.nodes[id.0 as usize].ty;
+        let name = format!("{}_s{stage}", self.name_of(id));
+        let index = self.registers.len();
+        self.registers.push(Register {
+            name: name.clone(),
+            ty,
+            next: prev,
+            reset: None,
+            enable: None,
+        });
+        let q = self.push(Op::Reg(index), ty, name, Some(stage));
+        self.carried.insert((id, stage), q.id);
+        q.id
+    }
+
+    /// Adds an operation in the current stage, after aligning its operands.
+    #[track_caller]
+    fn op(&mut self, op: Op, ty: Ty) -> Sig {
+        if ty.width() == 0 || ty.width() > MAX_WIDTH {
+            let name = derived_name(&op, |id| self.name_of(id).to_string());
+            self.error(
+                name,
+                format!("result width {} outside 1..={MAX_WIDTH}", ty.width()),
+            );
+            return self.poison(ty);
+        }
+        let operands = op.operands();
+        if operands
+            .iter()
+            .all(|o| matches!(self.nodes[o.0 as usize].op, Op::Const(_)))
+            && !operands.is_empty()
+        {
+            let vals: Vec<(u128, Ty)> = operands
+                .iter()
+                .map(|o| {
+                    let n = &self.nodes[o.0 as usize];
+                    let Op::Const(v) = n.op else { unreachable!() };
+                    (v, n.ty)
+                })
+                .collect();
+            let v = eval_op(&op, ty, &vals);
+            return self.constant_unchecked(ty, v);
+        }
+        let stage = self.current_stage;
+        let op = remap(op, |id| self.at_stage(id, stage));
+        let name = derived_name(&op, |id| self.name_of(id).to_string());
+        self.push(op, ty, name, Some(stage))
+    }
+
+    #[track_caller]
+    fn expect_arith(&mut self, what: &str, a: Sig, b: Sig) -> bool {
+        let ok = match (a.ty, b.ty) {
+            (Ty::UInt(_), Ty::UInt(_)) | (Ty::SInt(_), Ty::SInt(_)) => true,
+            _ => false,
+        };
+        if !ok {
+            let name = format!("{}, {}", self.name_of(a.id), self.name_of(b.id));
+            self.error(
+                name,
+                format!(
+                    "{what} needs two UInt or two SInt operands, got {} and {}",
+                    a.ty, b.ty
+                ),
+            );
+        }
+        ok
+    }
+
+    #[track_caller]
+    fn expect_same(&mut self, what: &str, a: Sig, b: Sig) -> bool {
+        if a.ty != b.ty {
+            let name = format!("{}, {}", self.name_of(a.id), self.name_of(b.id));
+            self.error(
+                name,
+                format!(
+                    "{what} needs operands of one type, got {} and {}",
+                    a.ty, b.ty
+                ),
+            );
+            return false;
+        }
+        true
+    }
+
+    /// a + b, one bit wider than the wider operand (never wraps).
+    #[track_caller]
+    pub fn add(&mut self, a: Sig, b: Sig) -> Sig {
+        let ty = a.ty.with_width(a.width().max(b.width()) + 1);
+        if !self.expect_arith("add", a, b) {
+            return self.poison(ty);
+        }
+        self.op(Op::Add(a.id, b.id), ty)
+    }
+
+    /// a − b, signed and one bit wider than the wider operand (never wraps).
+    #[track_caller]
+    pub fn sub(&mut self, a: Sig, b: Sig) -> Sig {
+        let ty = Ty::SInt(a.width().max(b.width()) + 1);
+        if !self.expect_arith("sub", a, b) {
+            return self.poison(ty);
+        }
+        self.op(Op::Sub(a.id, b.id), ty)
+    }
+
+    /// a · b, the full product: as wide as both operands together.
+    #[track_caller]
+    pub fn mul(&mut self, a: Sig, b: Sig) -> Sig {
+        let ty = a.ty.with_width(a.width() + b.width());
+        if !self.expect_arith("mul", a, b) {
+            return self.poison(ty);
+        }
+        self.op(Op::Mul(a.id, b.id), ty)
+    }
+
+    /// Bitwise complement, same type.
+    #[track_caller]
+    pub fn not(&mut self, a: Sig) -> Sig {
+        self.op(Op::Not(a.id), a.ty)
+    }
+
+    #[track_caller]
+    fn bit(&mut self, op: BitOp, a: Sig, b: Sig) -> Sig {
+        if !self.expect_same("bitwise operation", a, b) {
+            return self.poison(a.ty);
+        }
+        self.op(Op::Bit(op, a.id, b.id), a.ty)
+    }
+
+    /// a & b, same type.
+    #[track_caller]
+    pub fn and(&mut self, a: Sig, b: Sig) -> Sig {
+        self.bit(BitOp::And, a, b)
+    }
+
+    /// a | b, same type.
+    #[track_caller]
+    pub fn or(&mut self, a: Sig, b: Sig) -> Sig {
+        self.bit(BitOp::Or, a, b)
+    }
+
+    /// a ^ b, same type.
+    #[track_caller]
+    pub fn xor(&mut self, a: Sig, b: Sig) -> Sig {
+        self.bit(BitOp::Xor, a, b)
+    }
+
+    #[track_caller]
+    fn cmp(&mut self, op: CmpOp, a: Sig, b: Sig) -> Sig {
+        let ok = match (a.ty, b.ty) {
+            (Ty::Bool, Ty::Bool) => op == CmpOp::Eq,
+            _ => self.expect_arith("comparison", a, b),
+        };
+        if !ok {
+            if a.ty == Ty::Bool {
+                self.error(
+                    self.name_of(a.id).to_string(),
+                    "only == compares Bool values",
+                );
+            }
+            return self.poison(Ty::Bool);
+        }
+        self.op(Op::Cmp(op, a.id, b.id), Ty::Bool)
+    }
+
+    /// a == b, `Bool`.
+    #[track_caller]
+    pub fn eq(&mut self, a: Sig, b: Sig) -> Sig {
+        self.cmp(CmpOp::Eq, a, b)
+    }
+
+    /// a != b, `Bool`.
+    #[track_caller]
+    pub fn ne(&mut self, a: Sig, b: Sig) -> Sig {
+        let e = self.cmp(CmpOp::Eq, a, b);
+        self.not(e)
+    }
+
+    /// a < b, `Bool` (signed compare for SInt operands).
+    #[track_caller]
+    pub fn lt(&mut self, a: Sig, b: Sig) -> Sig {
+        self.cmp(CmpOp::Lt, a, b)
+    }
+
+    /// a <= b, `Bool`.
+    #[track_caller]
+    pub fn le(&mut self, a: Sig, b: Sig) -> Sig {
+        self.cmp(CmpOp::Le, a, b)
+    }
+
+    /// a > b, `Bool`.
+    #[track_caller]
+    pub fn gt(&mut self, a: Sig, b: Sig) -> Sig {
+        self.cmp(CmpOp::Lt, b, a)
+    }
+
+    /// a >= b, `Bool`.
+    #[track_caller]
+    pub fn ge(&mut self, a: Sig, b: Sig) -> Sig {
+        self.cmp(CmpOp::Le, b, a)
+    }
+
+    #[track_caller]
+    fn shift(&mut self, left: bool, a: Sig, amount: Sig) -> Sig {
+        if !matches!(amount.ty, Ty::UInt(_)) || a.ty == Ty::Bool {
+            let name = self.name_of(a.id).to_string();
+            self.error(
+                name,
+                format!(
+                    "shift of {} by {}: needs a vector shifted by a UInt",
+                    a.ty, amount.ty
+                ),
+            );
+            return self.poison(a.ty);
+        }
+        let op = if left {
+            Op::Shl(a.id, amount.id)
+        } else {
+            Op::Shr(a.id, amount.id)
+        };
+        self.op(op, a.ty)
+    }
+
+    /// a << amount, width of a (bits shifted out are lost).
+    #[track_caller]
+    pub fn shl(&mut self, a: Sig, amount: Sig) -> Sig {
+        self.shift(true, a, amount)
+    }
+
+    /// a >> amount, width of a; arithmetic for SInt, logical for UInt.
+    #[track_caller]
+    pub fn shr(&mut self, a: Sig, amount: Sig) -> Sig {
+        self.shift(false, a, amount)
+    }
+
+    /// sel ? t : f, type of t and f.
+    #[track_caller]
+    pub fn mux(&mut self, sel: Sig, t: Sig, f: Sig) -> Sig {
+        if sel.ty != Ty::Bool {
+            let name = self.name_of(sel.id).to_string();
+            self.error(name, format!("mux select must be Bool, got {}", sel.ty));
+            return self.poison(t.ty);
+        }
+        if !self.expect_same("mux", t, f) {
+            return self.poison(t.ty);
+        }
+        self.op(Op::Mux(sel.id, t.id, f.id), t.ty)
+    }
+
+    /// Concatenation, first part most significant; UInt as wide as all parts.
+    #[track_caller]
+    pub fn cat(&mut self, parts: &[Sig]) -> Sig {
+        match parts {
+            [] => {
+                self.error("{}", "concatenation of nothing");
+                self.poison(Ty::Bool)
+            }
+            [one] => self.as_uint(*one),
+            _ => {
+                let w = parts.iter().map(|p| p.width()).sum();
+                self.op(
+                    Op::Concat(parts.iter().map(|p| p.id).collect()),
+                    Ty::UInt(w),
+                )
+            }
+        }
+    }
+
+    /// Bits hi..=lo of a, unsigned, hi − lo + 1 wide.
+    #[track_caller]
+    pub fn slice(&mut self, a: Sig, hi: u32, lo: u32) -> Sig {
+        if lo > hi || hi >= a.width() {
+            let name = self.name_of(a.id).to_string();
+            self.error(name, format!("slice [{hi}:{lo}] of {}", a.ty));
+            return self.poison(Ty::UInt(hi.saturating_sub(lo) + 1));
+        }
+        if lo == 0 && hi + 1 == a.width() {
+            return self.as_uint(a);
+        }
+        self.op(Op::Slice(a.id, hi, lo), Ty::UInt(hi - lo + 1))
+    }
+
+    /// Bit i of a, as `Bool`.
+    #[track_caller]
+    pub fn bit_at(&mut self, a: Sig, i: u32) -> Sig {
+        let s = self.slice(a, i, i);
+        self.as_bool(s)
+    }
+
+    /// The most significant bit (the sign of an SInt), as `Bool`.
+    #[track_caller]
+    pub fn msb(&mut self, a: Sig) -> Sig {
+        self.bit_at(a, a.width() - 1)
+    }
+
+    #[track_caller]
+    fn reduce(&mut self, op: ReduceOp, a: Sig) -> Sig {
+        if a.width() == 1 {
+            return self.as_bool(a);
+        }
+        self.op(Op::Reduce(op, a.id), Ty::Bool)
+    }
+
+    /// True if every bit of a is set.
+    #[track_caller]
+    pub fn all_ones(&mut self, a: Sig) -> Sig {
+        self.reduce(ReduceOp::And, a)
+    }
+
+    /// True if any bit of a is set.
+    #[track_caller]
+    pub fn any_set(&mut self, a: Sig) -> Sig {
+        self.reduce(ReduceOp::Or, a)
+    }
+
+    /// True if an odd number of bits of a is set.
+    #[track_caller]
+    pub fn parity(&mut self, a: Sig) -> Sig {
+        self.reduce(ReduceOp::Xor, a)
+    }
+
+    /// The same bits as type `ty` (same width required).
+    #[track_caller]
+    pub fn cast(&mut self, a: Sig, ty: Ty) -> Sig {
+        if a.ty == ty {
+            return a;
+        }
+        if a.width() != ty.width() {
+            let name = self.name_of(a.id).to_string();
+            self.error(name, format!("cast of {} to {}: widths differ", a.ty, ty));
+            return self.poison(ty);
+        }
+        self.op(Op::Cast(a.id), ty)
+    }
+
+    /// The same bits as UInt.
+    #[track_caller]
+    pub fn as_uint(&mut self, a: Sig) -> Sig {
+        self.cast(a, Ty::UInt(a.width()))
+    }
+
+    /// The same bits as SInt.
+    #[track_caller]
+    pub fn as_sint(&mut self, a: Sig) -> Sig {
+        self.cast(a, Ty::SInt(a.width()))
+    }
+
+    /// A one-bit value as Bool.
+    #[track_caller]
+    pub fn as_bool(&mut self, a: Sig) -> Sig {
+        self.cast(a, Ty::Bool)
+    }
+
+    /// Closes the current pipeline stage: later operations are one cycle later.
+    pub fn stage(&mut self) {
+        self.current_stage += 1;
+        let stage = self.current_stage;
+        if let Some(valid) = &self.valid {
+            let prev = *valid.last().expect("valid starts with in_valid");
+            let index = self.registers.len();
+            let name = format!("valid_s{stage}");
+            self.registers.push(Register {
+                name: name.clone(),
+                ty: Ty::Bool,
+                next: prev,
+                reset: Some(0),
+                enable: None,
+            });
+            let q = self.push(Op::Reg(index), Ty::Bool, name, Some(stage));
+            self.valid.as_mut().unwrap().push(q.id);
+        }
+    }
+
+    /// A register of the current stage, reset to `reset` if given. Its next value
+    /// is set with [`ModuleBuilder::set_next`].
+    #[track_caller]
+    pub fn reg(&mut self, name: &str, ty: Ty, reset: Option<u128>) -> RegHandle {
+        if !is_identifier(name) {
+            self.error(name, "register name is not a Verilog identifier");
+        }
+        if reset.is_some_and(|r| ty.width() < 128 && r >> ty.width() != 0) {
+            self.error(name, format!("reset value does not fit {ty}"));
+        }
+        let index = self.registers.len();
+        let placeholder = NodeId(0);
+        self.registers.push(Register {
+            name: name.to_string(),
+            ty,
+            next: placeholder,
+            reset,
+            enable: None,
+        });
+        self.pending_regs.push((index, Location::caller()));
+        let q = self.push(
+            Op::Reg(index),
+            ty,
+            name.to_string(),
+            Some(self.current_stage),
+        );
+        RegHandle { index, q }
+    }
+
+    /// Sets the value a register loads at each rising edge (when `enable` is true, if given).
+    #[track_caller]
+    pub fn set_next(&mut self, reg: RegHandle, next: Sig, enable: Option<Sig>) {
+        let name = self.registers[reg.index].name.clone();
+        if next.ty != reg.q.ty {
+            self.error(
+                name.clone(),
+                format!("next value is {}, register is {}", next.ty, reg.q.ty),
+            );
+        }
+        if enable.is_some_and(|e| e.ty != Ty::Bool) {
+            self.error(name.clone(), "register enable must be Bool");
+        }
+        let Some(pos) = self.pending_regs.iter().position(|(i, _)| *i == reg.index) else {
+            self.error(name, "next value set twice");
+            return;
+        };
+        self.pending_regs.remove(pos);
+        let stage = self.current_stage;
+        let next = self.at_stage(next.id, stage);
+        let enable = enable.map(|e| self.at_stage(e.id, stage));
+        let r = &mut self.registers[reg.index];
+        r.next = next;
+        r.enable = enable;
+    }
+
+    /// Instantiates `module`, connecting its data inputs by name. Its outputs
+    /// belong to the stage `latency` cycles after the current one.
+    #[track_caller]
+    pub fn instance(
+        &mut self,
+        name: &str,
+        module: &Arc<Module>,
+        inputs: &[(&str, Sig)],
+    ) -> InstanceOutputs {
+        if !is_identifier(name) {
+            self.error(name, "instance name is not a Verilog identifier");
+        }
+        let stage = self.current_stage;
+        let mut connected = Vec::with_capacity(module.inputs.len());
+        for port in &module.inputs {
+            let found = inputs.iter().find(|(n, _)| *n == port.name);
+            let id = match found {
+                Some((_, s)) if s.ty == port.ty => self.at_stage(s.id, stage),
+                Some((_, s)) => {
+                    self.error(
+                        format!("{name}.{}", port.name),
+                        format!("port is {}, connected to {}", port.ty, s.ty),
+                    );
+                    self.poison(port.ty).id
+                }
+                None => {
+                    self.error(format!("{name}.{}", port.name), "input port not connected");
+                    self.poison(port.ty).id
+                }
+            };
+            connected.push(id);
+        }
+        for (n, _) in inputs {
+            if !module.inputs.iter().any(|p| p.name == *n) {
+                self.error(
+                    format!("{name}.{n}"),
+                    format!("module {} has no such input", module.name),
+                );
+            }
+        }
+        let inst = self.instances.len();
+        self.instances.push(Instance {
+            name: name.to_string(),
+            module: module.clone(),
+            inputs: connected,
+        });
+        let out_stage = stage + module.latency;
+        let mut names = Vec::new();
+        let mut sigs = Vec::new();
+        for (port, (p, _)) in module.outputs.iter().enumerate() {
+            let s = self.push(
+                Op::InstOut { inst, port },
+                p.ty,
+                format!("{name}_{}", p.name),
+                Some(out_stage),
+            );
+            names.push(p.name.clone());
+            sigs.push(s);
+        }
+        InstanceOutputs { names, sigs }
+    }
+
+    /// Finishes the module: outputs are carried to the last stage, whose number
+    /// is the latency. Returns every error recorded while building.
+    #[track_caller]
+    pub fn finish(mut self) -> Result<Module, BuildErrors> {
+        for (index, loc) in std::mem::take(&mut self.pending_regs) {
+            self.errors.push(DslError {
+                module: self.name.clone(),
+                signal: self.registers[index].name.clone(),
+                message: "register was never given a next value".into(),
+                location: loc,
+            });
+        }
+        let last = self.current_stage;
+        let mut outputs = std::mem::take(&mut self.outputs);
+        for (_, id) in outputs.iter_mut() {
+            *id = self.at_stage(*id, last);
+        }
+        let handshake = self.valid.as_ref().map(|v| {
+            let out_valid = *v.last().unwrap();
+            outputs.insert(
+                0,
+                (
+                    Port {
+                        name: control::OUT_VALID.into(),
+                        ty: Ty::Bool,
+                    },
+                    out_valid,
+                ),
+            );
+            Handshake { latency: last }
+        });
+        if !self.errors.is_empty() {
+            return Err(BuildErrors(self.errors));
+        }
+        let module = Module {
+            name: self.name,
+            description: self.description,
+            params: self.params,
+            inputs: self.inputs,
+            outputs,
+            nodes: self.nodes,
+            registers: self.registers,
+            instances: self.instances,
+            latency: last,
+            handshake,
+        };
+        module.check_well_formed().map_err(|message| {
+            BuildErrors(vec![DslError {
+                module: module.name.clone(),
+                signal: String::new(),
+                message,
+                location: Location::caller(),
+            }])
+        })?;
+        Ok(module)
+    }
+}
+
+/// Rebuilds `op` with every operand passed through `f`.
+fn remap(op: Op, mut f: impl FnMut(NodeId) -> NodeId) -> Op {
+    match op {
+        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => op,
+        Op::Add(a, b) => Op::Add(f(a), f(b)),
+        Op::Sub(a, b) => Op::Sub(f(a), f(b)),
+        Op::Mul(a, b) => Op::Mul(f(a), f(b)),
+        Op::Not(a) => Op::Not(f(a)),
+        Op::Bit(o, a, b) => Op::Bit(o, f(a), f(b)),
+        Op::Cmp(o, a, b) => Op::Cmp(o, f(a), f(b)),
+        Op::Shl(a, b) => Op::Shl(f(a), f(b)),
+        Op::Shr(a, b) => Op::Shr(f(a), f(b)),
+        Op::Mux(s, t, e) => Op::Mux(f(s), f(t), f(e)),
+        Op::Concat(v) => Op::Concat(v.into_iter().map(f).collect()),
+        Op::Slice(a, h, l) => Op::Slice(f(a), h, l),
+        Op::Reduce(o, a) => Op::Reduce(o, f(a)),
+        Op::Cast(a) => Op::Cast(f(a)),
+    }
+}
+
+/// A readable name made from the operation and its operands' names, cut to
+/// [`DERIVED_NAME_MAX`]; the emitter makes names unique.
+fn derived_name(op: &Op, name: impl Fn(NodeId) -> String) -> String {
+    let verb = match op {
+        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => "n",
+        Op::Add(..) => "add",
+        Op::Sub(..) => "sub",
+        Op::Mul(..) => "mul",
+        Op::Not(_) => "not",
+        Op::Bit(BitOp::And, ..) => "and",
+        Op::Bit(BitOp::Or, ..) => "or",
+        Op::Bit(BitOp::Xor, ..) => "xor",
+        Op::Cmp(CmpOp::Eq, ..) => "eq",
+        Op::Cmp(CmpOp::Lt, ..) => "lt",
+        Op::Cmp(CmpOp::Le, ..) => "le",
+        Op::Shl(..) => "shl",
+        Op::Shr(..) => "shr",
+        Op::Mux(..) => "mux",
+        Op::Concat(_) => "cat",
+        Op::Slice(_, h, l) if h == l => return format!("{}_b{h}", name(op.operands()[0])),
+        Op::Slice(_, h, l) => return cut(format!("{}_{h}_{l}", name(op.operands()[0]))),
+        Op::Reduce(ReduceOp::And, _) => "all",
+        Op::Reduce(ReduceOp::Or, _) => "any",
+        Op::Reduce(ReduceOp::Xor, _) => "par",
+        Op::Cast(_) => return cut(format!("{}_c", name(op.operands()[0]))),
+    };
+    let mut s = verb.to_string();
+    for o in op.operands() {
+        s.push('_');
+        s.push_str(&name(o));
+    }
+    cut(s)
+}
+
+fn cut(mut s: String) -> String {
+    if s.len() > DERIVED_NAME_MAX {
+        s.truncate(DERIVED_NAME_MAX);
+        while s.ends_with('_') {
+            s.pop();
+        }
+    }
+    s
+}

@@ -1,0 +1,363 @@
+//! The intermediate representation: a module is an arena of nodes in
+//! topological order, plus ports, registers and instances.
+//!
+//! Everything above this file (builder, operators, units) produces it; the
+//! emitter and the evaluator read it and nothing above it.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::panic::Location;
+use std::sync::Arc;
+
+/// Widest value the IR carries (constants, evaluator); wider values are built
+/// by concatenation and never needed by the units so far.
+pub const MAX_WIDTH: u32 = 128;
+
+/// The type of a hardware value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Ty {
+    /// One bit used as a truth value.
+    Bool,
+    /// Unsigned bit vector of the given width.
+    UInt(u32),
+    /// Two's complement bit vector of the given width.
+    SInt(u32),
+}
+
+impl Ty {
+    /// Number of bits.
+    pub fn width(self) -> u32 {
+        match self {
+            Ty::Bool => 1,
+            Ty::UInt(w) | Ty::SInt(w) => w,
+        }
+    }
+
+    /// True for two's complement values.
+    pub fn is_signed(self) -> bool {
+        matches!(self, Ty::SInt(_))
+    }
+
+    /// The same signedness at another width (`Bool` widens to `UInt`).
+    pub fn with_width(self, w: u32) -> Ty {
+        match self {
+            Ty::SInt(_) => Ty::SInt(w),
+            Ty::Bool | Ty::UInt(_) => Ty::UInt(w),
+        }
+    }
+}
+
+impl fmt::Display for Ty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Ty::Bool => write!(f, "Bool"),
+            Ty::UInt(w) => write!(f, "UInt<{w}>"),
+            Ty::SInt(w) => write!(f, "SInt<{w}>"),
+        }
+    }
+}
+
+/// Index of a node in its module's arena.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct NodeId(pub u32);
+
+/// Reduction operators (the result is `Bool`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ReduceOp {
+    /// all bits set
+    And,
+    /// any bit set
+    Or,
+    /// odd number of bits set
+    Xor,
+}
+
+/// Bitwise operators on two operands of the same type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BitOp {
+    /// a & b
+    And,
+    /// a | b
+    Or,
+    /// a ^ b
+    Xor,
+}
+
+/// Comparisons; the operands share signedness and are extended to the wider width.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CmpOp {
+    /// a == b
+    Eq,
+    /// a < b
+    Lt,
+    /// a <= b
+    Le,
+}
+
+/// Every operation of the IR. Matched without a `_` arm by the emitter and the
+/// evaluator, so a new operation does not compile until both handle it.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Op {
+    /// Data input port number `n` of the module.
+    Input(usize),
+    /// A constant; the bits above the node's width are zero.
+    Const(u128),
+    /// The output of register `n` of the module.
+    Reg(usize),
+    /// Output port `port` of instance `inst`.
+    InstOut {
+        /// instance index
+        inst: usize,
+        /// output port index of the instantiated module
+        port: usize,
+    },
+    /// a + b, one bit wider than the wider operand (never wraps).
+    Add(NodeId, NodeId),
+    /// a − b as a signed value one bit wider than the wider operand (never wraps).
+    Sub(NodeId, NodeId),
+    /// a · b, full product: width is the sum of the operand widths.
+    Mul(NodeId, NodeId),
+    /// Bitwise complement, same type.
+    Not(NodeId),
+    /// Bitwise operation, same type as the operands.
+    Bit(BitOp, NodeId, NodeId),
+    /// Comparison, `Bool`.
+    Cmp(CmpOp, NodeId, NodeId),
+    /// a << b, width of a (bits shifted out are lost); b unsigned.
+    Shl(NodeId, NodeId),
+    /// a >> b, width of a; logical for unsigned a, arithmetic for signed a.
+    Shr(NodeId, NodeId),
+    /// sel ? t : f, type of t and f.
+    Mux(NodeId, NodeId, NodeId),
+    /// Concatenation, first operand most significant; unsigned, sum of widths.
+    Concat(Vec<NodeId>),
+    /// Bits hi..=lo of a, unsigned, hi − lo + 1 wide.
+    Slice(NodeId, u32, u32),
+    /// Reduction of all bits, `Bool`.
+    Reduce(ReduceOp, NodeId),
+    /// The same bits read as the node's type (same width, other signedness or Bool).
+    Cast(NodeId),
+}
+
+impl Op {
+    /// The nodes this operation reads.
+    pub fn operands(&self) -> Vec<NodeId> {
+        match self {
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => vec![],
+            Op::Not(a) | Op::Slice(a, _, _) | Op::Reduce(_, a) | Op::Cast(a) => vec![*a],
+            Op::Add(a, b)
+            | Op::Sub(a, b)
+            | Op::Mul(a, b)
+            | Op::Bit(_, a, b)
+            | Op::Cmp(_, a, b)
+            | Op::Shl(a, b)
+            | Op::Shr(a, b) => vec![*a, *b],
+            Op::Mux(s, t, f) => vec![*s, *t, *f],
+            Op::Concat(v) => v.clone(),
+        }
+    }
+}
+
+/// One node: an operation, its result type, its name (given by the generator
+/// code, or derived from the operation and its operands' names; the emitter
+/// makes names unique), and where in the Rust source it was built.
+#[derive(Debug, Clone)]
+pub struct Node {
+    /// what the node computes
+    pub op: Op,
+    /// result type
+    pub ty: Ty,
+    /// name given or derived
+    pub name: String,
+    /// the Rust source line that built it
+    pub location: &'static Location<'static>,
+}
+
+/// A port of a module.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Port {
+    /// port name (a Verilog identifier)
+    pub name: String,
+    /// port type
+    pub ty: Ty,
+}
+
+/// A register: rising edge of `clk`, optional synchronous active-high reset
+/// and optional enable.
+#[derive(Debug, Clone)]
+pub struct Register {
+    /// register name
+    pub name: String,
+    /// type
+    pub ty: Ty,
+    /// value loaded at each enabled rising edge
+    pub next: NodeId,
+    /// value loaded while `rst` is high; `None` means the register is not reset
+    pub reset: Option<u128>,
+    /// load only when this `Bool` is true; `None` means every cycle
+    pub enable: Option<NodeId>,
+}
+
+/// An instance of another module.
+#[derive(Debug, Clone)]
+pub struct Instance {
+    /// instance name
+    pub name: String,
+    /// the instantiated module
+    pub module: Arc<Module>,
+    /// one node per data input port of `module`
+    pub inputs: Vec<NodeId>,
+}
+
+/// Pipeline handshake of a module built with valid ports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Handshake {
+    /// cycles from `in_valid` to `out_valid`
+    pub latency: u32,
+}
+
+/// A generated module.
+#[derive(Debug, Clone)]
+pub struct Module {
+    /// module name; carries its parameters (e.g. `umul_16x16_s1`)
+    pub name: String,
+    /// human-readable description for the header
+    pub description: String,
+    /// parameters that produced it, for the header and the port list
+    pub params: BTreeMap<String, String>,
+    /// data inputs (clock, reset and valid are implicit)
+    pub inputs: Vec<Port>,
+    /// data outputs and the node each is driven by
+    pub outputs: Vec<(Port, NodeId)>,
+    /// node arena in topological order (operands precede users)
+    pub nodes: Vec<Node>,
+    /// registers
+    pub registers: Vec<Register>,
+    /// submodule instances
+    pub instances: Vec<Instance>,
+    /// cycles from inputs to outputs
+    pub latency: u32,
+    /// `Some` when the module has `in_valid`/`out_valid` ports; the valid
+    /// input is data input 0 and the valid output is data output 0 in the IR,
+    /// named `in_valid`/`out_valid`
+    pub handshake: Option<Handshake>,
+}
+
+/// Names of the implicit control ports.
+pub mod control {
+    /// rising-edge clock
+    pub const CLOCK: &str = "clk";
+    /// synchronous, active-high reset
+    pub const RESET: &str = "rst";
+    /// a transaction is presented this cycle
+    pub const IN_VALID: &str = "in_valid";
+    /// results of a transaction are presented this cycle
+    pub const OUT_VALID: &str = "out_valid";
+}
+
+impl Module {
+    /// The node with this id.
+    pub fn node(&self, id: NodeId) -> &Node {
+        &self.nodes[id.0 as usize]
+    }
+
+    /// True if the module (or any submodule) holds state, so it needs `clk`.
+    pub fn is_sequential(&self) -> bool {
+        !self.registers.is_empty() || self.instances.iter().any(|i| i.module.is_sequential())
+    }
+
+    /// True if some register (here or below) is reset, so it needs `rst`.
+    pub fn uses_reset(&self) -> bool {
+        self.registers.iter().any(|r| r.reset.is_some())
+            || self.instances.iter().any(|i| i.module.uses_reset())
+    }
+
+    /// Data inputs without the valid bit.
+    pub fn data_inputs(&self) -> &[Port] {
+        match self.handshake {
+            Some(_) => &self.inputs[1..],
+            None => &self.inputs,
+        }
+    }
+
+    /// Data outputs without the valid bit.
+    pub fn data_outputs(&self) -> &[(Port, NodeId)] {
+        match self.handshake {
+            Some(_) => &self.outputs[1..],
+            None => &self.outputs,
+        }
+    }
+
+    /// Every module in the hierarchy below and including this one, each once,
+    /// submodules before the modules that instantiate them.
+    pub fn hierarchy(&self) -> Vec<&Module> {
+        fn walk<'a>(m: &'a Module, out: &mut Vec<&'a Module>) {
+            for inst in &m.instances {
+                walk(&inst.module, out);
+            }
+            if !out.iter().any(|seen| seen.name == m.name) {
+                out.push(m);
+            }
+        }
+        let mut out = Vec::new();
+        walk(self, &mut out);
+        out
+    }
+
+    /// Checks the structural invariants the emitter and evaluator rely on.
+    pub fn check_well_formed(&self) -> Result<(), String> {
+        let n = self.nodes.len();
+        for (i, node) in self.nodes.iter().enumerate() {
+            for op in node.op.operands() {
+                if op.0 as usize >= i {
+                    return Err(format!(
+                        "module {}: node {i} reads node {} which does not precede it",
+                        self.name, op.0
+                    ));
+                }
+            }
+            let w = node.ty.width();
+            if w == 0 || w > MAX_WIDTH {
+                return Err(format!("module {}: node {i} has width {w}", self.name));
+            }
+            match node.op {
+                Op::Input(p) if p >= self.inputs.len() => {
+                    return Err(format!("module {}: node {i} reads input {p}", self.name))
+                }
+                Op::Reg(r) if r >= self.registers.len() => {
+                    return Err(format!("module {}: node {i} reads register {r}", self.name))
+                }
+                _ => {}
+            }
+        }
+        let in_range = |id: NodeId| (id.0 as usize) < n;
+        for r in &self.registers {
+            if !in_range(r.next) || r.enable.is_some_and(|e| !in_range(e)) {
+                return Err(format!(
+                    "module {}: register {} reads a missing node",
+                    self.name, r.name
+                ));
+            }
+        }
+        for (p, id) in &self.outputs {
+            if !in_range(*id) {
+                return Err(format!(
+                    "module {}: output {} reads a missing node",
+                    self.name, p.name
+                ));
+            }
+        }
+        for inst in &self.instances {
+            if inst.inputs.len() != inst.module.inputs.len() {
+                return Err(format!(
+                    "module {}: instance {} connects {} of {} inputs",
+                    self.name,
+                    inst.name,
+                    inst.inputs.len(),
+                    inst.module.inputs.len()
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,35 @@
+//! The units the generator offers, each with its parameters.
+
+pub mod mulcmp;
+
+use crate::ir::Module;
+use crate::params::{ParamError, ParamSpec, Params};
+
+/// A generatable unit: a name, its parameters, and the builder.
+pub trait Unit: Sync {
+    /// name used on the command line
+    fn name(&self) -> &'static str;
+    /// one-line description
+    fn summary(&self) -> &'static str;
+    /// accepted parameters
+    fn params(&self) -> &'static [ParamSpec];
+    /// builds the top module for resolved parameters
+    fn build(&self, params: &Params) -> Result<Module, ParamError>;
+}
+
+/// Every unit, in the order `rtl-gen list` shows them.
+pub fn all() -> &'static [&'static dyn Unit] {
+    &[&mulcmp::MulCmp]
+}
+
+/// The unit called `name`.
+pub fn find(name: &str) -> Result<&'static dyn Unit, ParamError> {
+    all()
+        .iter()
+        .copied()
+        .find(|u| u.name() == name)
+        .ok_or_else(|| ParamError::UnknownUnit {
+            name: name.to_string(),
+            known: all().iter().map(|u| u.name().to_string()).collect(),
+        })
+}
