@@ -295,7 +295,12 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
                 } else {
                     Expr::Select(name.clone(), wi - 1, wi - 1)
                 };
-                Expr::Concat(vec![Expr::Replicate(w - wi, Box::new(msb)), e.clone()])
+                let fill = if w - wi == 1 {
+                    msb
+                } else {
+                    Expr::Replicate(w - wi, Box::new(msb))
+                };
+                Expr::Concat(vec![fill, e.clone()])
             }
             _ => unreachable!("references are identifiers or literals"),
         }
