@@ -5,4 +5,5 @@
 //! RTL must produce.
 #![warn(missing_docs)]
 
+pub mod float;
 pub mod mulcmp;

@@ -1,0 +1,46 @@
+//! Bit-accurate IEEE-754-style floating point for any format
+//! `(exp_bits, frac_bits)`, the golden model of the generated float units.
+//! The specification is `docs/float.md`.
+//!
+//! Every operator computes an exact [`RawFloat`] (exact, or exact with a
+//! sticky bit) and the one shared rounder, [`round`], rounds and packs it.
+//! Values are raw bit patterns in the low bits of a `u64`; bits above the
+//! format's width are ignored on input and zero on output.
+//!
+//! ```
+//! use golden_model::float::{add, FloatFormat, RoundingMode};
+//! let f = FloatFormat::BINARY32;
+//! let r = add(f, 1.5f32.to_bits() as u64, 2.25f32.to_bits() as u64, RoundingMode::NearestEven);
+//! assert_eq!(r, 3.75f32.to_bits() as u64);
+//! ```
+
+mod add;
+mod add_down_up;
+mod compare;
+mod convert;
+mod dot3;
+mod fma;
+mod format;
+mod min_max;
+mod mul;
+mod mul_exact;
+mod raw;
+mod round;
+mod unpack;
+
+pub use add::{add, sub};
+pub use add_down_up::{add_down_up, DownUp};
+pub use compare::{eq, le, lt};
+pub use convert::convert;
+pub use dot3::dot3;
+pub use fma::fma;
+pub use format::{FloatFormat, FormatError, RoundingMode};
+pub use min_max::{max, min};
+pub use mul::mul;
+pub use mul_exact::{mul_exact, ExactProductFormat};
+pub use raw::{
+    Class, RawFloat, RAW_CLASS_BITS, RAW_EXP_BITS, RAW_SIGN_BITS, RAW_SIG_BITS, RAW_STICKY_BITS,
+    RAW_STICKY_MIN_EXTRA_BITS,
+};
+pub use round::{overflow, round};
+pub use unpack::{classify, unpack};
