@@ -1,1 +1,42 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests: generate a unit into a fresh
+//! directory, build its harness (cached), cross-check it.
+
+use rtl_gen::flow::{self, Generated};
+use std::path::PathBuf;
+
+/// A fresh directory under the target dir for one test's outputs.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}
+
+/// Generates `unit` with `params` and writes it into a scratch directory.
+pub fn generate(unit: &str, params: &[&str]) -> (Generated, PathBuf) {
+    let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
+    let g =
+        flow::generate(unit, &params).unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"));
+    let dir = scratch(&g.module.name);
+    g.write(&dir, 10.0).expect("write generated files");
+    (g, dir)
+}
+
+/// Lints, builds and cross-checks `vectors` vectors; returns the report.
+pub fn cross_check(
+    g: &Generated,
+    dir: &std::path::Path,
+    vectors: u64,
+    seed: u64,
+) -> sim::CheckReport {
+    sim::lint(&g.ports, dir).unwrap_or_else(|e| panic!("lint {}: {e}", g.module.name));
+    let h = sim::Harness::build(&g.ports, dir, &sim::default_cache_root()).expect("build harness");
+    let tb = g.testbench();
+    let opts = sim::CheckOptions {
+        vectors,
+        seed,
+        progress: false,
+        ..Default::default()
+    };
+    sim::cross_check(&h, tb.as_ref(), tb.as_ref(), &opts).expect("cross-check runs")
+}

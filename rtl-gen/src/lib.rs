@@ -11,6 +11,7 @@ pub mod arith;
 pub mod builder;
 pub mod emit;
 pub mod eval;
+pub mod flow;
 pub mod ir;
 pub mod params;
 pub mod units;

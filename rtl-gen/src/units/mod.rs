@@ -16,20 +16,3 @@ pub trait Unit: Sync {
     /// builds the top module for resolved parameters
     fn build(&self, params: &Params) -> Result<Module, ParamError>;
 }
-
-/// Every unit, in the order `rtl-gen list` shows them.
-pub fn all() -> &'static [&'static dyn Unit] {
-    &[&mulcmp::MulCmp]
-}
-
-/// The unit called `name`.
-pub fn find(name: &str) -> Result<&'static dyn Unit, ParamError> {
-    all()
-        .iter()
-        .copied()
-        .find(|u| u.name() == name)
-        .ok_or_else(|| ParamError::UnknownUnit {
-            name: name.to_string(),
-            known: all().iter().map(|u| u.name().to_string()).collect(),
-        })
-}
