@@ -1,5 +1,6 @@
 //! Helpers shared by the integration tests: generate a unit into a fresh
 //! directory, build its harness (cached), cross-check it.
+#![allow(dead_code)] // each test file uses a subset
 
 use rtl_gen::flow::{self, Generated};
 use std::path::PathBuf;

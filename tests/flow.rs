@@ -2,7 +2,9 @@
 //! cross-check against the golden model; Icarus and Yosys accept the output;
 //! a wrong golden model is caught.
 
-use integration_tests::{cross_check, generate};
+mod common;
+
+use common::{cross_check, generate};
 use std::process::Command;
 
 /// Widths and stage counts covering a combinational unit, odd widths, one-bit
@@ -113,7 +115,7 @@ fn generated_verilog_compiles_in_icarus_and_synthesises_in_yosys() {
             g.module.name
         );
         let ys = Command::new("yosys")
-            .args(["-q", "-p", &script])
+            .args(["-p", &script])
             .output()
             .expect("yosys runs");
         let log = String::from_utf8_lossy(&ys.stdout);
@@ -124,6 +126,7 @@ fn generated_verilog_compiles_in_icarus_and_synthesises_in_yosys() {
             String::from_utf8_lossy(&ys.stderr)
         );
         assert!(log.contains("Number of cells"), "{log}");
+        assert!(!log.contains("Warning:"), "yosys warnings:\n{log}");
     }
 }
 
@@ -160,4 +163,19 @@ fn impossible_parameters_are_clear_errors() {
     assert!(err("mulcmp", &["stages=-1"]).contains("stages=-1 is invalid"));
     assert!(err("mulcmp", &["depth=2"]).contains("has no parameter `depth`"));
     assert!(err("nosuchunit", &[]).contains("unknown unit `nosuchunit`; known units: mulcmp"));
+}
+
+#[test]
+fn the_reference_sdc_in_constraints_is_what_the_generator_writes() {
+    let g = rtl_gen::flow::generate("mulcmp", &[]).unwrap();
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../constraints/mulcmp_a16_b16_s2.sdc"
+    );
+    let kept = std::fs::read_to_string(path).expect("constraints/mulcmp_a16_b16_s2.sdc");
+    assert_eq!(
+        kept,
+        rtl_gen::flow::sdc(&g, 10.0),
+        "regenerate constraints/ with rtl-gen emit mulcmp"
+    );
 }

@@ -1,0 +1,150 @@
+//! Bit-level helpers of the float operators, composed from the DSL's
+//! primitives: leading-zero count, right shift with sticky (jamming),
+//! signed resizing and small arithmetic conveniences.
+
+use crate::arith::int::{sext, zext};
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::Ty;
+
+/// Width of the count [`lzc`] returns for a `w`-bit operand: enough for 0..=w.
+pub fn lzc_width(w: u32) -> u32 {
+    (w + 1).next_power_of_two().trailing_zeros()
+}
+
+/// Number of leading zeros of `x` (`w` bits, unsigned), `w` when `x` is zero;
+/// UInt of [`lzc_width`]`(w)` bits.
+///
+/// `x` is padded on the right with a one and zeros to a power of two P >= w + 1
+/// (so the count of an all-zero `x` is `w`), then counted by a balanced tree:
+/// each node of two halves returns `(all_zero, count)`, the count being
+/// `{0, count_hi}` when the high half has a one and `{1, count_lo}` otherwise.
+#[track_caller]
+pub fn lzc(m: &mut ModuleBuilder, x: Sig) -> Sig {
+    let x = m.as_uint(x);
+    let w = x.width();
+    let p = (w + 1).next_power_of_two();
+    let pad = p - w;
+    let mut parts = vec![x, m.uint(1, 1)];
+    if pad > 1 {
+        parts.push(m.uint(pad - 1, 0));
+    }
+    let padded = m.cat(&parts);
+    let (_, count) = lzc_tree(m, padded);
+    m.name(count, "lzc")
+}
+
+/// `(all_zero, count)` of a power-of-two-wide value.
+#[track_caller]
+fn lzc_tree(m: &mut ModuleBuilder, x: Sig) -> (Sig, Sig) {
+    let w = x.width();
+    if w == 2 {
+        let hi = m.bit_at(x, 1);
+        let any = m.any_set(x);
+        let zero = m.not(any);
+        let count = m.not(hi);
+        return (zero, m.as_uint(count));
+    }
+    let half = w / 2;
+    let hi = m.slice(x, w - 1, half);
+    let lo = m.slice(x, half - 1, 0);
+    let (zh, ch) = lzc_tree(m, hi);
+    let (zl, cl) = lzc_tree(m, lo);
+    let zero = m.and(zh, zl);
+    let zero_bit = m.uint(1, 0);
+    let one_bit = m.uint(1, 1);
+    let when_hi = m.cat(&[zero_bit, ch]);
+    let when_lo = m.cat(&[one_bit, cl]);
+    let count = m.mux(zh, when_lo, when_hi);
+    (zero, count)
+}
+
+/// `x >> amount` (logical, width of `x`) with every bit shifted out ORed into
+/// the result's least significant bit ("jamming"). `amount` is any UInt; an
+/// amount of `width(x)` or more leaves only the sticky bit.
+#[track_caller]
+pub fn shr_jam(m: &mut ModuleBuilder, x: Sig, amount: Sig) -> Sig {
+    let x = m.as_uint(x);
+    let w = x.width();
+    let shifted = m.shr(x, amount);
+    let ones = m.uint(w, crate::eval::mask(u128::MAX, w));
+    let kept_mask = m.shl(ones, amount);
+    let lost_mask = m.not(kept_mask);
+    let lost = m.and(x, lost_mask);
+    let sticky = m.any_set(lost);
+    let sticky = m.as_uint(sticky);
+    let sticky = zext(m, sticky, w);
+    let r = m.or(shifted, sticky);
+    m.name(r, "jam")
+}
+
+/// `x >> amount` (logical, width of `x`) and, separately, whether any bit was shifted out.
+#[track_caller]
+pub fn shr_sticky(m: &mut ModuleBuilder, x: Sig, amount: Sig) -> (Sig, Sig) {
+    let x = m.as_uint(x);
+    let w = x.width();
+    let shifted = m.shr(x, amount);
+    let ones = m.uint(w, crate::eval::mask(u128::MAX, w));
+    let kept_mask = m.shl(ones, amount);
+    let lost_mask = m.not(kept_mask);
+    let lost = m.and(x, lost_mask);
+    let sticky = m.any_set(lost);
+    (shifted, sticky)
+}
+
+/// `a` (UInt or SInt) as an SInt of `w` bits (zero- or sign-extended; `w` must hold it).
+#[track_caller]
+pub fn to_sint(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
+    match a.ty() {
+        Ty::SInt(_) => sext(m, a, w),
+        _ => {
+            let z = zext(m, a, w);
+            m.as_sint(z)
+        }
+    }
+}
+
+/// A signed constant of `w` bits.
+#[track_caller]
+pub fn sconst(m: &mut ModuleBuilder, w: u32, v: i64) -> Sig {
+    m.sint(w, v as i128)
+}
+
+/// `a - b` for SInt operands, resized (sign-extended or cut) to `w` bits; the caller
+/// guarantees the difference fits.
+#[track_caller]
+pub fn ssub(m: &mut ModuleBuilder, a: Sig, b: Sig, w: u32) -> Sig {
+    let d = m.sub(a, b);
+    sext(m, d, w)
+}
+
+/// `a + b` for SInt operands, resized to `w` bits; the caller guarantees the sum fits.
+#[track_caller]
+pub fn sadd(m: &mut ModuleBuilder, a: Sig, b: Sig, w: u32) -> Sig {
+    let s = m.add(a, b);
+    sext(m, s, w)
+}
+
+/// The bits of a non-negative SInt as a UInt of `w` bits (cut or zero-extended).
+#[track_caller]
+pub fn nonneg_to_uint(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
+    let u = m.as_uint(a);
+    zext(m, u, w)
+}
+
+/// `|a|` of an SInt, as a UInt of the same width (the most negative value does not occur).
+#[track_caller]
+pub fn abs(m: &mut ModuleBuilder, a: Sig) -> Sig {
+    let w = a.width();
+    let neg = m.msb(a);
+    let zero = m.sint(w, 0);
+    let negated = m.sub(zero, a);
+    let negated = sext(m, negated, w);
+    let r = m.mux(neg, negated, a);
+    m.as_uint(r)
+}
+
+/// A Bool as a one-bit UInt.
+#[track_caller]
+pub fn bit(m: &mut ModuleBuilder, b: Sig) -> Sig {
+    m.as_uint(b)
+}
