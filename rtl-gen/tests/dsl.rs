@@ -223,3 +223,31 @@ fn mulcmp_evaluator_matches_golden_model_for_every_stage_count() {
         }
     }
 }
+
+#[test]
+fn registers_reset_synchronously_and_hold_without_enable() {
+    let mut m = ModuleBuilder::new("counter");
+    let en = m.input("en", Ty::Bool);
+    let count = m.reg("count_q", Ty::UInt(3), Some(5));
+    let one = m.uint(3, 1);
+    let next = m.add(count.q, one);
+    let next = rtl_gen::arith::int::zext(&mut m, next, 3);
+    m.set_next(count, next, Some(en));
+    m.output("count", count.q);
+    let module = m.finish().unwrap();
+    let mut ev = Evaluator::new(&module);
+    ev.set_reset(true);
+    ev.step(&[1]);
+    ev.set_reset(false);
+    let seen: Vec<u128> = [1, 1, 0, 1, 1, 1]
+        .iter()
+        .map(|&e| ev.step(&[e])[0])
+        .collect();
+    assert_eq!(
+        seen,
+        vec![5, 6, 7, 7, 0, 1],
+        "reset to 5, count when enabled, wrap at 8"
+    );
+    let text = &emit(&module, "g")[0].text;
+    assert!(text.contains("if (rst) begin\n            count_q <= 3'd5;\n        end else begin\n            if (en) begin"), "{text}");
+}

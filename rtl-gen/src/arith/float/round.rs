@@ -1,0 +1,262 @@
+//! The one shared rounder: a raw result (sign, class, exponent, unnormalised
+//! significand, sticky) → the packed encoding of a format, in one rounding
+//! mode. Every rounding operator ends in an instance of this module.
+//!
+//! Raw format (the golden model's `RawFloat`, with hardware widths):
+//!
+//! | port     | type         | meaning                                                      |
+//! |----------|--------------|--------------------------------------------------------------|
+//! | `sign`   | Bool         | sign of the result (also of a zero or infinity)              |
+//! | `class`  | UInt(2)      | 0 zero, 1 finite, 2 infinity, 3 NaN                          |
+//! | `exp`    | SInt(xw)     | weight exponent of bit 0 of `sig`                             |
+//! | `sig`    | UInt(sw)     | unnormalised integer significand, sw >= F + 2                |
+//! | `sticky` | Bool         | the exact magnitude exceeds `sig · 2^exp` by less than `2^exp` |
+//!
+//! A finite value is `(-1)^sign · (sig + s) · 2^exp` with `s = 0` if
+//! `!sticky` and `0 < s < 1` if `sticky`. Producers guarantee
+//! `sticky ⇒ sig >= 2^(F+1)` (the round bit is a real bit of `sig`), and
+//! `sig == 0 ⇒ !sticky` (a finite raw value with `sig == 0` rounds to a zero
+//! of `sign`). The table is checked by a unit test against the ports.
+//!
+//! Datapath, three steps: (1) leading-zero count of `sig` and
+//! `d = exp + sw - 1 - emin`, the distance of `sig`'s top bit above the
+//! smallest normal exponent; the left shift is `min(lz, d)` (subnormal
+//! results stop at emin) and a negative `d` is a right shift with sticky;
+//! (2) the shift; (3) the increment by mode, added to `{biased exponent - 1,
+//! significand}` so that a carry out of the significand moves into the
+//! exponent (subnormal → normal, 1.11..1 → 10.0, max → infinity), then the
+//! overflow choice per mode and the specials.
+
+use super::bits::{lzc, lzc_width, shr_sticky, to_sint};
+use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
+use super::{sint_width, spread, Format, Rounding};
+use crate::arith::int::zext;
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// A raw result in the current module, to be rounded by [`round`].
+#[derive(Debug, Clone, Copy)]
+pub struct Raw {
+    /// Bool
+    pub sign: Sig,
+    /// UInt(2) class code
+    pub class: Sig,
+    /// SInt: weight exponent of bit 0 of `sig`
+    pub exp: Sig,
+    /// UInt: unnormalised significand
+    pub sig: Sig,
+    /// Bool
+    pub sticky: Sig,
+}
+
+/// The class code of a result that is NaN if `nan`, else infinite if `inf`,
+/// else finite (a finite raw value with a zero significand is a zero).
+#[track_caller]
+pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
+    let special = m.or(nan, inf);
+    let not_inf = m.not(inf);
+    let lo = m.or(nan, not_inf);
+    let hi = m.as_uint(special);
+    let lo = m.as_uint(lo);
+    m.cat(&[hi, lo])
+}
+
+/// Module name of the rounder.
+pub fn round_name(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding, stages: u32) -> String {
+    format!("fround_{}_w{sig_width}x{exp_width}_{mode}_s{stages}", fmt.tag())
+}
+
+/// Number of logical steps of the rounder (for stage planning).
+pub const ROUND_STEPS: u32 = 3;
+
+/// Builds the rounder for results of `fmt` from a raw value with a
+/// `sig_width`-bit significand (>= F + 2) and an `exp_width`-bit exponent.
+pub fn round_module(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding, stages: u32) -> Arc<Module> {
+    let (e, f) = (fmt.exp_bits, fmt.frac_bits);
+    let sw = sig_width;
+    assert!(sw >= f + 2, "rounder needs a significand of at least F + 2 bits");
+    let mut m = ModuleBuilder::new(round_name(fmt, sw, exp_width, mode, stages));
+    m.describe(format!(
+        "Shared rounder: raw (sign, class, exp, {sw}-bit sig, sticky) to {} in mode {mode}.",
+        fmt.tag()
+    ));
+    m.param("exp_bits", e)
+        .param("frac_bits", f)
+        .param("sig_width", sw)
+        .param("exp_width", exp_width)
+        .param("round", mode)
+        .param("stages", stages);
+    let plan = spread(stages, ROUND_STEPS);
+    let sign = m.input("sign", Ty::Bool);
+    let class = m.input("class", Ty::UInt(2));
+    let exp = m.input("exp", Ty::SInt(exp_width));
+    let sig = m.input("sig", Ty::UInt(sw));
+    let sticky_in = m.input("sticky", Ty::Bool);
+
+    // step 1: leading zeros, distance to emin, shift amounts, exponent base
+    let cw = lzc_width(sw);
+    let half = 1i64 << (exp_width - 1);
+    let offset = sw as i64 - 1 - fmt.emin();
+    let (d_lo, d_hi) = (-half + offset, half - 1 + offset);
+    let dw = sint_width(d_lo.min(-1), d_hi.max(1i64 << cw)) + 1;
+    let lz = lzc(&mut m, sig);
+    let exp_w = to_sint(&mut m, exp, dw);
+    let off = m.sint(dw, offset as i128);
+    let d = m.add(exp_w, off);
+    let d = super::bits::to_sint(&mut m, d, dw);
+    let d = m.name(d, "d");
+    let lz_s = to_sint(&mut m, lz, dw);
+    let d_neg = m.msb(d);
+    let d_lt_lz = m.lt(d, lz_s);
+    let d_bits = m.as_uint(d);
+    let d_small = m.slice(d_bits, cw - 1, 0);
+    let zero_cw = m.uint(cw, 0);
+    let lshift_sub = m.mux(d_neg, zero_cw, d_small);
+    let lshift = m.mux(d_lt_lz, lshift_sub, lz);
+    let lshift = m.name(lshift, "lshift");
+    let zero_d = m.sint(dw, 0);
+    let neg_d = m.sub(zero_d, d);
+    let neg_d = m.as_uint(neg_d);
+    let rshift = m.slice(neg_d, dw - 1, 0);
+    let rshift = m.name(rshift, "rshift");
+    let base = m.sub(d, lz_s);
+    let base = m.as_uint(base);
+    let base = m.slice(base, dw - 1, 0);
+    let bw = (dw - 1).max(1);
+    let base = zext(&mut m, base, bw);
+    let base0 = m.uint(bw, 0);
+    let base = m.mux(d_lt_lz, base0, base);
+    let base = m.name(base, "exp_base");
+    let sig_any = m.any_set(sig);
+    let sig_zero = m.not(sig_any);
+    for _ in 0..plan[0] {
+        m.stage();
+    }
+
+    // step 2: normalise (left) or denormalise with sticky (right)
+    let left = m.shl(sig, lshift);
+    let (right, lost) = shr_sticky(&mut m, sig, rshift);
+    let shifted = m.mux(d_neg, right, left);
+    let shifted = m.name(shifted, "sig_shifted");
+    let no_loss = m.bool(false);
+    let lost = m.mux(d_neg, lost, no_loss);
+    for _ in 0..plan[1] {
+        m.stage();
+    }
+
+    // step 3: round, pack, overflow, specials
+    let top = m.slice(shifted, sw - 1, sw - f - 1);
+    let top = m.name(top, "kept");
+    let guard = m.bit_at(shifted, sw - f - 2);
+    let rest = if sw >= f + 3 {
+        let r = m.slice(shifted, sw - f - 3, 0);
+        m.any_set(r)
+    } else {
+        m.bool(false)
+    };
+    let s1 = m.or(rest, lost);
+    let sticky = m.or(s1, sticky_in);
+    let sticky = m.name(sticky, "sticky_all");
+    let inexact = m.or(guard, sticky);
+    let lsb = m.bit_at(top, 0);
+    let inc = match mode {
+        Rounding::Rne => {
+            let t = m.or(sticky, lsb);
+            m.and(guard, t)
+        }
+        Rounding::Rtz => m.bool(false),
+        Rounding::Rup => {
+            let pos = m.not(sign);
+            m.and(pos, inexact)
+        }
+        Rounding::Rdn => m.and(sign, inexact),
+    };
+    let inc = m.name(inc, "round_up");
+    let to_inf = match mode {
+        Rounding::Rne => m.bool(true),
+        Rounding::Rtz => m.bool(false),
+        Rounding::Rup => m.not(sign),
+        Rounding::Rdn => sign,
+    };
+    let pw = (bw + f + 2).max(e + f + 1);
+    let zf = m.uint(f, 0);
+    let base_hi = m.cat(&[base, zf]);
+    let base_hi = zext(&mut m, base_hi, pw);
+    let top_w = zext(&mut m, top, pw);
+    let packed = m.add(base_hi, top_w);
+    let inc_u = m.as_uint(inc);
+    let inc_w = zext(&mut m, inc_u, pw);
+    let packed = m.add(packed, inc_w);
+    let packed = zext(&mut m, packed, pw);
+    let packed = m.name(packed, "packed");
+    let inf_code = m.uint(pw, fmt.inf_bits());
+    let ovf = m.ge(packed, inf_code);
+    let ovf = m.name(ovf, "overflow");
+    let mag_w = e + f;
+    let inf_mag = m.uint(mag_w, fmt.inf_bits());
+    let max_mag = m.uint(mag_w, fmt.inf_bits() - 1);
+    let zero_mag = m.uint(mag_w, 0);
+    let sat = m.mux(to_inf, inf_mag, max_mag);
+    let packed_mag = m.slice(packed, mag_w - 1, 0);
+    let fin = m.mux(ovf, sat, packed_mag);
+    let fin = m.mux(sig_zero, zero_mag, fin);
+    let is_zero = {
+        let k = m.uint(2, CLASS_ZERO);
+        m.eq(class, k)
+    };
+    let is_inf = {
+        let k = m.uint(2, CLASS_INF);
+        m.eq(class, k)
+    };
+    let is_nan = {
+        let k = m.uint(2, CLASS_NAN);
+        m.eq(class, k)
+    };
+    let mag = m.mux(is_inf, inf_mag, fin);
+    let mag = m.mux(is_zero, zero_mag, mag);
+    let sign_u = m.as_uint(sign);
+    let signed = m.cat(&[sign_u, mag]);
+    let nan = m.uint(fmt.width(), fmt.nan_bits());
+    let z = m.mux(is_nan, nan, signed);
+    for _ in 0..plan[2] {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(m.finish().expect("rounder generator is type-correct for every format"))
+}
+
+/// Instantiates the rounder for `raw` (padding a significand narrower than
+/// F + 2 bits with zeros) and returns the packed result, which belongs to
+/// the stage `stages` cycles after the current one: the caller closes those
+/// stages before reading it in its own logic.
+#[track_caller]
+pub fn round(m: &mut ModuleBuilder, fmt: Format, mode: Rounding, raw: &Raw, stages: u32, inst: &str) -> Sig {
+    let f = fmt.frac_bits;
+    let (sig, exp) = if raw.sig.width() < f + 2 {
+        let pad = f + 2 - raw.sig.width();
+        let zeros = m.uint(pad, 0);
+        let sig = m.cat(&[raw.sig, zeros]);
+        let xw = raw.exp.width() + 1;
+        let e = to_sint(m, raw.exp, xw);
+        let k = m.sint(xw, pad as i128);
+        let e = m.sub(e, k);
+        (sig, to_sint(m, e, xw))
+    } else {
+        (raw.sig, raw.exp)
+    };
+    let module = round_module(fmt, sig.width(), exp.width(), mode, stages);
+    m.instance(
+        inst,
+        &module,
+        &[
+            ("sign", raw.sign),
+            ("class", raw.class),
+            ("exp", exp),
+            ("sig", sig),
+            ("sticky", raw.sticky),
+        ],
+    )
+    .get("z")
+    .expect("rounder has output z")
+}
