@@ -13,12 +13,13 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Generates `unit` with `params` and writes it into a scratch directory.
-pub fn generate(unit: &str, params: &[&str]) -> (Generated, PathBuf) {
+/// Generates `unit` with `params` and writes it into a scratch directory
+/// private to `test` (tests run in parallel).
+pub fn generate(test: &str, unit: &str, params: &[&str]) -> (Generated, PathBuf) {
     let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
     let g =
         flow::generate(unit, &params).unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"));
-    let dir = scratch(&g.module.name);
+    let dir = scratch(&format!("{test}/{}", g.module.name));
     g.write(&dir, 10.0).expect("write generated files");
     (g, dir)
 }

@@ -22,6 +22,7 @@ const CONFIGS: &[(u32, u32, u32)] = &[
 fn mulcmp_matches_golden_model_on_a_million_vectors_per_configuration() {
     for &(aw, bw, stages) in CONFIGS {
         let (g, dir) = generate(
+            "million",
             "mulcmp",
             &[
                 &format!("a_width={aw}"),
@@ -48,7 +49,7 @@ fn a_flipped_output_bit_in_the_golden_model_is_caught_with_a_replay_command() {
             }
         }
     }
-    let (g, dir) = generate("mulcmp", &["stages=3"]);
+    let (g, dir) = generate("flipped", "mulcmp", &["stages=3"]);
     sim::lint(&g.ports, &dir).unwrap();
     let h = sim::Harness::build(&g.ports, &dir, &sim::default_cache_root()).unwrap();
     let tb = g.testbench();
@@ -80,6 +81,7 @@ fn a_flipped_output_bit_in_the_golden_model_is_caught_with_a_replay_command() {
 fn generated_verilog_compiles_in_icarus_and_synthesises_in_yosys() {
     for &(aw, bw, stages) in &[(16, 16, 2), (8, 12, 0), (13, 7, 5)] {
         let (g, dir) = generate(
+            "tools",
             "mulcmp",
             &[
                 &format!("a_width={aw}"),
