@@ -6,4 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod float;
+pub mod exact;
 pub mod mulcmp;
+pub mod silhouette;
+pub mod slab;

@@ -1,0 +1,70 @@
+//! Golden model of the classic slab tester, the baseline most ray-tracing
+//! hardware uses: the reciprocal direction `inv_d` is precomputed (an input),
+//! then per axis `t = (p − o)·inv_d`, entry/exit by min/max, and one compare.
+//! Every operation rounds to nearest even; min/max are IEEE 754-2019
+//! `minimum`/`maximum` (a NaN propagates), so `0·∞` turns into a miss.
+//!
+//! Steps (raw bits of one format), for each axis i:
+//! 1. `u_i = p_min_i − o_i`, `v_i = p_max_i − o_i` (RNE);
+//! 2. `t0_i = u_i · inv_d_i`, `t1_i = v_i · inv_d_i` (RNE);
+//! 3. `near_i = min(t0_i, t1_i)`, `far_i = max(t0_i, t1_i)`;
+//!
+//! then `t_enter = max(max(max(t_min, near_0), near_1), near_2)`,
+//! `t_exit = min(min(min(t_max, far_0), far_1), far_2)`, and
+//! `hit = t_enter <= t_exit` (false if either is NaN).
+//!
+//! Where it fails (see `docs/silhouette.md` and the tests): a zero direction
+//! component gives `inv_d = ±∞`; with the origin on that slab's plane,
+//! `0·∞ = NaN` and the ray, which touches the box, misses. Grazing rays:
+//! the two rounded `t` of an edge can swap order, so a ray through an edge
+//! or a corner of the box misses; and a ray just outside can hit.
+
+use crate::float::{le, max, min, mul, sub, FloatFormat, RoundingMode};
+
+/// One slab-test transaction, raw bits of one format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SlabIn {
+    /// box lower corner
+    pub p_min: [u64; 3],
+    /// box upper corner
+    pub p_max: [u64; 3],
+    /// ray origin
+    pub o: [u64; 3],
+    /// precomputed reciprocal direction (`1/d_i`, ±∞ for a zero component)
+    pub inv_d: [u64; 3],
+    /// segment start
+    pub t_min: u64,
+    /// segment end
+    pub t_max: u64,
+}
+
+/// One slab-test result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabOut {
+    /// `t_enter <= t_exit`.
+    pub hit: bool,
+    /// the rounded entry parameter (NaN after `0·∞`)
+    pub t_enter: u64,
+    /// the rounded exit parameter
+    pub t_exit: u64,
+}
+
+/// Evaluates one slab test in `fmt`.
+pub fn eval(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
+    let rne = RoundingMode::NearestEven;
+    let mut t_enter = x.t_min & fmt.mask();
+    let mut t_exit = x.t_max & fmt.mask();
+    for i in 0..3 {
+        let u = sub(fmt, x.p_min[i], x.o[i], rne);
+        let v = sub(fmt, x.p_max[i], x.o[i], rne);
+        let t0 = mul(fmt, u, x.inv_d[i], rne);
+        let t1 = mul(fmt, v, x.inv_d[i], rne);
+        t_enter = max(fmt, t_enter, min(fmt, t0, t1));
+        t_exit = min(fmt, t_exit, max(fmt, t0, t1));
+    }
+    SlabOut {
+        hit: le(fmt, t_enter, t_exit),
+        t_enter,
+        t_exit,
+    }
+}
