@@ -48,14 +48,16 @@ fn dot3_raw(fmt: FloatFormat, a: [u64; 3], b: [u64; 3], mode: RoundingMode) -> R
     sum
 }
 
-/// Words of the accumulator for binary64, the widest format.
-pub(crate) const ACC_MAX_WORDS: usize = 66;
+/// Words of the accumulator for binary64, the widest one.
+const ACC_MAX_WORDS: usize = dot3_accumulator_bits(FloatFormat::BINARY64).div_ceil(64) as usize;
 
-/// Bits the accumulator needs for `fmt`: every product is a multiple of
-/// `2^(2·(emin - F))` (the square of the smallest subnormal) and below
-/// `2^(2·(emax + 1))`, i.e. below `2^(4·bias + 2F)` units; three of them
-/// need 2 more bits, and the two's-complement sign one more.
-pub(crate) const fn accumulator_bits(fmt: FloatFormat) -> u32 {
+/// Width of the exact two's-complement accumulator that `dot3` uses for
+/// `fmt`, `4·bias + 2F + 3` bits with bit 0 of weight `2^(2·(emin - F))`:
+/// every product is a multiple of `2^(2·(emin - F))` (the square of the
+/// smallest subnormal) and below `2^(2·(emax + 1))`, i.e. below
+/// `2^(4·bias + 2F)` units; a sum of three needs 2 more bits, and the sign
+/// one more. (binary32: 557 bits; binary64: 4199 bits.)
+pub const fn dot3_accumulator_bits(fmt: FloatFormat) -> u32 {
     4 * fmt.bias() as u32 + 2 * fmt.frac_bits() + 3
 }
 
@@ -71,7 +73,7 @@ impl Accumulator {
     fn new(fmt: FloatFormat) -> Accumulator {
         Accumulator {
             words: [0; ACC_MAX_WORDS],
-            n: accumulator_bits(fmt).div_ceil(64) as usize,
+            n: dot3_accumulator_bits(fmt).div_ceil(64) as usize,
             lsb_exp: 2 * (fmt.emin() - fmt.frac_bits() as i32),
         }
     }

@@ -32,7 +32,7 @@ pub use add::{add, sub};
 pub use add_down_up::{add_down_up, DownUp};
 pub use compare::{eq, le, lt};
 pub use convert::convert;
-pub use dot3::dot3;
+pub use dot3::{dot3, dot3_accumulator_bits};
 pub use fma::fma;
 pub use format::{FloatFormat, FormatError, RoundingMode};
 pub use min_max::{max, min};
