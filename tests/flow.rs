@@ -31,6 +31,12 @@ fn mulcmp_matches_golden_model_on_a_million_vectors_per_configuration() {
             ],
         );
         assert_eq!(g.module.latency, stages);
+        let evaluated = g.evaluate(g.testbench().as_ref(), 20_000, 7);
+        assert_eq!(
+            (evaluated.vectors, evaluated.mismatches),
+            (20_000, 0),
+            "IR evaluator: {evaluated}"
+        );
         let report = cross_check(&g, &dir, 1_000_000, 7);
         assert_eq!(report.vectors, 1_000_000);
         assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);

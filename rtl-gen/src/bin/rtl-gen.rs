@@ -170,6 +170,9 @@ fn cache_dir(cache: Option<PathBuf>) -> PathBuf {
     cache.unwrap_or_else(sim::default_cache_root)
 }
 
+/// Vectors also run through the (slow) IR evaluator, as a third opinion.
+const EVALUATOR_VECTORS: u64 = 20_000;
+
 fn check(
     unit: &UnitArgs,
     vectors: u64,
@@ -193,10 +196,13 @@ fn check(
     println!("  files       {}", dir.display());
     sim::lint(&g.ports, &dir)?;
     println!("  lint        verilator --lint-only -Wall: clean");
+    let tb = g.testbench();
+    let eval_vectors = vectors.min(EVALUATOR_VECTORS);
+    let eval = g.evaluate(tb.as_ref(), eval_vectors, seed);
+    println!("  evaluator   {eval}");
     let t = Instant::now();
     let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
     println!("  harness     ready in {:.1} s", t.elapsed().as_secs_f64());
-    let tb = g.testbench();
     let replay_hint = format!(
         "rtl-gen replay {} {} --seed {seed} --index {{index}} --vcd mismatch.vcd",
         g.unit,
@@ -211,7 +217,7 @@ fn check(
     };
     let report = sim::cross_check(&harness, tb.as_ref(), tb.as_ref(), &opts)?;
     println!("{report}");
-    Ok(report.mismatches == 0)
+    Ok(report.mismatches == 0 && eval.mismatches == 0)
 }
 
 fn replay(

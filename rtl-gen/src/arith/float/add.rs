@@ -1,0 +1,159 @@
+//! Addition and subtraction: the exact sum with guard, round and sticky
+//! bits, then the shared rounder.
+//!
+//! The operand of larger magnitude (compared as encodings without the sign)
+//! is `big`; `small` is shifted right by the exponent difference into
+//! F + 4 bits (hidden bit, fraction, guard, round, and a jammed sticky bit),
+//! then added or subtracted: the F + 5-bit result is never negative. If the
+//! shift lost bits, the difference of exponents is at least 2, so the sum
+//! loses at most one leading bit and the jammed bit stays two places below
+//! the rounding position: rounding the jammed sum equals rounding the exact
+//! one in every mode. An exact zero from opposite signs is -0 in RDN, +0
+//! otherwise; equal-signed zeros keep their sign.
+
+use super::bits::{shr_jam, sconst, ssub, to_sint};
+use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::unpack::unpack;
+use super::{sint_width, spread, Format, Rounding};
+use crate::arith::int::zext;
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// Logical steps of the exact sum: compare and swap; align; add.
+pub const ADD_RAW_STEPS: u32 = 3;
+
+/// The exact sum as a raw value, before the mode-dependent sign of an exact zero.
+#[derive(Debug, Clone, Copy)]
+pub struct SumRaw {
+    /// the raw value; its sign is the sign of the larger operand
+    pub raw: Raw,
+    /// Bool: the sum is an exact zero of operands with opposite signs, whose
+    /// sign is decided by the rounding mode (-0 in RDN, +0 otherwise)
+    pub cancel: Sig,
+}
+
+impl SumRaw {
+    /// The raw value with the sign of an exact zero fixed for `mode`.
+    #[track_caller]
+    pub fn for_mode(&self, m: &mut ModuleBuilder, mode: Rounding) -> Raw {
+        let zero_sign = m.bool(mode == Rounding::Rdn);
+        let sign = m.mux(self.cancel, zero_sign, self.raw.sign);
+        Raw { sign, ..self.raw }
+    }
+}
+
+/// Width of the exponent of [`add_raw`]'s result.
+pub fn add_exp_width(fmt: Format) -> u32 {
+    let k = fmt.bias() + fmt.frac_bits as i64 + 3;
+    sint_width(1 - k, fmt.exp_ones() as i64 - k)
+}
+
+/// Builds `a + b` (or `a - b` if `negate_b`) exactly, inserting `cuts[i]`
+/// pipeline registers after step `i` of [`ADD_RAW_STEPS`].
+#[track_caller]
+pub fn add_raw(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig, negate_b: bool, cuts: &[u32]) -> SumRaw {
+    let (e, f) = (fmt.exp_bits, fmt.frac_bits);
+    let w = fmt.width();
+    let ua = unpack(m, fmt, a);
+    let ub = unpack(m, fmt, b);
+    let sign_b = if negate_b { m.not(ub.sign) } else { ub.sign };
+
+    // step 1: order by magnitude, exponent difference, specials
+    let mag_a = m.slice(a, w - 2, 0);
+    let mag_b = m.slice(b, w - 2, 0);
+    let a_big = m.ge(mag_a, mag_b);
+    let a_big = m.name(a_big, "a_big");
+    let sig_big = m.mux(a_big, ua.sig, ub.sig);
+    let sig_small = m.mux(a_big, ub.sig, ua.sig);
+    let exp_big = m.mux(a_big, ua.eff_exp, ub.eff_exp);
+    let exp_small = m.mux(a_big, ub.eff_exp, ua.eff_exp);
+    let sign_big = m.mux(a_big, ua.sign, sign_b);
+    let sign_big = m.name(sign_big, "sign_big");
+    let diff = m.sub(exp_big, exp_small);
+    let diff = m.as_uint(diff);
+    let diff = zext(m, diff, e);
+    let diff = m.name(diff, "exp_diff");
+    let eff_sub = m.xor(ua.sign, sign_b);
+    let eff_sub = m.name(eff_sub, "eff_sub");
+    let both_inf = m.and(ua.inf, ub.inf);
+    let inf_minus_inf = m.and(both_inf, eff_sub);
+    let any_nan = m.or(ua.nan, ub.nan);
+    let nan = m.or(any_nan, inf_minus_inf);
+    let inf = m.or(ua.inf, ub.inf);
+    let class = class_of(m, nan, inf);
+    let xw = add_exp_width(fmt);
+    let eb = to_sint(m, exp_big, xw);
+    let k = sconst(m, xw, fmt.bias() + f as i64 + 3);
+    let exp = ssub(m, eb, k, xw);
+    let exp = m.name(exp, "sum_exp");
+    for _ in 0..cuts[0] {
+        m.stage();
+    }
+
+    // step 2: align the smaller significand, jamming what is shifted out
+    let grs = m.uint(3, 0);
+    let big_ext = m.cat(&[sig_big, grs]);
+    let small_ext = m.cat(&[sig_small, grs]);
+    let small_al = shr_jam(m, small_ext, diff);
+    let small_al = m.name(small_al, "small_aligned");
+    for _ in 0..cuts[1] {
+        m.stage();
+    }
+
+    // step 3: add or subtract (never negative: big >= small)
+    let s_add = m.add(big_ext, small_al);
+    let s_sub = m.sub(big_ext, small_al);
+    let s_sub = m.as_uint(s_sub);
+    let sum = m.mux(eff_sub, s_sub, s_add);
+    let sum = m.name(sum, "sum");
+    let sum_any = m.any_set(sum);
+    let sum_zero = m.not(sum_any);
+    let cancel = m.and(sum_zero, eff_sub);
+    let no_sticky = m.bool(false);
+    for _ in 0..cuts[2] {
+        m.stage();
+    }
+    let _ = e;
+    SumRaw {
+        raw: Raw {
+            sign: sign_big,
+            class,
+            exp,
+            sig: sum,
+            sticky: no_sticky,
+        },
+        cancel,
+    }
+}
+
+/// Module name of the adder (`fadd_…`) or subtractor (`fsub_…`).
+pub fn add_name(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> String {
+    let op = if sub { "fsub" } else { "fadd" };
+    format!("{op}_{}_{mode}_s{stages}", fmt.tag())
+}
+
+/// `z = a + b` (or `a - b` if `sub`) in `fmt`, rounded in `mode`, with
+/// `stages` pipeline registers (latency `stages`).
+pub fn add_module(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(add_name(fmt, mode, sub, stages));
+    let what = if sub { "a - b" } else { "a + b" };
+    m.describe(format!("Floating-point {what} in {}, rounded {mode}.", fmt.tag()));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("round", mode)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fmt.width()));
+    let b = m.input("b", Ty::UInt(fmt.width()));
+    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
+    let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
+    let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);
+    let raw = s.for_mode(&mut m, mode);
+    let rs: u32 = round_cuts.iter().sum();
+    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    for _ in 0..rs {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(m.finish().expect("adder generator is type-correct for every format"))
+}

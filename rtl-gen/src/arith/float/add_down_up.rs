@@ -1,0 +1,44 @@
+//! One exact sum rounded both toward -inf (RDN) and toward +inf (RUP): the
+//! adder's exact part once, two instances of the shared rounder.
+
+use super::add::{add_raw, ADD_RAW_STEPS};
+use super::round::{round, ROUND_STEPS};
+use super::{spread, Format, Rounding};
+use crate::builder::ModuleBuilder;
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// Module name of the down/up adder.
+pub fn add_down_up_name(fmt: Format, stages: u32) -> String {
+    format!("fadd_down_up_{}_s{stages}", fmt.tag())
+}
+
+/// `down = RDN(a + b)`, `up = RUP(a + b)` in `fmt`, `stages` pipeline
+/// registers. `down == up` exactly when the sum is representable (both NaN
+/// for a NaN sum); an exact zero of opposite-signed operands is -0 down and +0 up.
+pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(add_down_up_name(fmt, stages));
+    m.describe(format!(
+        "a + b in {} rounded toward -inf (down) and toward +inf (up) from one exact sum.",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fmt.width()));
+    let b = m.input("b", Ty::UInt(fmt.width()));
+    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
+    let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
+    let s = add_raw(&mut m, fmt, a, b, false, raw_cuts);
+    let rs: u32 = round_cuts.iter().sum();
+    let raw_down = s.for_mode(&mut m, Rounding::Rdn);
+    let raw_up = s.for_mode(&mut m, Rounding::Rup);
+    let down = round(&mut m, fmt, Rounding::Rdn, &raw_down, rs, "u_round_down");
+    let up = round(&mut m, fmt, Rounding::Rup, &raw_up, rs, "u_round_up");
+    for _ in 0..rs {
+        m.stage();
+    }
+    m.output("down", down);
+    m.output("up", up);
+    Arc::new(m.finish().expect("down/up adder generator is type-correct for every format"))
+}
