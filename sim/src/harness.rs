@@ -247,6 +247,14 @@ impl Harness {
     /// [`Harness::cache_key`]).
     pub fn build(ports: &PortList, dir: &Path, cache_root: &Path) -> Result<Harness, SimError> {
         let started = Instant::now();
+        // Absolute, so that the binary path in replay commands works from
+        // any directory.
+        let cache_root = &std::path::absolute(cache_root).map_err(|e| {
+            SimError::io(
+                format!("resolving cache directory {}", cache_root.display()),
+                e,
+            )
+        })?;
         let BuildInputs {
             key,
             sources,
@@ -308,7 +316,11 @@ impl Harness {
             Err(e) => {
                 let _ = fs::remove_dir_all(&tmp);
                 Err(SimError::io(
-                    format!("moving the finished build into {}", entry.display()),
+                    format!(
+                        "moving the finished build into {} (an incomplete entry from an \
+                         older version? delete it)",
+                        entry.display()
+                    ),
                     e,
                 ))
             }

@@ -209,6 +209,14 @@ fn replay_returns_outputs_and_writes_a_trace() {
     assert!(e.contains("1 input values for 2 input ports"), "{e}");
     let e = replay(h, &[0x10000, 0], None).unwrap_err().to_string();
     assert!(e.contains("field `a`: value wider than port"), "{e}");
+    // No vectors at all: reset and drain only.
+    let stim = RandomStimulus::new(&h.ports().inputs);
+    let opts = CheckOptions {
+        vectors: 0,
+        ..CheckOptions::default()
+    };
+    let r = cross_check(h, &addpipe_golden, &stim, &opts).unwrap();
+    assert!(r.passed() && r.vectors == 0 && r.cycles == 4 + 2 + 4, "{r}");
     fs::remove_dir_all(&dir).unwrap();
 }
 
