@@ -50,9 +50,10 @@ fn bench2(b: Bencher, op: impl Fn(u64, u64) -> u64 + Sync) {
     });
 }
 
+/// unpack + the shared rounder, and nothing else.
 #[divan::bench]
-fn unpack_round(b: Bencher) {
-    bench2(b, |a, _| fp::round(F32, fp::unpack(F32, a), RNE));
+fn convert_to_self(b: Bencher) {
+    bench2(b, |a, _| fp::convert(F32, F32, a, RNE));
 }
 
 #[divan::bench]

@@ -2,7 +2,8 @@
 //! check of the oracle itself, against rustc_apfloat):
 //! * (4,3): all 65,536 pairs × 4 modes for add, sub, mul, add_down_up;
 //!   all pairs for lt/le/eq/min/max and mul_exact (into (6,7));
-//! * (3,2): all 262,144 triples × 4 modes for fma;
+//! * (3,2): all 262,144 triples × 4 modes for fma; smaller formats: all
+//!   pairs (add, sub, mul), all fma triples, all dot3 product triples;
 //! * conversions of every value of (4,3), (5,10) and (8,7) into several
 //!   formats, 4 modes.
 
@@ -220,6 +221,111 @@ fn conversions_of_every_value() {
                         agree(to, ours, want, Some(ap::convert(from, to, x, mode))),
                         || format!("convert({x:#x}) = {ours:#x}, exact {want:#x}"),
                     );
+                }
+                t.finish();
+            }
+        }
+    }
+}
+
+/// dot3 depends on its operands only through the three products, so taking
+/// one operand pair per distinct product (value, zero sign, inf sign, NaN)
+/// and every ordered triple of those covers every case of a tiny format.
+#[test]
+fn tiny_formats_dot3_all_product_triples_all_modes() {
+    for f in [fmt(2, 1), fmt(2, 2), fmt(3, 1)] {
+        let mut reps: Vec<(u64, u64, V)> = Vec::new();
+        for a in all(f) {
+            for b in all(f) {
+                let p = exact::mul(&exact::decode(f, a), &exact::decode(f, b));
+                let seen = reps.iter().any(|(_, _, q)| match (q, &p) {
+                    (
+                        V::Fin {
+                            neg: n1,
+                            mag: m1,
+                            exp: e1,
+                        },
+                        V::Fin {
+                            neg: n2,
+                            mag: m2,
+                            exp: e2,
+                        },
+                    ) => n1 == n2 && exact::cmp_mag(m1, *e1, m2, *e2) == Ordering::Equal,
+                    (q, p) => q == p,
+                });
+                if !seen {
+                    reps.push((a, b, p));
+                }
+            }
+        }
+        for mode in RoundingMode::ALL {
+            let mut t = Tally::new(format!(
+                "{f} dot3 {}, all triples of the {} distinct products",
+                mode_name(mode),
+                reps.len()
+            ));
+            for r0 in &reps {
+                for r1 in &reps {
+                    for r2 in &reps {
+                        let terms = [r0.2.clone(), r1.2.clone(), r2.2.clone()];
+                        let want = exact::round(f, &exact::sum(&terms, mode), mode);
+                        let (a, b) = ([r0.0, r1.0, r2.0], [r0.1, r1.1, r2.1]);
+                        let ours = fp::dot3(f, a, b, mode);
+                        t.check(ours == want, || {
+                            format!("dot3({a:x?}, {b:x?}) = {ours:#x}, exact {want:#x}")
+                        });
+                    }
+                }
+            }
+            t.finish();
+        }
+    }
+}
+
+/// All pairs of a few more tiny formats (E = 2 and 3, F = 1..5) for add,
+/// sub, mul, and all triples for fma, every mode.
+#[test]
+fn tiny_formats_all_pairs_all_modes() {
+    for f in [fmt(2, 1), fmt(2, 3), fmt(3, 1), fmt(2, 5), fmt(3, 4)] {
+        for mode in RoundingMode::ALL {
+            let mut t = Tally::new(format!("{f} add/sub/mul {}, all pairs", mode_name(mode)));
+            for a in all(f) {
+                for b in all(f) {
+                    let (va, vb) = (exact::decode(f, a), exact::decode(f, b));
+                    let nb = exact::decode(f, b ^ f.sign_bit());
+                    let want = [
+                        exact::round(f, &exact::sum(&[va.clone(), vb.clone()], mode), mode),
+                        exact::round(f, &exact::sum(&[va.clone(), nb], mode), mode),
+                        exact::round(f, &exact::mul(&va, &vb), mode),
+                    ];
+                    let ours = [
+                        fp::add(f, a, b, mode),
+                        fp::sub(f, a, b, mode),
+                        fp::mul(f, a, b, mode),
+                    ];
+                    t.check(ours == want, || {
+                        format!("({a:#x}, {b:#x}): ours {ours:x?}, exact {want:x?}")
+                    });
+                }
+            }
+            t.finish();
+            if f.width() <= 5 {
+                let mut t = Tally::new(format!("{f} fma {}, all triples", mode_name(mode)));
+                for a in all(f) {
+                    for b in all(f) {
+                        let p = exact::mul(&exact::decode(f, a), &exact::decode(f, b));
+                        for c in all(f) {
+                            let want = exact::round(
+                                f,
+                                &exact::sum(&[p.clone(), exact::decode(f, c)], mode),
+                                mode,
+                            );
+                            let ours = fp::fma(f, a, b, c, mode);
+                            t.check(ours == want, || {
+                                format!("fma({a:#x}, {b:#x}, {c:#x}) = {ours:#x}, exact {want:#x}")
+                            });
+                        }
+                    }
                 }
                 t.finish();
             }

@@ -56,7 +56,7 @@ pub(crate) const MAX_TERM_BITS: u32 = 106;
 /// one is at bit [`WINDOW_TOP`]; the window's bit 0 has weight `2^g`. The
 /// other term, y, is placed on the same grid; if it has bits below `2^g`,
 /// they are dropped into `sticky`. That happens only when y's leading one is
-/// more than `WINDOW_TOP - MAX_TERM_BITS = 19` bits below x's, so the sum is
+/// more than `WINDOW_TOP - (MAX_TERM_BITS - 1) = 20` bits below x's, so the sum is
 /// at least `2^(WINDOW_TOP - 1)` units and keeps far more than F + 2 bits
 /// above the sticky: rounding it is the same as rounding the exact sum.
 #[inline]

@@ -38,7 +38,7 @@ fn dot3_raw(fmt: FloatFormat, a: [u64; 3], b: [u64; 3], mode: RoundingMode) -> R
     for t in p.iter().filter(|t| t.class == Class::Finite) {
         acc.add(t);
     }
-    let sum = acc.to_raw();
+    let sum = acc.into_raw();
     if sum.class == Class::Zero {
         let all_zero = p.iter().all(|t| t.class == Class::Zero);
         let same_sign = p.iter().all(|t| t.sign == p[0].sign);
@@ -115,7 +115,7 @@ impl Accumulator {
 
     /// The accumulated value as a [`RawFloat`]: its top 128 bits as `sig`
     /// and any lower set bit as `sticky` (so `sig >= 2^127` when sticky).
-    fn to_raw(&mut self) -> RawFloat {
+    fn into_raw(mut self) -> RawFloat {
         let n = self.n;
         let negative = self.words[n - 1] >> 63 == 1;
         if negative {
