@@ -8,7 +8,7 @@ mod common;
 use common::{apfloat as ap, formats, mode_name, operand, operand_near, specials, Rng, Tally};
 use golden_model::float::{self as fp, FloatFormat, RoundingMode};
 
-const RANDOM: usize = 400_000;
+const RANDOM: usize = 1_000_000;
 
 fn same(fmt: FloatFormat, ours: u64, oracle: u64) -> bool {
     if fmt.is_nan(oracle) {

@@ -85,7 +85,7 @@ fn dot3_operands(rng: &mut Rng, fmt: FloatFormat, sp: &[u64], i: usize) -> ([u64
 
 #[test]
 fn dot3_against_exact_sum() {
-    const PER_FORMAT_MODE: usize = 100_000;
+    const PER_FORMAT_MODE: usize = 250_000;
     for fmt in formats() {
         let sp = specials(fmt);
         for (mi, mode) in RoundingMode::ALL.into_iter().enumerate() {
@@ -115,7 +115,7 @@ fn dot3_against_exact_sum() {
 
 #[test]
 fn mul_exact_is_exact_and_compare_on_wide_products() {
-    const PER_FORMAT: usize = 200_000;
+    const PER_FORMAT: usize = 500_000;
     for fmt in formats() {
         let Ok(p) = ExactProductFormat::new(fmt) else {
             assert_eq!(
@@ -208,7 +208,7 @@ fn check_compare(t: &mut Tally, fmt: FloatFormat, x: u64, y: u64) {
 
 #[test]
 fn compare_min_max_every_format() {
-    const PER_FORMAT: usize = 200_000;
+    const PER_FORMAT: usize = 500_000;
     for fmt in formats() {
         let sp = specials(fmt);
         let mut t = Tally::new(format!("{fmt} lt/le/eq/min/max vs exact"));

@@ -8,7 +8,7 @@ use common::{operand, operand_near, specials, Rng, Tally};
 use golden_model::float::{self as fp, FloatFormat, RoundingMode::NearestEven as RNE};
 
 const F32: FloatFormat = FloatFormat::BINARY32;
-const RANDOM: usize = 4_000_000;
+const RANDOM: usize = 8_000_000;
 
 fn f(x: u64) -> f32 {
     f32::from_bits(x as u32)
