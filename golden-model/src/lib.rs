@@ -10,3 +10,4 @@ pub mod exact;
 pub mod mulcmp;
 pub mod silhouette;
 pub mod slab;
+pub mod transform;

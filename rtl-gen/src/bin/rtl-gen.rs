@@ -87,6 +87,28 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         cache: Option<PathBuf>,
     },
+    /// Print the accuracy study of the inverse transform (seed 003, FIG. 7): conventional
+    /// single inverse matrix against the two-step method, errors against the exact reference.
+    TransformAccuracy {
+        /// Float format, eEmF (e.g. e8m23 = binary32).
+        #[arg(long, default_value = "e8m23")]
+        format: String,
+        /// Dot-product style of the two-step method: separate, fma, dot3 or all.
+        #[arg(long, default_value = "fma")]
+        dot: String,
+        /// Origins per offset for each of M1-M3.
+        #[arg(long, default_value_t = 10_000)]
+        points: usize,
+        /// Random matrices.
+        #[arg(long, default_value_t = 1000)]
+        random: usize,
+        /// Origins per offset for each random matrix.
+        #[arg(long, default_value_t = 100)]
+        random_points: usize,
+        /// Seed of the random matrices and origins.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
 }
 
 fn main() -> ExitCode {
@@ -117,6 +139,14 @@ fn main() -> ExitCode {
             out,
             cache,
         } => replay(&unit, seed, index, &vcd, out, cache),
+        Command::TransformAccuracy {
+            format,
+            dot,
+            points,
+            random,
+            random_points,
+            seed,
+        } => transform_accuracy(&format, &dot, points, random, random_points, seed),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
@@ -250,4 +280,41 @@ fn replay(
     }
     println!("trace written to {}", vcd.display());
     Ok(same)
+}
+
+fn transform_accuracy(
+    format: &str,
+    dot: &str,
+    points: usize,
+    random: usize,
+    random_points: usize,
+    seed: u64,
+) -> Result<bool, FlowError> {
+    use golden_model::transform::{accuracy, DotStyle};
+    let bad = |m: String| FlowError::Params(rtl_gen::params::ParamError::Combination(m));
+    let fmt = format
+        .strip_prefix('e')
+        .and_then(|r| r.split_once('m'))
+        .and_then(|(e, f)| Some((e.parse().ok()?, f.parse().ok()?)))
+        .ok_or_else(|| bad(format!("--format {format}: expected eEmF, e.g. e8m23")))
+        .and_then(|(e, f)| {
+            golden_model::float::FloatFormat::new(e, f).map_err(|err| bad(err.to_string()))
+        })?;
+    let styles = match dot {
+        "all" => DotStyle::ALL.to_vec(),
+        w => vec![DotStyle::parse(w)
+            .ok_or_else(|| bad(format!("--dot {w}: expected separate, fma, dot3 or all")))?],
+    };
+    let opts = accuracy::StudyOptions {
+        fmt,
+        styles,
+        points,
+        random_matrices: random,
+        random_points,
+        seed,
+        ..Default::default()
+    };
+    let rows = accuracy::run(&opts);
+    print!("{}", accuracy::table(&opts, &rows));
+    Ok(true)
 }

@@ -1,0 +1,69 @@
+//! Correctly rounded reciprocal `1 / x`, the one division of the hardware
+//! inversion (`docs/transform.md` §3). It follows the float model's contract
+//! (`docs/float.md`): exact quotient with a sticky bit, then the shared
+//! rounder.
+
+use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
+
+/// `1 / x` rounded once in `mode`.
+///
+/// Specials: NaN → canonical NaN; `1/±0 = ±inf`; `1/±inf = ±0`. For finite
+/// nonzero `x = sig · 2^exp` the quotient `q = floor(2^k / sig)` with
+/// `k = F + 3 + bitlen(sig)` has at least F + 3 bits, the remainder sets the
+/// sticky bit, and the rounder rounds `q · 2^(−exp − k)` (subnormal and
+/// overflowing results included: the reciprocal of a tiny subnormal is ∞ in
+/// RNE).
+pub fn recip(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
+    let r = unpack(fmt, x);
+    let raw = match r.class {
+        Class::NaN => RawFloat::NAN,
+        Class::Zero => RawFloat::special(r.sign, Class::Inf),
+        Class::Inf => RawFloat::special(r.sign, Class::Zero),
+        Class::Finite => {
+            let k = fmt.frac_bits() + 3 + (128 - r.sig.leading_zeros());
+            let num = 1u128 << k;
+            let q = num / r.sig;
+            let rem = num % r.sig;
+            RawFloat {
+                sign: r.sign,
+                class: Class::Finite,
+                exp: -r.exp - k as i32,
+                sig: q,
+                sticky: rem != 0,
+            }
+        }
+    };
+    round(fmt, raw, mode)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn binary32_reciprocals_match_f32_division() {
+        let f = FloatFormat::BINARY32;
+        let mut s = 0x1234_5678_9abc_def0u64;
+        for i in 0..200_000u32 {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let x = match i {
+                0 => 0.0f32,
+                1 => -0.0,
+                2 => f32::INFINITY,
+                3 => f32::from_bits(1),
+                4 => f32::MAX,
+                5 => f32::MIN_POSITIVE,
+                _ => f32::from_bits((s >> 32) as u32),
+            };
+            let got = recip(f, x.to_bits() as u64, RoundingMode::NearestEven);
+            let want = 1.0f32 / x;
+            if want.is_nan() {
+                assert_eq!(got, f.canonical_nan());
+            } else {
+                assert_eq!(got, want.to_bits() as u64, "1/{x:e}");
+            }
+        }
+    }
+}
