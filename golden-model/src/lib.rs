@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod float;
+pub mod cull;
 pub mod exact;
 pub mod mulcmp;
 pub mod silhouette;

@@ -1,0 +1,490 @@
+//! The cull tester against the exact reference (issue #6): zero wrongful
+//! culls on random and adversarial cases in several ray / plane formats.
+//!
+//! Default run: 1,200,000 cases. `CULL_CASES=N` sets the count; the
+//! 10,000,000 run (results in `docs/cull.md`):
+//! `CULL_CASES=10000000 cargo test --release -p golden-model --test cull_props -- --nocapture`.
+//!
+//! A wrongful cull is a case where the tester reports `box_hit = 0` while the
+//! exact segment meets the closed box, or `keep = 0` while it meets the box
+//! intersected with every plane's closed non-empty side.
+
+use golden_model::cull::exact::{region_hit, Dyadic};
+use golden_model::cull::tester::{eval, Config, CullIn, Plane};
+use golden_model::float::{add, convert, sub, FloatFormat, RoundingMode};
+
+const RNE: RoundingMode = RoundingMode::NearestEven;
+
+#[derive(Clone)]
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        ((self.next() as u128 * n as u128) >> 64) as u64
+    }
+    fn chance(&mut self, num: u64, den: u64) -> bool {
+        self.below(den) < num
+    }
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: i64, hi: i64) -> i64 {
+        lo + self.below((hi - lo + 1) as u64) as i64
+    }
+}
+
+fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
+    convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
+}
+
+fn to_f64(fmt: FloatFormat, bits: u64) -> f64 {
+    f64::from_bits(convert(fmt, FloatFormat::BINARY64, bits, RNE))
+}
+
+fn key(fmt: FloatFormat, bits: u64) -> i64 {
+    let mag = (bits & fmt.mask() & !fmt.sign_bit()) as i64;
+    if bits & fmt.sign_bit() != 0 {
+        -mag - 1
+    } else {
+        mag
+    }
+}
+
+fn from_key(fmt: FloatFormat, k: i64) -> u64 {
+    if k < 0 {
+        ((-(k + 1)) as u64) | fmt.sign_bit()
+    } else {
+        k as u64
+    }
+}
+
+fn nudge(fmt: FloatFormat, bits: u64, n: i64) -> u64 {
+    let lim = key(fmt, fmt.max_finite(false));
+    from_key(fmt, (key(fmt, bits) + n).clamp(-lim - 1, lim))
+}
+
+fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
+    let (a, b) = (key(fmt, lo), key(fmt, hi));
+    let (a, b) = (a.min(b), a.max(b));
+    from_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+}
+
+fn rand_val(fmt: FloatFormat, rng: &mut Rng, scale: i32, spread: i32) -> u64 {
+    if rng.chance(1, 30) {
+        return fmt.zero(rng.chance(1, 2));
+    }
+    let k = scale + rng.range(-(spread as i64), spread as i64) as i32;
+    let v = (1.0 + rng.unit()) * 2f64.powi(k.clamp(-1070, 1020));
+    let r = from_f64(fmt, if rng.chance(1, 2) { -v } else { v });
+    if r & !fmt.sign_bit() == fmt.inf(false) {
+        fmt.max_finite(r & fmt.sign_bit() != 0)
+    } else {
+        r
+    }
+}
+
+fn rand_scale(fmt: FloatFormat, rng: &mut Rng) -> i32 {
+    match rng.below(12) {
+        0 => fmt.emax() - rng.range(0, 3) as i32,
+        1 => fmt.emin() - fmt.frac_bits() as i32 + rng.range(0, 6) as i32,
+        2 => fmt.emin() + rng.range(-2, 4) as i32,
+        _ => rng.range(-5, 5) as i32,
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// everything random
+    Random,
+    /// planes fitted tightly around random points in the box; rays aimed at
+    /// a support point of a plane, then nudged
+    Fitted,
+    /// the ray parallel to a plane (n·d = 0 exactly), origin on / near it
+    Parallel,
+    /// the origin on a plane or inside the box
+    OriginOnPlane,
+    /// NaN / inf / negative t_min / inverted boxes and segments
+    Specials,
+}
+
+const KINDS: [Kind; 5] = [
+    Kind::Random,
+    Kind::Fitted,
+    Kind::Parallel,
+    Kind::OriginOnPlane,
+    Kind::Specials,
+];
+
+/// A normal in the plane format: random, axis-like or diagonal.
+fn rand_normal(pf: FloatFormat, rng: &mut Rng) -> [u64; 3] {
+    let mut n = [0.0f64; 3];
+    match rng.below(4) {
+        0 => {
+            for c in n.iter_mut() {
+                *c = [-1.0, 0.0, 1.0][rng.below(3) as usize];
+            }
+        }
+        _ => {
+            for c in n.iter_mut() {
+                *c = 2.0 * rng.unit() - 1.0;
+                if rng.chance(1, 8) {
+                    *c = 0.0;
+                }
+            }
+        }
+    }
+    if rng.chance(1, 6) {
+        let s = 2f64.powi(rng.range(-6, 6) as i32);
+        n = n.map(|c| c * s);
+    }
+    n.map(|c| finite(pf, from_f64(pf, c)))
+}
+
+/// `v` with an infinity replaced by the largest finite value of its sign.
+fn finite(fmt: FloatFormat, v: u64) -> u64 {
+    if v & !fmt.sign_bit() == fmt.inf(false) {
+        fmt.max_finite(v & fmt.sign_bit() != 0)
+    } else {
+        v
+    }
+}
+
+/// `w` = the exact maximum of `n·(p − c)` over `pts`, rounded up to `pf`
+/// (what the builder does), or a random distance.
+fn fit_w(f: FloatFormat, pf: FloatFormat, n: &[u64; 3], pts: &[[u64; 3]], c: &[Dyadic; 3]) -> u64 {
+    let mut best: Option<Dyadic> = None;
+    for p in pts {
+        let mut s = Dyadic::zero();
+        for i in 0..3 {
+            let ni = Dyadic::from_bits(pf, n[i]).unwrap();
+            let pi = Dyadic::from_bits(f, p[i]).unwrap();
+            s = s.add(&ni.mul(&pi.sub(&c[i])));
+        }
+        if best.as_ref().is_none_or(|b| s.cmp(b).is_gt()) {
+            best = Some(s);
+        }
+    }
+    let w = best.unwrap().round_to(pf, RoundingMode::Up);
+    if w & !pf.sign_bit() == pf.inf(false) {
+        pf.max_finite(false)
+    } else {
+        w
+    }
+}
+
+fn gen(f: FloatFormat, pf: FloatFormat, k: usize, rng: &mut Rng, kind: Kind) -> CullIn {
+    let scale = rand_scale(f, rng);
+    let mut x = CullIn::default();
+    for i in 0..3 {
+        let a = rand_val(f, rng, scale, 2);
+        let b = if rng.chance(1, 12) {
+            a
+        } else {
+            rand_val(f, rng, scale, 2)
+        };
+        let (lo, hi) = if key(f, a) <= key(f, b) {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        x.p_min[i] = lo;
+        x.p_max[i] = hi;
+    }
+    let c: [Dyadic; 3] = [0, 1, 2].map(|i| {
+        Dyadic::from_bits(f, x.p_min[i])
+            .unwrap()
+            .add(&Dyadic::from_bits(f, x.p_max[i]).unwrap())
+            .half()
+    });
+    // "geometry": a few points in the box
+    let pts: Vec<[u64; 3]> = (0..rng.range(1, 4))
+        .map(|_| [0, 1, 2].map(|i| between(f, rng, x.p_min[i], x.p_max[i])))
+        .collect();
+    for _ in 0..k {
+        if rng.chance(1, 10) {
+            x.planes.push(Plane::default());
+            continue;
+        }
+        let n = rand_normal(pf, rng);
+        let w = if kind == Kind::Random && rng.chance(1, 2) {
+            rand_val(
+                pf,
+                rng,
+                scale.clamp(pf.emin() - pf.frac_bits() as i32, pf.emax() - 1),
+                3,
+            )
+        } else {
+            fit_w(f, pf, &n, &pts, &c)
+        };
+        x.planes.push(Plane { n, w });
+    }
+    let far = scale + rng.range(-1, 3) as i32;
+    x.o = [0, 1, 2].map(|_| rand_val(f, rng, far, 2));
+    x.d = [0, 1, 2].map(|_| {
+        let sc = rng.range(-4, 4) as i32;
+        rand_val(f, rng, sc, 3)
+    });
+    x.t_min = f.zero(false);
+    x.t_max = f.inf(false);
+    if rng.chance(1, 4) {
+        x.t_min = from_f64(f, rng.unit() * 2.0);
+        if rng.chance(1, 2) {
+            x.t_max = from_f64(f, to_f64(f, x.t_min) + rng.unit() * 4.0);
+        }
+    }
+    match kind {
+        Kind::Random => {
+            if rng.chance(1, 2) {
+                let t = [0, 1, 2].map(|i| between(f, rng, x.p_min[i], x.p_max[i]));
+                for i in 0..3 {
+                    x.d[i] = sub(f, t[i], x.o[i], RNE);
+                }
+            }
+        }
+        Kind::Fitted => {
+            // aim at a geometry point (on some plane's boundary), nudge
+            let target = pts[rng.below(pts.len() as u64) as usize];
+            if rng.chance(1, 2) {
+                for i in 0..3 {
+                    x.d[i] = sub(f, target[i], x.o[i], RNE);
+                }
+                if rng.chance(1, 2) {
+                    x.t_min = f.zero(false);
+                    x.t_max = from_f64(f, 1.0);
+                }
+            } else {
+                for i in 0..3 {
+                    x.d[i] = rand_val(f, rng, scale - 2, 1);
+                    x.o[i] = sub(f, target[i], x.d[i], RNE);
+                }
+            }
+            for i in 0..3 {
+                if rng.chance(1, 2) {
+                    x.d[i] = nudge(f, x.d[i], rng.range(-2, 2));
+                }
+                if rng.chance(1, 3) {
+                    x.o[i] = nudge(f, x.o[i], rng.range(-2, 2));
+                }
+            }
+        }
+        Kind::Parallel => {
+            // d ⟂ n for a plane with small-integer normal: choose d so n·d = 0.
+            let p = rng.below(k as u64) as usize;
+            let n =
+                [0, 1, 2].map(|_| from_f64(pf, [-1.0, 0.0, 1.0, 2.0, -0.5][rng.below(5) as usize]));
+            let target = pts[0];
+            x.planes[p] = Plane {
+                n,
+                w: fit_w(f, pf, &n, &pts, &c),
+            };
+            let nf = n.map(|b| to_f64(pf, b));
+            // d = n × r for a random r with small-integer components: exact
+            let r = [0, 1, 2].map(|_| rng.range(-3, 3) as f64);
+            let s = 2f64.powi(rng.range(-4, 4) as i32);
+            let d = [
+                nf[1] * r[2] - nf[2] * r[1],
+                nf[2] * r[0] - nf[0] * r[2],
+                nf[0] * r[1] - nf[1] * r[0],
+            ];
+            x.d = d.map(|v| from_f64(f, v * s));
+            // origin: the support point moved along d, sometimes nudged off the plane
+            let back = rng.range(-4, 1) as f64;
+            for i in 0..3 {
+                x.o[i] = add(f, target[i], from_f64(f, d[i] * s * back), RNE);
+                if rng.chance(1, 3) {
+                    x.o[i] = nudge(f, x.o[i], rng.range(-1, 1));
+                }
+            }
+        }
+        Kind::OriginOnPlane => {
+            let target = pts[rng.below(pts.len() as u64) as usize];
+            x.o = target;
+            if rng.chance(1, 2) {
+                for i in 0..3 {
+                    x.o[i] = nudge(f, x.o[i], rng.range(-1, 1));
+                }
+            }
+        }
+        Kind::Specials => {
+            let v = [
+                f.canonical_nan(),
+                f.inf(false),
+                f.inf(true),
+                f.zero(true),
+                f.max_finite(false),
+                f.min_subnormal(true),
+                from_f64(f, -1.0),
+            ][rng.below(7) as usize];
+            match rng.below(8) {
+                0 => x.t_min = v,
+                1 => x.t_max = v,
+                2 => x.o[rng.below(3) as usize] = v,
+                3 => x.d[rng.below(3) as usize] = v,
+                4 => x.p_min[rng.below(3) as usize] = v,
+                5 => std::mem::swap(&mut x.p_min, &mut x.p_max),
+                6 => {
+                    let p = rng.below(k as u64) as usize;
+                    x.planes[p].w = [
+                        pf.canonical_nan(),
+                        pf.inf(false),
+                        pf.max_finite(true),
+                        pf.zero(true),
+                    ][rng.below(4) as usize];
+                }
+                _ => std::mem::swap(&mut x.t_min, &mut x.t_max),
+            }
+        }
+    }
+    x
+}
+
+#[derive(Default, Debug, Clone, Copy)]
+struct Stats {
+    cases: u64,
+    invalid: u64,
+    exact_box: u64,
+    exact_region: u64,
+    tester_culls: u64,
+    tester_box_miss: u64,
+    checked: u64,
+    false_keeps: u64,
+    wrongful: u64,
+}
+
+impl Stats {
+    fn add(&mut self, o: &Stats) {
+        self.cases += o.cases;
+        self.invalid += o.invalid;
+        self.exact_box += o.exact_box;
+        self.exact_region += o.exact_region;
+        self.tester_culls += o.tester_culls;
+        self.tester_box_miss += o.tester_box_miss;
+        self.checked += o.checked;
+        self.false_keeps += o.false_keeps;
+        self.wrongful += o.wrongful;
+    }
+}
+
+fn chunk(f: FloatFormat, pf: FloatFormat, k: usize, kind: Kind, seed: u64, n: u64) -> Stats {
+    let cfg = Config::new(f, pf, k).unwrap();
+    let mut rng = Rng(seed);
+    let mut st = Stats::default();
+    for i in 0..n {
+        let x = gen(f, pf, k, &mut rng, kind);
+        let out = eval(&cfg, &x);
+        st.cases += 1;
+        // The exact reference on every cull and box miss (soundness), and on
+        // one case in 8 otherwise (tightness statistics).
+        let need = !out.keep || !out.box_hit || i % 8 == 0;
+        if !need {
+            continue;
+        }
+        let ex = region_hit(f, pf, &x, k);
+        st.checked += 1;
+        let ctx = || format!("{f}/{pf} k={k} {kind:?}\n{x:x?}\nout {out:?}\nexact {ex:?}");
+        assert_eq!(out.invalid, ex.invalid, "invalid flag: {}", ctx());
+        if out.invalid {
+            st.invalid += 1;
+            assert!(out.box_hit && out.keep, "invalid must keep: {}", ctx());
+            continue;
+        }
+        st.exact_box += ex.box_hit as u64;
+        st.exact_region += ex.region_hit as u64;
+        st.tester_box_miss += !out.box_hit as u64;
+        st.tester_culls += out.culled() as u64;
+        if (ex.box_hit && !out.box_hit) || (ex.region_hit && !out.keep) {
+            panic!("wrongful cull: {}", ctx());
+        }
+        if !ex.region_hit && out.keep && i % 8 == 0 {
+            st.false_keeps += 1;
+        }
+    }
+    st
+}
+
+fn total_cases() -> u64 {
+    std::env::var("CULL_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_200_000)
+}
+
+#[test]
+fn no_wrongful_culls_on_random_and_adversarial_cases() {
+    let configs: [(FloatFormat, FloatFormat, usize); 5] = [
+        (FloatFormat::BINARY32, FloatFormat::BINARY16, 4),
+        (FloatFormat::BINARY32, FloatFormat::BFLOAT16, 8),
+        (FloatFormat::BINARY16, FloatFormat::new(4, 3).unwrap(), 2),
+        (
+            FloatFormat::new(4, 6).unwrap(),
+            FloatFormat::new(3, 2).unwrap(),
+            3,
+        ),
+        (
+            FloatFormat::new(6, 12).unwrap(),
+            FloatFormat::new(6, 12).unwrap(),
+            1,
+        ),
+    ];
+    let total = total_cases();
+    let jobs: Vec<(usize, Kind)> = (0..configs.len())
+        .flat_map(|c| KINDS.iter().map(move |&k| (c, k)))
+        .collect();
+    let per_job = total.div_ceil(jobs.len() as u64);
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let shards = 4u64;
+    let mut grand = Stats::default();
+    let work: Vec<(usize, Kind, u64)> = jobs
+        .iter()
+        .flat_map(|&(c, k)| (0..shards).map(move |s| (c, k, s)))
+        .collect();
+    let results = std::sync::Mutex::new(Vec::new());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let j = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(&(c, kind, shard)) = work.get(j) else {
+                    break;
+                };
+                let (f, pf, k) = configs[c];
+                let seed = 0xC011_0000 + (c as u64) << 20 ^ (kind as u64) << 8 ^ shard;
+                let st = chunk(f, pf, k, kind, seed, per_job / shards);
+                results.lock().unwrap().push((c, kind, st));
+            });
+        }
+    });
+    let mut results = results.into_inner().unwrap();
+    results.sort_by_key(|r| (r.0, r.1 as u8));
+    for c in 0..configs.len() {
+        for kind in KINDS {
+            let mut st = Stats::default();
+            for r in results.iter().filter(|r| r.0 == c && r.1 == kind) {
+                st.add(&r.2);
+            }
+            let (f, pf, k) = configs[c];
+            eprintln!(
+                "{f} planes {pf} k={k} {kind:?}: {} cases, exact-checked {}, invalid {}, tester box misses {}, plane culls {}, wrongful 0; exact region hits {} / box hits {} among checked, false keeps (1/8 sample) {}",
+                st.cases, st.checked, st.invalid, st.tester_box_miss, st.tester_culls, st.exact_region, st.exact_box, st.false_keeps
+            );
+            grand.add(&st);
+        }
+    }
+    eprintln!(
+        "TOTAL {} cases, {} exact checks, {} tester plane culls, {} box misses, wrongful culls {}",
+        grand.cases, grand.checked, grand.tester_culls, grand.tester_box_miss, grand.wrongful
+    );
+    assert_eq!(grand.wrongful, 0);
+    assert!(grand.cases >= total.min(1_000_000));
+    assert!(
+        grand.tester_culls > grand.cases / 50,
+        "the planes must cull something"
+    );
+}
