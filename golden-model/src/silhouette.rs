@@ -327,14 +327,16 @@ pub fn eval_trace(cfg: &Config, x: &BundleIn) -> Trace {
         // Step 3: the entry / exit numerators.
         match cfg.rounding {
             Rounding::Conservative => {
-                let n_lo_origin = add_down_up(f, a_t.near, a_t.m_lo); // near - ô_lo: the larger N
-                let n_hi_origin = add_down_up(f, a_t.near, a_t.m_hi); // near - ô_hi: the smaller N
-                let x_lo_origin = add_down_up(f, a_t.far, a_t.m_lo); // far - ô_lo: the larger X
-                let x_hi_origin = add_down_up(f, a_t.far, a_t.m_hi); // far - ô_hi: the smaller X
-                a_t.n_any = n_hi_origin.down;
-                a_t.x_any = x_lo_origin.up;
-                a_t.n_all = n_lo_origin.up;
-                a_t.x_all = x_hi_origin.down;
+                // One exact sum each, rounded both ways (shared mode: m_lo == m_hi,
+                // so `n_big`/`n_small` and `x_big`/`x_small` are the same sums).
+                let n_big = add_down_up(f, a_t.near, a_t.m_lo); // near - ô_lo: largest N
+                let n_small = add_down_up(f, a_t.near, a_t.m_hi); // near - ô_hi: smallest N
+                let x_big = add_down_up(f, a_t.far, a_t.m_lo); // far - ô_lo: largest X
+                let x_small = add_down_up(f, a_t.far, a_t.m_hi); // far - ô_hi: smallest X
+                a_t.n_any = n_small.down;
+                a_t.x_any = x_big.up;
+                a_t.n_all = n_big.up;
+                a_t.x_all = x_small.down;
             }
             Rounding::Nearest => {
                 let rne = RoundingMode::NearestEven;
