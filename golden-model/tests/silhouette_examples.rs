@@ -139,17 +139,40 @@ fn touching_counts_as_a_hit() {
         0.0,
         INF
     ));
-    assert!(
-        !hits(
-            [0.0; 3],
-            [1.0; 3],
-            [3.0, 0.0, 2.0],
-            [-2.0, 1.0, -0.99],
-            0.0,
-            INF
-        ) && false
-            || true
-    );
+    // Grazing the top face, and one ulp above it.
+    assert!(hits(
+        [0.0; 3],
+        [1.0; 3],
+        [2.0, 2.0, 1.0],
+        [-1.0, -1.0, 0.0],
+        0.0,
+        INF
+    ));
+    assert!(!hits(
+        [0.0; 3],
+        [1.0; 3],
+        [2.0, 2.0, 1.0000001],
+        [-1.0, -1.0, 0.0],
+        0.0,
+        INF
+    ));
+    // Through the silhouette edge x = 1, z = 0 (seen from o) at y = 0.5, and just outside it.
+    assert!(hits(
+        [0.0; 3],
+        [1.0; 3],
+        [2.0, 0.5, 2.0],
+        [-1.0, 0.0, -2.0],
+        0.0,
+        INF
+    ));
+    assert!(!hits(
+        [0.0; 3],
+        [1.0; 3],
+        [2.0, 0.5, 2.0],
+        [-1.0, 0.0, -2.0000002],
+        0.0,
+        INF
+    ));
     // Segment ending exactly on the box, or starting exactly on it.
     assert!(hits(
         [0.0; 3],
