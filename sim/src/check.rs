@@ -8,6 +8,7 @@
 
 use std::fmt;
 use std::io::{self, Read};
+use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::{ChildStderr, ChildStdin, ChildStdout, Stdio};
 use std::thread;
@@ -331,23 +332,31 @@ pub fn cross_check(
         .spawn()
         .map_err(|e| SimError::io(format!("starting {}", h.binary().display()), e))?;
     let stdin = child.stdin.take().expect("piped stdin");
-    let stdout = child.stdout.take().expect("piped stdout");
+    // Held here, not by the checker, so that the harness cannot see a
+    // closed pipe (and exit with an I/O error of our making) before it is
+    // killed: an exit code then always is the harness's own verdict.
+    let mut stdout = child.stdout.take().expect("piped stdout");
     let stderr = child.stderr.take().expect("piped stderr");
 
     let (fed, compared, killed, status, stderr_text) = thread::scope(|s| {
         let feeder = s.spawn(|| feed(stdin, &ports.inputs, stim, opts.seed, opts.vectors));
         let err_reader = s.spawn(|| read_tail(stderr));
-        let compared = compare(stdout, h, golden, stim, opts);
-        // A checker that stopped early no longer drains the harness, which
-        // would then block the feeder: end the harness instead.
-        let killed = compared.is_err() && child.kill().is_ok();
-        let fed = feeder
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        let compared = panic::catch_unwind(AssertUnwindSafe(|| {
+            compare(&mut stdout, h, golden, stim, opts)
+        }));
+        // A checker that stopped early (error or panic in the golden model)
+        // no longer drains the harness, which would then block the feeder
+        // and this scope forever: end the harness instead.
+        let killed = !matches!(compared, Ok(Ok(_))) && child.kill().is_ok();
+        let compared = compared.unwrap_or_else(|p| {
+            let _ = child.wait();
+            panic::resume_unwind(p)
+        });
+        let fed = feeder.join().unwrap_or_else(|p| panic::resume_unwind(p));
         let status = child.wait();
         let stderr_text = err_reader
             .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            .unwrap_or_else(|p| panic::resume_unwind(p));
         (fed, compared, killed, status, stderr_text)
     });
     let status = status.map_err(|e| SimError::io("waiting for the harness", e))?;
@@ -359,14 +368,15 @@ pub fn cross_check(
     // Report the root cause: bad stimulus first, then a harness that failed
     // on its own, then what the checker saw; a broken pipe is only ever a
     // symptom of the harness stopping.
-    let fed_broken_pipe = matches!(&fed, Err(SimError::Io { source, .. }) if source.kind() == io::ErrorKind::BrokenPipe);
-    if let Err(e) = &fed {
-        if !fed_broken_pipe {
-            return Err(clone_err(e));
+    let fed_pipe_err = match fed {
+        Ok(()) => None,
+        Err(SimError::Io { source, context }) if source.kind() == io::ErrorKind::BrokenPipe => {
+            Some(SimError::Io { source, context })
         }
-    }
+        Err(e) => return Err(e),
+    };
     // An exit code is the harness's own verdict even if we also killed it
-    // (it may have exited first); a signal counts unless it was ours.
+    // (it exited first); a signal counts unless it was ours.
     if !status.success() && (status.code().is_some() || !killed) {
         return Err(harness_err(format!(
             "harness for `{}` {}",
@@ -379,7 +389,7 @@ pub fn cross_check(
         Err(SimError::Invalid(m)) => return Err(SimError::Invalid(m)),
         Err(e) => return Err(harness_err(format!("reading harness results: {e}"))),
     };
-    if let Err(e) = fed {
+    if let Some(e) = fed_pipe_err {
         return Err(harness_err(format!("sending vectors to the harness: {e}")));
     }
     if compared.results != opts.vectors {
@@ -408,19 +418,6 @@ pub fn cross_check(
         cycles: stats.cycles,
         bubbles: stats.bubbles,
     })
-}
-
-/// `SimError` holds an `io::Error`, which is not `Clone`; errors coming out
-/// of the feeder are rebuilt for the caller.
-fn clone_err(e: &SimError) -> SimError {
-    match e {
-        SimError::Invalid(m) => SimError::Invalid(m.clone()),
-        SimError::Io { context, source } => SimError::io(
-            context.clone(),
-            io::Error::new(source.kind(), source.to_string()),
-        ),
-        other => SimError::Invalid(other.to_string()),
-    }
 }
 
 /// Generates the vectors and streams them into the harness.
@@ -484,7 +481,7 @@ struct Compared {
 }
 
 fn compare(
-    stdout: ChildStdout,
+    stdout: &mut ChildStdout,
     h: &Harness,
     golden: &dyn Golden,
     stim: &dyn Stimulus,

@@ -5,7 +5,8 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::OnceLock;
+use std::sync::{mpsc, OnceLock};
+use std::time::Duration;
 
 use sim::harness::RunOptions;
 use sim::{
@@ -529,4 +530,25 @@ fn a_failed_build_reports_verilators_output() {
         .is_file());
     fs::remove_dir_all(&dir).unwrap();
     fs::remove_dir_all(&cache).unwrap();
+}
+
+#[test]
+fn a_panicking_golden_model_panics_instead_of_hanging() {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let h = addpipe();
+        let stim = RandomStimulus::new(&h.ports().inputs);
+        let golden = |_: &[u64], _: &mut [u64]| panic!("deliberate golden-model bug");
+        // Far more vectors than the pipes hold, so a checker that stopped
+        // reading without ending the harness would block the feeder.
+        let opts = CheckOptions {
+            vectors: 20_000_000,
+            ..CheckOptions::default()
+        };
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            cross_check(h, &golden, &stim, &opts)
+        }));
+        tx.send(r.is_err()).unwrap();
+    });
+    assert_eq!(rx.recv_timeout(Duration::from_secs(120)), Ok(true));
 }
