@@ -3,3 +3,4 @@
 //! instantiated; none touches the emitter.
 
 pub mod int;
+pub mod float;

@@ -11,7 +11,7 @@
 //! one in every mode. An exact zero from opposite signs is -0 in RDN, +0
 //! otherwise; equal-signed zeros keep their sign.
 
-use super::bits::{shr_jam, sconst, ssub, to_sint};
+use super::bits::{add_const, shr_jam};
 use super::round::{class_of, round, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rounding};
@@ -52,7 +52,14 @@ pub fn add_exp_width(fmt: Format) -> u32 {
 /// Builds `a + b` (or `a - b` if `negate_b`) exactly, inserting `cuts[i]`
 /// pipeline registers after step `i` of [`ADD_RAW_STEPS`].
 #[track_caller]
-pub fn add_raw(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig, negate_b: bool, cuts: &[u32]) -> SumRaw {
+pub fn add_raw(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    a: Sig,
+    b: Sig,
+    negate_b: bool,
+    cuts: &[u32],
+) -> SumRaw {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let w = fmt.width();
     let ua = unpack(m, fmt, a);
@@ -83,9 +90,7 @@ pub fn add_raw(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig, negate_b: boo
     let inf = m.or(ua.inf, ub.inf);
     let class = class_of(m, nan, inf);
     let xw = add_exp_width(fmt);
-    let eb = to_sint(m, exp_big, xw);
-    let k = sconst(m, xw, fmt.bias() + f as i64 + 3);
-    let exp = ssub(m, eb, k, xw);
+    let exp = add_const(m, exp_big, -(fmt.bias() + f as i64 + 3), xw);
     let exp = m.name(exp, "sum_exp");
     for _ in 0..cuts[0] {
         m.stage();
@@ -114,7 +119,6 @@ pub fn add_raw(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig, negate_b: boo
     for _ in 0..cuts[2] {
         m.stage();
     }
-    let _ = e;
     SumRaw {
         raw: Raw {
             sign: sign_big,
@@ -138,7 +142,10 @@ pub fn add_name(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> String {
 pub fn add_module(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> Arc<Module> {
     let mut m = ModuleBuilder::new(add_name(fmt, mode, sub, stages));
     let what = if sub { "a - b" } else { "a + b" };
-    m.describe(format!("Floating-point {what} in {}, rounded {mode}.", fmt.tag()));
+    m.describe(format!(
+        "Floating-point {what} in {}, rounded {mode}.",
+        fmt.tag()
+    ));
     m.param("exp_bits", fmt.exp_bits)
         .param("frac_bits", fmt.frac_bits)
         .param("round", mode)
@@ -155,5 +162,8 @@ pub fn add_module(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> Arc<Mo
         m.stage();
     }
     m.output("z", z);
-    Arc::new(m.finish().expect("adder generator is type-correct for every format"))
+    Arc::new(
+        m.finish()
+            .expect("adder generator is type-correct for every format"),
+    )
 }

@@ -40,5 +40,8 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     }
     m.output("down", down);
     m.output("up", up);
-    Arc::new(m.finish().expect("down/up adder generator is type-correct for every format"))
+    Arc::new(
+        m.finish()
+            .expect("down/up adder generator is type-correct for every format"),
+    )
 }

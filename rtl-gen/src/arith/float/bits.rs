@@ -148,3 +148,16 @@ pub fn abs(m: &mut ModuleBuilder, a: Sig) -> Sig {
 pub fn bit(m: &mut ModuleBuilder, b: Sig) -> Sig {
     m.as_uint(b)
 }
+
+/// `a + k` (a UInt or SInt, k a constant) as an SInt of `w` bits; the caller
+/// guarantees the result fits `w` bits (intermediate widths are chosen here).
+#[track_caller]
+pub fn add_const(m: &mut ModuleBuilder, a: Sig, k: i64, w: u32) -> Sig {
+    let aw = a.width() + 1;
+    let kw = super::sint_width(k, k);
+    let iw = aw.max(kw).max(w) + 1;
+    let a = to_sint(m, a, iw);
+    let k = m.sint(iw, k as i128);
+    let s = m.add(a, k);
+    sext(m, s, w)
+}

@@ -1,1 +1,78 @@
-//! TODO
+//! IEEE 754 quiet comparisons `lt`, `le`, `eq`: a NaN operand makes every
+//! comparison false (unordered); -0 == +0. Compares the encodings as
+//! sign-magnitude integers; no unpacking is needed.
+
+use super::{spread, Format};
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// The three comparisons of `a` and `b` (encodings of `fmt`): `(lt, le, eq)`.
+#[track_caller]
+pub fn compare(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig, Sig) {
+    let w = fmt.width();
+    let sa = m.msb(a);
+    let sb = m.msb(b);
+    let mag_a = m.slice(a, w - 2, 0);
+    let mag_b = m.slice(b, w - 2, 0);
+    let inf = m.uint(w - 1, fmt.inf_bits());
+    let nan_a = m.gt(mag_a, inf);
+    let nan_b = m.gt(mag_b, inf);
+    let any_nan = m.or(nan_a, nan_b);
+    let ordered = m.not(any_nan);
+    let mag_or = m.or(mag_a, mag_b);
+    let nonzero = m.any_set(mag_or);
+    let both_zero = m.not(nonzero);
+    let mag_lt = m.lt(mag_a, mag_b);
+    let mag_gt = m.gt(mag_a, mag_b);
+    let mag_eq = m.eq(mag_a, mag_b);
+    let same_sign = m.eq(sa, sb);
+    let not_sb = m.not(sb);
+    let not_sa = m.not(sa);
+    // a negative, b positive, not both zero
+    let neg_pos = m.and(sa, not_sb);
+    let neg_pos = m.and(neg_pos, nonzero);
+    let both_pos = m.and(not_sa, not_sb);
+    let pos_lt = m.and(both_pos, mag_lt);
+    let both_neg = m.and(sa, sb);
+    let neg_lt = m.and(both_neg, mag_gt);
+    let lt = m.or(neg_pos, pos_lt);
+    let lt = m.or(lt, neg_lt);
+    let lt = m.and(lt, ordered);
+    let same = m.and(mag_eq, same_sign);
+    let eq = m.or(same, both_zero);
+    let eq = m.and(eq, ordered);
+    let le = m.or(lt, eq);
+    (m.name(lt, "lt"), m.name(le, "le"), m.name(eq, "eq"))
+}
+
+/// Module name of the comparator.
+pub fn compare_name(fmt: Format, stages: u32) -> String {
+    format!("fcmp_{}_s{stages}", fmt.tag())
+}
+
+/// Outputs `lt = a < b`, `le = a <= b`, `eq = a == b` (IEEE quiet
+/// comparisons) of two `fmt` values; `stages` registers at the outputs.
+pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(compare_name(fmt, stages));
+    m.describe(format!(
+        "IEEE comparisons of two {} values: lt, le, eq (NaN unordered, -0 == +0).",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fmt.width()));
+    let b = m.input("b", Ty::UInt(fmt.width()));
+    let (lt, le, eq) = compare(&mut m, fmt, a, b);
+    for _ in 0..spread(stages, 1)[0] {
+        m.stage();
+    }
+    m.output("lt", lt);
+    m.output("le", le);
+    m.output("eq", eq);
+    Arc::new(
+        m.finish()
+            .expect("comparator generator is type-correct for every format"),
+    )
+}

@@ -1,1 +1,160 @@
-//! TODO
+//! Fused multiply-add `a · b + c`, rounded once.
+//!
+//! The operands are normalised (subnormals shifted up, so every significand
+//! has its leading one at the top), the significands multiplied exactly
+//! (2F + 2 bits, leading one at bit 2F + 1 or 2F), and product and addend
+//! added by [`sum_two`] in a window of 2F + 6 bits: carry, the anchor
+//! term's 2F + 2 bits (the addend's F + 1 bits followed by F + 4 zeros), and
+//! 3 guard bits. The product loses bits only if it lies more than 3 places
+//! below the addend, the addend only if more than F + 4 places below the
+//! product: in both cases the sum keeps its leading one within two places of
+//! the anchor, so the jammed bit is F + 1 or more places below the rounding
+//! position (see `sum.rs`). 2F + 6 = 110 bits for binary64, within the
+//! DSL's 128-bit values.
+
+use super::bits::add_const;
+use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::sum::{sum_two, Term};
+use super::unpack::{norm_exp_width, normalize, unpack};
+use super::{sint_width, spread, Format, Rounding};
+use crate::arith::int::umul_module;
+use crate::builder::ModuleBuilder;
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// Logical steps before the rounder: normalise; multiply (2); align; add.
+pub const FMA_RAW_STEPS: u32 = 5;
+
+/// Exponent given to a zero term: below every nonzero term's (and every
+/// normalised partial sum's) top exponent, so a zero never becomes the anchor.
+pub fn zero_term_exp(fmt: Format) -> i64 {
+    let f = fmt.frac_bits as i64;
+    2 * (fmt.emin() - f) - 2 * f - 8
+}
+
+/// Width of the exponents of the fused datapaths.
+pub fn fused_exp_width(fmt: Format) -> u32 {
+    sint_width(zero_term_exp(fmt) - 4, 2 * fmt.emax() + 4) + 1
+}
+
+/// Module name of the fused multiply-add.
+pub fn fma_name(fmt: Format, mode: Rounding, stages: u32) -> String {
+    format!("ffma_{}_{mode}_s{stages}", fmt.tag())
+}
+
+/// `z = a · b + c` in `fmt`, rounded once in `mode`, `stages` pipeline registers.
+pub fn fma_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+    let f = fmt.frac_bits;
+    let mut m = ModuleBuilder::new(fma_name(fmt, mode, stages));
+    m.describe(format!(
+        "Fused multiply-add a * b + c in {}, rounded once {mode}.",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", f)
+        .param("round", mode)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fmt.width()));
+    let b = m.input("b", Ty::UInt(fmt.width()));
+    let c = m.input("c", Ty::UInt(fmt.width()));
+    let plan = spread(stages, FMA_RAW_STEPS + ROUND_STEPS);
+    let ua = unpack(&mut m, fmt, a);
+    let ub = unpack(&mut m, fmt, b);
+    let uc = unpack(&mut m, fmt, c);
+
+    // specials and signs
+    let sp = m.xor(ua.sign, ub.sign);
+    let inf_zero = m.and(ua.inf, ub.zero);
+    let zero_inf = m.and(ua.zero, ub.inf);
+    let invalid_mul = m.or(inf_zero, zero_inf);
+    let nan_ab = m.or(ua.nan, ub.nan);
+    let nan_in = m.or(nan_ab, uc.nan);
+    let p_inf = m.or(ua.inf, ub.inf);
+    let eff_sub_sign = m.xor(sp, uc.sign);
+    let inf_inf = m.and(p_inf, uc.inf);
+    let invalid_add = m.and(inf_inf, eff_sub_sign);
+    let nan = m.or(nan_in, invalid_mul);
+    let nan = m.or(nan, invalid_add);
+    let inf = m.or(p_inf, uc.inf);
+    let class = class_of(&mut m, nan, inf);
+    let p_zero = m.or(ua.zero, ub.zero);
+
+    // step 1: normalise the operands, product exponent
+    let na = normalize(&mut m, fmt, &ua);
+    let nb = normalize(&mut m, fmt, &ub);
+    let nc = normalize(&mut m, fmt, &uc);
+    let xw = fused_exp_width(fmt);
+    let min = m.sint(xw, zero_term_exp(fmt) as i128);
+    let esum = m.add(na.exp, nb.exp);
+    let ep = add_const(&mut m, esum, 1, xw);
+    let ep = m.mux(p_zero, min, ep);
+    let ep = m.name(ep, "prod_top");
+    let ec = super::bits::to_sint(&mut m, nc.exp, xw);
+    let ec = m.mux(uc.zero, min, ec);
+    let ec = m.name(ec, "addend_top");
+    let _ = norm_exp_width(fmt);
+    for _ in 0..plan[0] {
+        m.stage();
+    }
+
+    // steps 2-3: exact product of the significands
+    let mul_stages = plan[1] + plan[2];
+    let mul = umul_module(f + 1, f + 1, mul_stages);
+    let p = m
+        .instance("u_mul", &mul, &[("a", na.sig), ("b", nb.sig)])
+        .get("p")
+        .expect("multiplier has output p");
+    for _ in 0..mul_stages {
+        m.stage();
+    }
+
+    // steps 4-5: align and add
+    let window = 2 * f + 6;
+    let s = sum_two(
+        &mut m,
+        Term {
+            sign: sp,
+            sig: p,
+            top: ep,
+        },
+        Term {
+            sign: uc.sign,
+            sig: nc.sig,
+            top: ec,
+        },
+        window,
+        xw,
+        plan[3],
+    );
+    // an exact zero of opposite-signed terms is -0 in RDN, +0 otherwise
+    let sum_any = m.any_set(s.sig);
+    let sum_zero = m.not(sum_any);
+    let cancel = m.and(sum_zero, s.eff_sub);
+    let zero_sign = m.bool(mode == Rounding::Rdn);
+    let sign = m.mux(cancel, zero_sign, s.sign);
+    // an infinite result has the sign of the infinite term
+    let inf_sign = m.mux(p_inf, sp, uc.sign);
+    let sign = m.mux(inf, inf_sign, sign);
+    let exp = add_const(&mut m, s.top, -(window as i64 - 1), xw + 1);
+    let sticky = m.bool(false);
+    let raw = Raw {
+        sign,
+        class,
+        exp,
+        sig: s.sig,
+        sticky,
+    };
+    for _ in 0..plan[4] {
+        m.stage();
+    }
+    let rs: u32 = plan[5..].iter().sum();
+    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    for _ in 0..rs {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(
+        m.finish()
+            .expect("fma generator is type-correct for every format"),
+    )
+}

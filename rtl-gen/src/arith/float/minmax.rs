@@ -1,1 +1,69 @@
-//! TODO
+//! IEEE 754-2019 `minimum` and `maximum`: the canonical NaN if either operand
+//! is NaN; otherwise the smaller (larger) operand with -0 ordered below +0.
+
+use super::{spread, Format};
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// `(min, max)` of `a` and `b` (encodings of `fmt`).
+#[track_caller]
+pub fn min_max(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig) {
+    let w = fmt.width();
+    let sa = m.msb(a);
+    let sb = m.msb(b);
+    let mag_a = m.slice(a, w - 2, 0);
+    let mag_b = m.slice(b, w - 2, 0);
+    let inf = m.uint(w - 1, fmt.inf_bits());
+    let nan_a = m.gt(mag_a, inf);
+    let nan_b = m.gt(mag_b, inf);
+    let any_nan = m.or(nan_a, nan_b);
+    // a <= b in the total order of non-NaN values with -0 < +0
+    let not_sa = m.not(sa);
+    let not_sb = m.not(sb);
+    let neg_pos = m.and(sa, not_sb);
+    let both_pos = m.and(not_sa, not_sb);
+    let mag_le = m.le(mag_a, mag_b);
+    let pos_le = m.and(both_pos, mag_le);
+    let both_neg = m.and(sa, sb);
+    let mag_ge = m.ge(mag_a, mag_b);
+    let neg_le = m.and(both_neg, mag_ge);
+    let a_le_b = m.or(neg_pos, pos_le);
+    let a_le_b = m.or(a_le_b, neg_le);
+    let a_le_b = m.name(a_le_b, "a_le_b");
+    let nan = m.uint(w, fmt.nan_bits());
+    let lo = m.mux(a_le_b, a, b);
+    let hi = m.mux(a_le_b, b, a);
+    let min = m.mux(any_nan, nan, lo);
+    let max = m.mux(any_nan, nan, hi);
+    (m.name(min, "min"), m.name(max, "max"))
+}
+
+/// Module name of the min/max operator.
+pub fn min_max_name(fmt: Format, stages: u32) -> String {
+    format!("fminmax_{}_s{stages}", fmt.tag())
+}
+
+/// Outputs `min` and `max` of two `fmt` values; `stages` registers at the outputs.
+pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(min_max_name(fmt, stages));
+    m.describe(format!(
+        "IEEE 754-2019 minimum and maximum of two {} values (NaN if either is NaN, -0 < +0).",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fmt.width()));
+    let b = m.input("b", Ty::UInt(fmt.width()));
+    let (min, max) = min_max(&mut m, fmt, a, b);
+    for _ in 0..spread(stages, 1)[0] {
+        m.stage();
+    }
+    m.output("min", min);
+    m.output("max", max);
+    Arc::new(
+        m.finish()
+            .expect("min/max generator is type-correct for every format"),
+    )
+}

@@ -26,6 +26,7 @@ pub mod minmax;
 pub mod mul;
 pub mod mul_exact;
 pub mod round;
+pub mod sum;
 pub mod unpack;
 
 use std::fmt;
@@ -42,13 +43,25 @@ pub struct Format {
 
 impl Format {
     /// IEEE binary16.
-    pub const BINARY16: Format = Format { exp_bits: 5, frac_bits: 10 };
+    pub const BINARY16: Format = Format {
+        exp_bits: 5,
+        frac_bits: 10,
+    };
     /// IEEE binary32.
-    pub const BINARY32: Format = Format { exp_bits: 8, frac_bits: 23 };
+    pub const BINARY32: Format = Format {
+        exp_bits: 8,
+        frac_bits: 23,
+    };
     /// IEEE binary64.
-    pub const BINARY64: Format = Format { exp_bits: 11, frac_bits: 52 };
+    pub const BINARY64: Format = Format {
+        exp_bits: 11,
+        frac_bits: 52,
+    };
     /// bfloat16.
-    pub const BFLOAT16: Format = Format { exp_bits: 8, frac_bits: 7 };
+    pub const BFLOAT16: Format = Format {
+        exp_bits: 8,
+        frac_bits: 7,
+    };
 
     /// The format (E, F) if it is supported: E in 2..=11, F in 1..=52, 1 + E + F <= 64.
     pub fn new(exp_bits: u32, frac_bits: u32) -> Result<Format, String> {
@@ -64,7 +77,10 @@ impl Format {
                 1 + exp_bits + frac_bits
             ));
         }
-        Ok(Format { exp_bits, frac_bits })
+        Ok(Format {
+            exp_bits,
+            frac_bits,
+        })
     }
 
     /// Total width 1 + E + F.

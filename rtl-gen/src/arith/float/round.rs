@@ -27,7 +27,7 @@
 //! exponent (subnormal → normal, 1.11..1 → 10.0, max → infinity), then the
 //! overflow choice per mode and the specials.
 
-use super::bits::{lzc, lzc_width, shr_sticky, to_sint};
+use super::bits::{add_const, lzc, lzc_width, shr_sticky, to_sint};
 use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
 use super::{sint_width, spread, Format, Rounding};
 use crate::arith::int::zext;
@@ -63,8 +63,17 @@ pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
 }
 
 /// Module name of the rounder.
-pub fn round_name(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding, stages: u32) -> String {
-    format!("fround_{}_w{sig_width}x{exp_width}_{mode}_s{stages}", fmt.tag())
+pub fn round_name(
+    fmt: Format,
+    sig_width: u32,
+    exp_width: u32,
+    mode: Rounding,
+    stages: u32,
+) -> String {
+    format!(
+        "fround_{}_w{sig_width}x{exp_width}_{mode}_s{stages}",
+        fmt.tag()
+    )
 }
 
 /// Number of logical steps of the rounder (for stage planning).
@@ -72,10 +81,19 @@ pub const ROUND_STEPS: u32 = 3;
 
 /// Builds the rounder for results of `fmt` from a raw value with a
 /// `sig_width`-bit significand (>= F + 2) and an `exp_width`-bit exponent.
-pub fn round_module(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding, stages: u32) -> Arc<Module> {
+pub fn round_module(
+    fmt: Format,
+    sig_width: u32,
+    exp_width: u32,
+    mode: Rounding,
+    stages: u32,
+) -> Arc<Module> {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let sw = sig_width;
-    assert!(sw >= f + 2, "rounder needs a significand of at least F + 2 bits");
+    assert!(
+        sw >= f + 2,
+        "rounder needs a significand of at least F + 2 bits"
+    );
     let mut m = ModuleBuilder::new(round_name(fmt, sw, exp_width, mode, stages));
     m.describe(format!(
         "Shared rounder: raw (sign, class, exp, {sw}-bit sig, sticky) to {} in mode {mode}.",
@@ -223,7 +241,10 @@ pub fn round_module(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding,
         m.stage();
     }
     m.output("z", z);
-    Arc::new(m.finish().expect("rounder generator is type-correct for every format"))
+    Arc::new(
+        m.finish()
+            .expect("rounder generator is type-correct for every format"),
+    )
 }
 
 /// Instantiates the rounder for `raw` (padding a significand narrower than
@@ -231,17 +252,22 @@ pub fn round_module(fmt: Format, sig_width: u32, exp_width: u32, mode: Rounding,
 /// the stage `stages` cycles after the current one: the caller closes those
 /// stages before reading it in its own logic.
 #[track_caller]
-pub fn round(m: &mut ModuleBuilder, fmt: Format, mode: Rounding, raw: &Raw, stages: u32, inst: &str) -> Sig {
+pub fn round(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    mode: Rounding,
+    raw: &Raw,
+    stages: u32,
+    inst: &str,
+) -> Sig {
     let f = fmt.frac_bits;
     let (sig, exp) = if raw.sig.width() < f + 2 {
         let pad = f + 2 - raw.sig.width();
         let zeros = m.uint(pad, 0);
         let sig = m.cat(&[raw.sig, zeros]);
-        let xw = raw.exp.width() + 1;
-        let e = to_sint(m, raw.exp, xw);
-        let k = m.sint(xw, pad as i128);
-        let e = m.sub(e, k);
-        (sig, to_sint(m, e, xw))
+        let half = 1i64 << (raw.exp.width() - 1);
+        let xw = sint_width(-half - pad as i64, half);
+        (sig, add_const(m, raw.exp, -(pad as i64), xw))
     } else {
         (raw.sig, raw.exp)
     };

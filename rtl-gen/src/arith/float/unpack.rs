@@ -2,7 +2,7 @@
 //! value as significand and exponent, and the normalised form the fused
 //! operators use.
 
-use super::bits::{lzc, sconst, ssub, to_sint};
+use super::bits::{add_const, lzc, ssub, to_sint};
 use super::{sint_width, spread, Format};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -96,9 +96,7 @@ pub fn lsb_exp_width(fmt: Format) -> u32 {
 #[track_caller]
 pub fn lsb_exp(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked) -> Sig {
     let w = lsb_exp_width(fmt);
-    let e = to_sint(m, u.eff_exp, w);
-    let k = sconst(m, w, fmt.bias() + fmt.frac_bits as i64);
-    ssub(m, e, k, w)
+    add_const(m, u.eff_exp, -(fmt.bias() + fmt.frac_bits as i64), w)
 }
 
 /// An operand with its significand normalised (leading one at the top).
@@ -124,11 +122,11 @@ pub fn normalize(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked) -> Normalized
     let sig = m.shl(u.sig, lz);
     let sig = m.name(sig, "sig_norm");
     let w = norm_exp_width(fmt);
-    let e = to_sint(m, u.eff_exp, w);
-    let lz_s = to_sint(m, lz, w);
-    let e = ssub(m, e, lz_s, w);
-    let k = sconst(m, w, fmt.bias());
-    let exp = ssub(m, e, k, w);
+    let iw = (fmt.exp_bits + 2).max(lz.width() + 2).max(w);
+    let e = to_sint(m, u.eff_exp, iw);
+    let lz_s = to_sint(m, lz, iw);
+    let e = ssub(m, e, lz_s, iw);
+    let exp = add_const(m, e, -fmt.bias(), w);
     let exp = m.name(exp, "exp_norm");
     Normalized { sig, exp }
 }
@@ -169,5 +167,8 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
     m.output("class", class);
     m.output("exp", exp);
     m.output("sig", sig);
-    Arc::new(m.finish().expect("unpack generator is type-correct for every format"))
+    Arc::new(
+        m.finish()
+            .expect("unpack generator is type-correct for every format"),
+    )
 }
