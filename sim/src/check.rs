@@ -11,6 +11,8 @@ use std::io::{self, Read};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::{ChildStderr, ChildStdin, ChildStdout, Stdio};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -67,6 +69,19 @@ pub trait Stimulus: Send + Sync {
     fn vectors(&self, seed: u64, first: u64, n_in: usize, inputs: &mut [u64]) {
         for (k, v) in inputs.chunks_exact_mut(n_in).enumerate() {
             self.vector(seed, first + k as u64, v);
+        }
+    }
+
+    /// Writes the vectors `first`, `first + stride`, `first + 2·stride`, ...
+    /// (`n_in` values each): the slice of the index space one worker or one
+    /// shard runs. The default calls [`Stimulus::vectors`] for `stride == 1`
+    /// and loops over [`Stimulus::vector`] otherwise.
+    fn vectors_strided(&self, seed: u64, first: u64, stride: u64, n_in: usize, inputs: &mut [u64]) {
+        if stride == 1 {
+            return self.vectors(seed, first, n_in, inputs);
+        }
+        for (k, v) in inputs.chunks_exact_mut(n_in).enumerate() {
+            self.vector(seed, first + k as u64 * stride, v);
         }
     }
 }
@@ -131,15 +146,62 @@ impl Stimulus for RandomStimulus {
     }
 }
 
+/// Where a cross-check stands, passed to [`CheckOptions::on_progress`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// Vectors compared so far, over all workers.
+    pub done: u64,
+    /// Vectors this check runs in total.
+    pub total: u64,
+    /// Mismatching vectors found so far.
+    pub mismatches: u64,
+}
+
+/// A progress callback: called after every compared batch (a few thousand
+/// vectors) by whichever worker finished it, so it must be cheap and
+/// thread-safe (a progress bar's `set_position` is).
+#[derive(Clone)]
+pub struct ProgressFn(pub Arc<dyn Fn(&Progress) + Send + Sync>);
+
+impl ProgressFn {
+    /// Wraps a closure.
+    pub fn new(f: impl Fn(&Progress) + Send + Sync + 'static) -> ProgressFn {
+        ProgressFn(Arc::new(f))
+    }
+}
+
+impl fmt::Debug for ProgressFn {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("ProgressFn(..)")
+    }
+}
+
 /// Options of [`cross_check`].
+///
+/// The check runs the vectors with indices `first + k·stride` for
+/// `k in 0..vectors`: the whole sequence by default, one shard of it with
+/// `first = K`, `stride = N` (shard K of N, 0-based). Vector indices in
+/// reports, replay commands and replay files are always these global
+/// indices, so a mismatch found by a shard replays with the same command as
+/// in an unsharded run.
 #[derive(Clone, Debug)]
 pub struct CheckOptions {
     /// Number of vectors to run.
     pub vectors: u64,
     /// Stimulus seed.
     pub seed: u64,
+    /// Index of the first vector.
+    pub first: u64,
+    /// Distance between the indices of consecutive vectors (at least 1).
+    pub stride: u64,
+    /// Harness processes run in parallel, each fed and checked by its own
+    /// threads; worker `w` of `J` runs every `J`-th vector from the `w`-th.
+    /// 0 means 1.
+    pub jobs: usize,
     /// Print progress to stderr about once a second.
     pub progress: bool,
+    /// Called after every compared batch (for a progress bar).
+    pub on_progress: Option<ProgressFn>,
     /// The caller's command to replay one vector; `{index}` and `{seed}`
     /// are substituted.
     pub replay_hint: Option<String>,
@@ -157,12 +219,23 @@ impl Default for CheckOptions {
         CheckOptions {
             vectors: 1_000_000,
             seed: 0,
+            first: 0,
+            stride: 1,
+            jobs: 1,
             progress: false,
+            on_progress: None,
             replay_hint: None,
             bubbles: None,
             keep_mismatches: 10,
             mismatch_dir: None,
         }
+    }
+}
+
+impl CheckOptions {
+    /// The global index of the `k`-th vector of this check.
+    pub fn index(&self, k: u64) -> u64 {
+        self.first + k * self.stride.max(1)
     }
 }
 
@@ -228,6 +301,30 @@ impl fmt::Display for Mismatch {
     }
 }
 
+/// What one worker (one harness process) of a cross-check did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkerReport {
+    /// Global index of its first vector.
+    pub first: u64,
+    /// Distance between its vector indices.
+    pub stride: u64,
+    /// Vectors it checked.
+    pub vectors: u64,
+    /// Mismatching vectors among them.
+    pub mismatches: u64,
+    /// Wall time from starting its harness to the harness's exit.
+    pub elapsed: Duration,
+    /// Clock cycles its harness simulated.
+    pub cycles: u64,
+}
+
+impl WorkerReport {
+    /// This worker's throughput.
+    pub fn vectors_per_sec(&self) -> f64 {
+        self.vectors as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
 /// Result of a completed cross-check.
 #[derive(Clone, Debug)]
 pub struct CheckReport {
@@ -237,18 +334,26 @@ pub struct CheckReport {
     pub vectors: u64,
     /// Stimulus seed.
     pub seed: u64,
+    /// Index of the first vector ([`CheckOptions::first`]).
+    pub first: u64,
+    /// Distance between vector indices ([`CheckOptions::stride`]).
+    pub stride: u64,
     /// Vectors with at least one differing output.
     pub mismatches: u64,
-    /// The first mismatch, in full.
+    /// The mismatch with the lowest index, in full (the same whatever the
+    /// number of workers).
     pub first_mismatch: Option<Mismatch>,
-    /// Further mismatches in full, up to `keep_mismatches - 1` of them.
+    /// Further mismatches in full, in index order, up to
+    /// `keep_mismatches - 1` of them.
     pub more_mismatches: Vec<Mismatch>,
-    /// Wall time from starting the harness to its exit.
+    /// Wall time from starting the harnesses to the last one's exit.
     pub elapsed: Duration,
-    /// Clock cycles the harness simulated (reset, bubbles, drain included).
+    /// Clock cycles the harnesses simulated (reset, bubbles, drain included).
     pub cycles: u64,
     /// Idle cycles inserted between transactions.
     pub bubbles: u64,
+    /// One entry per harness process, in worker order.
+    pub workers: Vec<WorkerReport>,
 }
 
 impl CheckReport {
@@ -271,6 +376,13 @@ impl fmt::Display for CheckReport {
             "{verdict}: `{}`, {} vectors (seed {:#x}), {} mismatches",
             self.top, self.vectors, self.seed, self.mismatches
         )?;
+        if self.first != 0 || self.stride != 1 {
+            writeln!(
+                f,
+                "  vector indices {} + {}·k, k < {}",
+                self.first, self.stride, self.vectors
+            )?;
+        }
         writeln!(
             f,
             "  {} cycles ({} bubbles) in {:.2} s: {:.2} M vectors/s",
@@ -279,6 +391,19 @@ impl fmt::Display for CheckReport {
             self.elapsed.as_secs_f64(),
             self.vectors_per_sec() / 1e6
         )?;
+        if self.workers.len() > 1 {
+            let each: Vec<String> = self
+                .workers
+                .iter()
+                .map(|w| format!("{:.2}", w.vectors_per_sec() / 1e6))
+                .collect();
+            writeln!(
+                f,
+                "  {} workers, M vectors/s each: {}",
+                self.workers.len(),
+                each.join(", ")
+            )?;
+        }
         if let Some(m) = &self.first_mismatch {
             write!(f, "{m}")?;
         }
@@ -308,17 +433,146 @@ fn shell_quote(s: &str) -> String {
     }
 }
 
+/// One worker's share of a check: vectors `first + k·stride`, `k < count`.
+#[derive(Clone, Copy, Debug)]
+struct Slice {
+    first: u64,
+    stride: u64,
+    count: u64,
+}
+
+/// State the workers of one check share.
+struct Shared {
+    done: AtomicU64,
+    mismatches: AtomicU64,
+    /// Set when a worker failed: the others stop at their next batch.
+    abort: AtomicBool,
+    last_print: Mutex<Instant>,
+}
+
+/// Why a worker stopped without a result.
+enum Stop {
+    Failed(SimError),
+    /// Another worker failed first.
+    Aborted,
+}
+
+impl From<SimError> for Stop {
+    fn from(e: SimError) -> Self {
+        Stop::Failed(e)
+    }
+}
+
+/// What one worker returns.
+struct WorkerOut {
+    report: WorkerReport,
+    bubbles: u64,
+    kept: Vec<Mismatch>,
+}
+
 /// Runs `opts.vectors` vectors through the harness and compares every
-/// output with the golden model. Mismatches are counted and reported, not
-/// errors; errors are a failed harness (its stderr included), a result
-/// count different from the vector count, or unusable stimulus/golden
-/// values.
+/// output with the golden model, in `opts.jobs` harness processes at once.
+/// Mismatches are counted and reported, not errors; errors are a failed
+/// harness (its stderr included), a result count different from the vector
+/// count, or unusable stimulus/golden values. When one worker fails, the
+/// others stop and the first failure is returned.
 pub fn cross_check(
     h: &Harness,
     golden: &dyn Golden,
     stim: &dyn Stimulus,
     opts: &CheckOptions,
 ) -> Result<CheckReport, SimError> {
+    let ports = h.ports();
+    let stride = opts.stride.max(1);
+    let jobs = (opts.jobs.max(1) as u64).min(opts.vectors.max(1));
+    let started = Instant::now();
+    let shared = Shared {
+        done: AtomicU64::new(0),
+        mismatches: AtomicU64::new(0),
+        abort: AtomicBool::new(false),
+        last_print: Mutex::new(started),
+    };
+    let outs: Vec<Result<WorkerOut, Stop>> = thread::scope(|s| {
+        let handles: Vec<_> = (0..jobs)
+            .map(|w| {
+                let slice = Slice {
+                    first: opts.first + w * stride,
+                    stride: stride * jobs,
+                    count: (opts.vectors.saturating_sub(w)).div_ceil(jobs),
+                };
+                let shared = &shared;
+                s.spawn(move || {
+                    let r = panic::catch_unwind(AssertUnwindSafe(|| {
+                        run_worker(h, golden, stim, opts, slice, shared)
+                    }));
+                    if !matches!(r, Ok(Ok(_))) {
+                        shared.abort.store(true, Ordering::Relaxed);
+                    }
+                    r
+                })
+            })
+            .collect();
+        let joined: Vec<_> = handles
+            .into_iter()
+            .map(|t| t.join().unwrap_or_else(|p| panic::resume_unwind(p)))
+            .collect();
+        joined
+            .into_iter()
+            .map(|r| r.unwrap_or_else(|p| panic::resume_unwind(p)))
+            .collect()
+    });
+    let mut workers = Vec::new();
+    let mut kept = Vec::new();
+    let (mut cycles, mut bubbles) = (0, 0);
+    let mut failure = None;
+    for out in outs {
+        match out {
+            Ok(o) => {
+                cycles += o.report.cycles;
+                bubbles += o.bubbles;
+                workers.push(o.report);
+                kept.extend(o.kept);
+            }
+            Err(Stop::Failed(e)) => {
+                failure.get_or_insert(e);
+            }
+            Err(Stop::Aborted) => {}
+        }
+    }
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    // Each worker kept its lowest-index mismatches, so the lowest overall
+    // are among them, whatever the number of workers.
+    kept.sort_by_key(|m| m.index);
+    kept.truncate(opts.keep_mismatches);
+    let mut kept = kept.into_iter();
+    Ok(CheckReport {
+        top: ports.top.clone(),
+        vectors: workers.iter().map(|w| w.vectors).sum(),
+        seed: opts.seed,
+        first: opts.first,
+        stride,
+        mismatches: workers.iter().map(|w| w.mismatches).sum(),
+        first_mismatch: kept.next(),
+        more_mismatches: kept.collect(),
+        elapsed: started.elapsed(),
+        cycles,
+        bubbles,
+        workers,
+    })
+}
+
+/// One harness process: a feeder thread, a stderr reader, and the calling
+/// thread comparing.
+fn run_worker(
+    h: &Harness,
+    golden: &dyn Golden,
+    stim: &dyn Stimulus,
+    opts: &CheckOptions,
+    slice: Slice,
+    shared: &Shared,
+) -> Result<WorkerOut, Stop> {
     let ports = h.ports();
     let started = Instant::now();
     let mut cmd = h.command();
@@ -339,14 +593,14 @@ pub fn cross_check(
     let stderr = child.stderr.take().expect("piped stderr");
 
     let (fed, compared, killed, status, stderr_text) = thread::scope(|s| {
-        let feeder = s.spawn(|| feed(stdin, &ports.inputs, stim, opts.seed, opts.vectors));
+        let feeder = s.spawn(|| feed(stdin, &ports.inputs, stim, opts.seed, slice));
         let err_reader = s.spawn(|| read_tail(stderr));
         let compared = panic::catch_unwind(AssertUnwindSafe(|| {
-            compare(&mut stdout, h, golden, stim, opts)
+            compare(&mut stdout, h, golden, stim, opts, slice, shared)
         }));
-        // A checker that stopped early (error or panic in the golden model)
-        // no longer drains the harness, which would then block the feeder
-        // and this scope forever: end the harness instead.
+        // A checker that stopped early (error, abort or panic in the golden
+        // model) no longer drains the harness, which would then block the
+        // feeder and this scope forever: end the harness instead.
         let killed = !matches!(compared, Ok(Ok(_))) && child.kill().is_ok();
         let compared = compared.unwrap_or_else(|p| {
             let _ = child.wait();
@@ -360,9 +614,11 @@ pub fn cross_check(
         (fed, compared, killed, status, stderr_text)
     });
     let status = status.map_err(|e| SimError::io("waiting for the harness", e))?;
-    let harness_err = |message: String| SimError::Harness {
-        message,
-        stderr: stderr_text.clone(),
+    let harness_err = |message: String| {
+        Stop::Failed(SimError::Harness {
+            message,
+            stderr: stderr_text.clone(),
+        })
     };
 
     // Report the root cause: bad stimulus first, then a harness that failed
@@ -373,7 +629,7 @@ pub fn cross_check(
         Err(SimError::Io { source, context }) if source.kind() == io::ErrorKind::BrokenPipe => {
             Some(SimError::Io { source, context })
         }
-        Err(e) => return Err(e),
+        Err(e) => return Err(Stop::Failed(e)),
     };
     // An exit code is the harness's own verdict even if we also killed it
     // (it exited first); a signal counts unless it was ours.
@@ -386,37 +642,38 @@ pub fn cross_check(
     }
     let compared = match compared {
         Ok(c) => c,
-        Err(SimError::Invalid(m)) => return Err(SimError::Invalid(m)),
-        Err(e) => return Err(harness_err(format!("reading harness results: {e}"))),
+        Err(Stop::Aborted) => return Err(Stop::Aborted),
+        Err(Stop::Failed(SimError::Invalid(m))) => return Err(Stop::Failed(SimError::Invalid(m))),
+        Err(Stop::Failed(e)) => return Err(harness_err(format!("reading harness results: {e}"))),
     };
     if let Some(e) = fed_pipe_err {
         return Err(harness_err(format!("sending vectors to the harness: {e}")));
     }
-    if compared.results != opts.vectors {
+    if compared.results != slice.count {
         return Err(harness_err(format!(
             "harness for `{}` returned {} results for {} vectors",
-            ports.top, compared.results, opts.vectors
+            ports.top, compared.results, slice.count
         )));
     }
     let stats = RunStats::parse(&stderr_text)
         .ok_or_else(|| harness_err("harness did not report `cycles=...`".into()))?;
-    if stats.transactions != opts.vectors {
+    if stats.transactions != slice.count {
         return Err(harness_err(format!(
             "harness reports {} transactions for {} vectors sent",
-            stats.transactions, opts.vectors
+            stats.transactions, slice.count
         )));
     }
-    let mut kept = compared.kept.into_iter();
-    Ok(CheckReport {
-        top: ports.top.clone(),
-        vectors: opts.vectors,
-        seed: opts.seed,
-        mismatches: compared.mismatches,
-        first_mismatch: kept.next(),
-        more_mismatches: kept.collect(),
-        elapsed: started.elapsed(),
-        cycles: stats.cycles,
+    Ok(WorkerOut {
+        report: WorkerReport {
+            first: slice.first,
+            stride: slice.stride,
+            vectors: slice.count,
+            mismatches: compared.mismatches,
+            elapsed: started.elapsed(),
+            cycles: stats.cycles,
+        },
         bubbles: stats.bubbles,
+        kept: compared.kept,
     })
 }
 
@@ -426,29 +683,30 @@ fn feed(
     inputs: &[Port],
     stim: &dyn Stimulus,
     seed: u64,
-    vectors: u64,
+    slice: Slice,
 ) -> Result<(), SimError> {
     let n_in = inputs.len();
     let mut w = BinWriter::new(stdin, "harness stdin", inputs)?;
     let mut buf = vec![0u64; BATCH * n_in];
-    let mut index = 0u64;
-    while index < vectors {
-        let n = (vectors - index).min(BATCH as u64) as usize;
+    let mut k = 0u64;
+    while k < slice.count {
+        let n = (slice.count - k).min(BATCH as u64) as usize;
         let vals = &mut buf[..n * n_in];
-        stim.vectors(seed, index, n_in, vals);
-        for (k, v) in vals.chunks_exact(n_in).enumerate() {
+        let first = slice.first + k * slice.stride;
+        stim.vectors_strided(seed, first, slice.stride, n_in, vals);
+        for (j, v) in vals.chunks_exact(n_in).enumerate() {
             if let Err(e) = w.write_record(v) {
                 return Err(match e {
                     SimError::Format { field, message, .. } => SimError::Invalid(format!(
                         "stimulus (seed {seed:#x}) vector {}, input `{}`: {message}",
-                        index + k as u64,
+                        first + j as u64 * slice.stride,
                         field.unwrap_or_default()
                     )),
                     other => other,
                 });
             }
         }
-        index += n as u64;
+        k += n as u64;
     }
     w.finish().map(drop)
 }
@@ -486,7 +744,9 @@ fn compare(
     golden: &dyn Golden,
     stim: &dyn Stimulus,
     opts: &CheckOptions,
-) -> Result<Compared, SimError> {
+    slice: Slice,
+    shared: &Shared,
+) -> Result<Compared, Stop> {
     let ports = h.ports();
     let (n_in, n_out) = (ports.inputs.len(), ports.outputs.len());
     let mut rd = BinReader::new(stdout, "harness stdout")?;
@@ -499,30 +759,33 @@ fn compare(
         mismatches: 0,
         kept: Vec::new(),
     };
-    let started = Instant::now();
-    let mut last_progress = started;
     loop {
+        if shared.abort.load(Ordering::Relaxed) {
+            return Err(Stop::Aborted);
+        }
         let n = rd.read_records(&mut got)?;
         if n == 0 {
             return Ok(out);
         }
-        let first = out.results;
-        if first + n as u64 > opts.vectors {
-            return Err(SimError::Harness {
+        let k0 = out.results;
+        if k0 + n as u64 > slice.count {
+            return Err(Stop::Failed(SimError::Harness {
                 message: format!(
                     "harness returned more results than the {} vectors sent",
-                    opts.vectors
+                    slice.count
                 ),
                 stderr: String::new(),
-            });
+            }));
         }
         let (inp, exp, got) = (
             &mut inp[..n * n_in],
             &mut exp[..n * n_out],
             &got[..n * n_out],
         );
-        stim.vectors(opts.seed, first, n_in, inp);
+        let first = slice.first + k0 * slice.stride;
+        stim.vectors_strided(opts.seed, first, slice.stride, n_in, inp);
         golden.eval_batch(inp, n_in, exp, n_out);
+        let before = out.mismatches;
         // The whole batch in one comparison; per-vector work only on failure.
         if exp != got {
             for k in 0..n {
@@ -530,7 +793,7 @@ fn compare(
                 if e == g {
                     continue;
                 }
-                let index = first + k as u64;
+                let index = first + k as u64 * slice.stride;
                 check_golden_widths(&ports.outputs, e, index)?;
                 out.mismatches += 1;
                 if out.kept.len() < opts.keep_mismatches {
@@ -540,19 +803,38 @@ fn compare(
             }
         }
         out.results += n as u64;
-        if opts.progress && last_progress.elapsed() >= Duration::from_secs(1) {
-            last_progress = Instant::now();
-            let rate = out.results as f64 / started.elapsed().as_secs_f64();
-            eprintln!(
-                "sim `{}`: {}/{} vectors ({:.2} M/s), {} mismatches",
-                ports.top,
-                out.results,
-                opts.vectors,
-                rate / 1e6,
-                out.mismatches
-            );
+        let done = shared.done.fetch_add(n as u64, Ordering::Relaxed) + n as u64;
+        let mismatches = shared
+            .mismatches
+            .fetch_add(out.mismatches - before, Ordering::Relaxed)
+            + (out.mismatches - before);
+        let now = Progress {
+            done,
+            total: opts.vectors,
+            mismatches,
+        };
+        if let Some(cb) = &opts.on_progress {
+            (cb.0)(&now);
+        }
+        if opts.progress {
+            print_progress(&ports.top, shared, &now);
         }
     }
+}
+
+/// The once-a-second stderr line of [`CheckOptions::progress`].
+fn print_progress(top: &str, shared: &Shared, now: &Progress) {
+    let Ok(mut last) = shared.last_print.try_lock() else {
+        return;
+    };
+    if last.elapsed() < Duration::from_secs(1) {
+        return;
+    }
+    *last = Instant::now();
+    eprintln!(
+        "sim `{top}`: {}/{} vectors, {} mismatches",
+        now.done, now.total, now.mismatches
+    );
 }
 
 /// A golden value wider than its port can never match the RTL: that is a

@@ -27,8 +27,8 @@ pub mod ports;
 pub mod vectors;
 
 pub use check::{
-    cross_check, mix64, replay, CheckOptions, CheckReport, Golden, Mismatch, RandomStimulus,
-    Stimulus,
+    cross_check, mix64, replay, CheckOptions, CheckReport, Golden, Mismatch, Progress, ProgressFn,
+    RandomStimulus, Stimulus, WorkerReport,
 };
 pub use error::{Location, SimError};
 pub use harness::{default_cache_root, lint, verilator_version, Harness, RunOptions, RunStats};
@@ -37,3 +37,4 @@ pub use vectors::{
     binary_to_text, convert_file, text_to_binary, BinReader, BinWriter, TextReader, TextWriter,
     VecFormat,
 };
+pub use vectors::{detect_format, write_atomically};

@@ -974,26 +974,58 @@ pub fn detect_format(path: &Path) -> Result<VecFormat, SimError> {
     })
 }
 
+/// Writes `dst` all or nothing: `write` gets a temporary file beside `dst`
+/// (and `dst`'s name for messages); on success the temporary file is
+/// renamed to `dst`, on failure it is removed and `dst` is left as it was,
+/// so a reader never sees a half-written file.
+pub fn write_atomically<T>(
+    dst: &Path,
+    write: impl FnOnce(File, &str) -> Result<T, SimError>,
+) -> Result<T, SimError> {
+    let dst_name = dst.display().to_string();
+    let file_name = dst
+        .file_name()
+        .ok_or_else(|| SimError::Invalid(format!("{dst_name}: not a file name")))?;
+    let tmp = dst.with_file_name(format!(
+        ".{}.tmp-{}",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let f = File::create(&tmp).map_err(|e| SimError::io(format!("creating {dst_name}"), e))?;
+    let result = write(f, &dst_name).and_then(|v| {
+        std::fs::rename(&tmp, dst)
+            .map(|()| v)
+            .map_err(|e| SimError::io(format!("renaming the finished {dst_name} into place"), e))
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
 /// Converts `src` to the other format into `dst`; returns the format
-/// written and the record count.
+/// written and the record count. `dst` is written all or nothing
+/// ([`write_atomically`]).
 pub fn convert_file(
     src: &Path,
     dst: &Path,
     expected: Option<&[Port]>,
 ) -> Result<(VecFormat, u64), SimError> {
     let src_name = src.display().to_string();
-    let dst_name = dst.display().to_string();
     let open = |p: &Path| File::open(p).map_err(|e| SimError::io(format!("opening {src_name}"), e));
-    let create =
-        |p: &Path| File::create(p).map_err(|e| SimError::io(format!("creating {dst_name}"), e));
     match detect_format(src)? {
         VecFormat::Binary => {
-            let n = binary_to_text(open(src)?, &src_name, create(dst)?, &dst_name, expected)?;
+            let input = open(src)?;
+            let n = write_atomically(dst, |out, dst_name| {
+                binary_to_text(input, &src_name, out, dst_name, expected)
+            })?;
             Ok((VecFormat::Text, n))
         }
         VecFormat::Text => {
             let input = BufReader::with_capacity(BLOCK, open(src)?);
-            let n = text_to_binary(input, &src_name, create(dst)?, &dst_name, expected)?;
+            let n = write_atomically(dst, |out, dst_name| {
+                text_to_binary(input, &src_name, out, dst_name, expected)
+            })?;
             Ok((VecFormat::Binary, n))
         }
     }
@@ -1293,6 +1325,27 @@ odd flag:1  a wide   # header, widths optional with a port list
             (VecFormat::Binary, 3)
         );
         assert_eq!(std::fs::read(&bin2).unwrap(), encode(&RECORDS));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_failed_conversion_leaves_no_output_file() {
+        let dir = std::env::temp_dir().join(format!("sim-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let bin = dir.join("cut.rtlvec");
+        let mut bytes = encode(&RECORDS);
+        bytes.pop();
+        std::fs::write(&bin, bytes).unwrap();
+        let txt = dir.join("cut.txt");
+        let e = convert_file(&bin, &txt, None).unwrap_err().to_string();
+        assert!(e.contains("truncated record"), "{e}");
+        assert!(!txt.exists());
+        // An existing destination is kept as it was.
+        std::fs::write(&txt, "old").unwrap();
+        convert_file(&bin, &txt, None).unwrap_err();
+        assert_eq!(std::fs::read_to_string(&txt).unwrap(), "old");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(left.len(), 2, "no temporary file left behind");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
