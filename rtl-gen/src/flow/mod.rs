@@ -6,6 +6,7 @@
 
 pub mod mulcmp;
 pub mod stimulus;
+pub mod transform;
 
 use crate::emit::{emit, VerilogFile};
 use crate::ir::{control, Module, Ty};
@@ -27,10 +28,16 @@ pub struct Entry {
 
 /// Every unit, in the order `rtl-gen list` shows them.
 pub fn catalog() -> Vec<Entry> {
-    vec![Entry {
-        unit: &crate::units::mulcmp::MulCmp,
-        testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
-    }]
+    vec![
+        Entry {
+            unit: &crate::units::mulcmp::MulCmp,
+            testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::transform::Transform,
+            testbench: |p| Box::new(transform::TransformBench::new(p)),
+        },
+    ]
 }
 
 /// The catalog entry called `name`.

@@ -1,6 +1,7 @@
 //! The units the generator offers, each with its parameters.
 
 pub mod mulcmp;
+pub mod transform;
 
 use crate::ir::Module;
 use crate::params::{ParamError, ParamSpec, Params};
