@@ -78,8 +78,8 @@ pub fn add_raw(
     let sign_big = m.mux(a_big, ua.sign, sign_b);
     let sign_big = m.name(sign_big, "sign_big");
     let diff = m.sub(exp_big, exp_small);
-    let diff = m.as_uint(diff);
-    let diff = zext(m, diff, e);
+    // non-negative: the low E bits are the difference
+    let diff = m.slice(diff, e - 1, 0);
     let diff = m.name(diff, "exp_diff");
     let eff_sub = m.xor(ua.sign, sign_b);
     let eff_sub = m.name(eff_sub, "eff_sub");

@@ -124,23 +124,21 @@ pub fn sadd(m: &mut ModuleBuilder, a: Sig, b: Sig, w: u32) -> Sig {
     sext(m, s, w)
 }
 
-/// The bits of a non-negative SInt as a UInt of `w` bits (cut or zero-extended).
+/// `|a|` of an SInt as a UInt of `w <= width(a)` bits (the caller guarantees
+/// the magnitude fits; the most negative value does not occur).
 #[track_caller]
-pub fn nonneg_to_uint(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
-    let u = m.as_uint(a);
-    zext(m, u, w)
-}
-
-/// `|a|` of an SInt, as a UInt of the same width (the most negative value does not occur).
-#[track_caller]
-pub fn abs(m: &mut ModuleBuilder, a: Sig) -> Sig {
-    let w = a.width();
+pub fn abs(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
+    let aw = a.width();
     let neg = m.msb(a);
-    let zero = m.sint(w, 0);
+    let zero = m.sint(aw, 0);
     let negated = m.sub(zero, a);
-    let negated = sext(m, negated, w);
+    let negated = sext(m, negated, aw);
     let r = m.mux(neg, negated, a);
-    m.as_uint(r)
+    if w < aw {
+        m.slice(r, w - 1, 0)
+    } else {
+        m.as_uint(r)
+    }
 }
 
 /// A Bool as a one-bit UInt.

@@ -7,7 +7,7 @@
 //! | port     | type         | meaning                                                      |
 //! |----------|--------------|--------------------------------------------------------------|
 //! | `sign`   | Bool         | sign of the result (also of a zero or infinity)              |
-//! | `class`  | UInt(2)      | 0 zero, 1 finite, 2 infinity, 3 NaN                          |
+//! | `cls`    | UInt(2)      | 0 zero, 1 finite, 2 infinity, 3 NaN                          |
 //! | `exp`    | SInt(xw)     | weight exponent of bit 0 of `sig`                             |
 //! | `sig`    | UInt(sw)     | unnormalised integer significand, sw >= F + 2                |
 //! | `sticky` | Bool         | the exact magnitude exceeds `sig · 2^exp` by less than `2^exp` |
@@ -107,7 +107,7 @@ pub fn round_module(
         .param("stages", stages);
     let plan = spread(stages, ROUND_STEPS);
     let sign = m.input("sign", Ty::Bool);
-    let class = m.input("class", Ty::UInt(2));
+    let class = m.input("cls", Ty::UInt(2));
     let exp = m.input("exp", Ty::SInt(exp_width));
     let sig = m.input("sig", Ty::UInt(sw));
     let sticky_in = m.input("sticky", Ty::Bool);
@@ -135,14 +135,11 @@ pub fn round_module(
     let lshift = m.name(lshift, "lshift");
     let zero_d = m.sint(dw, 0);
     let neg_d = m.sub(zero_d, d);
-    let neg_d = m.as_uint(neg_d);
     let rshift = m.slice(neg_d, dw - 1, 0);
     let rshift = m.name(rshift, "rshift");
     let base = m.sub(d, lz_s);
-    let base = m.as_uint(base);
-    let base = m.slice(base, dw - 1, 0);
     let bw = (dw - 1).max(1);
-    let base = zext(&mut m, base, bw);
+    let base = m.slice(base, bw - 1, 0);
     let base0 = m.uint(bw, 0);
     let base = m.mux(d_lt_lz, base0, base);
     let base = m.name(base, "exp_base");
@@ -207,7 +204,7 @@ pub fn round_module(
     let inc_w = zext(&mut m, inc_u, pw);
     let packed = m.add(packed, inc_w);
     let packed = zext(&mut m, packed, pw);
-    let packed = m.name(packed, "packed");
+    let packed = m.name(packed, "packed_mag");
     let inf_code = m.uint(pw, fmt.inf_bits());
     let ovf = m.ge(packed, inf_code);
     let ovf = m.name(ovf, "overflow");
@@ -277,7 +274,7 @@ pub fn round(
         &module,
         &[
             ("sign", raw.sign),
-            ("class", raw.class),
+            ("cls", raw.class),
             ("exp", exp),
             ("sig", sig),
             ("sticky", raw.sticky),

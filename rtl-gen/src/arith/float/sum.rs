@@ -98,8 +98,7 @@ pub fn sum_two(
     let s_add = zext(m, s_add, window);
     let diff = m.sub(xa, ya);
     let neg = m.msb(diff);
-    let mag = abs(m, diff);
-    let mag = zext(m, mag, window);
+    let mag = abs(m, diff, window);
     let sig = m.mux(eff_sub, mag, s_add);
     let sig = m.name(sig, "sum");
     let neg_sub = m.and(eff_sub, neg);

@@ -164,7 +164,7 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
         m.stage();
     }
     m.output("sign", u.sign);
-    m.output("class", class);
+    m.output("cls", class);
     m.output("exp", exp);
     m.output("sig", sig);
     Arc::new(
