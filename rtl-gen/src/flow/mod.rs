@@ -4,6 +4,7 @@
 //! This is the only place that knows both the generator and the golden model;
 //! the DSL layers below never see either `sim` or `golden-model`.
 
+pub mod cull;
 pub mod mulcmp;
 pub mod stimulus;
 pub mod transform;
@@ -36,6 +37,10 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::transform::Transform,
             testbench: |p| Box::new(transform::TransformBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::cull::Cull,
+            testbench: |p| Box::new(cull::CullBench::new(p)),
         },
     ]
 }

@@ -1,5 +1,6 @@
 //! The units the generator offers, each with its parameters.
 
+pub mod cull;
 pub mod mulcmp;
 pub mod transform;
 
