@@ -1,8 +1,11 @@
 //! `rtl-gen`: generate, lint, simulate and cross-check ray-tracing intersection units.
 
 use clap::{Parser, Subcommand};
-use rtl_gen::flow::{self, FlowError, Generated};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rtl_gen::flow::report::{self, RunReport, Shard};
+use rtl_gen::flow::{self, byo, regress, FlowError, Generated};
 use rtl_gen::params::ParamKind;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -29,6 +32,42 @@ struct UnitArgs {
     /// Parameter as key=value; repeat for several. Unset parameters take their defaults.
     #[arg(short, long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
+}
+
+#[derive(clap::Args)]
+struct ScaleArgs {
+    /// Harness processes run in parallel, each fed by its own golden-model threads
+    /// (default: all cores).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+    /// Run only shard K of N (1-based): the vectors whose index i has i mod N = K-1, corner
+    /// vectors included. N jobs with K = 1..N together run exactly the unsharded set; combine
+    /// their --report files with `rtl-gen merge-reports`.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+}
+
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// Write a JSON report: unit, parameters, generator version, Verilog hash, seed, shard,
+    /// vectors, mismatches with the first failing vector, vectors/s, wall time.
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
+    /// Write the verdict as JUnit XML (one test case).
+    #[arg(long, value_name = "FILE")]
+    junit: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct FileArgs {
+    /// Input vectors: text (a header line of port names, one transaction a line, values in
+    /// 0x-hex or decimal) or binary rtlvec, told apart by content.
+    #[arg(long = "in", value_name = "FILE")]
+    input: PathBuf,
+    /// Results file: inputs then outputs of every transaction; binary for .rtlvec/.bin,
+    /// text for .txt/.vec/.tsv/.text, else the input's format. Written only when complete.
+    #[arg(long, value_name = "FILE")]
+    out: PathBuf,
 }
 
 #[derive(Subcommand)]
@@ -63,9 +102,99 @@ enum Command {
         /// Directory of cached Verilator builds (default: $RTL_GEN_CACHE or target/rtl-cache).
         #[arg(long, value_name = "DIR")]
         cache: Option<PathBuf>,
-        /// Do not draw a progress bar.
+        /// Do not draw a progress bar (none is drawn when stderr is not a terminal either).
         #[arg(long)]
         no_progress: bool,
+        #[command(flatten)]
+        scale: ScaleArgs,
+        #[command(flatten)]
+        reports: ReportArgs,
+        /// Check the cases of a TestFloat-format file (`-` = stdin) instead of generated
+        /// vectors: one case a line, operands, expected result, flags, in hex (float operators).
+        #[arg(long, value_name = "FILE|-")]
+        testfloat: Option<String>,
+        /// With --testfloat: a NaN result must equal the expected NaN bit for bit
+        /// (default: any NaN matches any NaN).
+        #[arg(long)]
+        nan_exact: bool,
+    },
+    /// Run a vector file through the Verilated RTL and write every output of every
+    /// transaction to a results file (inputs echoed, outputs added). Also runs the golden
+    /// model and reports mismatches, unless --rtl-only.
+    Sim {
+        #[command(flatten)]
+        unit: UnitArgs,
+        #[command(flatten)]
+        files: FileArgs,
+        /// Skip the golden model: only simulate and write the results.
+        #[arg(long)]
+        rtl_only: bool,
+        /// Where the generated files go (default: out/<module>).
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+        /// Directory of cached Verilator builds.
+        #[arg(long, value_name = "DIR")]
+        cache: Option<PathBuf>,
+        #[command(flatten)]
+        reports: ReportArgs,
+    },
+    /// Run a vector file through the golden model alone (no Verilator) and write a results
+    /// file (inputs echoed, outputs added), to diff against another model.
+    Golden {
+        #[command(flatten)]
+        unit: UnitArgs,
+        #[command(flatten)]
+        files: FileArgs,
+        #[command(flatten)]
+        reports: ReportArgs,
+    },
+    /// Write an input vector file from the unit's own stimulus (corner cases first, then seeded
+    /// random vectors): the input format of any unit, and a starting point for your own.
+    Vectors {
+        #[command(flatten)]
+        unit: UnitArgs,
+        /// Number of vectors.
+        #[arg(long, default_value_t = 10)]
+        count: u64,
+        /// Index of the first vector (the stimulus starts with corner cases).
+        #[arg(long, default_value_t = 0)]
+        first: u64,
+        /// Seed of the random vectors.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output file: binary for .rtlvec/.bin, else text.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
+    /// Convert a vector file between the text and the binary (rtlvec) format; the direction
+    /// follows from the input's content.
+    Convert {
+        /// Input vector file (text or rtlvec).
+        input: PathBuf,
+        /// Output file, written in the other format.
+        output: PathBuf,
+        /// Check the ports against this unit's port list (text headers may then omit widths).
+        #[arg(long, value_name = "UNIT")]
+        unit: Option<String>,
+        /// Parameter of --unit as key=value; repeat for several.
+        #[arg(short, long = "param", value_name = "KEY=VALUE", requires = "unit")]
+        params: Vec<String>,
+        /// With --unit: the file holds results (inputs then outputs) instead of inputs.
+        #[arg(long, requires = "unit")]
+        results: bool,
+    },
+    /// Combine the JSON reports of the shards of one check (`--shard K/N --report`) into one
+    /// verdict: every shard exactly once, same unit, parameters, Verilog, seed and vectors.
+    MergeReports {
+        /// Shard reports (JSON).
+        #[arg(required = true, value_name = "REPORT.json")]
+        reports: Vec<PathBuf>,
+        /// Write the merged report here.
+        #[arg(long, value_name = "FILE.json")]
+        out: Option<PathBuf>,
+        /// Write the merged verdict as JUnit XML here.
+        #[arg(long, value_name = "FILE")]
+        junit: Option<PathBuf>,
     },
     /// Run one vector of a check again, with a VCD trace, and print both results.
     Replay {
@@ -130,7 +259,55 @@ fn main() -> ExitCode {
             out,
             cache,
             no_progress,
-        } => check(&unit, vectors, seed, out, cache, !no_progress),
+            scale,
+            reports,
+            testfloat,
+            nan_exact,
+        } => match testfloat {
+            Some(source) => check_testfloat(&unit, &source, nan_exact, out, cache, &reports),
+            None => check(
+                &unit,
+                vectors,
+                seed,
+                out,
+                cache,
+                !no_progress,
+                &scale,
+                &reports,
+            ),
+        },
+        Command::Sim {
+            unit,
+            files,
+            rtl_only,
+            dir,
+            cache,
+            reports,
+        } => sim_file(&unit, &files, !rtl_only, dir, cache, &reports),
+        Command::Golden {
+            unit,
+            files,
+            reports,
+        } => golden_file(&unit, &files, &reports),
+        Command::Vectors {
+            unit,
+            count,
+            first,
+            seed,
+            out,
+        } => write_vectors(&unit, count, first, seed, &out),
+        Command::Convert {
+            input,
+            output,
+            unit,
+            params,
+            results,
+        } => convert(&input, &output, unit, &params, results),
+        Command::MergeReports {
+            reports,
+            out,
+            junit,
+        } => merge_reports(&reports, out, junit),
         Command::Replay {
             unit,
             seed,
@@ -203,6 +380,63 @@ fn cache_dir(cache: Option<PathBuf>) -> PathBuf {
 /// Vectors also run through the (slow) IR evaluator, as a third opinion.
 const EVALUATOR_VECTORS: u64 = 20_000;
 
+fn bad_usage(message: String) -> FlowError {
+    FlowError::Params(rtl_gen::params::ParamError::Combination(message))
+}
+
+/// Writes the requested reports; a report that cannot be written is an error.
+fn write_reports(report: &RunReport, args: &ReportArgs) -> Result<(), FlowError> {
+    if let Some(path) = &args.report {
+        report.save(path)?;
+        println!("  report      {}", path.display());
+    }
+    if let Some(path) = &args.junit {
+        report.save_junit(path)?;
+        println!("  junit       {}", path.display());
+    }
+    Ok(())
+}
+
+/// Runs `body`; if it fails, the reports still get written, with the error.
+fn with_reports(
+    mut base: RunReport,
+    args: &ReportArgs,
+    body: impl FnOnce(&mut RunReport) -> Result<bool, FlowError>,
+) -> Result<bool, FlowError> {
+    match body(&mut base) {
+        Ok(passed) => {
+            write_reports(&base, args)?;
+            Ok(passed)
+        }
+        Err(e) => {
+            base.error = Some(e.to_string());
+            base.update_verdict();
+            if let Err(w) = write_reports(&base, args) {
+                eprintln!("error: {w}");
+            }
+            Err(e)
+        }
+    }
+}
+
+/// A progress bar on stderr, or a hidden one with --no-progress or when
+/// stderr is not a terminal.
+fn progress_bar(total: u64, show: bool) -> ProgressBar {
+    if !show || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} vectors, {per_sec}, eta {eta} {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
+#[allow(clippy::too_many_arguments)]
 fn check(
     unit: &UnitArgs,
     vectors: u64,
@@ -210,44 +444,217 @@ fn check(
     out: Option<PathBuf>,
     cache: Option<PathBuf>,
     progress: bool,
+    scale: &ScaleArgs,
+    reports: &ReportArgs,
+) -> Result<bool, FlowError> {
+    let shard = match &scale.shard {
+        Some(s) => Shard::parse(s).map_err(bad_usage)?,
+        None => Shard::ALL,
+    };
+    let jobs = match scale.jobs {
+        Some(0) => return Err(bad_usage("--jobs must be at least 1".into())),
+        Some(n) => n,
+        None => regress::all_cores(),
+    };
+    let g = flow::generate(&unit.unit, &unit.params)?;
+    let mut base = RunReport::new("check", &g);
+    base.seed = Some(seed);
+    base.total_vectors = vectors;
+    base.shard = shard;
+    with_reports(base, reports, |report| {
+        let dir = out_dir(&g, out);
+        g.write(&dir, 10.0)?;
+        println!(
+            "rtl-gen check {} ({})",
+            g.unit,
+            rtl_gen::emit::lower::params_line(g.params.values())
+        );
+        println!(
+            "  module      {} (latency {} cycle(s), II 1)",
+            g.module.name, g.module.latency
+        );
+        println!("  files       {}", dir.display());
+        sim::lint(&g.ports, &dir)?;
+        println!("  lint        verilator --lint-only -Wall: clean");
+        let t = Instant::now();
+        let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
+        println!("  harness     ready in {:.1} s", t.elapsed().as_secs_f64());
+        if shard.count > 1 {
+            println!(
+                "  shard       {shard}: {} of {vectors} vectors (indices {} + {}k)",
+                shard.len(vectors),
+                shard.first(),
+                shard.count
+            );
+        }
+        println!("  jobs        {jobs} harness process(es)");
+        let bar = progress_bar(shard.len(vectors), progress);
+        let on_bar = bar.clone();
+        let mut run = regress::CheckRun::new(vectors, seed);
+        run.shard = shard;
+        run.jobs = jobs;
+        run.evaluator_vectors = EVALUATOR_VECTORS;
+        run.on_progress = Some(sim::ProgressFn::new(move |p: &sim::Progress| {
+            on_bar.set_position(p.done);
+            if p.mismatches > 0 {
+                on_bar.set_message(format!("{} mismatches", p.mismatches));
+            }
+        }));
+        let tb = g.testbench();
+        let outcome = regress::run_check(&g, &harness, tb.as_ref(), &run);
+        bar.finish_and_clear();
+        let outcome = outcome?;
+        println!("  evaluator   {}", outcome.evaluator);
+        println!("{}", outcome.check);
+        *report = outcome.report;
+        Ok(report.passed)
+    })
+}
+
+fn sim_file(
+    unit: &UnitArgs,
+    files: &FileArgs,
+    compare: bool,
+    dir: Option<PathBuf>,
+    cache: Option<PathBuf>,
+    reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
     let g = flow::generate(&unit.unit, &unit.params)?;
-    let dir = out_dir(&g, out);
-    g.write(&dir, 10.0)?;
-    println!(
-        "rtl-gen check {} ({})",
-        g.unit,
-        rtl_gen::emit::lower::params_line(g.params.values())
-    );
-    println!(
-        "  module      {} (latency {} cycle(s), II 1)",
-        g.module.name, g.module.latency
-    );
-    println!("  files       {}", dir.display());
-    sim::lint(&g.ports, &dir)?;
-    println!("  lint        verilator --lint-only -Wall: clean");
-    let tb = g.testbench();
-    let eval_vectors = vectors.min(EVALUATOR_VECTORS);
-    let eval = g.evaluate(tb.as_ref(), eval_vectors, seed);
-    println!("  evaluator   {eval}");
-    let t = Instant::now();
-    let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
-    println!("  harness     ready in {:.1} s", t.elapsed().as_secs_f64());
-    let replay_hint = format!(
-        "rtl-gen replay {} {} --seed {seed} --index {{index}} --vcd mismatch.vcd",
-        g.unit,
-        g.param_args()
-    );
-    let opts = sim::CheckOptions {
-        vectors,
-        seed,
-        progress,
-        replay_hint: Some(replay_hint),
-        ..Default::default()
+    let mut base = RunReport::new("sim", &g);
+    base.input = Some(files.input.display().to_string());
+    with_reports(base, reports, |report| {
+        let dir = out_dir(&g, dir);
+        g.write(&dir, 10.0)?;
+        let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
+        let tb = g.testbench();
+        let mode = byo::Mode::Rtl { compare };
+        let o = byo::run_file(
+            &g,
+            Some(&harness),
+            tb.as_ref(),
+            &files.input,
+            &files.out,
+            mode,
+        )?;
+        print_file_outcome(&o, &files.out);
+        *report = o.report;
+        Ok(report.passed)
+    })
+}
+
+fn golden_file(unit: &UnitArgs, files: &FileArgs, reports: &ReportArgs) -> Result<bool, FlowError> {
+    let g = flow::generate(&unit.unit, &unit.params)?;
+    let mut base = RunReport::new("golden", &g);
+    base.input = Some(files.input.display().to_string());
+    with_reports(base, reports, |report| {
+        let tb = g.testbench();
+        let o = byo::run_file(
+            &g,
+            None,
+            tb.as_ref(),
+            &files.input,
+            &files.out,
+            byo::Mode::Golden,
+        )?;
+        print_file_outcome(&o, &files.out);
+        *report = o.report;
+        Ok(true)
+    })
+}
+
+fn print_file_outcome(o: &byo::FileOutcome, out: &std::path::Path) {
+    for m in &o.shown {
+        print!("{m}");
+    }
+    if o.mismatches > o.shown.len() as u64 {
+        println!("  ... {} mismatches in all", o.mismatches);
+    }
+    let format = match o.format {
+        sim::VecFormat::Text => "text",
+        sim::VecFormat::Binary => "rtlvec",
     };
-    let report = sim::cross_check(&harness, tb.as_ref(), tb.as_ref(), &opts)?;
-    println!("{report}");
-    Ok(report.mismatches == 0 && eval.mismatches == 0)
+    println!("wrote {} ({format}, {} records)", out.display(), o.vectors);
+    println!("{}", o.report.headline());
+}
+
+fn write_vectors(
+    unit: &UnitArgs,
+    count: u64,
+    first: u64,
+    seed: u64,
+    out: &std::path::Path,
+) -> Result<bool, FlowError> {
+    let g = flow::generate(&unit.unit, &unit.params)?;
+    let tb = g.testbench();
+    let format = byo::write_stimulus(&g, tb.as_ref(), seed, first, count, out)?;
+    let word = match format {
+        sim::VecFormat::Text => "text",
+        sim::VecFormat::Binary => "rtlvec",
+    };
+    println!(
+        "wrote {} ({word}, {count} vectors of {})",
+        out.display(),
+        g.module.name
+    );
+    Ok(true)
+}
+
+fn convert(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    unit: Option<String>,
+    params: &[String],
+    results: bool,
+) -> Result<bool, FlowError> {
+    let ports = match unit {
+        Some(u) => {
+            let g = flow::generate(&u, params)?;
+            let mut p = g.ports.inputs.clone();
+            if results {
+                p.extend(g.ports.outputs.iter().cloned());
+            }
+            Some(p)
+        }
+        None => None,
+    };
+    let (format, n) = sim::convert_file(input, output, ports.as_deref())?;
+    let word = match format {
+        sim::VecFormat::Text => "text",
+        sim::VecFormat::Binary => "rtlvec",
+    };
+    println!("wrote {} ({word}, {n} records)", output.display());
+    Ok(true)
+}
+
+fn merge_reports(
+    paths: &[PathBuf],
+    out: Option<PathBuf>,
+    junit: Option<PathBuf>,
+) -> Result<bool, FlowError> {
+    let mut loaded = Vec::new();
+    for p in paths {
+        loaded.push((
+            p.display().to_string(),
+            RunReport::load(p).map_err(bad_usage)?,
+        ));
+    }
+    let merged = report::merge(&loaded).map_err(bad_usage)?;
+    for (name, r) in &loaded {
+        println!(
+            "  shard {:<7} {}  ({name})",
+            r.shard.to_string(),
+            r.headline()
+        );
+    }
+    print!("{}", merged.failure_text());
+    if let Some(e) = &merged.error {
+        println!("errors in shards:\n{e}");
+    }
+    write_reports(&merged, &ReportArgs { report: out, junit })?;
+    if merged.error.is_some() {
+        return Err(bad_usage("a shard stopped with an error".into()));
+    }
+    Ok(merged.passed)
 }
 
 fn replay(
@@ -317,4 +724,16 @@ fn transform_accuracy(
     let rows = accuracy::run(&opts);
     print!("{}", accuracy::table(&opts, &rows));
     Ok(true)
+}
+
+fn check_testfloat(
+    unit: &UnitArgs,
+    source: &str,
+    nan_exact: bool,
+    out: Option<PathBuf>,
+    cache: Option<PathBuf>,
+    reports: &ReportArgs,
+) -> Result<bool, FlowError> {
+    let _ = (unit, source, nan_exact, out, cache, reports);
+    Err(bad_usage("--testfloat: not implemented yet".into()))
 }

@@ -4,8 +4,11 @@
 //! This is the only place that knows both the generator and the golden model;
 //! the DSL layers below never see either `sim` or `golden-model`.
 
+pub mod byo;
 pub mod cull;
 pub mod mulcmp;
+pub mod regress;
+pub mod report;
 pub mod stimulus;
 pub mod transform;
 
