@@ -7,8 +7,21 @@
 pub mod byo;
 pub mod cull;
 pub mod mulcmp;
+pub mod fadd;
+pub mod fadd_down_up;
+pub mod fcmp;
+pub mod fcvt;
+pub mod fdot3;
+pub mod ffma;
+pub mod fminmax;
+pub mod fmul;
+pub mod fmul_exact;
+pub mod fstim;
+pub mod funpack;
 pub mod regress;
 pub mod report;
+pub mod silhouette;
+pub mod slab;
 pub mod stimulus;
 pub mod transform;
 
@@ -38,12 +51,60 @@ pub fn catalog() -> Vec<Entry> {
             testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
         },
         Entry {
-            unit: &crate::units::transform::Transform,
-            testbench: |p| Box::new(transform::TransformBench::new(p)),
+            unit: &crate::units::silhouette::Silhouette,
+            testbench: |p| Box::new(silhouette::SilhouetteBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::slab::Slab,
+            testbench: |p| Box::new(slab::SlabBench::new(p)),
         },
         Entry {
             unit: &crate::units::cull::Cull,
             testbench: |p| Box::new(cull::CullBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::transform::Transform,
+            testbench: |p| Box::new(transform::TransformBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fadd::FAdd,
+            testbench: |p| Box::new(fadd::FAddBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fadd_down_up::FAddDownUp,
+            testbench: |p| Box::new(fadd_down_up::FAddDownUpBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fmul::FMul,
+            testbench: |p| Box::new(fmul::FMulBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fmul_exact::FMulExact,
+            testbench: |p| Box::new(fmul_exact::FMulExactBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fcmp::FCmp,
+            testbench: |p| Box::new(fcmp::FCmpBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fminmax::FMinMax,
+            testbench: |p| Box::new(fminmax::FMinMaxBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fcvt::FCvt,
+            testbench: |p| Box::new(fcvt::FCvtBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::ffma::FFma,
+            testbench: |p| Box::new(ffma::FFmaBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::fdot3::FDot3,
+            testbench: |p| Box::new(fdot3::FDot3Bench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::funpack::FUnpack,
+            testbench: |p| Box::new(funpack::FUnpackBench::new(p)),
         },
     ]
 }

@@ -2,6 +2,19 @@
 
 pub mod cull;
 pub mod mulcmp;
+pub mod fadd;
+pub mod fadd_down_up;
+pub mod fcmp;
+pub mod fcommon;
+pub mod fcvt;
+pub mod fdot3;
+pub mod ffma;
+pub mod fminmax;
+pub mod fmul;
+pub mod fmul_exact;
+pub mod funpack;
+pub mod silhouette;
+pub mod slab;
 pub mod transform;
 
 use crate::ir::Module;

@@ -15,7 +15,6 @@ use super::bits::{add_const, shr_jam};
 use super::round::{class_of, round, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rounding};
-use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;

@@ -1,0 +1,53 @@
+//! Testbench of `fmul`: all pairs of special values, then random pairs
+//! whose product lands in the normal range, near overflow, near or inside
+//! the subnormal range, or anywhere; golden `float::mul`.
+
+use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::stimulus::VectorRng;
+use super::Testbench;
+use crate::arith::float::Rounding;
+use crate::params::Params;
+use crate::units::fcommon::{format, rounding};
+use golden_model::float as g;
+
+/// The `fmul` testbench.
+pub struct FMulBench {
+    stim: FloatStim,
+    mode: Rounding,
+}
+
+impl FMulBench {
+    /// The testbench for resolved parameters.
+    pub fn new(p: &Params) -> Self {
+        let fmt = format(p, "fmul").expect("parameters were checked when building");
+        FMulBench {
+            stim: FloatStim::new(fmt),
+            mode: rounding(p),
+        }
+    }
+}
+
+impl sim::Golden for FMulBench {
+    fn eval(&self, i: &[u64], o: &mut [u64]) {
+        o[0] = g::mul(
+            golden_format(self.stim.fmt),
+            i[0],
+            i[1],
+            golden_mode(self.mode),
+        );
+    }
+}
+
+impl sim::Stimulus for FMulBench {
+    fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
+        if self.stim.corner(index, v) {
+            return;
+        }
+        let mut r = VectorRng::new(seed, index);
+        let a = self.stim.any(&mut r);
+        v[0] = a;
+        v[1] = self.stim.factor_for(&mut r, a);
+    }
+}
+
+impl Testbench for FMulBench {}
