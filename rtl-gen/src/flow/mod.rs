@@ -20,8 +20,6 @@ pub mod fstim;
 pub mod funpack;
 pub mod regress;
 pub mod report;
-pub mod silhouette;
-pub mod slab;
 pub mod stimulus;
 pub mod transform;
 
@@ -49,14 +47,6 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::mulcmp::MulCmp,
             testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
-        },
-        Entry {
-            unit: &crate::units::silhouette::Silhouette,
-            testbench: |p| Box::new(silhouette::SilhouetteBench::new(p)),
-        },
-        Entry {
-            unit: &crate::units::slab::Slab,
-            testbench: |p| Box::new(slab::SlabBench::new(p)),
         },
         Entry {
             unit: &crate::units::cull::Cull,

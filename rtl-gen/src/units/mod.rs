@@ -13,8 +13,6 @@ pub mod fminmax;
 pub mod fmul;
 pub mod fmul_exact;
 pub mod funpack;
-pub mod silhouette;
-pub mod slab;
 pub mod transform;
 
 use crate::ir::Module;
