@@ -251,3 +251,36 @@ fn registers_reset_synchronously_and_hold_without_enable() {
     let text = &emit(&module, "g")[0].text;
     assert!(text.contains("if (rst) begin\n            count_q <= 3'd5;\n        end else begin\n            if (en) begin"), "{text}");
 }
+
+#[test]
+fn systemverilog_keywords_are_not_names() {
+    let mut m = ModuleBuilder::new("kw");
+    let a = m.input("class", Ty::Bool);
+    m.output("packed", a);
+    let text = m.finish().unwrap_err().to_string();
+    assert!(
+        text.contains("`class`: port name is not a Verilog identifier"),
+        "{text}"
+    );
+    assert!(
+        text.contains("`packed`: port name is not a Verilog identifier"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bits_left_unread_through_a_cast_get_the_narrow_waiver() {
+    let mut m = ModuleBuilder::new("cast_slice");
+    let a = m.input("a", Ty::SInt(8));
+    let b = m.input("b", Ty::SInt(8));
+    let d = m.sub(a, b); // SInt<9>
+    let d = m.name(d, "diff");
+    let u = m.as_uint(d);
+    let low = m.slice(u, 3, 0);
+    m.output("low", low);
+    let module = m.finish().unwrap();
+    let text = &emit(&module, "g")[0].text;
+    assert!(text.contains("// bits [8:4] of this wire are not read by design\n    /* verilator lint_off UNUSEDSIGNAL */\n    wire signed [8:0] diff;"), "{text}");
+    // the inputs' bits are all read by the subtraction: no waiver there
+    assert!(text.contains("    input wire signed [7:0] a,\n"), "{text}");
+}

@@ -45,34 +45,37 @@ fn liveness(m: &Module) -> Liveness {
     }
     let all = |id: NodeId| mask(u128::MAX, m.node(id).ty.width());
     let mut used_bits = vec![0u128; n];
-    for (i, node) in m.nodes.iter().enumerate() {
+    let read = |used_bits: &mut Vec<u128>, id: NodeId| used_bits[id.0 as usize] |= all(id);
+    m.outputs
+        .iter()
+        .for_each(|(_, id)| read(&mut used_bits, *id));
+    for (reg, _) in m.registers.iter().zip(&regs).filter(|(_, live)| **live) {
+        read(&mut used_bits, reg.next);
+        reg.enable.into_iter().for_each(|e| read(&mut used_bits, e));
+    }
+    for (inst, _) in m
+        .instances
+        .iter()
+        .zip(&instances)
+        .filter(|(_, live)| **live)
+    {
+        inst.inputs.iter().for_each(|id| read(&mut used_bits, *id));
+    }
+    // users come after their operands: walking backwards, a node's own read
+    // bits are complete before they are passed on (casts are transparent)
+    for (i, node) in m.nodes.iter().enumerate().rev() {
         if !live[i] {
             continue;
         }
         match node.op {
             Op::Slice(a, hi, lo) => used_bits[a.0 as usize] |= mask(u128::MAX, hi - lo + 1) << lo,
+            Op::Cast(a) => used_bits[a.0 as usize] |= used_bits[i],
             _ => {
                 for o in node.op.operands() {
-                    used_bits[o.0 as usize] |= all(o);
+                    read(&mut used_bits, o);
                 }
             }
         }
-    }
-    let mut read = |id: NodeId| used_bits[id.0 as usize] |= all(id);
-    m.outputs.iter().for_each(|(_, id)| read(*id));
-    for (r, reg) in m.registers.iter().enumerate().filter(|(r, _)| regs[*r]) {
-        let _ = r;
-        read(reg.next);
-        reg.enable.into_iter().for_each(&mut read);
-    }
-    for (i, inst) in m
-        .instances
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| instances[*i])
-    {
-        let _ = i;
-        inst.inputs.iter().for_each(|id| read(*id));
     }
     Liveness {
         live,
@@ -126,6 +129,13 @@ struct Names {
 
 impl Names {
     fn claim(&mut self, want: &str) -> String {
+        // a derived name can happen to be a reserved word (e.g. a slice of `in`)
+        let want = if crate::builder::is_identifier(want) {
+            want.to_string()
+        } else {
+            format!("{want}_w")
+        };
+        let want = want.as_str();
         let mut name = want.to_string();
         let mut k = 1;
         while !self.taken.insert(name.clone()) {
