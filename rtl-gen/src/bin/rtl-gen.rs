@@ -117,6 +117,10 @@ enum Command {
         /// (default: any NaN matches any NaN).
         #[arg(long)]
         nan_exact: bool,
+        /// With --testfloat: the output compared with the expected result (default: the only
+        /// output, else `z`; e.g. `lt` for fcmp, `min` for fminmax).
+        #[arg(long, value_name = "PORT", requires = "testfloat")]
+        result: Option<String>,
     },
     /// Run a vector file through the Verilated RTL and write every output of every
     /// transaction to a results file (inputs echoed, outputs added). Also runs the golden
@@ -263,8 +267,17 @@ fn main() -> ExitCode {
             reports,
             testfloat,
             nan_exact,
+            result,
         } => match testfloat {
-            Some(source) => check_testfloat(&unit, &source, nan_exact, out, cache, &reports),
+            Some(source) => check_testfloat(
+                &unit,
+                &source,
+                nan_exact,
+                result.as_deref(),
+                out,
+                cache,
+                &reports,
+            ),
             None => check(
                 &unit,
                 vectors,
@@ -730,10 +743,47 @@ fn check_testfloat(
     unit: &UnitArgs,
     source: &str,
     nan_exact: bool,
+    result: Option<&str>,
     out: Option<PathBuf>,
     cache: Option<PathBuf>,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    let _ = (unit, source, nan_exact, out, cache, reports);
-    Err(bad_usage("--testfloat: not implemented yet".into()))
+    use rtl_gen::flow::testfloat;
+    let g = flow::generate(&unit.unit, &unit.params)?;
+    let map = testfloat::Mapping::for_unit(&g, result).map_err(bad_usage)?;
+    let mut base = RunReport::new("testfloat", &g);
+    let name = if source == "-" { "<stdin>" } else { source };
+    base.input = Some(name.to_string());
+    with_reports(base, reports, |report| {
+        let result_port = &g.ports.outputs[map.result];
+        let cases = if source == "-" {
+            let stdin = std::io::stdin().lock();
+            testfloat::read_cases(stdin, name, &g.ports.inputs, result_port)?
+        } else {
+            let f = std::fs::File::open(source)
+                .map_err(|e| sim::SimError::io(format!("opening {source}"), e))?;
+            let r = std::io::BufReader::new(f);
+            testfloat::read_cases(r, name, &g.ports.inputs, result_port)?
+        };
+        let dir = out_dir(&g, out);
+        g.write(&dir, 10.0)?;
+        println!(
+            "rtl-gen check {} ({}) --testfloat {name}",
+            g.unit,
+            rtl_gen::emit::lower::params_line(g.params.values())
+        );
+        println!(
+            "  module      {} (latency {} cycle(s), II 1)",
+            g.module.name, g.module.latency
+        );
+        sim::lint(&g.ports, &dir)?;
+        println!("  lint        verilator --lint-only -Wall: clean");
+        let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
+        let tb = g.testbench();
+        let o = testfloat::run(&g, &harness, tb.as_ref(), &map, &cases, name, nan_exact)?;
+        print!("{o}");
+        *report = o.report;
+        println!("{}", report.headline());
+        Ok(report.passed)
+    })
 }

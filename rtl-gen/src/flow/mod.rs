@@ -21,6 +21,7 @@ pub mod funpack;
 pub mod regress;
 pub mod report;
 pub mod stimulus;
+pub mod testfloat;
 pub mod transform;
 
 use crate::emit::{emit, VerilogFile};
