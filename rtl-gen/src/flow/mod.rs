@@ -7,6 +7,8 @@
 pub mod byo;
 pub mod cull;
 pub mod mulcmp;
+pub mod silhouette;
+pub mod slab;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;
@@ -48,6 +50,14 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::mulcmp::MulCmp,
             testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::silhouette::Silhouette,
+            testbench: |p| Box::new(silhouette::SilhouetteBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::slab::Slab,
+            testbench: |p| Box::new(slab::SlabBench::new(p)),
         },
         Entry {
             unit: &crate::units::cull::Cull,

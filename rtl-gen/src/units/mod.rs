@@ -2,6 +2,8 @@
 
 pub mod cull;
 pub mod mulcmp;
+pub mod silhouette;
+pub mod slab;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;

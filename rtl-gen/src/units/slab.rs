@@ -1,0 +1,243 @@
+//! `slab`: the classic slab ray/box tester, the baseline most ray-tracing
+//! hardware uses, generated with the same operators as `silhouette` so cost
+//! and accuracy can be compared side by side (issue #4, docs/silhouette.md §6).
+//!
+//! The reciprocal direction `inv_d` is an input (precomputed, `1/±0 = ±∞`).
+//! Per axis `u = p_min − o`, `v = p_max − o`, `t0 = u·inv_d`, `t1 = v·inv_d`
+//! (all rounded to nearest even), `near = minimum(t0, t1)`, `far =
+//! maximum(t0, t1)` (IEEE 754-2019: a NaN propagates); then `t_enter` is the
+//! maximum of `t_min` and the three `near`, `t_exit` the minimum of `t_max`
+//! and the three `far`, and `hit = t_enter <= t_exit`. The golden twin is
+//! `golden_model::slab`. (Maximum and minimum are associative and commutative
+//! on these values, with −0 below +0 and a canonical NaN, so the tree here
+//! gives the golden model's left-to-right chain bit for bit.)
+//!
+//! Pipelining: `stages` registers spread over 14 logical steps: the
+//! differences (6), the products (5), min/max, the reduction tree and the
+//! final comparison.
+
+use super::Unit;
+use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
+use crate::arith::float::compare::compare;
+use crate::arith::float::minmax::min_max;
+use crate::arith::float::mul::{mul_module, MUL_RAW_STEPS};
+use crate::arith::float::round::ROUND_STEPS;
+use crate::arith::float::{spread, Format, Rounding};
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use std::sync::Arc;
+
+/// The `slab` unit.
+pub struct Slab;
+
+const PARAMS: &[ParamSpec] = &[
+    ParamSpec {
+        name: "exp_bits",
+        doc: "exponent bits E of the format",
+        kind: ParamKind::Int { min: 2, max: 11 },
+        default: "8",
+    },
+    ParamSpec {
+        name: "frac_bits",
+        doc: "fraction bits F of the format (1 + E + F <= 64)",
+        kind: ParamKind::Int { min: 1, max: 52 },
+        default: "23",
+    },
+    ParamSpec {
+        name: "stages",
+        doc: "pipeline stages (latency in cycles), spread over differences, products, min/max, reduction, comparison",
+        kind: ParamKind::Int { min: 0, max: 16 },
+        default: "4",
+    },
+];
+
+/// Logical steps of a difference (adder and rounder).
+pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
+/// Logical steps of a product (multiplier and rounder).
+pub const PRODUCT_STEPS: u32 = MUL_RAW_STEPS + ROUND_STEPS;
+/// All logical steps: differences, products, min/max, reduction tree, comparison.
+pub const STEPS: u32 = DIFF_STEPS + PRODUCT_STEPS + 3;
+
+/// How the `stages` registers are placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StagePlan {
+    /// inside the subtractors
+    pub diff: u32,
+    /// inside the multipliers
+    pub product: u32,
+    /// after the per-axis min/max
+    pub min_max: u32,
+    /// after the reduction to `t_enter`, `t_exit`
+    pub reduce: u32,
+    /// after the final comparison
+    pub compare: u32,
+}
+
+impl StagePlan {
+    /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
+    pub fn new(stages: u32) -> StagePlan {
+        let cuts = spread(stages, STEPS);
+        let (d, p) = (DIFF_STEPS as usize, PRODUCT_STEPS as usize);
+        StagePlan {
+            diff: cuts[..d].iter().sum(),
+            product: cuts[d..d + p].iter().sum(),
+            min_max: cuts[d + p],
+            reduce: cuts[d + p + 1],
+            compare: cuts[d + p + 2],
+        }
+    }
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Module name of the per-axis block.
+pub fn slab_axis_name(fmt: Format, diff: u32, product: u32) -> String {
+    format!("slab_axis_{}_d{diff}_p{product}", fmt.tag())
+}
+
+/// One axis: `near = minimum(t0, t1)`, `far = maximum(t0, t1)` with
+/// `t0 = (p_min − o)·inv_d`, `t1 = (p_max − o)·inv_d` (RNE); `diff + product`
+/// cycles of latency.
+pub fn slab_axis_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(slab_axis_name(fmt, diff, product));
+    m.describe(
+        "One slab of the slab tester: t0 = (p_min - o) * inv_d, t1 = (p_max - o) * inv_d (RNE), \
+         near = minimum(t0, t1), far = maximum(t0, t1).",
+    );
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("diff_stages", diff)
+        .param("product_stages", product);
+    let ty = Ty::UInt(fmt.width());
+    let p_min = m.input("p_min", ty);
+    let p_max = m.input("p_max", ty);
+    let o = m.input("o", ty);
+    let inv_d = m.input("inv_d", ty);
+    let sub = add_module(fmt, Rounding::Rne, true, diff);
+    let mul = mul_module(fmt, Rounding::Rne, product);
+    let z = |io: crate::builder::InstanceOutputs| io.get("z").expect("operator has output z");
+    let u = z(m.instance("u_sub_lo", &sub, &[("a", p_min), ("b", o)]));
+    let v = z(m.instance("u_sub_hi", &sub, &[("a", p_max), ("b", o)]));
+    for _ in 0..diff {
+        m.stage();
+    }
+    let t0 = z(m.instance("u_mul_lo", &mul, &[("a", u), ("b", inv_d)]));
+    let t1 = z(m.instance("u_mul_hi", &mul, &[("a", v), ("b", inv_d)]));
+    for _ in 0..product {
+        m.stage();
+    }
+    let (near, far) = min_max(&mut m, fmt, t0, t1);
+    m.output("near", near);
+    m.output("far", far);
+    Arc::new(
+        m.finish()
+            .expect("slab axis generator is type-correct for every format"),
+    )
+}
+
+/// Module name of the top.
+pub fn slab_name(fmt: Format, stages: u32) -> String {
+    format!("slab_{}_s{stages}", fmt.tag())
+}
+
+/// Builds the slab tester for `fmt` with `stages` pipeline registers.
+pub fn build(fmt: Format, stages: u32) -> Module {
+    let plan = StagePlan::new(stages);
+    let mut m = ModuleBuilder::with_handshake(slab_name(fmt, stages));
+    m.describe(
+        "Classic slab ray/box tester (baseline): t = (p - o) * inv_d per plane, entry = max of \
+         t_min and the near planes, exit = min of t_max and the far planes, hit = entry <= exit; \
+         every operation RNE, min/max IEEE 754-2019 (NaN propagates).",
+    );
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("stages", stages);
+    let ty = Ty::UInt(fmt.width());
+    let vec3 = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
+        AXES.iter()
+            .map(|a| m.input(&format!("{name}_{a}"), ty))
+            .collect()
+    };
+    let p_min = vec3(&mut m, "p_min");
+    let p_max = vec3(&mut m, "p_max");
+    let o = vec3(&mut m, "o");
+    let inv_d = vec3(&mut m, "inv_d");
+    let t_min = m.input("t_min", ty);
+    let t_max = m.input("t_max", ty);
+
+    let axis = slab_axis_module(fmt, plan.diff, plan.product);
+    let mut near = Vec::new();
+    let mut far = Vec::new();
+    for i in 0..3 {
+        let out = m.instance(
+            &format!("u_slab_{}", AXES[i]),
+            &axis,
+            &[
+                ("p_min", p_min[i]),
+                ("p_max", p_max[i]),
+                ("o", o[i]),
+                ("inv_d", inv_d[i]),
+            ],
+        );
+        near.push(out.get("near").expect("axis block has output near"));
+        far.push(out.get("far").expect("axis block has output far"));
+    }
+    for _ in 0..plan.diff + plan.product + plan.min_max {
+        m.stage();
+    }
+    let max = |m: &mut ModuleBuilder, a: Sig, b: Sig| min_max(m, fmt, a, b).1;
+    let min = |m: &mut ModuleBuilder, a: Sig, b: Sig| min_max(m, fmt, a, b).0;
+    let e0 = max(&mut m, t_min, near[0]);
+    let e1 = max(&mut m, near[1], near[2]);
+    let t_enter = max(&mut m, e0, e1);
+    let t_enter = m.name(t_enter, "t_enter");
+    let x0 = min(&mut m, t_max, far[0]);
+    let x1 = min(&mut m, far[1], far[2]);
+    let t_exit = min(&mut m, x0, x1);
+    let t_exit = m.name(t_exit, "t_exit");
+    for _ in 0..plan.reduce {
+        m.stage();
+    }
+    let hit = compare(&mut m, fmt, t_enter, t_exit).1;
+    let hit = m.name(hit, "hit");
+    for _ in 0..plan.compare {
+        m.stage();
+    }
+    m.output("hit", hit);
+    m.output("t_enter", t_enter);
+    m.output("t_exit", t_exit);
+    m.finish()
+        .expect("slab generator is type-correct for every format")
+}
+
+impl Unit for Slab {
+    fn name(&self) -> &'static str {
+        "slab"
+    }
+    fn summary(&self) -> &'static str {
+        "classic slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE, hit/t_enter/t_exit"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+    fn build(&self, p: &Params) -> Result<Module, ParamError> {
+        let fmt =
+            Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
+        Ok(build(fmt, p.u32("stages")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stage_plan_covers_every_register() {
+        for s in 0..=16 {
+            let p = StagePlan::new(s);
+            assert_eq!(p.diff + p.product + p.min_max + p.reduce + p.compare, s);
+        }
+        assert_eq!(StagePlan::new(1).compare, 1);
+    }
+}
