@@ -40,7 +40,7 @@ impl Testbench for Planted {}
 
 #[test]
 fn four_shards_run_the_unsharded_vectors_and_find_a_planted_mismatch_once() {
-    let (g, dir) = generate("shards", "mulcmp", &["stages=1"]);
+    let (g, dir) = generate("shards", "mulcmp", &["stages=2"]);
     sim::lint(&g.ports, &dir).unwrap();
     let h = sim::Harness::build(&g.ports, &dir, &sim::default_cache_root()).unwrap();
 
