@@ -157,3 +157,36 @@ fn four_shards_merge_into_the_unsharded_verdict_with_json_and_junit() {
         assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", text(&o));
     }
 }
+
+#[test]
+fn a_progress_bar_is_drawn_on_a_terminal_only() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_progress");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let bin = env!("CARGO_BIN_EXE_rtl-gen");
+    let cmd = format!("{bin} check mulcmp -p stages=2 --vectors 3000000 --jobs 1 --out gen");
+    // `script` gives the command a pseudo-terminal.
+    let tty = |extra: &str| {
+        let o = Command::new("script")
+            .args(["-qfec", &format!("{cmd}{extra}"), "/dev/null"])
+            .current_dir(&dir)
+            .output()
+            .expect("`script` (util-linux) runs");
+        assert!(o.status.success(), "{}", text(&o));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let drawn = tty("");
+    assert!(
+        drawn.contains("/3,000,000 vectors") && drawn.contains("M vectors/s"),
+        "{drawn}"
+    );
+    assert!(!tty(" --no-progress").contains("/3,000,000 vectors"));
+    // Piped stderr: no bar and no progress lines at all.
+    let o = check(&dir, &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

@@ -441,7 +441,7 @@ fn progress_bar(total: u64, show: bool) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
     bar.set_style(
         ProgressStyle::with_template(
-            "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} vectors, {per_sec}, eta {eta} {msg}",
+            "{elapsed_precise} [{wide_bar}] {human_pos}/{human_len} vectors, eta {eta} {msg}",
         )
         .expect("valid template")
         .progress_chars("=> "),
@@ -507,11 +507,23 @@ fn check(
         run.shard = shard;
         run.jobs = jobs;
         run.evaluator_vectors = EVALUATOR_VECTORS;
+        let last_message = std::sync::Mutex::new(Instant::now());
         run.on_progress = Some(sim::ProgressFn::new(move |p: &sim::Progress| {
             on_bar.set_position(p.done);
-            if p.mismatches > 0 {
-                on_bar.set_message(format!("{} mismatches", p.mismatches));
+            // The message (rate, mismatches) at most five times a second.
+            let Ok(mut last) = last_message.try_lock() else {
+                return;
+            };
+            if last.elapsed().as_millis() < 200 && p.done < p.total {
+                return;
             }
+            *last = Instant::now();
+            let rate = p.done as f64 / on_bar.elapsed().as_secs_f64().max(1e-9);
+            let failing = match p.mismatches {
+                0 => String::new(),
+                n => format!(", {n} mismatches"),
+            };
+            on_bar.set_message(format!("{:.2} M vectors/s{failing}", rate / 1e6));
         }));
         let tb = g.testbench();
         let outcome = regress::run_check(&g, &harness, tb.as_ref(), &run);
