@@ -1,0 +1,473 @@
+//! The two-level acceleration structure: one bottom-level BVH per mesh (binned
+//! SAH, with cull planes placed by `golden_model::cull::builder`), one top-level
+//! BVH over the instances' world boxes (binned SAH, one instance per leaf).
+//!
+//! Both levels use `golden_model::cull::bvh::Bvh` (parent before children,
+//! root 0), so the cull-plane builder runs on our SAH trees unchanged.
+//!
+//! Boxes are padded outward by a relative 2⁻²⁰ (bottom level) so that a hit the
+//! f64 triangle test reports always lies inside every box above it, whatever
+//! box tester is used; this makes "identical image with exact box tests" a
+//! property of the construction, not of luck at grazing rays. World boxes of
+//! instances are padded by 2⁻¹⁶ relative to their size and translation, which
+//! covers the rounding of the transform unit (model-space rays are computed by
+//! it, world-space boxes are not).
+
+use crate::scene::Scene;
+use golden_model::cull::builder::{build_planes, BuildParams};
+use golden_model::cull::bvh::{Bvh, Mesh, Node, NodeKind};
+use golden_model::cull::tester::Plane;
+use golden_model::float::{convert, FloatFormat, RoundingMode};
+use golden_model::transform::exact::scene_builder_inverse;
+use std::time::{Duration, Instant};
+
+/// Planes per node and their format (the cull unit's defaults, `docs/cull.md`).
+pub const PLANES_K: usize = 4;
+/// Plane format: binary16.
+pub const PLANE_FMT: FloatFormat = FloatFormat::BINARY16;
+
+const BINS: usize = 16;
+
+/// f32 at or below `v`.
+pub fn f32_down(v: f64) -> f32 {
+    let x = v as f32;
+    if x as f64 > v {
+        x.next_down()
+    } else {
+        x
+    }
+}
+
+/// f32 at or above `v`.
+pub fn f32_up(v: f64) -> f32 {
+    let x = v as f32;
+    if (x as f64) < v {
+        x.next_up()
+    } else {
+        x
+    }
+}
+
+fn pad_box(lo: [f32; 3], hi: [f32; 3], rel: f64, extra: f64) -> ([f32; 3], [f32; 3]) {
+    let mut a = [0f32; 3];
+    let mut b = [0f32; 3];
+    for i in 0..3 {
+        let m = (lo[i] as f64).abs().max((hi[i] as f64).abs()) + (hi[i] as f64 - lo[i] as f64);
+        let p = m * rel + extra;
+        a[i] = f32_down(lo[i] as f64 - p);
+        b[i] = f32_up(hi[i] as f64 + p);
+    }
+    (a, b)
+}
+
+#[derive(Clone, Copy)]
+struct Prim {
+    lo: [f32; 3],
+    hi: [f32; 3],
+    c: [f32; 3],
+}
+
+fn area(lo: &[f32; 3], hi: &[f32; 3]) -> f64 {
+    let e = [0, 1, 2].map(|i| (hi[i] as f64 - lo[i] as f64).max(0.0));
+    2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+}
+
+fn merge(a: &mut ([f32; 3], [f32; 3]), p: &Prim) {
+    for i in 0..3 {
+        a.0[i] = a.0[i].min(p.lo[i]);
+        a.1[i] = a.1[i].max(p.hi[i]);
+    }
+}
+
+const EMPTY: ([f32; 3], [f32; 3]) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+
+/// Binned SAH build over primitive boxes; leaves of at most `max_leaf`
+/// primitives (split whenever SAH says so and always above `max_leaf`).
+fn sah_build(prims: &[Prim], max_leaf: usize, pad_rel: f64) -> Bvh {
+    let mut order: Vec<u32> = (0..prims.len() as u32).collect();
+    let mut bvh = Bvh {
+        nodes: Vec::new(),
+        tri_order: Vec::new(),
+    };
+    if prims.is_empty() {
+        return bvh;
+    }
+    split(&mut bvh, prims, &mut order, 0, max_leaf.max(1), pad_rel);
+    bvh.tri_order = order;
+    bvh
+}
+
+fn split(
+    bvh: &mut Bvh,
+    prims: &[Prim],
+    order: &mut [u32],
+    first: usize,
+    max_leaf: usize,
+    pad_rel: f64,
+) -> u32 {
+    let me = bvh.nodes.len() as u32;
+    let mut bx = EMPTY;
+    let mut cb = EMPTY;
+    for &p in order.iter() {
+        let p = &prims[p as usize];
+        merge(&mut bx, p);
+        merge(
+            &mut cb,
+            &Prim {
+                lo: p.c,
+                hi: p.c,
+                c: p.c,
+            },
+        );
+    }
+    let (lo, hi) = pad_box(bx.0, bx.1, pad_rel, 0.0);
+    bvh.nodes.push(Node {
+        min: lo,
+        max: hi,
+        kind: NodeKind::Leaf {
+            first: first as u32,
+            count: order.len() as u32,
+        },
+    });
+    let n = order.len();
+    if n <= 1 {
+        return me;
+    }
+    // best binned SAH split over the three axes
+    let parent_area = area(&bx.0, &bx.1).max(1e-300);
+    let mut best: Option<(f64, usize, f32, f32)> = None; // cost, axis, cmin, scale
+    for axis in 0..3 {
+        let (cmin, cmax) = (cb.0[axis], cb.1[axis]);
+        if cmax <= cmin {
+            continue;
+        }
+        let scale = BINS as f32 / (cmax - cmin);
+        let mut bins = [(EMPTY, 0usize); BINS];
+        for &p in order.iter() {
+            let p = &prims[p as usize];
+            let b = (((p.c[axis] - cmin) * scale) as usize).min(BINS - 1);
+            merge(&mut bins[b].0, p);
+            bins[b].1 += 1;
+        }
+        let mut right = [(0.0f64, 0usize); BINS];
+        let mut acc = (EMPTY, 0usize);
+        for b in (1..BINS).rev() {
+            acc.0 .0 = [0, 1, 2].map(|i| acc.0 .0[i].min(bins[b].0 .0[i]));
+            acc.0 .1 = [0, 1, 2].map(|i| acc.0 .1[i].max(bins[b].0 .1[i]));
+            acc.1 += bins[b].1;
+            right[b] = (area(&acc.0 .0, &acc.0 .1), acc.1);
+        }
+        let mut left = (EMPTY, 0usize);
+        for b in 0..BINS - 1 {
+            left.0 .0 = [0, 1, 2].map(|i| left.0 .0[i].min(bins[b].0 .0[i]));
+            left.0 .1 = [0, 1, 2].map(|i| left.0 .1[i].max(bins[b].0 .1[i]));
+            left.1 += bins[b].1;
+            let (ra, rn) = right[b + 1];
+            if left.1 == 0 || rn == 0 {
+                continue;
+            }
+            let cost =
+                1.0 + (area(&left.0 .0, &left.0 .1) * left.1 as f64 + ra * rn as f64) / parent_area;
+            if best.is_none_or(|(c, ..)| cost < c) {
+                best = Some((cost, axis, cmin, scale));
+            }
+        }
+    }
+    let mid = match best {
+        Some((cost, axis, cmin, scale)) if cost < n as f64 || n > max_leaf => {
+            // partition by the chosen bin boundary
+            let best_bin = best_bin_for(prims, order, axis, cmin, scale);
+            let mut i = 0;
+            for j in 0..n {
+                let c = prims[order[j] as usize].c[axis];
+                let b = (((c - cmin) * scale) as usize).min(BINS - 1);
+                if b <= best_bin {
+                    order.swap(i, j);
+                    i += 1;
+                }
+            }
+            if i == 0 || i == n {
+                n / 2
+            } else {
+                i
+            }
+        }
+        None if n > max_leaf => {
+            // all centroids coincide: split in the middle of the list
+            n / 2
+        }
+        _ => return me,
+    };
+    let (l, r) = order.split_at_mut(mid);
+    let left = split(bvh, prims, l, first, max_leaf, pad_rel);
+    let right = split(bvh, prims, r, first + mid, max_leaf, pad_rel);
+    bvh.nodes[me as usize].kind = NodeKind::Inner { left, right };
+    me
+}
+
+/// The split bin of the cheapest SAH partition on `axis` (recomputed; cheap).
+fn best_bin_for(prims: &[Prim], order: &[u32], axis: usize, cmin: f32, scale: f32) -> usize {
+    let mut bins = [(EMPTY, 0usize); BINS];
+    for &p in order {
+        let p = &prims[p as usize];
+        let b = (((p.c[axis] - cmin) * scale) as usize).min(BINS - 1);
+        merge(&mut bins[b].0, p);
+        bins[b].1 += 1;
+    }
+    let mut right = [(0.0f64, 0usize); BINS];
+    let mut acc = (EMPTY, 0usize);
+    for b in (1..BINS).rev() {
+        acc.0 .0 = [0, 1, 2].map(|i| acc.0 .0[i].min(bins[b].0 .0[i]));
+        acc.0 .1 = [0, 1, 2].map(|i| acc.0 .1[i].max(bins[b].0 .1[i]));
+        acc.1 += bins[b].1;
+        right[b] = (area(&acc.0 .0, &acc.0 .1), acc.1);
+    }
+    let mut left = (EMPTY, 0usize);
+    let mut best = (f64::INFINITY, BINS / 2);
+    for b in 0..BINS - 1 {
+        left.0 .0 = [0, 1, 2].map(|i| left.0 .0[i].min(bins[b].0 .0[i]));
+        left.0 .1 = [0, 1, 2].map(|i| left.0 .1[i].max(bins[b].0 .1[i]));
+        left.1 += bins[b].1;
+        let (ra, rn) = right[b + 1];
+        if left.1 == 0 || rn == 0 {
+            continue;
+        }
+        let cost = area(&left.0 .0, &left.0 .1) * left.1 as f64 + ra * rn as f64;
+        if cost < best.0 {
+            best = (cost, b);
+        }
+    }
+    best.1
+}
+
+/// A bottom-level tree: BVH over one mesh, cull planes per node.
+#[derive(Debug, Clone)]
+pub struct Blas {
+    /// the SAH tree (padded boxes)
+    pub bvh: Bvh,
+    /// per node, up to [`PLANES_K`] planes (binary16), best first
+    pub planes: Vec<Vec<Plane>>,
+}
+
+/// An instance as the traversal needs it.
+#[derive(Debug, Clone)]
+pub struct InstanceXf {
+    /// mesh / BLAS index
+    pub mesh: usize,
+    /// forward transform rows `[R | T]`
+    pub fwd: [[f32; 4]; 3],
+    /// `R⁻¹`, row-major binary32 bits: the exact inverse rounded once
+    /// (`scene_builder_inverse`, the transform unit's `inverse=pre`)
+    pub inv_bits: [u64; 9],
+    /// `T`, binary32 bits
+    pub t_bits: [u64; 3],
+    /// `R⁻ᵀ` in f64, for normals (shading only)
+    pub normal_m: [[f64; 3]; 3],
+    /// diffuse albedo
+    pub color: [f32; 3],
+    /// diagonal of the instance's world box (for ray offsets)
+    pub size: f32,
+}
+
+/// Build times, for the report.
+#[derive(Debug, Clone, Default)]
+pub struct BuildTimes {
+    /// SAH trees of all meshes
+    pub blas_sah: Duration,
+    /// cull-plane placement of all meshes
+    pub planes: Duration,
+    /// instance inverses, world boxes and the top-level tree
+    pub tlas: Duration,
+}
+
+/// The whole acceleration structure.
+#[derive(Debug, Clone)]
+pub struct Accel {
+    /// one per mesh
+    pub blas: Vec<Blas>,
+    /// top-level tree; `tri_order` holds instance indices
+    pub tlas: Bvh,
+    /// per instance
+    pub instances: Vec<InstanceXf>,
+    /// build times
+    pub times: BuildTimes,
+    /// scene scale: length of the world box diagonal
+    pub scale: f32,
+}
+
+/// Bottom-level SAH tree over a mesh (leaves of at most `max_leaf` triangles).
+pub fn build_blas_bvh(mesh: &Mesh, max_leaf: usize) -> Bvh {
+    let prims: Vec<Prim> = (0..mesh.triangles.len() as u32)
+        .map(|t| {
+            let v = mesh.corners(t);
+            let lo = [0, 1, 2].map(|i| v[0][i].min(v[1][i]).min(v[2][i]));
+            let hi = [0, 1, 2].map(|i| v[0][i].max(v[1][i]).max(v[2][i]));
+            Prim {
+                lo,
+                hi,
+                c: [0, 1, 2].map(|i| ((lo[i] as f64 + hi[i] as f64) / 2.0) as f32),
+            }
+        })
+        .collect();
+    sah_build(&prims, max_leaf, 1.0 / (1u64 << 20) as f64)
+}
+
+/// Widens each plane's distance by a relative 2⁻²⁰ of its node's size (rounded
+/// up in the plane format), so the f64 triangle test's last-bit hits never fall
+/// on an empty side.
+fn pad_planes(bvh: &Bvh, planes: &mut [Vec<Plane>]) {
+    for (id, ps) in planes.iter_mut().enumerate() {
+        let n = bvh.nodes[id];
+        let size: f64 = (0..3)
+            .map(|i| (n.max[i] as f64 - n.min[i] as f64).abs() + (n.max[i] as f64).abs())
+            .sum();
+        for p in ps.iter_mut() {
+            let w = f64::from_bits(convert(
+                PLANE_FMT,
+                FloatFormat::BINARY64,
+                p.w,
+                RoundingMode::NearestEven,
+            ));
+            let w2 = w + size / (1u64 << 20) as f64;
+            p.w = convert(
+                FloatFormat::BINARY64,
+                PLANE_FMT,
+                w2.to_bits(),
+                RoundingMode::Up,
+            );
+        }
+        ps.retain(|p| p.w & !PLANE_FMT.sign_bit() != PLANE_FMT.inf(false));
+    }
+}
+
+impl Accel {
+    /// Builds every BLAS (SAH + planes, meshes in parallel) and the TLAS.
+    pub fn build(scene: &Scene, with_planes: bool) -> Accel {
+        use rayon::prelude::*;
+        let mut times = BuildTimes::default();
+        let t0 = Instant::now();
+        let bvhs: Vec<Bvh> = scene
+            .meshes
+            .par_iter()
+            .map(|(_, m)| build_blas_bvh(m, 4))
+            .collect();
+        times.blas_sah = t0.elapsed();
+        let t1 = Instant::now();
+        let planes: Vec<Vec<Vec<Plane>>> = scene
+            .meshes
+            .par_iter()
+            .zip(&bvhs)
+            .map(|((_, m), bvh)| {
+                if !with_planes {
+                    return vec![Vec::new(); bvh.nodes.len()];
+                }
+                let mut p = build_planes(
+                    m,
+                    bvh,
+                    &BuildParams {
+                        plane: PLANE_FMT,
+                        k: PLANES_K,
+                        samples: 6,
+                    },
+                )
+                .planes;
+                pad_planes(bvh, &mut p);
+                p
+            })
+            .collect();
+        times.planes = t1.elapsed();
+        let blas: Vec<Blas> = bvhs
+            .into_iter()
+            .zip(planes)
+            .map(|(bvh, planes)| Blas { bvh, planes })
+            .collect();
+        let t2 = Instant::now();
+        let b32 = |x: f32| x.to_bits() as u64;
+        let mut instances = Vec::new();
+        let mut prims = Vec::new();
+        let mut world = EMPTY;
+        for inst in &scene.instances {
+            let f = inst.transform;
+            let r_bits: [u64; 9] = std::array::from_fn(|k| b32(f[k / 3][k % 3]));
+            let inv_bits =
+                scene_builder_inverse(FloatFormat::BINARY32, RoundingMode::NearestEven, &r_bits);
+            let inv: [f64; 9] = inv_bits.map(|b| f32::from_bits(b as u32) as f64);
+            let normal_m = [0, 1, 2].map(|i| [0, 1, 2].map(|j| inv[3 * j + i]));
+            let root = blas[inst.mesh].bvh.nodes[0];
+            let mut lo = [f64::INFINITY; 3];
+            let mut hi = [f64::NEG_INFINITY; 3];
+            for c in 0..8 {
+                let p = [0, 1, 2].map(|i| {
+                    if c >> i & 1 == 1 {
+                        root.max[i] as f64
+                    } else {
+                        root.min[i] as f64
+                    }
+                });
+                for i in 0..3 {
+                    let w = (0..3).map(|j| f[i][j] as f64 * p[j]).sum::<f64>() + f[i][3] as f64;
+                    lo[i] = lo[i].min(w);
+                    hi[i] = hi[i].max(w);
+                }
+            }
+            let mut blo = [0f32; 3];
+            let mut bhi = [0f32; 3];
+            for i in 0..3 {
+                let p = ((hi[i] - lo[i]) + (f[i][3] as f64).abs() + lo[i].abs().max(hi[i].abs()))
+                    / (1u64 << 16) as f64;
+                blo[i] = f32_down(lo[i] - p);
+                bhi[i] = f32_up(hi[i] + p);
+            }
+            let pr = Prim {
+                lo: blo,
+                hi: bhi,
+                c: [0, 1, 2].map(|i| ((blo[i] as f64 + bhi[i] as f64) / 2.0) as f32),
+            };
+            merge(&mut world, &pr);
+            prims.push(pr);
+            instances.push(InstanceXf {
+                mesh: inst.mesh,
+                fwd: f,
+                inv_bits,
+                t_bits: [0, 1, 2].map(|i| b32(f[i][3])),
+                normal_m,
+                color: inst.color,
+                size: (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt() as f32,
+            });
+        }
+        let tlas = sah_build(&prims, 1, 0.0);
+        times.tlas = t2.elapsed();
+        let scale = (0..3)
+            .map(|i| ((world.1[i] - world.0[i]) as f64).powi(2))
+            .sum::<f64>()
+            .sqrt() as f32;
+        Accel {
+            blas,
+            tlas,
+            instances,
+            times,
+            scale,
+        }
+    }
+
+    /// Nodes and planes, for the report.
+    pub fn describe(&self) -> String {
+        let nodes: usize = self.blas.iter().map(|b| b.bvh.nodes.len()).sum();
+        let planes: usize = self
+            .blas
+            .iter()
+            .map(|b| b.planes.iter().map(|p| p.len()).sum::<usize>())
+            .sum();
+        format!(
+            "{} BLAS ({} nodes, {} cull planes), TLAS {} nodes over {} instances; build: SAH {:.3} s, planes {:.3} s, TLAS {:.3} s",
+            self.blas.len(),
+            nodes,
+            planes,
+            self.tlas.nodes.len(),
+            self.instances.len(),
+            self.times.blas_sah.as_secs_f64(),
+            self.times.planes.as_secs_f64(),
+            self.times.tlas.as_secs_f64()
+        )
+    }
+}

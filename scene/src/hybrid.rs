@@ -1,0 +1,1 @@
+//! Hybrid raster + ray tracing (seed 002).

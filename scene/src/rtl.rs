@@ -1,0 +1,1 @@
+//! RTL in the loop.

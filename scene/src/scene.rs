@@ -1,0 +1,610 @@
+//! The scene file (TOML, `serde`) and the loaded scene.
+//!
+//! Format (every section is documented in `docs/scene.md`):
+//!
+//! ```toml
+//! [render]                      # optional, every key has a default
+//! width = 128
+//! height = 96
+//! [camera]
+//! position = [0.0, 1.0, 4.0]
+//! look_at = [0.0, 1.0, 0.0]
+//! fov_y = 40.0                  # degrees; up defaults to +y
+//! [meshes.teapot]
+//! obj = "meshes/teapot.obj"     # relative to this file
+//! [meshes.ball]
+//! procedural = "sphere"         # quad | box | sphere | grass
+//! subdivisions = 3
+//! [[instances]]
+//! mesh = "teapot"
+//! transform = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]  # forward 3x4 [R | T]
+//! color = [0.8, 0.7, 0.6]
+//! [[lights]]
+//! kind = "point"
+//! position = [2.0, 4.0, 3.0]
+//! color = [10.0, 10.0, 10.0]
+//! ```
+//!
+//! Errors name the file and the field (`scenes/x.toml: instances[2].mesh: ...`).
+
+use crate::mesh;
+use golden_model::cull::bvh::Mesh;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A scene file error: the file, the field (dotted path) and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    /// the scene file
+    pub file: PathBuf,
+    /// dotted path of the offending field, e.g. `instances[2].mesh` (empty if
+    /// the file as a whole is at fault)
+    pub field: String,
+    /// what is wrong
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.field.is_empty() {
+            write!(f, "{}: {}", self.file.display(), self.message)
+        } else {
+            write!(
+                f,
+                "{}: field `{}`: {}",
+                self.file.display(),
+                self.field,
+                self.message
+            )
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+fn d_width() -> u32 {
+    128
+}
+fn d_height() -> u32 {
+    128
+}
+fn d_ambient() -> f32 {
+    0.2
+}
+fn d_ao_rays() -> u32 {
+    4
+}
+fn d_ao_distance() -> f32 {
+    1.0
+}
+fn d_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn d_fov() -> f32 {
+    45.0
+}
+fn d_color() -> [f32; 3] {
+    [0.75, 0.75, 0.75]
+}
+fn d_samples() -> u32 {
+    4
+}
+fn d_one() -> f32 {
+    1.0
+}
+
+/// `[render]`: image size and shading constants.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RenderSettings {
+    /// image width in pixels
+    #[serde(default = "d_width")]
+    pub width: u32,
+    /// image height in pixels
+    #[serde(default = "d_height")]
+    pub height: u32,
+    /// ambient light, scaled by the ambient-occlusion visibility
+    #[serde(default = "d_ambient")]
+    pub ambient: f32,
+    /// ambient-occlusion rays per pixel (0: no AO rays, ambient unoccluded)
+    #[serde(default = "d_ao_rays")]
+    pub ao_rays: u32,
+    /// AO ray length (world units)
+    #[serde(default = "d_ao_distance")]
+    pub ao_distance: f32,
+    /// colour of pixels whose primary ray misses
+    #[serde(default)]
+    pub background: [f32; 3],
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: d_width(),
+            height: d_height(),
+            ambient: d_ambient(),
+            ao_rays: d_ao_rays(),
+            ao_distance: d_ao_distance(),
+            background: [0.0; 3],
+        }
+    }
+}
+
+/// `[camera]`: a pinhole camera.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    /// eye position
+    pub position: [f32; 3],
+    /// point the camera looks at
+    pub look_at: [f32; 3],
+    /// up vector (default +y)
+    #[serde(default = "d_up")]
+    pub up: [f32; 3],
+    /// vertical field of view in degrees
+    #[serde(default = "d_fov")]
+    pub fov_y: f32,
+}
+
+/// `[meshes.NAME]`: an OBJ file or a procedural shape.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshDef {
+    obj: Option<String>,
+    procedural: Option<String>,
+    subdivisions: Option<u32>,
+    blades: Option<u32>,
+    segments: Option<u32>,
+    height: Option<f32>,
+    width: Option<f32>,
+    size: Option<f32>,
+    seed: Option<u64>,
+    /// move the mesh so that its box is centred on x = z = 0 with its bottom at y = 0
+    #[serde(default)]
+    recenter: bool,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InstanceDef {
+    mesh: String,
+    transform: Option<[[f64; 4]; 3]>,
+    translate: Option<[f64; 3]>,
+    /// axis (3) and angle in degrees
+    rotate: Option<[f64; 4]>,
+    scale: Option<[f64; 3]>,
+    #[serde(default = "d_color")]
+    color: [f32; 3],
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridDef {
+    mesh: String,
+    count: [u32; 2],
+    spacing: f64,
+    #[serde(default)]
+    origin: [f64; 3],
+    #[serde(default = "d_one")]
+    scale: f32,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    colors: Vec<[f32; 3]>,
+}
+
+/// `[[lights]]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Light {
+    /// A point light: radiant intensity `color` (falls off with 1/r²).
+    Point {
+        /// position
+        position: [f32; 3],
+        /// intensity per channel
+        color: [f32; 3],
+    },
+    /// A parallelogram `corner + u·edge_u + v·edge_v`, `u, v ∈ [0,1]`, emitting
+    /// `color` (radiance) on the side `edge_u × edge_v` points to; `samples`
+    /// shadow rays per shading point.
+    Area {
+        /// one corner
+        corner: [f32; 3],
+        /// first edge
+        edge_u: [f32; 3],
+        /// second edge
+        edge_v: [f32; 3],
+        /// emitted radiance per channel
+        color: [f32; 3],
+        /// shadow rays per shading point
+        #[serde(default = "d_samples")]
+        samples: u32,
+    },
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneDef {
+    #[serde(default)]
+    render: RenderSettings,
+    camera: Camera,
+    meshes: BTreeMap<String, MeshDef>,
+    #[serde(default)]
+    instances: Vec<InstanceDef>,
+    #[serde(default)]
+    grids: Vec<GridDef>,
+    #[serde(default)]
+    lights: Vec<Light>,
+}
+
+/// One placed mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instance {
+    /// index into [`Scene::meshes`]
+    pub mesh: usize,
+    /// forward (model-to-world) transform `[R | T]`, rows, in f32 (the unit's format)
+    pub transform: [[f32; 4]; 3],
+    /// diffuse albedo
+    pub color: [f32; 3],
+}
+
+/// A loaded scene.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// the scene file
+    pub path: PathBuf,
+    /// image and shading settings
+    pub render: RenderSettings,
+    /// camera
+    pub camera: Camera,
+    /// meshes with their names (the TOML table keys, sorted)
+    pub meshes: Vec<(String, Mesh)>,
+    /// instances (explicit ones first, then the grids expanded)
+    pub instances: Vec<Instance>,
+    /// lights
+    pub lights: Vec<Light>,
+}
+
+fn err(file: &Path, field: impl Into<String>, message: impl Into<String>) -> SceneError {
+    SceneError {
+        file: file.to_path_buf(),
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+/// Field path of a `toml` deserialisation error, from its span in the source.
+fn field_of_span(text: &str, span: std::ops::Range<usize>) -> String {
+    // The key path is reconstructed from the table headers and the key on the
+    // line of the span (good enough for error messages; exact for this format).
+    let upto = &text[..span.start.min(text.len())];
+    let mut table = String::new();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    for line in upto.lines() {
+        let l = line.trim();
+        if let Some(h) = l.strip_prefix("[[").and_then(|s| s.split("]]").next()) {
+            let n = counts.entry(h.trim().to_string()).or_insert(0);
+            table = format!("{}[{}]", h.trim(), n);
+            *n += 1;
+        } else if let Some(h) = l.strip_prefix('[').and_then(|s| s.split(']').next()) {
+            table = h.trim().to_string();
+        }
+    }
+    let line = text[..span.start.min(text.len())]
+        .rsplit('\n')
+        .next()
+        .unwrap_or("")
+        .to_string()
+        + text[span.start.min(text.len())..]
+            .split('\n')
+            .next()
+            .unwrap_or("");
+    let key = line
+        .split('=')
+        .next()
+        .filter(|_| line.contains('='))
+        .map(|k| k.trim().to_string())
+        .unwrap_or_default();
+    match (table.is_empty(), key.is_empty()) {
+        (true, _) => key,
+        (false, true) => table,
+        (false, false) => format!("{table}.{key}"),
+    }
+}
+
+/// The section whose own deserialisation fails (for errors without a span,
+/// such as a missing field).
+fn locate_section(text: &str) -> Option<String> {
+    let t: toml::Table = toml::from_str(text).ok()?;
+    fn fails<T: serde::de::DeserializeOwned>(v: &toml::Value) -> bool {
+        T::deserialize(v.clone()).is_err()
+    }
+    for (k, v) in &t {
+        let bad = match k.as_str() {
+            "render" => fails::<RenderSettings>(v),
+            "camera" => fails::<Camera>(v),
+            "meshes" => fails::<BTreeMap<String, MeshDef>>(v),
+            "instances" | "grids" | "lights" => {
+                if let Some(a) = v.as_array() {
+                    for (i, x) in a.iter().enumerate() {
+                        let b = match k.as_str() {
+                            "instances" => fails::<InstanceDef>(x),
+                            "grids" => fails::<GridDef>(x),
+                            _ => fails::<Light>(x),
+                        };
+                        if b {
+                            return Some(format!("{k}[{i}]"));
+                        }
+                    }
+                }
+                false
+            }
+            _ => false,
+        };
+        if bad {
+            return Some(k.clone());
+        }
+    }
+    None
+}
+
+impl Scene {
+    /// Reads and checks a scene file; paths inside are relative to its folder.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| err(path, "", format!("cannot read: {e}")))?;
+        Scene::parse(&text, path)
+    }
+
+    /// Parses scene text as if it were the file `path`.
+    pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
+        let def: SceneDef = toml::from_str(text).map_err(|e| {
+            let field = e
+                .span()
+                .map(|s| field_of_span(text, s))
+                .filter(|f| !f.is_empty())
+                .or_else(|| locate_section(text))
+                .unwrap_or_default();
+            err(path, field, e.message().to_string())
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let r = &def.render;
+        if r.width == 0 || r.width > 16384 {
+            return Err(err(path, "render.width", "must be in 1..=16384"));
+        }
+        if r.height == 0 || r.height > 16384 {
+            return Err(err(path, "render.height", "must be in 1..=16384"));
+        }
+        if !(r.ao_distance > 0.0 && r.ao_distance.is_finite()) {
+            return Err(err(path, "render.ao_distance", "must be positive"));
+        }
+        let c = &def.camera;
+        if !(c.fov_y > 0.0 && c.fov_y < 180.0) {
+            return Err(err(path, "camera.fov_y", "must be in (0, 180) degrees"));
+        }
+        if c.position == c.look_at {
+            return Err(err(path, "camera.look_at", "equals camera.position"));
+        }
+        let mut meshes = Vec::new();
+        let mut names = BTreeMap::new();
+        for (name, m) in &def.meshes {
+            let field = format!("meshes.{name}");
+            let mut mesh = build_mesh(path, dir, &field, m)?;
+            if m.recenter {
+                let (lo, hi) = mesh.bounds();
+                let c = [(lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0];
+                for v in &mut mesh.vertices {
+                    for i in 0..3 {
+                        v[i] -= c[i];
+                    }
+                }
+            }
+            names.insert(name.clone(), meshes.len());
+            meshes.push((name.clone(), mesh));
+        }
+        let mut instances = Vec::new();
+        for (i, inst) in def.instances.iter().enumerate() {
+            let field = format!("instances[{i}]");
+            let mesh = *names.get(&inst.mesh).ok_or_else(|| {
+                err(
+                    path,
+                    format!("{field}.mesh"),
+                    format!("no mesh named `{}` in [meshes]", inst.mesh),
+                )
+            })?;
+            let transform = instance_transform(path, &field, inst)?;
+            instances.push(Instance {
+                mesh,
+                transform,
+                color: inst.color,
+            });
+        }
+        for (g, grid) in def.grids.iter().enumerate() {
+            let field = format!("grids[{g}]");
+            let mesh = *names.get(&grid.mesh).ok_or_else(|| {
+                err(
+                    path,
+                    format!("{field}.mesh"),
+                    format!("no mesh named `{}` in [meshes]", grid.mesh),
+                )
+            })?;
+            if grid.count[0] == 0 || grid.count[1] == 0 || grid.count[0] * grid.count[1] > 1_000_000
+            {
+                return Err(err(
+                    path,
+                    format!("{field}.count"),
+                    "need 1..=1e6 instances",
+                ));
+            }
+            if !(grid.scale > 0.0) {
+                return Err(err(path, format!("{field}.scale"), "must be positive"));
+            }
+            for ix in 0..grid.count[0] {
+                for iz in 0..grid.count[1] {
+                    let k = (ix as u64) << 32 | iz as u64;
+                    let yaw = 2.0 * std::f64::consts::PI * mesh::unit(grid.seed, k);
+                    let s = grid.scale as f64 * (0.8 + 0.4 * mesh::unit(grid.seed ^ 1, k));
+                    let (sn, cs) = yaw.sin_cos();
+                    let t = [
+                        grid.origin[0] + ix as f64 * grid.spacing,
+                        grid.origin[1],
+                        grid.origin[2] + iz as f64 * grid.spacing,
+                    ];
+                    let m = [
+                        [cs * s, 0.0, sn * s, t[0]],
+                        [0.0, s, 0.0, t[1]],
+                        [-sn * s, 0.0, cs * s, t[2]],
+                    ];
+                    let color = if grid.colors.is_empty() {
+                        d_color()
+                    } else {
+                        grid.colors[(ix as usize * 7 + iz as usize * 3) % grid.colors.len()]
+                    };
+                    instances.push(Instance {
+                        mesh,
+                        transform: m.map(|row| row.map(|x| x as f32)),
+                        color,
+                    });
+                }
+            }
+        }
+        if instances.is_empty() {
+            return Err(err(path, "instances", "the scene places no instance"));
+        }
+        for (i, l) in def.lights.iter().enumerate() {
+            if let Light::Area { samples, .. } = l {
+                if *samples == 0 || *samples > 256 {
+                    return Err(err(
+                        path,
+                        format!("lights[{i}].samples"),
+                        "must be in 1..=256",
+                    ));
+                }
+            }
+        }
+        Ok(Scene {
+            path: path.to_path_buf(),
+            render: def.render,
+            camera: def.camera,
+            meshes,
+            instances,
+            lights: def.lights,
+        })
+    }
+
+    /// Total triangles over all instances.
+    pub fn instanced_triangles(&self) -> usize {
+        self.instances
+            .iter()
+            .map(|i| self.meshes[i.mesh].1.triangles.len())
+            .sum()
+    }
+}
+
+fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh, SceneError> {
+    match (&m.obj, &m.procedural) {
+        (Some(_), Some(_)) => Err(err(
+            file,
+            field,
+            "give either `obj` or `procedural`, not both",
+        )),
+        (None, None) => Err(err(file, field, "needs `obj` or `procedural`")),
+        (Some(obj), None) => {
+            let p = dir.join(obj);
+            mesh::load_obj(&p).map_err(|e| {
+                err(
+                    file,
+                    format!("{field}.obj"),
+                    format!("{}: {e}", p.display()),
+                )
+            })
+        }
+        (None, Some(kind)) => match kind.as_str() {
+            "quad" => Ok(mesh::quad()),
+            "box" => Ok(mesh::cube()),
+            "sphere" => {
+                let s = m.subdivisions.unwrap_or(2);
+                if s > 7 {
+                    return Err(err(file, format!("{field}.subdivisions"), "at most 7"));
+                }
+                Ok(mesh::icosphere(s))
+            }
+            "grass" => {
+                let blades = m.blades.unwrap_or(1000);
+                if blades == 0 || blades > 2_000_000 {
+                    return Err(err(file, format!("{field}.blades"), "must be in 1..=2e6"));
+                }
+                Ok(mesh::grass(
+                    blades,
+                    m.segments.unwrap_or(4),
+                    m.height.unwrap_or(1.0),
+                    m.width.unwrap_or(0.02),
+                    m.size.unwrap_or(1.0),
+                    m.seed.unwrap_or(1),
+                ))
+            }
+            other => Err(err(
+                file,
+                format!("{field}.procedural"),
+                format!("unknown shape `{other}` (quad, box, sphere, grass)"),
+            )),
+        },
+    }
+}
+
+/// `R = Rot(axis, angle)·diag(scale)`, `T = translate`, or the explicit 3×4.
+fn instance_transform(
+    file: &Path,
+    field: &str,
+    inst: &InstanceDef,
+) -> Result<[[f32; 4]; 3], SceneError> {
+    let m: [[f64; 4]; 3] = if let Some(t) = inst.transform {
+        if inst.translate.is_some() || inst.rotate.is_some() || inst.scale.is_some() {
+            return Err(err(
+                file,
+                format!("{field}.transform"),
+                "give either `transform` or translate/rotate/scale, not both",
+            ));
+        }
+        t
+    } else {
+        let s = inst.scale.unwrap_or([1.0; 3]);
+        let [ax, ay, az, deg] = inst.rotate.unwrap_or([0.0, 1.0, 0.0, 0.0]);
+        let l = (ax * ax + ay * ay + az * az).sqrt();
+        if l == 0.0 || !l.is_finite() {
+            return Err(err(file, format!("{field}.rotate"), "axis must be nonzero"));
+        }
+        let (x, y, z) = (ax / l, ay / l, az / l);
+        let (sn, cs) = deg.to_radians().sin_cos();
+        let c1 = 1.0 - cs;
+        let rot = [
+            [cs + x * x * c1, x * y * c1 - z * sn, x * z * c1 + y * sn],
+            [y * x * c1 + z * sn, cs + y * y * c1, y * z * c1 - x * sn],
+            [z * x * c1 - y * sn, z * y * c1 + x * sn, cs + z * z * c1],
+        ];
+        let t = inst.translate.unwrap_or([0.0; 3]);
+        [0, 1, 2].map(|i| [rot[i][0] * s[0], rot[i][1] * s[1], rot[i][2] * s[2], t[i]])
+    };
+    let f = m.map(|row| row.map(|x| x as f32));
+    if f.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(err(
+            file,
+            format!("{field}.transform"),
+            "entries must be finite f32",
+        ));
+    }
+    let r = [0, 1, 2].map(|i| f[i].map(|x| x as f64));
+    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
+        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    if det == 0.0 || !det.is_finite() {
+        return Err(err(
+            file,
+            format!("{field}.transform"),
+            "the linear part is singular",
+        ));
+    }
+    Ok(f)
+}

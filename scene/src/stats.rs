@@ -1,0 +1,69 @@
+//! The statistics report: one table per scene, one row per ray type.
+
+use crate::trace::{KindStats, RayKind, Stats};
+
+fn row(name: &str, k: &KindStats) -> String {
+    let per = |x: u64| x as f64 / k.rays.max(1) as f64;
+    format!(
+        "| {name} | {} | {} | {:.2} | {} | {} / {} / {} | {} | {:.2} | {:.2} | {} | {} ({} leaves, {} tri tests) | {} |",
+        k.rays,
+        k.hits,
+        k.box_tests_per_ray(),
+        k.bundle_tests,
+        k.all_hit,
+        k.all_miss,
+        k.mixed,
+        k.saved_box_tests,
+        per(k.leaf_visits),
+        per(k.tri_tests),
+        k.cull_tests,
+        k.culled_nodes,
+        k.culled_leaves,
+        k.culled_leaf_tris,
+        k.transforms,
+    )
+}
+
+/// Markdown table of the counters per ray type and in total.
+pub fn table(s: &Stats) -> String {
+    let mut out = String::from(
+        "| rays | count | hits | box tests/ray | bundle tests | AllHit / AllMiss / Mixed | box tests saved by bundles | leaf visits/ray | tri tests/ray | cull tests | culled nodes | transforms |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for k in RayKind::ALL {
+        let ks = &s.kinds[k as usize];
+        if ks.rays > 0 {
+            out += &row(k.name(), ks);
+            out.push('\n');
+        }
+    }
+    out += &row("all", &s.total());
+    out.push('\n');
+    out
+}
+
+/// What the cull planes saved: the same render with and without planes.
+pub fn plane_savings(with: &Stats, without: &Stats) -> String {
+    let mut out = String::from(
+        "| rays | leaf visits (no planes → planes) | saved | tri tests (no planes → planes) | saved |\n|---|---|---|---|---|\n",
+    );
+    let mut line = |name: &str, a: &KindStats, b: &KindStats| {
+        let pct = |x: u64, y: u64| 100.0 * (1.0 - x as f64 / y.max(1) as f64);
+        out += &format!(
+            "| {name} | {} → {} | {:.1} % | {} → {} | {:.1} % |\n",
+            b.leaf_visits,
+            a.leaf_visits,
+            pct(a.leaf_visits, b.leaf_visits),
+            b.tri_tests,
+            a.tri_tests,
+            pct(a.tri_tests, b.tri_tests)
+        );
+    };
+    for k in RayKind::ALL {
+        let (a, b) = (&with.kinds[k as usize], &without.kinds[k as usize]);
+        if a.rays > 0 {
+            line(k.name(), a, b);
+        }
+    }
+    line("all", &with.total(), &without.total());
+    out
+}

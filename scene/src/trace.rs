@@ -1,0 +1,697 @@
+//! Two-level traversal of rays and ray bundles through the [`Accel`], with
+//! every box test through a [`BoxTester`] (golden silhouette unit by default),
+//! every cull test through the cull-plane unit's golden model and every
+//! instance transform through the two-step transform unit's golden model.
+//! Triangles are tested in software (watertight test, f64, see [`intersect`]).
+//!
+//! A traversal is depth first, nearer child first (ordered by the distance of
+//! the child box centre along the first active ray: a heuristic, not a test).
+//! Closest hits are the minimum of `(t, instance, primitive)`, so the result
+//! does not depend on traversal order; boxes are tested against the segment
+//! `[0, t_best·(1 + 2⁻²⁰)]` (rounded up), so every triangle whose computed `t`
+//! ties or beats the best one is still reached with any conservative box test.
+
+use crate::bvh::{f32_up, Accel, PLANES_K};
+use crate::scene::Scene;
+use crate::tester::{BoxTester, BundleBox, RayBox};
+use golden_model::cull::bvh::{Mesh, NodeKind};
+use golden_model::cull::tester::{self as cull, CullIn, Plane};
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::silhouette::{BundleIn, Verdict};
+use golden_model::transform::{self, DotStyle, InstanceTransform, InverseSource, WorldRay};
+
+/// Ray types, for statistics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RayKind {
+    /// camera rays
+    Primary = 0,
+    /// shadow rays to point and area lights
+    Shadow = 1,
+    /// ambient-occlusion rays
+    Ao = 2,
+}
+
+impl RayKind {
+    /// All kinds, in report order.
+    pub const ALL: [RayKind; 3] = [RayKind::Primary, RayKind::Shadow, RayKind::Ao];
+    /// Report name.
+    pub fn name(self) -> &'static str {
+        match self {
+            RayKind::Primary => "primary",
+            RayKind::Shadow => "shadow",
+            RayKind::Ao => "ao",
+        }
+    }
+}
+
+/// Closest hit so far (`inst == NONE`: none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// ray parameter (units of the ray direction, the same in world and model space)
+    pub t: f64,
+    /// instance
+    pub inst: u32,
+    /// triangle of the instance's mesh
+    pub prim: u32,
+}
+
+/// No instance.
+pub const NONE: u32 = u32::MAX;
+
+impl Hit {
+    /// Whether something was hit.
+    pub fn is_hit(&self) -> bool {
+        self.inst != NONE
+    }
+}
+
+/// A ray in flight.
+#[derive(Debug, Clone, Copy)]
+pub struct TRay {
+    /// world origin
+    pub o_w: [f32; 3],
+    /// world direction (any length)
+    pub d_w: [f32; 3],
+    /// current-space origin bits (world at the top level, model below)
+    pub o: [u64; 3],
+    /// current-space direction bits
+    pub d: [u64; 3],
+    /// segment end (`+inf` for closest-hit rays)
+    pub t_max: f64,
+    /// any-hit ray: stop at the first hit (shadow and AO rays)
+    pub any: bool,
+    /// best hit so far (for any-hit rays: the first one found)
+    pub hit: Hit,
+    /// finished (any-hit ray with a hit)
+    pub done: bool,
+}
+
+fn bits(v: f32) -> u64 {
+    v.to_bits() as u64
+}
+
+impl TRay {
+    /// A new ray with segment `[0, t_max]`.
+    pub fn new(o: [f32; 3], d: [f32; 3], t_max: f64, any: bool) -> TRay {
+        TRay {
+            o_w: o,
+            d_w: d,
+            o: o.map(bits),
+            d: d.map(bits),
+            t_max,
+            any,
+            hit: Hit {
+                t: t_max,
+                inst: NONE,
+                prim: NONE,
+            },
+            done: false,
+        }
+    }
+    /// The end of the segment the box tests use (binary32 bits, rounded up).
+    pub fn box_t_max(&self) -> u64 {
+        let t = if self.any || !self.hit.is_hit() {
+            self.t_max
+        } else {
+            self.hit.t * (1.0 + 1.0 / (1u64 << 20) as f64)
+        };
+        bits(if t.is_infinite() {
+            f32::INFINITY
+        } else {
+            f32_up(t)
+        })
+    }
+}
+
+/// Counters for one ray type.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KindStats {
+    /// rays traced
+    pub rays: u64,
+    /// rays that hit something
+    pub hits: u64,
+    /// single-ray box tests
+    pub ray_box_tests: u64,
+    /// bundle box tests
+    pub bundle_tests: u64,
+    /// bundle tests that ended AllHit
+    pub all_hit: u64,
+    /// ... AllMiss
+    pub all_miss: u64,
+    /// ... Mixed (the bundle is split and its rays tested one by one)
+    pub mixed: u64,
+    /// rays in all bundle tests
+    pub bundle_rays: u64,
+    /// box tests saved by bundles: Σ(n − 1) over decided tests − 1 per Mixed test
+    pub saved_box_tests: i64,
+    /// bundles split by the splitting metric before a test (too few rays,
+    /// mixed direction signs, too much spread)
+    pub split_by_metric: u64,
+    /// leaves entered (per ray)
+    pub leaf_visits: u64,
+    /// triangle tests
+    pub tri_tests: u64,
+    /// cull-plane tests
+    pub cull_tests: u64,
+    /// nodes culled by their planes (per ray)
+    pub culled_nodes: u64,
+    /// of which leaves
+    pub culled_leaves: u64,
+    /// triangle tests skipped in culled leaves
+    pub culled_leaf_tris: u64,
+    /// instance transforms (per ray)
+    pub transforms: u64,
+}
+
+impl KindStats {
+    /// Adds another set of counters.
+    pub fn add(&mut self, o: &KindStats) {
+        self.rays += o.rays;
+        self.hits += o.hits;
+        self.ray_box_tests += o.ray_box_tests;
+        self.bundle_tests += o.bundle_tests;
+        self.all_hit += o.all_hit;
+        self.all_miss += o.all_miss;
+        self.mixed += o.mixed;
+        self.bundle_rays += o.bundle_rays;
+        self.saved_box_tests += o.saved_box_tests;
+        self.split_by_metric += o.split_by_metric;
+        self.leaf_visits += o.leaf_visits;
+        self.tri_tests += o.tri_tests;
+        self.cull_tests += o.cull_tests;
+        self.culled_nodes += o.culled_nodes;
+        self.culled_leaves += o.culled_leaves;
+        self.culled_leaf_tris += o.culled_leaf_tris;
+        self.transforms += o.transforms;
+    }
+    /// Box tests (single and bundle) per ray.
+    pub fn box_tests_per_ray(&self) -> f64 {
+        (self.ray_box_tests + self.bundle_tests) as f64 / self.rays.max(1) as f64
+    }
+}
+
+/// Counters per ray type.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// indexed by `RayKind as usize`
+    pub kinds: [KindStats; 3],
+}
+
+impl Stats {
+    /// Adds another set.
+    pub fn add(&mut self, o: &Stats) {
+        for k in 0..3 {
+            self.kinds[k].add(&o.kinds[k]);
+        }
+    }
+    /// Sum over the ray types.
+    pub fn total(&self) -> KindStats {
+        let mut t = KindStats::default();
+        for k in &self.kinds {
+            t.add(k);
+        }
+        t
+    }
+}
+
+/// Bundle traversal options (seed 000).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BundleOpts {
+    /// build and test bundles at all
+    pub enabled: bool,
+    /// maximum rays per bundle (4, 16, 32, 64)
+    pub max_size: usize,
+    /// splitting metric: fewer active rays than this are tested one by one
+    pub min_size: usize,
+    /// splitting metric and builder threshold: largest allowed range of a
+    /// normalised direction component
+    pub max_spread: f32,
+    /// builder threshold: largest allowed origin box extent, relative to the scene size
+    pub max_origin_extent: f32,
+    /// open bundles kept by the builder
+    pub open: usize,
+}
+
+impl Default for BundleOpts {
+    fn default() -> Self {
+        BundleOpts {
+            enabled: true,
+            max_size: 16,
+            min_size: 3,
+            max_spread: 0.2,
+            max_origin_extent: 0.02,
+            open: 8,
+        }
+    }
+}
+
+/// How rays are traced.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceOpts {
+    /// use the cull planes
+    pub planes: bool,
+    /// bundles
+    pub bundles: BundleOpts,
+    /// transform rays with plain f32 arithmetic instead of the golden model
+    /// (the f32 slab baseline renderer)
+    pub f32_transform: bool,
+}
+
+impl Default for TraceOpts {
+    fn default() -> Self {
+        TraceOpts {
+            planes: true,
+            bundles: BundleOpts::default(),
+            f32_transform: false,
+        }
+    }
+}
+
+/// Traces rays through a scene.
+pub struct Tracer<'a> {
+    /// the acceleration structure
+    pub accel: &'a Accel,
+    /// the meshes (same indices as the BLAS)
+    pub meshes: Vec<&'a Mesh>,
+    /// the box tester
+    pub tester: &'a dyn BoxTester,
+    /// options
+    pub opts: TraceOpts,
+    cull_cfg: cull::Config,
+    xf_cfg: transform::Config,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Space {
+    World,
+    Model,
+}
+
+/// The watertight ray/triangle test (Woop, Benthin, Wald 2013), evaluated in
+/// f64 on the f32 inputs (so every product is exact and each sum rounds once):
+/// shear to ray space with the largest direction axis as z, three edge
+/// functions of the sheared 2D vertices (hit iff all have the same sign, zero
+/// included: a ray through a shared edge or vertex hits at least one of the
+/// triangles; both faces hit), then `t = T/det`. Returns `t` if it lies in
+/// `[0, t_max]`.
+pub fn intersect(o: &[f64; 3], d: &[f64; 3], v: &[[f32; 3]; 3], t_max: f64) -> Option<f64> {
+    let ad = d.map(f64::abs);
+    let kz = if ad[0] >= ad[1] && ad[0] >= ad[2] {
+        0
+    } else if ad[1] >= ad[2] {
+        1
+    } else {
+        2
+    };
+    let mut kx = (kz + 1) % 3;
+    let mut ky = (kx + 1) % 3;
+    if d[kz] < 0.0 {
+        std::mem::swap(&mut kx, &mut ky);
+    }
+    if d[kz] == 0.0 {
+        return None;
+    }
+    let sx = d[kx] / d[kz];
+    let sy = d[ky] / d[kz];
+    let sz = 1.0 / d[kz];
+    let rel = |p: &[f32; 3]| [0, 1, 2].map(|i| p[i] as f64 - o[i]);
+    let (a, b, c) = (rel(&v[0]), rel(&v[1]), rel(&v[2]));
+    let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
+    let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
+    let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
+    let u = cx * by - cy * bx;
+    let vv = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || vv < 0.0 || w < 0.0) && (u > 0.0 || vv > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + vv + w;
+    if det == 0.0 {
+        return None;
+    }
+    let tt = u * (sz * a[kz]) + vv * (sz * b[kz]) + w * (sz * c[kz]);
+    let t = tt / det;
+    (t >= 0.0 && t <= t_max).then_some(t)
+}
+
+impl<'a> Tracer<'a> {
+    /// A tracer over `accel` built from `scene`.
+    pub fn new(
+        scene: &'a Scene,
+        accel: &'a Accel,
+        tester: &'a dyn BoxTester,
+        mut opts: TraceOpts,
+    ) -> Tracer<'a> {
+        if !tester.supports_bundles() {
+            opts.bundles.enabled = false;
+        }
+        Tracer {
+            accel,
+            meshes: scene.meshes.iter().map(|(_, m)| m).collect(),
+            tester,
+            opts,
+            cull_cfg: cull::Config::new(FloatFormat::BINARY32, crate::bvh::PLANE_FMT, PLANES_K)
+                .unwrap(),
+            xf_cfg: transform::Config {
+                fmt: FloatFormat::BINARY32,
+                mode: RoundingMode::NearestEven,
+                dot: DotStyle::Fma,
+                source: InverseSource::PreInverted,
+            },
+        }
+    }
+
+    /// Traces the rays `idxs` of `rays` as one bundle (or one ray).
+    pub fn trace(&self, rays: &mut [TRay], idxs: &[usize], kind: RayKind, st: &mut Stats) {
+        let ks = &mut st.kinds[kind as usize];
+        ks.rays += idxs.len() as u64;
+        if !self.accel.tlas.nodes.is_empty() {
+            self.visit_tlas(0, idxs.to_vec(), rays, ks);
+        }
+        ks.hits += idxs.iter().filter(|&&i| rays[i].hit.is_hit()).count() as u64;
+    }
+
+    fn order_children(
+        &self,
+        l: usize,
+        r: usize,
+        nodes: &[golden_model::cull::bvh::Node],
+        ray: &TRay,
+        space: Space,
+    ) -> [usize; 2] {
+        let (o, d) = match space {
+            Space::World => (ray.o_w, ray.d_w),
+            Space::Model => (
+                ray.o.map(|b| f32::from_bits(b as u32)),
+                ray.d.map(|b| f32::from_bits(b as u32)),
+            ),
+        };
+        let key = |n: usize| {
+            let b = &nodes[n];
+            (0..3)
+                .map(|i| ((b.min[i] + b.max[i]) * 0.5 - o[i]) * d[i])
+                .sum::<f32>()
+        };
+        if key(r) < key(l) {
+            [r, l]
+        } else {
+            [l, r]
+        }
+    }
+
+    fn visit_tlas(&self, node: usize, idxs: Vec<usize>, rays: &mut [TRay], st: &mut KindStats) {
+        let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
+        if idxs.is_empty() {
+            return;
+        }
+        let n = self.accel.tlas.nodes[node];
+        let surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::World, st);
+        if surv.is_empty() {
+            return;
+        }
+        match n.kind {
+            NodeKind::Leaf { .. } => {
+                for &inst in self.accel.tlas.leaf_tris(node) {
+                    self.enter_instance(inst as usize, &surv, rays, st);
+                }
+            }
+            NodeKind::Inner { left, right } => {
+                let ord = self.order_children(
+                    left as usize,
+                    right as usize,
+                    &self.accel.tlas.nodes,
+                    &rays[surv[0]],
+                    Space::World,
+                );
+                for c in ord {
+                    self.visit_tlas(c, surv.clone(), rays, st);
+                }
+            }
+        }
+    }
+
+    fn enter_instance(&self, inst: usize, idxs: &[usize], rays: &mut [TRay], st: &mut KindStats) {
+        let x = &self.accel.instances[inst];
+        let live: Vec<usize> = idxs.iter().copied().filter(|&i| !rays[i].done).collect();
+        for &i in &live {
+            let r = &mut rays[i];
+            st.transforms += 1;
+            if self.opts.f32_transform {
+                let inv = x.inv_bits.map(|b| f32::from_bits(b as u32));
+                let t = x.t_bits.map(|b| f32::from_bits(b as u32));
+                let xo = [0, 1, 2].map(|k| r.o_w[k] - t[k]);
+                let mv = |v: [f32; 3]| {
+                    [0, 1, 2]
+                        .map(|k| inv[3 * k] * v[0] + inv[3 * k + 1] * v[1] + inv[3 * k + 2] * v[2])
+                };
+                r.o = mv(xo).map(bits);
+                r.d = mv(r.d_w).map(bits);
+            } else {
+                let m = transform::transform(
+                    &self.xf_cfg,
+                    &WorldRay {
+                        origin: r.o_w.map(bits),
+                        dir: r.d_w.map(bits),
+                        t_min: 0,
+                        t_max: bits(f32::INFINITY),
+                        id: i as u64,
+                    },
+                    &InstanceTransform {
+                        linear: x.inv_bits,
+                        translation: x.t_bits,
+                        rotation_hint: false,
+                    },
+                );
+                r.o = m.origin;
+                r.d = m.dir;
+            }
+        }
+        self.visit_blas(inst as u32, x.mesh, 0, live, rays, st);
+    }
+
+    fn visit_blas(
+        &self,
+        inst: u32,
+        mesh: usize,
+        node: usize,
+        idxs: Vec<usize>,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+    ) {
+        let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
+        if idxs.is_empty() {
+            return;
+        }
+        let blas = &self.accel.blas[mesh];
+        let n = blas.bvh.nodes[node];
+        let mut surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::Model, st);
+        if surv.is_empty() {
+            return;
+        }
+        let leaf = matches!(n.kind, NodeKind::Leaf { .. });
+        let planes = &blas.planes[node];
+        if self.opts.planes && !planes.is_empty() && (leaf || surv.len() == 1) {
+            let mut ps: Vec<Plane> = planes.clone();
+            ps.resize(PLANES_K, Plane::default());
+            surv.retain(|&i| {
+                let r = &rays[i];
+                st.cull_tests += 1;
+                let out = cull::eval(
+                    &self.cull_cfg,
+                    &CullIn {
+                        p_min: n.min.map(bits),
+                        p_max: n.max.map(bits),
+                        o: r.o,
+                        d: r.d,
+                        t_min: 0,
+                        t_max: r.box_t_max(),
+                        planes: ps.clone(),
+                    },
+                );
+                if !out.keep {
+                    st.culled_nodes += 1;
+                    if let NodeKind::Leaf { count, .. } = n.kind {
+                        st.culled_leaves += 1;
+                        st.culled_leaf_tris += count as u64;
+                    }
+                }
+                out.keep
+            });
+            if surv.is_empty() {
+                return;
+            }
+        }
+        match n.kind {
+            NodeKind::Leaf { .. } => {
+                let m = self.meshes[mesh];
+                let tris = blas.bvh.leaf_tris(node);
+                for &i in &surv {
+                    let r = &mut rays[i];
+                    st.leaf_visits += 1;
+                    let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
+                    let d = r.d.map(|b| f32::from_bits(b as u32) as f64);
+                    for &t in tris {
+                        st.tri_tests += 1;
+                        let v = m.corners(t);
+                        if let Some(th) = intersect(&o, &d, &v, r.hit.t) {
+                            let better = (th, inst, t) < (r.hit.t, r.hit.inst, r.hit.prim);
+                            if better {
+                                r.hit = Hit {
+                                    t: th,
+                                    inst,
+                                    prim: t,
+                                };
+                            }
+                            if r.any {
+                                r.done = true;
+                                break;
+                            }
+                        }
+                    }
+                }
+            }
+            NodeKind::Inner { left, right } => {
+                let ord = self.order_children(
+                    left as usize,
+                    right as usize,
+                    &blas.bvh.nodes,
+                    &rays[surv[0]],
+                    Space::Model,
+                );
+                for c in ord {
+                    self.visit_blas(inst, mesh, c, surv.clone(), rays, st);
+                }
+            }
+        }
+    }
+
+    /// Box test of a set of rays: one bundle test when bundles apply, else one
+    /// test per ray. Returns the rays that may hit.
+    fn test_box(
+        &self,
+        lo: &[f32; 3],
+        hi: &[f32; 3],
+        idxs: &[usize],
+        rays: &[TRay],
+        space: Space,
+        st: &mut KindStats,
+    ) -> Vec<usize> {
+        let p_min = lo.map(bits);
+        let p_max = hi.map(bits);
+        let od = |r: &TRay| match space {
+            Space::World => (r.o_w.map(bits), r.d_w.map(bits)),
+            Space::Model => (r.o, r.d),
+        };
+        let b = &self.opts.bundles;
+        let n = idxs.len();
+        if b.enabled && n >= 2 {
+            if n < b.min_size {
+                st.split_by_metric += 1;
+            } else if let Some(bb) = bundle_bounds(idxs, rays, &od, b.max_spread) {
+                let x = BundleBox {
+                    input: BundleIn {
+                        p_min,
+                        p_max,
+                        ..bb.input
+                    },
+                    shared: bb.shared,
+                };
+                st.bundle_tests += 1;
+                st.bundle_rays += n as u64;
+                match self.tester.bundle(&x) {
+                    Verdict::AllHit => {
+                        st.all_hit += 1;
+                        st.saved_box_tests += n as i64 - 1;
+                        return idxs.to_vec();
+                    }
+                    Verdict::AllMiss => {
+                        st.all_miss += 1;
+                        st.saved_box_tests += n as i64 - 1;
+                        return Vec::new();
+                    }
+                    Verdict::Mixed => {
+                        st.mixed += 1;
+                        st.saved_box_tests -= 1;
+                    }
+                }
+            } else {
+                st.split_by_metric += 1;
+            }
+        }
+        idxs.iter()
+            .copied()
+            .filter(|&i| {
+                let r = &rays[i];
+                let (o, d) = od(r);
+                st.ray_box_tests += 1;
+                self.tester.ray(&RayBox {
+                    p_min,
+                    p_max,
+                    o,
+                    d,
+                    t_max: r.box_t_max(),
+                })
+            })
+            .collect()
+    }
+}
+
+/// The bundle's bounds (box fields left zero), or `None` when the splitting
+/// metric says split: a direction component changes sign across the bundle,
+/// or the normalised directions spread more than `max_spread` on some axis.
+fn bundle_bounds(
+    idxs: &[usize],
+    rays: &[TRay],
+    od: &dyn Fn(&TRay) -> ([u64; 3], [u64; 3]),
+    max_spread: f32,
+) -> Option<BundleBox> {
+    let f = |b: u64| f32::from_bits(b as u32);
+    let mut o_lo = [f32::INFINITY; 3];
+    let mut o_hi = [f32::NEG_INFINITY; 3];
+    let mut d_lo = [f32::INFINITY; 3];
+    let mut d_hi = [f32::NEG_INFINITY; 3];
+    let mut n_lo = [f32::INFINITY; 3];
+    let mut n_hi = [f32::NEG_INFINITY; 3];
+    let mut t_max = 0u64;
+    let mut shared = true;
+    let first = od(&rays[idxs[0]]).0;
+    for &i in idxs {
+        let (o, d) = od(&rays[i]);
+        shared &= o == first;
+        let (o, d) = (o.map(f), d.map(f));
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        for k in 0..3 {
+            o_lo[k] = o_lo[k].min(o[k]);
+            o_hi[k] = o_hi[k].max(o[k]);
+            d_lo[k] = d_lo[k].min(d[k]);
+            d_hi[k] = d_hi[k].max(d[k]);
+            n_lo[k] = n_lo[k].min(d[k] / l);
+            n_hi[k] = n_hi[k].max(d[k] / l);
+        }
+        let tm = rays[i].box_t_max();
+        if f(tm) > f(t_max) {
+            t_max = tm;
+        }
+    }
+    for k in 0..3 {
+        if d_lo[k] < 0.0 && d_hi[k] > 0.0 {
+            return None;
+        }
+        if n_hi[k] - n_lo[k] > max_spread {
+            return None;
+        }
+    }
+    Some(BundleBox {
+        input: BundleIn {
+            p_min: [0; 3],
+            p_max: [0; 3],
+            o_lo: o_lo.map(bits),
+            o_hi: o_hi.map(bits),
+            d_lo: d_lo.map(bits),
+            d_hi: d_hi.map(bits),
+            t_min: 0,
+            t_max,
+        },
+        shared,
+    })
+}
