@@ -2,10 +2,9 @@
 //! whose second operand has a close exponent, an alignment shift around F,
 //! (near) cancellation, or is random; golden `float::add` / `float::sub`.
 
-use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::fstim::{golden_format, FloatStim, ModeIn};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use crate::arith::float::Rounding;
 use crate::params::Params;
 use crate::units::fcommon::{format, rounding};
 use golden_model::float as g;
@@ -13,7 +12,7 @@ use golden_model::float as g;
 /// The `fadd` testbench.
 pub struct FAddBench {
     stim: FloatStim,
-    mode: Rounding,
+    mode: ModeIn,
     sub: bool,
 }
 
@@ -23,7 +22,7 @@ impl FAddBench {
         let fmt = format(p, "fadd").expect("parameters were checked when building");
         FAddBench {
             stim: FloatStim::new(fmt),
-            mode: rounding(p),
+            mode: ModeIn { sel: rounding(p) },
             sub: p.word("op") == "sub",
         }
     }
@@ -31,7 +30,7 @@ impl FAddBench {
 
 impl sim::Golden for FAddBench {
     fn eval(&self, i: &[u64], o: &mut [u64]) {
-        let (f, m) = (golden_format(self.stim.fmt), golden_mode(self.mode));
+        let (f, m) = (golden_format(self.stim.fmt), self.mode.golden(i));
         o[0] = if self.sub {
             g::sub(f, i[0], i[1], m)
         } else {
@@ -42,7 +41,8 @@ impl sim::Golden for FAddBench {
 
 impl sim::Stimulus for FAddBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        if self.stim.corner(index, v) {
+        let v = self.mode.fill(index, v);
+        if self.stim.corner(self.mode.data_index(index), v) {
             return;
         }
         let mut r = VectorRng::new(seed, index);

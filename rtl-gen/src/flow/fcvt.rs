@@ -4,10 +4,10 @@
 //! anywhere (fractions with runs of zeros and ones give halfway cases);
 //! golden `float::convert`.
 
-use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::fstim::{golden_format, FloatStim, ModeIn};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use crate::arith::float::{Format, Rounding};
+use crate::arith::float::Format;
 use crate::params::Params;
 use crate::units::fcommon::{format_of, rounding};
 use golden_model::float as g;
@@ -16,7 +16,7 @@ use golden_model::float as g;
 pub struct FCvtBench {
     stim: FloatStim,
     to: Format,
-    mode: Rounding,
+    mode: ModeIn,
 }
 
 impl FCvtBench {
@@ -28,7 +28,7 @@ impl FCvtBench {
         FCvtBench {
             stim: FloatStim::new(from),
             to,
-            mode: rounding(p),
+            mode: ModeIn { sel: rounding(p) },
         }
     }
 }
@@ -39,14 +39,15 @@ impl sim::Golden for FCvtBench {
             golden_format(self.stim.fmt),
             golden_format(self.to),
             i[0],
-            golden_mode(self.mode),
+            self.mode.golden(i),
         );
     }
 }
 
 impl sim::Stimulus for FCvtBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        if self.stim.corner(index, v) {
+        let v = self.mode.fill(index, v);
+        if self.stim.corner(self.mode.data_index(index), v) {
             return;
         }
         let mut r = VectorRng::new(seed, index);

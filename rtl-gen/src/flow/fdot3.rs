@@ -5,10 +5,9 @@
 //! operands; golden `float::dot3`. Ports: a0, b0, a1, b1, a2, b2.
 
 use super::ffma::addend_for_product;
-use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::fstim::{golden_format, FloatStim, ModeIn};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use crate::arith::float::Rounding;
 use crate::params::Params;
 use crate::units::fcommon::{format, rounding};
 use golden_model::float as g;
@@ -16,7 +15,7 @@ use golden_model::float as g;
 /// The `fdot3` testbench.
 pub struct FDot3Bench {
     stim: FloatStim,
-    mode: Rounding,
+    mode: ModeIn,
 }
 
 impl FDot3Bench {
@@ -25,7 +24,7 @@ impl FDot3Bench {
         let fmt = format(p, "fdot3").expect("parameters were checked when building");
         FDot3Bench {
             stim: FloatStim::new(fmt),
-            mode: rounding(p),
+            mode: ModeIn { sel: rounding(p) },
         }
     }
 }
@@ -36,22 +35,24 @@ impl sim::Golden for FDot3Bench {
             golden_format(self.stim.fmt),
             [i[0], i[2], i[4]],
             [i[1], i[3], i[5]],
-            golden_mode(self.mode),
+            self.mode.golden(i),
         );
     }
 }
 
 impl sim::Stimulus for FDot3Bench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
+        let v = self.mode.fill(index, v);
+        let data_index = self.mode.data_index(index);
         let s = &self.stim;
         let one = s.pack(0, s.fmt.bias() as u64, 0);
         let mut three = [0u64; 3];
         let n3 = s.n().pow(3);
-        if index < 2 * n3 && s.corner(index % n3, &mut three) {
-            let (sp, fix) = if index < n3 { (0, 1) } else { (1, 0) };
+        if data_index < 2 * n3 && s.corner(data_index % n3, &mut three) {
+            let (sp, fix) = if data_index < n3 { (0, 1) } else { (1, 0) };
             for k in 0..3 {
                 v[2 * k + sp] = three[k];
-                v[2 * k + fix] = if (index >> k) & 1 == 1 {
+                v[2 * k + fix] = if (data_index >> k) & 1 == 1 {
                     s.neg(one)
                 } else {
                     one

@@ -3,10 +3,9 @@
 //! places below or a few above), the negated rounded product with its low
 //! bits perturbed (massive cancellation), or random; golden `float::fma`.
 
-use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::fstim::{golden_format, FloatStim, ModeIn};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use crate::arith::float::Rounding;
 use crate::params::Params;
 use crate::units::fcommon::{format, rounding};
 use golden_model::float as g;
@@ -14,7 +13,7 @@ use golden_model::float as g;
 /// The `ffma` testbench.
 pub struct FFmaBench {
     stim: FloatStim,
-    mode: Rounding,
+    mode: ModeIn,
 }
 
 impl FFmaBench {
@@ -23,7 +22,7 @@ impl FFmaBench {
         let fmt = format(p, "ffma").expect("parameters were checked when building");
         FFmaBench {
             stim: FloatStim::new(fmt),
-            mode: rounding(p),
+            mode: ModeIn { sel: rounding(p) },
         }
     }
 }
@@ -53,14 +52,15 @@ impl sim::Golden for FFmaBench {
             i[0],
             i[1],
             i[2],
-            golden_mode(self.mode),
+            self.mode.golden(i),
         );
     }
 }
 
 impl sim::Stimulus for FFmaBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        if self.stim.corner(index, v) {
+        let v = self.mode.fill(index, v);
+        if self.stim.corner(self.mode.data_index(index), v) {
             return;
         }
         let mut r = VectorRng::new(seed, index);

@@ -2,10 +2,9 @@
 //! whose product lands in the normal range, near overflow, near or inside
 //! the subnormal range, or anywhere; golden `float::mul`.
 
-use super::fstim::{golden_format, golden_mode, FloatStim};
+use super::fstim::{golden_format, FloatStim, ModeIn};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use crate::arith::float::Rounding;
 use crate::params::Params;
 use crate::units::fcommon::{format, rounding};
 use golden_model::float as g;
@@ -13,7 +12,7 @@ use golden_model::float as g;
 /// The `fmul` testbench.
 pub struct FMulBench {
     stim: FloatStim,
-    mode: Rounding,
+    mode: ModeIn,
 }
 
 impl FMulBench {
@@ -22,7 +21,7 @@ impl FMulBench {
         let fmt = format(p, "fmul").expect("parameters were checked when building");
         FMulBench {
             stim: FloatStim::new(fmt),
-            mode: rounding(p),
+            mode: ModeIn { sel: rounding(p) },
         }
     }
 }
@@ -33,14 +32,15 @@ impl sim::Golden for FMulBench {
             golden_format(self.stim.fmt),
             i[0],
             i[1],
-            golden_mode(self.mode),
+            self.mode.golden(i),
         );
     }
 }
 
 impl sim::Stimulus for FMulBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        if self.stim.corner(index, v) {
+        let v = self.mode.fill(index, v);
+        if self.stim.corner(self.mode.data_index(index), v) {
             return;
         }
         let mut r = VectorRng::new(seed, index);

@@ -12,7 +12,7 @@
 //! cases and carries).
 
 use super::stimulus::VectorRng;
-use crate::arith::float::{Format, Rounding};
+use crate::arith::float::{Format, RoundSel, Rounding};
 use golden_model::float::{FloatFormat, RoundingMode};
 
 /// The golden model's format for `fmt`.
@@ -27,6 +27,50 @@ pub fn golden_mode(mode: Rounding) -> RoundingMode {
         Rounding::Rtz => RoundingMode::TowardZero,
         Rounding::Rup => RoundingMode::Up,
         Rounding::Rdn => RoundingMode::Down,
+    }
+}
+
+/// The rounding mode of a testbench: fixed, or carried by the last input
+/// (`rm`) of each vector, cycling through the four modes (vector `i` has
+/// mode `i % 4`; corner vectors are each repeated in the four modes).
+#[derive(Debug, Clone, Copy)]
+pub struct ModeIn {
+    /// fixed or `dyn`
+    pub sel: RoundSel,
+}
+
+impl ModeIn {
+    /// The index of the data part of vector `index` (for corner tables).
+    pub fn data_index(&self, index: u64) -> u64 {
+        match self.sel {
+            RoundSel::Port => index / 4,
+            RoundSel::Fixed(_) => index,
+        }
+    }
+
+    /// Sets the `rm` input of vector `index` (if any) and returns the data inputs.
+    pub fn fill<'a>(&self, index: u64, v: &'a mut [u64]) -> &'a mut [u64] {
+        match self.sel {
+            RoundSel::Port => {
+                let n = v.len() - 1;
+                v[n] = Rounding::ALL[(index % 4) as usize].rm_code() as u64;
+                &mut v[..n]
+            }
+            RoundSel::Fixed(_) => v,
+        }
+    }
+
+    /// The golden model's mode for a vector with these inputs.
+    pub fn golden(&self, inputs: &[u64]) -> RoundingMode {
+        match self.sel {
+            RoundSel::Fixed(r) => golden_mode(r),
+            RoundSel::Port => match inputs[inputs.len() - 1] {
+                0 => RoundingMode::NearestEven,
+                1 => RoundingMode::TowardZero,
+                2 => RoundingMode::Down,
+                _ => RoundingMode::Up,
+            },
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! [`crate::arith::float`] instantiated in a top module with the
 //! `in_valid`/`out_valid` handshake; the latency is the operator's `stages`.
 
-use crate::arith::float::{Format, Rounding};
+use crate::arith::float::{Format, RoundSel};
 use crate::builder::ModuleBuilder;
 use crate::ir::Module;
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
@@ -29,8 +29,8 @@ pub const FRAC_BITS: ParamSpec = ParamSpec {
 /// `round`: the rounding mode.
 pub const ROUND: ParamSpec = ParamSpec {
     name: "round",
-    doc: "rounding mode: to nearest even, toward zero, toward +inf, toward -inf",
-    kind: ParamKind::Choice(Rounding::WORDS),
+    doc: "rounding mode: to nearest even, toward zero, toward +inf, toward -inf, or dyn (a 2-bit input rm: 0 rne, 1 rtz, 2 rdn, 3 rup)",
+    kind: ParamKind::Choice(RoundSel::WORDS),
     default: "rne",
 };
 
@@ -58,9 +58,9 @@ pub fn format(p: &Params, unit: &str) -> Result<Format, ParamError> {
     format_of(p, unit, "exp_bits", "frac_bits")
 }
 
-/// The rounding mode of `round`.
-pub fn rounding(p: &Params) -> Rounding {
-    Rounding::parse(p.word("round")).expect("round is a declared choice")
+/// The rounding mode of `round` (fixed, or the `rm` port for `dyn`).
+pub fn rounding(p: &Params) -> RoundSel {
+    RoundSel::parse(p.word("round")).expect("round is a declared choice")
 }
 
 /// A top module `<op>_top` with the handshake around the operator `op`:

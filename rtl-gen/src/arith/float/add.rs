@@ -12,9 +12,9 @@
 //! otherwise; equal-signed zeros keep their sign.
 
 use super::bits::{add_const, shr_jam};
-use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
 use super::unpack::unpack;
-use super::{sint_width, spread, Format, Rounding};
+use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -33,6 +33,14 @@ pub struct SumRaw {
 }
 
 impl SumRaw {
+    /// The raw value with the sign of an exact zero fixed for the mode `rm`.
+    #[track_caller]
+    pub fn for_rm(&self, m: &mut ModuleBuilder, rm: &Rm) -> Raw {
+        let zero_sign = rm.is(m, Rounding::Rdn);
+        let sign = m.mux(self.cancel, zero_sign, self.raw.sign);
+        Raw { sign, ..self.raw }
+    }
+
     /// The raw value with the sign of an exact zero fixed for `mode`.
     #[track_caller]
     pub fn for_mode(&self, m: &mut ModuleBuilder, mode: Rounding) -> Raw {
@@ -131,14 +139,15 @@ pub fn add_raw(
 }
 
 /// Module name of the adder (`fadd_…`) or subtractor (`fsub_…`).
-pub fn add_name(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> String {
+pub fn add_name(fmt: Format, mode: RoundSel, sub: bool, stages: u32) -> String {
     let op = if sub { "fsub" } else { "fadd" };
     format!("{op}_{}_{mode}_s{stages}", fmt.tag())
 }
 
 /// `z = a + b` (or `a - b` if `sub`) in `fmt`, rounded in `mode`, with
 /// `stages` pipeline registers (latency `stages`).
-pub fn add_module(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> Arc<Module> {
+pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let mut m = ModuleBuilder::new(add_name(fmt, mode, sub, stages));
     let what = if sub { "a - b" } else { "a + b" };
     m.describe(format!(
@@ -151,12 +160,13 @@ pub fn add_module(fmt: Format, mode: Rounding, sub: bool, stages: u32) -> Arc<Mo
         .param("stages", stages);
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
+    let rm = Rm::declare(&mut m, mode);
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
     let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);
-    let raw = s.for_mode(&mut m, mode);
+    let raw = s.for_rm(&mut m, &rm);
     let rs: u32 = round_cuts.iter().sum();
-    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

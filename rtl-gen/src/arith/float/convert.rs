@@ -3,9 +3,9 @@
 //! by the shared rounder of the target format (which also handles overflow
 //! of narrowing conversions and subnormal results). Widening is exact.
 
-use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
 use super::unpack::{lsb_exp, unpack};
-use super::{spread, Format, Rounding};
+use super::{spread, Format, Rm, RoundSel};
 use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -14,13 +14,19 @@ use std::sync::Arc;
 pub const CONVERT_RAW_STEPS: u32 = 1;
 
 /// Module name of the converter.
-pub fn convert_name(from: Format, to: Format, mode: Rounding, stages: u32) -> String {
+pub fn convert_name(from: Format, to: Format, mode: RoundSel, stages: u32) -> String {
     format!("fcvt_{}_to_{}_{mode}_s{stages}", from.tag(), to.tag())
 }
 
 /// `z = a` converted from `from` to `to`, rounded in `mode` (NaN → the
 /// canonical NaN of `to`), `stages` pipeline registers.
-pub fn convert_module(from: Format, to: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+pub fn convert_module(
+    from: Format,
+    to: Format,
+    mode: impl Into<RoundSel>,
+    stages: u32,
+) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let mut m = ModuleBuilder::new(convert_name(from, to, mode, stages));
     m.describe(format!(
         "Conversion of a {} value to {}, rounded {mode}.",
@@ -34,6 +40,7 @@ pub fn convert_module(from: Format, to: Format, mode: Rounding, stages: u32) -> 
         .param("round", mode)
         .param("stages", stages);
     let a = m.input("a", Ty::UInt(from.width()));
+    let rm = Rm::declare(&mut m, mode);
     let plan = spread(stages, CONVERT_RAW_STEPS + ROUND_STEPS);
     let u = unpack(&mut m, from, a);
     let class = class_of(&mut m, u.nan, u.inf);
@@ -50,7 +57,7 @@ pub fn convert_module(from: Format, to: Format, mode: Rounding, stages: u32) -> 
         m.stage();
     }
     let rs: u32 = plan[1..].iter().sum();
-    let z = round(&mut m, to, mode, &raw, rs, "u_round");
+    let z = round_rm(&mut m, to, &rm, &raw, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

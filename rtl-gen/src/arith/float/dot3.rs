@@ -29,10 +29,10 @@
 
 use super::bits::{add_const, lzc, to_sint};
 use super::fma::{fused_exp_width, zero_term_exp};
-use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{normalize, unpack, Unpacked};
-use super::{spread, Format, Rounding};
+use super::{spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -43,7 +43,7 @@ use std::sync::Arc;
 pub const DOT3_RAW_STEPS: u32 = 8;
 
 /// Module name of the dot product.
-pub fn dot3_name(fmt: Format, mode: Rounding, stages: u32) -> String {
+pub fn dot3_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
     format!("fdot3_{}_{mode}_s{stages}", fmt.tag())
 }
 
@@ -79,7 +79,8 @@ fn pick2(m: &mut ModuleBuilder, sel: Sig, a: Prod, b: Prod) -> Prod {
 
 /// `z = a0·b0 + a1·b1 + a2·b2` in `fmt`, rounded once in `mode`, `stages`
 /// pipeline registers.
-pub fn dot3_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let f = fmt.frac_bits;
     let mut m = ModuleBuilder::new(dot3_name(fmt, mode, stages));
     m.describe(format!(
@@ -98,6 +99,7 @@ pub fn dot3_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
             (a, b)
         })
         .collect();
+    let rm = Rm::declare(&mut m, mode);
     let plan = spread(stages, DOT3_RAW_STEPS + ROUND_STEPS);
     let ups: Vec<(Unpacked, Unpacked)> = ins
         .iter()
@@ -267,7 +269,7 @@ pub fn dot3_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     );
     let sum_any = m.any_set(s.sig);
     let sum_zero = m.not(sum_any);
-    let zero_sign = m.bool(mode == Rounding::Rdn);
+    let zero_sign = rm.is(&mut m, Rounding::Rdn);
     let zero_sign = m.mux(zero_same, signs[0], zero_sign);
     let sign = m.mux(sum_zero, zero_sign, s.sign);
     let sign = m.mux(inf, neg_inf, sign);
@@ -284,7 +286,7 @@ pub fn dot3_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
         m.stage();
     }
     let rs: u32 = plan[8..].iter().sum();
-    let zr = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    let zr = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

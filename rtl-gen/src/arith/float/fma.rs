@@ -13,10 +13,10 @@
 //! DSL's 128-bit values.
 
 use super::bits::add_const;
-use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{norm_exp_width, normalize, unpack};
-use super::{sint_width, spread, Format, Rounding};
+use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
 use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
@@ -38,12 +38,13 @@ pub fn fused_exp_width(fmt: Format) -> u32 {
 }
 
 /// Module name of the fused multiply-add.
-pub fn fma_name(fmt: Format, mode: Rounding, stages: u32) -> String {
+pub fn fma_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
     format!("ffma_{}_{mode}_s{stages}", fmt.tag())
 }
 
 /// `z = a · b + c` in `fmt`, rounded once in `mode`, `stages` pipeline registers.
-pub fn fma_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let f = fmt.frac_bits;
     let mut m = ModuleBuilder::new(fma_name(fmt, mode, stages));
     m.describe(format!(
@@ -57,6 +58,7 @@ pub fn fma_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let c = m.input("c", Ty::UInt(fmt.width()));
+    let rm = Rm::declare(&mut m, mode);
     let plan = spread(stages, FMA_RAW_STEPS + ROUND_STEPS);
     let ua = unpack(&mut m, fmt, a);
     let ub = unpack(&mut m, fmt, b);
@@ -130,7 +132,7 @@ pub fn fma_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     let sum_any = m.any_set(s.sig);
     let sum_zero = m.not(sum_any);
     let cancel = m.and(sum_zero, s.eff_sub);
-    let zero_sign = m.bool(mode == Rounding::Rdn);
+    let zero_sign = rm.is(&mut m, Rounding::Rdn);
     let sign = m.mux(cancel, zero_sign, s.sign);
     // an infinite result has the sign of the infinite term
     let inf_sign = m.mux(p_inf, sp, uc.sign);
@@ -148,7 +150,7 @@ pub fn fma_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
         m.stage();
     }
     let rs: u32 = plan[5..].iter().sum();
-    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

@@ -171,6 +171,104 @@ impl fmt::Display for Rounding {
     }
 }
 
+/// Where an operator's rounding mode comes from: fixed when the module is
+/// generated, or a 2-bit input port `rm` (the golden model's encoding, that
+/// of RISC-V `frm`: 0 RNE, 1 RTZ, 2 RDN, 3 RUP), so one module serves all
+/// four modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RoundSel {
+    /// one mode, built in
+    Fixed(Rounding),
+    /// the `rm` input port
+    Port,
+}
+
+impl RoundSel {
+    /// Parameter words: the four fixed modes and `dyn` for the `rm` port.
+    pub const WORDS: &'static [&'static str] = &["rne", "rtz", "rup", "rdn", "dyn"];
+
+    /// The mode named by `word` (one of [`RoundSel::WORDS`]).
+    pub fn parse(word: &str) -> Option<RoundSel> {
+        match word {
+            "dyn" => Some(RoundSel::Port),
+            w => Rounding::parse(w).map(RoundSel::Fixed),
+        }
+    }
+}
+
+impl From<Rounding> for RoundSel {
+    fn from(r: Rounding) -> Self {
+        RoundSel::Fixed(r)
+    }
+}
+
+impl fmt::Display for RoundSel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RoundSel::Fixed(r) => f.write_str(r.word()),
+            RoundSel::Port => f.write_str("dyn"),
+        }
+    }
+}
+
+impl Rounding {
+    /// The 2-bit `rm` code of the mode: 0 RNE, 1 RTZ, 2 RDN, 3 RUP.
+    pub fn rm_code(self) -> u128 {
+        match self {
+            Rounding::Rne => 0,
+            Rounding::Rtz => 1,
+            Rounding::Rdn => 2,
+            Rounding::Rup => 3,
+        }
+    }
+}
+
+/// Name of the rounding-mode input port of a `dyn` operator.
+pub const RM_PORT: &str = "rm";
+
+/// The rounding mode inside a module being built: fixed, or read from the
+/// `rm` input port.
+#[derive(Debug, Clone, Copy)]
+pub struct Rm {
+    /// where the mode comes from
+    pub sel: RoundSel,
+    /// the `rm` input (UInt(2)) when `sel` is [`RoundSel::Port`]
+    pub port: Option<crate::builder::Sig>,
+}
+
+impl Rm {
+    /// Declares the `rm` input port if `sel` asks for it (call after the data inputs).
+    #[track_caller]
+    pub fn declare(m: &mut crate::builder::ModuleBuilder, sel: RoundSel) -> Rm {
+        let port = match sel {
+            RoundSel::Port => Some(m.input(RM_PORT, crate::ir::Ty::UInt(2))),
+            RoundSel::Fixed(_) => None,
+        };
+        Rm { sel, port }
+    }
+
+    /// A fixed mode (no port).
+    pub fn fixed(r: Rounding) -> Rm {
+        Rm {
+            sel: RoundSel::Fixed(r),
+            port: None,
+        }
+    }
+
+    /// Bool: the mode is `r` (a constant for a fixed mode).
+    #[track_caller]
+    pub fn is(&self, m: &mut crate::builder::ModuleBuilder, r: Rounding) -> crate::builder::Sig {
+        match (self.sel, self.port) {
+            (RoundSel::Fixed(x), _) => m.bool(x == r),
+            (RoundSel::Port, Some(p)) => {
+                let k = m.uint(2, r.rm_code());
+                m.eq(p, k)
+            }
+            (RoundSel::Port, None) => unreachable!("a dyn mode has its port"),
+        }
+    }
+}
+
 /// Spreads `stages` pipeline registers over the boundaries after `steps`
 /// logical steps: element `i` is the number of registers placed after step
 /// `i`. One register goes after the last step first (registered outputs),

@@ -2,9 +2,9 @@
 //! the pipelined integer multiplier), then the shared rounder.
 
 use super::bits::add_const;
-use super::round::{class_of, round, Raw, ROUND_STEPS};
+use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
 use super::unpack::unpack;
-use super::{sint_width, spread, Format, Rounding};
+use super::{sint_width, spread, Format, Rm, RoundSel};
 use crate::arith::int::umul_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -70,12 +70,13 @@ pub fn mul_raw(
 }
 
 /// Module name of the multiplier.
-pub fn mul_name(fmt: Format, mode: Rounding, stages: u32) -> String {
+pub fn mul_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
     format!("fmul_{}_{mode}_s{stages}", fmt.tag())
 }
 
 /// `z = a · b` in `fmt`, rounded in `mode`, `stages` pipeline registers.
-pub fn mul_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let mut m = ModuleBuilder::new(mul_name(fmt, mode, stages));
     m.describe(format!(
         "Floating-point a * b in {}, rounded {mode}.",
@@ -87,11 +88,12 @@ pub fn mul_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
         .param("stages", stages);
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
+    let rm = Rm::declare(&mut m, mode);
     let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
-    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

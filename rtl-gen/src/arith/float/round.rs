@@ -29,7 +29,7 @@
 
 use super::bits::{add_const, lzc, lzc_width, shr_sticky, to_sint};
 use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
-use super::{sint_width, spread, Format, Rounding};
+use super::{sint_width, spread, Format, Rm, RoundSel, Rounding, RM_PORT};
 use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -67,7 +67,7 @@ pub fn round_name(
     fmt: Format,
     sig_width: u32,
     exp_width: u32,
-    mode: Rounding,
+    mode: RoundSel,
     stages: u32,
 ) -> String {
     format!(
@@ -85,9 +85,10 @@ pub fn round_module(
     fmt: Format,
     sig_width: u32,
     exp_width: u32,
-    mode: Rounding,
+    mode: impl Into<RoundSel>,
     stages: u32,
 ) -> Arc<Module> {
+    let mode: RoundSel = mode.into();
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let sw = sig_width;
     assert!(
@@ -111,6 +112,7 @@ pub fn round_module(
     let exp = m.input("exp", Ty::SInt(exp_width));
     let sig = m.input("sig", Ty::UInt(sw));
     let sticky_in = m.input("sticky", Ty::Bool);
+    let rm = Rm::declare(&mut m, mode);
 
     // step 1: leading zeros, distance to emin, shift amounts, exponent base
     let cw = lzc_width(sw);
@@ -173,27 +175,9 @@ pub fn round_module(
     let s1 = m.or(rest, lost);
     let sticky = m.or(s1, sticky_in);
     let sticky = m.name(sticky, "sticky_all");
-    let inexact = m.or(guard, sticky);
     let lsb = m.bit_at(top, 0);
-    let inc = match mode {
-        Rounding::Rne => {
-            let t = m.or(sticky, lsb);
-            m.and(guard, t)
-        }
-        Rounding::Rtz => m.bool(false),
-        Rounding::Rup => {
-            let pos = m.not(sign);
-            m.and(pos, inexact)
-        }
-        Rounding::Rdn => m.and(sign, inexact),
-    };
+    let (inc, to_inf) = decide(&mut m, &rm, sign, guard, sticky, lsb);
     let inc = m.name(inc, "round_up");
-    let to_inf = match mode {
-        Rounding::Rne => m.bool(true),
-        Rounding::Rtz => m.bool(false),
-        Rounding::Rup => m.not(sign),
-        Rounding::Rdn => sign,
-    };
     let pw = (bw + f + 2).max(e + f + 1);
     let zf = m.uint(f, 0);
     let base_hi = m.cat(&[base, zf]);
@@ -244,6 +228,46 @@ pub fn round_module(
     )
 }
 
+/// The increment and the overflow-to-infinity choice of mode `rm` for a
+/// result of sign `sign` with round bit `guard`, `sticky` below it and
+/// kept lsb `lsb`.
+fn decide(
+    m: &mut ModuleBuilder,
+    rm: &Rm,
+    sign: Sig,
+    guard: Sig,
+    sticky: Sig,
+    lsb: Sig,
+) -> (Sig, Sig) {
+    let inexact = m.or(guard, sticky);
+    let pos = m.not(sign);
+    let tie_or_above = m.or(sticky, lsb);
+    let rne_inc = m.and(guard, tie_or_above);
+    let rup_inc = m.and(pos, inexact);
+    let rdn_inc = m.and(sign, inexact);
+    match rm.sel {
+        RoundSel::Fixed(Rounding::Rne) => (rne_inc, m.bool(true)),
+        RoundSel::Fixed(Rounding::Rtz) => (m.bool(false), m.bool(false)),
+        RoundSel::Fixed(Rounding::Rup) => (rup_inc, pos),
+        RoundSel::Fixed(Rounding::Rdn) => (rdn_inc, sign),
+        RoundSel::Port => {
+            let is_rne = rm.is(m, Rounding::Rne);
+            let is_rup = rm.is(m, Rounding::Rup);
+            let is_rdn = rm.is(m, Rounding::Rdn);
+            let a = m.and(is_rne, rne_inc);
+            let b = m.and(is_rup, rup_inc);
+            let c = m.and(is_rdn, rdn_inc);
+            let inc = m.or(a, b);
+            let inc = m.or(inc, c);
+            let up_inf = m.and(is_rup, pos);
+            let dn_inf = m.and(is_rdn, sign);
+            let to_inf = m.or(is_rne, up_inf);
+            let to_inf = m.or(to_inf, dn_inf);
+            (inc, to_inf)
+        }
+    }
+}
+
 /// Instantiates the rounder for `raw` (padding a significand narrower than
 /// F + 2 bits with zeros) and returns the packed result, which belongs to
 /// the stage `stages` cycles after the current one: the caller closes those
@@ -253,6 +277,20 @@ pub fn round(
     m: &mut ModuleBuilder,
     fmt: Format,
     mode: Rounding,
+    raw: &Raw,
+    stages: u32,
+    inst: &str,
+) -> Sig {
+    round_rm(m, fmt, &Rm::fixed(mode), raw, stages, inst)
+}
+
+/// [`round`] in the mode `rm` (fixed, or the module's `rm` port, which is
+/// connected to the rounder's).
+#[track_caller]
+pub fn round_rm(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    rm: &Rm,
     raw: &Raw,
     stages: u32,
     inst: &str,
@@ -268,18 +306,18 @@ pub fn round(
     } else {
         (raw.sig, raw.exp)
     };
-    let module = round_module(fmt, sig.width(), exp.width(), mode, stages);
-    m.instance(
-        inst,
-        &module,
-        &[
-            ("sign", raw.sign),
-            ("cls", raw.class),
-            ("exp", exp),
-            ("sig", sig),
-            ("sticky", raw.sticky),
-        ],
-    )
-    .get("z")
-    .expect("rounder has output z")
+    let module = round_module(fmt, sig.width(), exp.width(), rm.sel, stages);
+    let mut ports = vec![
+        ("sign", raw.sign),
+        ("cls", raw.class),
+        ("exp", exp),
+        ("sig", sig),
+        ("sticky", raw.sticky),
+    ];
+    if let Some(p) = rm.port {
+        ports.push((RM_PORT, p));
+    }
+    m.instance(inst, &module, &ports)
+        .get("z")
+        .expect("rounder has output z")
 }
