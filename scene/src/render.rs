@@ -70,6 +70,10 @@ impl Cam {
             h,
         }
     }
+    /// `(forward, right, up, tan(fov_y / 2))`.
+    pub fn basis(&self) -> ([f32; 3], [f32; 3], [f32; 3], f64) {
+        (self.forward, self.right, self.up, self.tan as f64)
+    }
     /// Direction through the centre of pixel `(x, y)` (not normalised).
     pub fn dir(&self, x: u32, y: u32) -> [f32; 3] {
         let aspect = self.w as f32 / self.h as f32;
