@@ -3,6 +3,7 @@
 # Icarus Verilog and Yosys (second compiler and synthesis checks).
 set -euo pipefail
 packages=(verilator iverilog yosys g++ make)
+packages+=(nextpnr-ice40 fpga-icestorm)  # rtl-cost: place and route, bitstreams (scripts/fpga.sh)
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive

@@ -1,0 +1,8 @@
+//! Hardware cost against accuracy of the generated units (issue #8): the
+//! synthesis runner ([`synth`], Yosys and nextpnr-ice40), accuracy on shared
+//! workloads ([`accuracy`]), charts ([`charts`]), scene-fitted formats
+//! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
+#![warn(missing_docs)]
+
+pub mod shell;
+pub mod synth;
