@@ -11,8 +11,6 @@ pub mod bvh;
 pub mod hybrid;
 pub mod mesh;
 pub mod render;
-#[cfg(feature = "rtl")]
-pub mod rtl;
 pub mod scene;
 pub mod stats;
 pub mod tester;

@@ -1,32 +1,295 @@
+//! `render`: renders a scene file with the golden-model ray tracer (or the
+//! hybrid renderer), writes a PNG and prints statistics; `render bench`
+//! compares rays/s with a plain f32 slab renderer.
+
+use clap::{Parser, Subcommand, ValueEnum};
 use scene::bvh::Accel;
+use scene::hybrid::{orders, render_async, render_sync, HybridOpts};
 use scene::render::render;
 use scene::scene::Scene;
-use scene::tester::Golden;
-use scene::trace::TraceOpts;
-fn main() {
-    let a: Vec<String> = std::env::args().collect();
-    let s = Scene::load(std::path::Path::new(&a[1])).unwrap_or_else(|e| {
-        eprintln!("{e}");
-        std::process::exit(2)
-    });
-    let acc = Accel::build(&s, true);
-    eprintln!("{}", acc.describe());
-    let w: u32 = a[2].parse().unwrap();
-    let f = render(
-        &s,
-        &acc,
-        &Golden::default(),
-        TraceOpts::default(),
-        w,
-        w,
-        true,
-    );
+use scene::stats::{plane_savings, table};
+use scene::tester::{BoxTester, Exact, Golden, Slab};
+use scene::trace::{BundleOpts, TraceOpts};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(about = "Render scenes through the golden models of the ray-tracing units")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BoxKind {
+    /// silhouette unit golden model (conservative), with bundles
+    Golden,
+    /// exact rational box test (single rays)
+    Exact,
+    /// plain f32 slab test (single rays, f32 transforms, no planes)
+    Slab,
+}
+
+#[derive(clap::Args, Clone)]
+struct Common {
+    /// scene file (TOML)
+    scene: PathBuf,
+    /// image width (default: the scene's)
+    #[arg(long)]
+    width: Option<u32>,
+    /// image height (default: the scene's, scaled with --width)
+    #[arg(long)]
+    height: Option<u32>,
+    /// maximum rays per bundle (seed 000: 4, 16, 32, 64); 0 or 1 disables bundles
+    #[arg(long, default_value_t = 16)]
+    bundle: usize,
+    /// do not place or use cull planes
+    #[arg(long)]
+    no_planes: bool,
+    /// AO rays per pixel (default: the scene's)
+    #[arg(long)]
+    ao: Option<u32>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Ray-trace a scene, write a PNG, print statistics per ray type.
+    Render {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG
+        #[arg(long, short)]
+        out: PathBuf,
+        /// box tester
+        #[arg(long = "box", value_enum, default_value = "golden")]
+        box_kind: BoxKind,
+        /// also render without cull planes and report what the planes saved
+        #[arg(long)]
+        plane_savings: bool,
+    },
+    /// Hybrid raster + ray tracing (seed 002): synchronous and asynchronous
+    /// renders for several primitive orders, counts of emitted/culled/traced rays.
+    Hybrid {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG (the synchronous image)
+        #[arg(long, short)]
+        out: PathBuf,
+        /// rays the ray processor handles after each primitive
+        #[arg(long, default_value_t = 64)]
+        rays_per_step: usize,
+    },
+    /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same run.
+    Bench {
+        #[command(flatten)]
+        c: Common,
+    },
+}
+
+fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
+    let mut s = Scene::load(&c.scene).map_err(|e| e.to_string())?;
+    if let Some(a) = c.ao {
+        s.render.ao_rays = a;
+    }
+    let (sw, sh) = (s.render.width, s.render.height);
+    let w = c.width.unwrap_or(sw);
+    let h = c
+        .height
+        .unwrap_or(((sh as u64 * w as u64) / sw as u64).max(1) as u32);
+    let opts = TraceOpts {
+        planes: !c.no_planes,
+        bundles: BundleOpts {
+            enabled: c.bundle >= 2,
+            max_size: c.bundle.max(2),
+            ..BundleOpts::default()
+        },
+        f32_transform: false,
+    };
+    Ok((s, w, h, opts))
+}
+
+fn build(s: &Scene, planes: bool) -> Accel {
+    let acc = Accel::build(s, planes);
     eprintln!(
-        "{:?} {} rays {:.0} rays/s",
-        f.time,
-        f.rays(),
-        f.rays() as f64 / f.time.as_secs_f64()
+        "{}: {} meshes, {} instances, {} instanced triangles",
+        s.path.display(),
+        s.meshes.len(),
+        s.instances.len(),
+        s.instanced_triangles()
     );
-    println!("{}", scene::stats::table(&f.stats));
-    f.save_png(std::path::Path::new(&a[3])).unwrap();
+    eprintln!("{}", acc.describe());
+    acc
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.cmd {
+        Cmd::Render {
+            c,
+            out,
+            box_kind,
+            plane_savings: ps,
+        } => {
+            let (s, w, h, mut opts) = setup(&c)?;
+            let tester: Box<dyn BoxTester> = match box_kind {
+                BoxKind::Golden => Box::new(Golden::default()),
+                BoxKind::Exact => Box::new(Exact),
+                BoxKind::Slab => {
+                    opts.planes = false;
+                    opts.f32_transform = true;
+                    Box::new(Slab)
+                }
+            };
+            let acc = build(&s, opts.planes);
+            let f = render(&s, &acc, tester.as_ref(), opts, w, h, true);
+            f.save_png(&out)?;
+            println!(
+                "{} {}x{}, box tester {}, bundles {}: {} rays in {:.2} s = {:.0} rays/s -> {}",
+                s.path.display(),
+                w,
+                h,
+                tester.name(),
+                if opts.bundles.enabled {
+                    format!("≤ {}", opts.bundles.max_size)
+                } else {
+                    "off".into()
+                },
+                f.rays(),
+                f.time.as_secs_f64(),
+                f.rays() as f64 / f.time.as_secs_f64(),
+                out.display()
+            );
+            println!("\n{}", table(&f.stats));
+            if ps && opts.planes {
+                let g = render(
+                    &s,
+                    &acc,
+                    tester.as_ref(),
+                    TraceOpts {
+                        planes: false,
+                        ..opts
+                    },
+                    w,
+                    h,
+                    true,
+                );
+                let same = g.ids == f.ids && g.t == f.t;
+                println!(
+                    "cull planes (same render without them; identical image: {same}):\n\n{}",
+                    plane_savings(&f.stats, &g.stats)
+                );
+            }
+        }
+        Cmd::Hybrid {
+            c,
+            out,
+            rays_per_step,
+        } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let g = Golden::default();
+            let sync = render_sync(&s, &acc, &g, opts, w, h);
+            sync.save_png(&out)?;
+            println!(
+                "{} {}x{} hybrid; synchronous: {} rays traced in {:.2} s -> {}\n",
+                s.path.display(),
+                w,
+                h,
+                sync.rays(),
+                sync.time.as_secs_f64(),
+                out.display()
+            );
+            println!("| order | emitted | culled: tile range | sample depth | generation | traced | discarded (contribution check) | superseded | used | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|");
+            for (name, order) in orders(&s, &acc, 1) {
+                let (f, k) = render_async(
+                    &s,
+                    &acc,
+                    &g,
+                    opts,
+                    w,
+                    h,
+                    &HybridOpts {
+                        order,
+                        rays_per_step,
+                    },
+                );
+                let same = f.ids == sync.ids
+                    && f.color
+                        .iter()
+                        .zip(&sync.color)
+                        .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits));
+                println!(
+                    "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    k.emitted,
+                    k.culled_tile,
+                    k.culled_depth,
+                    k.culled_generation,
+                    k.traced,
+                    k.discarded,
+                    k.superseded,
+                    k.used,
+                    if same { "yes" } else { "NO" }
+                );
+                if !same {
+                    return Err(format!("{name}: asynchronous image differs"));
+                }
+            }
+        }
+        Cmd::Bench { c } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let g = render(&s, &acc, &Golden::default(), opts, w, h, true);
+            let singles = TraceOpts {
+                bundles: BundleOpts {
+                    enabled: false,
+                    ..opts.bundles
+                },
+                ..opts
+            };
+            let g1 = render(&s, &acc, &Golden::default(), singles, w, h, true);
+            let slab_opts = TraceOpts {
+                planes: false,
+                bundles: singles.bundles,
+                f32_transform: true,
+            };
+            let f = render(&s, &acc, &Slab, slab_opts, w, h, true);
+            let rate = |f: &scene::render::Frame| f.rays() as f64 / f.time.as_secs_f64();
+            let diff = f.ids.iter().zip(&g.ids).filter(|(a, b)| a != b).count();
+            println!(
+                "{} {}x{}, {} threads\n\n| renderer | rays | seconds | rays/s | box tests/ray |\n|---|---|---|---|---|",
+                s.path.display(),
+                w,
+                h,
+                rayon::current_num_threads()
+            );
+            for (name, fr) in [
+                ("golden models, bundles", &g),
+                ("golden models, single rays", &g1),
+                ("plain f32 slab, f32 transform, no planes", &f),
+            ] {
+                println!(
+                    "| {name} | {} | {:.2} | {:.0} | {:.2} |",
+                    fr.rays(),
+                    fr.time.as_secs_f64(),
+                    rate(fr),
+                    fr.stats.total().box_tests_per_ray()
+                );
+            }
+            println!(
+                "\nslab / golden speed ratio: {:.0}x; primary hits differing from the golden image: {diff} of {} pixels",
+                rate(&f) / rate(&g),
+                g.ids.len()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
 }

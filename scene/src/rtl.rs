@@ -1,1 +1,0 @@
-//! RTL in the loop.
