@@ -4,3 +4,4 @@
 
 pub mod int;
 pub mod float;
+pub mod recip;

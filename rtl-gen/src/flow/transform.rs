@@ -7,7 +7,10 @@
 //! subnormal and huge components, NaN-payload `t` values); then seeded random
 //! vectors: random placements of several scale classes, origins at offsets
 //! `10^U(−4, 6)` from `T`, random directions, and one input in eight replaced
-//! by a special value or random bits. For `inverse=pre` the `R⁻¹` input of the
+//! by a special value or random bits. For `inverse=hw` the input is `R`, and
+//! the rotation hint is set on half of the pure rotations, one in sixteen of
+//! the others and on a copy of every corner instance. For `inverse=pre` the
+//! `R⁻¹` input of the
 //! corner cases is the scene builder's (the exact inverse rounded once); for
 //! random vectors it is the binary64 inverse rounded, which is as good a
 //! stimulus and much cheaper.
@@ -183,6 +186,18 @@ impl TransformBench {
             translation: [0; 3],
             rotation_hint: false,
         });
+        if self.cfg.source == InverseSource::Hardware {
+            // the rotation hint on every instance (a hint on a non-rotation is
+            // the caller's promise: the unit uses the transpose all the same)
+            let hinted: Vec<_> = v
+                .iter()
+                .map(|i| InstanceTransform {
+                    rotation_hint: true,
+                    ..*i
+                })
+                .collect();
+            v.extend(hinted);
+        }
         v
     }
 
@@ -304,6 +319,9 @@ impl TransformBench {
         let r = std::array::from_fn(|k| from_f64(fmt, p.scale[k / 3] * rot[k]));
         let t = p.translation.map(|x| from_f64(fmt, x));
         let mut inst = self.instance(r, t, false);
+        let pure_rotation = lo == 0.0 && hi == 0.0;
+        inst.rotation_hint = self.cfg.source == InverseSource::Hardware
+            && rng.below(if pure_rotation { 2 } else { 16 }) == 0;
         let off = if rng.below(8) == 0 {
             0.0
         } else {
@@ -376,6 +394,9 @@ impl TransformBench {
             .iter()
             .chain(&c.inst.translation)
             .for_each(|&x| put(x));
+        if self.cfg.source == InverseSource::Hardware {
+            put(c.inst.rotation_hint as u64);
+        }
     }
 
     /// Unpacks the input ports into a case.
@@ -397,7 +418,7 @@ impl TransformBench {
             inst: InstanceTransform {
                 linear: std::array::from_fn(|k| rest[3 + k]),
                 translation: three(&rest[12..]),
-                rotation_hint: false,
+                rotation_hint: self.cfg.source == InverseSource::Hardware && rest[15] != 0,
             },
             is_origin,
         }

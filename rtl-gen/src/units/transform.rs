@@ -14,20 +14,26 @@
 //! registers are spread over the operator chain ([`spread`]); the latency is
 //! `stages`.
 //!
-//! `R⁻¹` is an input (`inverse=pre`, computed by the scene builder). A
-//! non-finite entry of `R⁻¹` or `T` raises `singular` (the scene builder
-//! encodes a singular `R` as NaN entries) and every vector output is the
-//! canonical NaN: the first component of each vector entering an engine is
-//! replaced by NaN, and every row's dot product reads it.
+//! `R⁻¹` is an input (`inverse=pre`, computed by the scene builder) or is
+//! computed from `R` (`inverse=hw`): adjugate (2×2 determinants in the dot
+//! style), determinant (a dot product), one reciprocal
+//! ([`crate::arith::recip`]), nine multiplications; a `rot_hint` input
+//! selects `Rᵀ` instead. A non-finite input entry, a zero or non-finite
+//! determinant or a non-finite computed `R⁻¹` raises `singular` and every
+//! vector output is the canonical NaN: the first component of each vector
+//! entering an engine is replaced by NaN, and every row's dot product reads it.
 
 use super::Unit;
 use crate::arith::float::add::add_module;
+use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
 use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use std::sync::Arc;
 
 /// The `transform` unit.
 pub struct Transform;
@@ -66,7 +72,7 @@ const PARAMS: &[ParamSpec] = &[
     },
     ParamSpec {
         name: "inverse",
-        doc: "R^-1 source: pre (input, from the scene builder) or hw (computed; not built yet)",
+        doc: "R^-1 source: pre (input, from the scene builder) or hw (adjugate, determinant, reciprocal, scaling)",
         kind: ParamKind::Choice(INVERSE_WORDS),
         default: "pre",
     },
@@ -116,6 +122,13 @@ impl Dot {
             Dot::Dot3 => 1,
         }
     }
+    /// Operators on the longest path of one 2×2 determinant.
+    fn det2_depth(self) -> u32 {
+        match self {
+            Dot::Separate | Dot::Fma => 2,
+            Dot::Dot3 => 1,
+        }
+    }
 }
 
 /// Resolved configuration of the unit.
@@ -127,6 +140,8 @@ pub struct Config {
     pub mode: Rounding,
     /// dot style
     pub dot: Dot,
+    /// `R⁻¹` computed in hardware from `R` (else an input)
+    pub hw: bool,
     /// one ray per clock (two engines) or one vector per clock (one engine)
     pub full: bool,
     /// id width
@@ -140,17 +155,11 @@ impl Config {
     pub fn from_params(p: &Params) -> Result<Config, ParamError> {
         let fmt = Format::new(p.u32("exp_bits"), p.u32("frac_bits"))
             .map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
-        if p.word("inverse") == "hw" {
-            return Err(ParamError::Combination(
-                "transform: inverse=hw (R^-1 computed in hardware) is specified and modelled \
-                 (docs/transform.md) but not built yet; use inverse=pre"
-                    .into(),
-            ));
-        }
         Ok(Config {
             fmt,
             mode: Rounding::parse(p.word("round")).expect("declared choice"),
             dot: Dot::parse(p.word("dot")),
+            hw: p.word("inverse") == "hw",
             full: p.word("throughput") == "full",
             id_bits: p.u32("id_bits"),
             stages: p.u32("stages"),
@@ -165,26 +174,40 @@ impl Config {
             Dot::Dot3 => "dot3",
         };
         format!(
-            "xform_{}_{}_{dot}_pre_{}_id{}_s{}",
+            "xform_{}_{}_{dot}_{}_{}_id{}_s{}",
             self.fmt.tag(),
             self.mode,
+            if self.hw { "hw" } else { "pre" },
             if self.full { "full" } else { "half" },
             self.id_bits,
             self.stages
         )
     }
-}
 
-/// Per-operator stage counts along the chain: subtract, then the dot's operators.
-fn plan(cfg: &Config) -> Vec<u32> {
-    spread(cfg.stages, 1 + cfg.dot.depth())
+    /// Operators along the longest path: the inversion (adjugate,
+    /// determinant, reciprocal, scaling) if any, then the engine's dot; the
+    /// subtraction runs beside the first of them.
+    fn chain(&self) -> u32 {
+        let inversion = if self.hw {
+            self.dot.det2_depth() + self.dot.depth() + 2
+        } else {
+            1 // the subtraction alone
+        };
+        inversion + self.dot.depth()
+    }
 }
 
 /// Instantiates a two-input operator module, returns its `z`.
-fn op2(m: &mut ModuleBuilder, module: &std::sync::Arc<Module>, inst: &str, a: Sig, b: Sig) -> Sig {
+fn op2(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig) -> Sig {
     m.instance(inst, module, &[("a", a), ("b", b)])
         .get("z")
         .expect("float operator has output z")
+}
+
+fn fma3(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig, c: Sig) -> Sig {
+    m.instance(inst, module, &[("a", a), ("b", b), ("c", c)])
+        .get("z")
+        .expect("fma has output z")
 }
 
 fn close(m: &mut ModuleBuilder, n: u32) {
@@ -193,128 +216,159 @@ fn close(m: &mut ModuleBuilder, n: u32) {
     }
 }
 
-/// Matrix-vector engines `r · v` for each `(tag, v)`, built side by side from
-/// the current stage; closes the dot's stages (`plan` without the subtract's
-/// entry), so every result belongs to the stage after the last operator.
-fn engines(
+/// `x` with its sign bit flipped (exact negation; a NaN stays a NaN).
+fn neg(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
+    let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
+    m.xor(x, sign)
+}
+
+/// Dot products `a · b` for each `(tag, a, b)`, built side by side from the
+/// current stage in the configured style; closes `plan[..depth]` stages, so
+/// every result belongs to the stage after the last operator.
+fn dots(
     m: &mut ModuleBuilder,
     cfg: &Config,
-    r: &[Sig; 9],
-    vs: &[(&str, [Sig; 3])],
+    items: &[(String, [Sig; 3], [Sig; 3])],
     plan: &[u32],
-) -> Vec<[Sig; 3]> {
+) -> Vec<Sig> {
     let (fmt, mode) = (cfg.fmt, cfg.mode);
-    let fma3 = |m: &mut ModuleBuilder, module, name: String, a, b, c| {
-        m.instance(&name, module, &[("a", a), ("b", b), ("c", c)])
-            .get("z")
-            .expect("fma has output z")
-    };
     match cfg.dot {
         Dot::Separate => {
             let mul = mul_module(fmt, mode, plan[0]);
-            let p: Vec<[[Sig; 3]; 3]> = vs
+            let p: Vec<[Sig; 3]> = items
                 .iter()
-                .map(|(tag, v)| {
-                    [0, 1, 2].map(|i| {
-                        [0, 1, 2].map(|j| {
-                            op2(m, &mul, &format!("u_{tag}_mul{i}{j}"), r[3 * i + j], v[j])
-                        })
-                    })
+                .map(|(tag, a, b)| {
+                    [0, 1, 2].map(|j| op2(m, &mul, &format!("u_{tag}_mul{j}"), a[j], b[j]))
                 })
                 .collect();
             close(m, plan[0]);
             let add1 = add_module(fmt, mode, false, plan[1]);
-            let s: Vec<[Sig; 3]> = vs
+            let s: Vec<Sig> = items
                 .iter()
                 .zip(&p)
-                .map(|((tag, _), p)| {
-                    [0, 1, 2].map(|i| op2(m, &add1, &format!("u_{tag}_add{i}a"), p[i][0], p[i][1]))
-                })
+                .map(|((tag, _, _), p)| op2(m, &add1, &format!("u_{tag}_add_a"), p[0], p[1]))
                 .collect();
             close(m, plan[1]);
             let add2 = add_module(fmt, mode, false, plan[2]);
-            let out = vs
+            let out = items
                 .iter()
                 .zip(p.iter().zip(&s))
-                .map(|((tag, _), (p, s))| {
-                    [0, 1, 2].map(|i| op2(m, &add2, &format!("u_{tag}_add{i}b"), s[i], p[i][2]))
-                })
+                .map(|((tag, _, _), (p, s))| op2(m, &add2, &format!("u_{tag}_add_b"), *s, p[2]))
                 .collect();
             close(m, plan[2]);
             out
         }
         Dot::Fma => {
             let mul = mul_module(fmt, mode, plan[0]);
-            let p: Vec<[Sig; 3]> = vs
+            let p: Vec<Sig> = items
                 .iter()
-                .map(|(tag, v)| {
-                    [0, 1, 2].map(|i| op2(m, &mul, &format!("u_{tag}_mul{i}"), r[3 * i], v[0]))
-                })
+                .map(|(tag, a, b)| op2(m, &mul, &format!("u_{tag}_mul"), a[0], b[0]))
                 .collect();
             close(m, plan[0]);
             let fma1 = fma_module(fmt, mode, plan[1]);
-            let s: Vec<[Sig; 3]> = vs
+            let s: Vec<Sig> = items
                 .iter()
                 .zip(&p)
-                .map(|((tag, v), p)| {
-                    [0, 1, 2].map(|i| {
-                        fma3(
-                            m,
-                            &fma1,
-                            format!("u_{tag}_fma{i}a"),
-                            r[3 * i + 1],
-                            v[1],
-                            p[i],
-                        )
-                    })
-                })
+                .map(|((tag, a, b), p)| fma3(m, &fma1, &format!("u_{tag}_fma_a"), a[1], b[1], *p))
                 .collect();
             close(m, plan[1]);
             let fma2 = fma_module(fmt, mode, plan[2]);
-            let out = vs
+            let out = items
                 .iter()
                 .zip(&s)
-                .map(|((tag, v), s)| {
-                    [0, 1, 2].map(|i| {
-                        fma3(
-                            m,
-                            &fma2,
-                            format!("u_{tag}_fma{i}b"),
-                            r[3 * i + 2],
-                            v[2],
-                            s[i],
-                        )
-                    })
-                })
+                .map(|((tag, a, b), s)| fma3(m, &fma2, &format!("u_{tag}_fma_b"), a[2], b[2], *s))
                 .collect();
             close(m, plan[2]);
             out
         }
         Dot::Dot3 => {
-            let d = crate::arith::float::dot3::dot3_module(fmt, mode, plan[0]);
-            let out = vs
+            let d = dot3_module(fmt, mode, plan[0]);
+            let out = items
                 .iter()
-                .map(|(tag, v)| {
-                    [0, 1, 2].map(|i| {
-                        m.instance(
-                            &format!("u_{tag}_dot{i}"),
-                            &d,
-                            &[
-                                ("a0", r[3 * i]),
-                                ("a1", r[3 * i + 1]),
-                                ("a2", r[3 * i + 2]),
-                                ("b0", v[0]),
-                                ("b1", v[1]),
-                                ("b2", v[2]),
-                            ],
-                        )
-                        .get("z")
-                        .expect("dot3 has output z")
-                    })
+                .map(|(tag, a, b)| {
+                    m.instance(
+                        &format!("u_{tag}_dot"),
+                        &d,
+                        &[
+                            ("a0", a[0]),
+                            ("a1", a[1]),
+                            ("a2", a[2]),
+                            ("b0", b[0]),
+                            ("b1", b[1]),
+                            ("b2", b[2]),
+                        ],
+                    )
+                    .get("z")
+                    .expect("dot3 has output z")
                 })
                 .collect();
             close(m, plan[0]);
             out
+        }
+    }
+}
+
+/// The 2×2 determinants `p·q − r·s` for each `(tag, [p, q, r, s])`, in the
+/// configured style (as `golden_model::transform::det2`); closes `plan[..det2_depth]`.
+fn det2s(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    items: &[(String, [Sig; 4])],
+    plan: &[u32],
+) -> Vec<Sig> {
+    let (fmt, mode) = (cfg.fmt, cfg.mode);
+    match cfg.dot {
+        Dot::Separate => {
+            let mul = mul_module(fmt, mode, plan[0]);
+            let p: Vec<(Sig, Sig)> = items
+                .iter()
+                .map(|(tag, [p, q, r, s])| {
+                    let pq = op2(m, &mul, &format!("u_{tag}_mul_pq"), *p, *q);
+                    let rs = op2(m, &mul, &format!("u_{tag}_mul_rs"), *r, *s);
+                    (pq, rs)
+                })
+                .collect();
+            close(m, plan[0]);
+            let sub = add_module(fmt, mode, true, plan[1]);
+            let out = items
+                .iter()
+                .zip(&p)
+                .map(|((tag, _), (pq, rs))| op2(m, &sub, &format!("u_{tag}_sub"), *pq, *rs))
+                .collect();
+            close(m, plan[1]);
+            out
+        }
+        Dot::Fma => {
+            let mul = mul_module(fmt, mode, plan[0]);
+            let rs: Vec<Sig> = items
+                .iter()
+                .map(|(tag, [_, _, r, s])| {
+                    let rs = op2(m, &mul, &format!("u_{tag}_mul_rs"), *r, *s);
+                    neg(m, fmt, rs)
+                })
+                .collect();
+            close(m, plan[0]);
+            let fma = fma_module(fmt, mode, plan[1]);
+            let out = items
+                .iter()
+                .zip(&rs)
+                .map(|((tag, [p, q, _, _]), rs)| {
+                    fma3(m, &fma, &format!("u_{tag}_fma"), *p, *q, *rs)
+                })
+                .collect();
+            close(m, plan[1]);
+            out
+        }
+        Dot::Dot3 => {
+            let zero = m.uint(fmt.width(), 0);
+            let list: Vec<(String, [Sig; 3], [Sig; 3])> = items
+                .iter()
+                .map(|(tag, [p, q, r, s])| {
+                    let ns = neg(m, fmt, *s);
+                    (tag.clone(), [*p, *r, zero], [*q, ns, zero])
+                })
+                .collect();
+            dots(m, cfg, &list, plan)
         }
     }
 }
@@ -325,25 +379,107 @@ fn not_finite(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
     m.all_ones(e)
 }
 
+/// True if the encoding `x` is ±0.
+fn is_zero(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
+    let mag = m.slice(x, fmt.exp_bits + fmt.frac_bits - 1, 0);
+    let any = m.any_set(mag);
+    m.not(any)
+}
+
+/// `R⁻¹` from `R` (row-major) and the "inversion failed" bit, as
+/// `golden_model::transform::invert_hw`; starts in the current stage and
+/// closes `plan[..det2_depth + depth + 2]`.
+fn invert(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    r: &[Sig; 9],
+    hint: Sig,
+    plan: &[u32],
+) -> ([Sig; 9], Sig) {
+    let (fmt, mode) = (cfg.fmt, cfg.mode);
+    let at = |i: usize, j: usize| r[3 * (i % 3) + (j % 3)];
+    let items: Vec<(String, [Sig; 4])> = (0..9)
+        .map(|k| {
+            let (i, j) = (k / 3, k % 3);
+            (
+                format!("adj{i}{j}"),
+                [
+                    at(j + 1, i + 1),
+                    at(j + 2, i + 2),
+                    at(j + 1, i + 2),
+                    at(j + 2, i + 1),
+                ],
+            )
+        })
+        .collect();
+    let n2 = cfg.dot.det2_depth() as usize;
+    let adj = det2s(m, cfg, &items, &plan[..n2]);
+    let nd = cfg.dot.depth() as usize;
+    let det = dots(
+        m,
+        cfg,
+        &[(
+            "det".to_string(),
+            [r[0], r[1], r[2]],
+            [adj[0], adj[3], adj[6]],
+        )],
+        &plan[n2..n2 + nd],
+    )[0];
+    let det = m.name(det, "det");
+    let k = n2 + nd;
+    let recip = recip_module(fmt, mode, plan[k]);
+    let rc = m
+        .instance("u_recip", &recip, &[("x", det)])
+        .get("z")
+        .expect("recip has output z");
+    close(m, plan[k]);
+    let mul = mul_module(fmt, mode, plan[k + 1]);
+    let inv: Vec<Sig> = (0..9)
+        .map(|j| op2(m, &mul, &format!("u_scale{}{}", j / 3, j % 3), adj[j], rc))
+        .collect();
+    close(m, plan[k + 1]);
+    // det must be finite and nonzero, every entry of the inverse finite
+    let det_nf = not_finite(m, fmt, det);
+    let det_zero = is_zero(m, fmt, det);
+    let mut failed = m.or(det_nf, det_zero);
+    for x in &inv {
+        let nf = not_finite(m, fmt, *x);
+        failed = m.or(failed, nf);
+    }
+    let use_inv = m.not(hint);
+    let failed = m.and(failed, use_inv);
+    let out = std::array::from_fn(|j| m.mux(hint, at(j % 3, j / 3), inv[j]));
+    (out, failed)
+}
+
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
     let w = fmt.width();
     let ty = Ty::UInt(w);
     let mut m = ModuleBuilder::with_handshake(cfg.name());
-    m.describe(if cfg.full {
-        "Two-step inverse transform, one ray per clock: om = Rinv * (ow - t), dm = Rinv * dw; \
-         tmin, tmax, id pass through; singular = a non-finite entry of Rinv or t (outputs NaN)."
+    let lin = if cfg.hw {
+        "Rinv computed from r (adjugate, det, 1/det; rot_hint: transpose)"
     } else {
-        "Two-step inverse transform, one vector per clock (a ray is two transactions): \
-         vm = Rinv * (v - t) if is_origin, else Rinv * v; tmin, tmax, id pass through; \
-         singular = a non-finite entry of Rinv or t (outputs NaN)."
+        "Rinv given"
+    };
+    m.describe(if cfg.full {
+        format!(
+            "Two-step inverse transform, one ray per clock: om = Rinv * (ow - t), dm = Rinv * dw; \
+             {lin}; tmin, tmax, id pass through; singular: non-finite or singular transform (outputs NaN)."
+        )
+    } else {
+        format!(
+            "Two-step inverse transform, one vector per clock (a ray is two transactions): \
+             vm = Rinv * (v - t) if is_origin, else Rinv * v; {lin}; tmin, tmax, id pass through; \
+             singular: non-finite or singular transform (outputs NaN)."
+        )
     });
     m.param("exp_bits", fmt.exp_bits)
         .param("frac_bits", fmt.frac_bits)
         .param("round", cfg.mode)
         .param("dot", DOT_WORDS[cfg.dot as usize])
-        .param("inverse", "pre")
+        .param("inverse", if cfg.hw { "hw" } else { "pre" })
         .param("throughput", if cfg.full { "full" } else { "half" })
         .param("id_bits", cfg.id_bits)
         .param("stages", cfg.stages);
@@ -359,46 +495,71 @@ pub fn build(cfg: &Config) -> Module {
     let tmin = m.input("tmin_w", ty);
     let tmax = m.input("tmax_w", ty);
     let id = m.input("id_w", Ty::UInt(cfg.id_bits));
-    let r: [Sig; 9] = std::array::from_fn(|k| m.input(&format!("rinv_{}{}", k / 3, k % 3), ty));
+    let prefix = if cfg.hw { "r" } else { "rinv" };
+    let lin: [Sig; 9] =
+        std::array::from_fn(|k| m.input(&format!("{prefix}_{}{}", k / 3, k % 3), ty));
     let t = axes.map(|a| m.input(&format!("t_{a}"), ty));
+    let hint = if cfg.hw {
+        Some(m.input("rot_hint", Ty::Bool))
+    } else {
+        None
+    };
 
-    // the flag, and NaN forced into the first component of every engine input
-    let mut bad = m.bool(false);
-    for x in r.iter().chain(t.iter()) {
+    let mut bad_in = m.bool(false);
+    for x in lin.iter().chain(t.iter()) {
         let nf = not_finite(&mut m, fmt, *x);
-        bad = m.or(bad, nf);
+        bad_in = m.or(bad_in, nf);
     }
-    let singular = m.name(bad, "singular_flag");
-    let nan = m.uint(w, fmt.nan_bits());
-    let v0 = m.mux(singular, nan, vw[0]);
-    let vw = [v0, vw[1], vw[2]];
+    let plan = spread(cfg.stages, cfg.chain());
 
-    // step 1: reverse translation
-    let plan = plan(cfg);
+    // step 1: reverse translation, beside the first operator of the inversion if any
     let sub = add_module(fmt, cfg.mode, true, plan[0]);
     let x = [0, 1, 2].map(|k| op2(&mut m, &sub, &format!("u_sub_{}", axes[k]), vw[k], t[k]));
-    close(&mut m, plan[0]);
+    let (r, singular, dot_plan) = match hint {
+        Some(hint) => {
+            let n = (cfg.chain() - cfg.dot.depth()) as usize;
+            let (r, failed) = invert(&mut m, cfg, &lin, hint, &plan[..n]);
+            let singular = m.or(bad_in, failed);
+            (r, singular, &plan[n..])
+        }
+        None => {
+            close(&mut m, plan[0]);
+            (lin, bad_in, &plan[1..])
+        }
+    };
+    let singular = m.name(singular, "singular_flag");
 
-    // step 2: inverse linear map
-    let dot_plan = &plan[1..];
+    // step 2: inverse linear map, NaN forced into the x component when singular
+    let nan = m.uint(w, fmt.nan_bits());
+    let row = |i: usize| [r[3 * i], r[3 * i + 1], r[3 * i + 2]];
     match (dw, is_origin) {
         (Some(dw), _) => {
+            let x0 = m.mux(singular, nan, x[0]);
+            let x = [x0, x[1], x[2]];
             let d0 = m.mux(singular, nan, dw[0]);
             let dw = [d0, dw[1], dw[2]];
-            let out = engines(&mut m, cfg, &r, &[("o", x), ("d", dw)], dot_plan);
-            let (om, dm) = (out[0], out[1]);
+            let mut items = Vec::new();
+            for (tag, v) in [("o", x), ("d", dw)] {
+                for i in 0..3 {
+                    items.push((format!("{tag}{i}"), row(i), v));
+                }
+            }
+            let out = dots(&mut m, cfg, &items, dot_plan);
             for k in 0..3 {
-                m.output(&format!("om_{}", axes[k]), om[k]);
+                m.output(&format!("om_{}", axes[k]), out[k]);
             }
             for k in 0..3 {
-                m.output(&format!("dm_{}", axes[k]), dm[k]);
+                m.output(&format!("dm_{}", axes[k]), out[3 + k]);
             }
         }
         (None, Some(is_origin)) => {
             let sel = [0, 1, 2].map(|k| m.mux(is_origin, x[k], vw[k]));
-            let vm = engines(&mut m, cfg, &r, &[("v", sel)], dot_plan)[0];
+            let s0 = m.mux(singular, nan, sel[0]);
+            let sel = [s0, sel[1], sel[2]];
+            let items: Vec<_> = (0..3).map(|i| (format!("v{i}"), row(i), sel)).collect();
+            let out = dots(&mut m, cfg, &items, dot_plan);
             for k in 0..3 {
-                m.output(&format!("vm_{}", axes[k]), vm[k]);
+                m.output(&format!("vm_{}", axes[k]), out[k]);
             }
         }
         (None, None) => unreachable!("half throughput has is_origin"),

@@ -1,0 +1,168 @@
+//! Floating-point reciprocal `1 / x`, correctly rounded: the one division
+//! of the transform unit's hardware inversion (`docs/transform.md` §3). Its
+//! golden twin is `golden_model::transform::recip`.
+//!
+//! Built like the operators of [`crate::arith::float`]: the exact quotient
+//! with a sticky bit, then the shared rounder. The operand is normalised
+//! (`x = d · 2^(e − F)`, `2^F ≤ d < 2^(F+1)`); restoring division produces
+//! `q = floor(2^(2F+3) / d)` (F + 3 or F + 4 bits, so at least F + 2 as the
+//! rounder requires with a sticky bit), one quotient bit per step, and the
+//! remainder's OR is the sticky bit: `1/x = (q + σ) · 2^(−e − F − 3)`.
+//! Specials: NaN → NaN, `1/±0 = ±inf`, `1/±inf = ±0`.
+
+use crate::arith::float::bits::{add_const, to_sint};
+use crate::arith::float::round::{class_of, round, Raw, ROUND_STEPS};
+use crate::arith::float::unpack::{normalize, unpack};
+use crate::arith::float::{sint_width, spread, Format, Rounding};
+use crate::arith::int::zext;
+use crate::builder::ModuleBuilder;
+use crate::ir::{Module, Ty};
+use std::sync::Arc;
+
+/// Logical steps before the rounder: normalise, then F + 4 division steps
+/// (one quotient bit each).
+pub fn recip_raw_steps(fmt: Format) -> u32 {
+    1 + fmt.frac_bits + 4
+}
+
+/// Module name of the reciprocal.
+pub fn recip_name(fmt: Format, mode: Rounding, stages: u32) -> String {
+    format!("frecip_{}_{mode}_s{stages}", fmt.tag())
+}
+
+/// `z = 1 / x` in `fmt`, rounded once in `mode`, `stages` pipeline registers.
+pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+    let f = fmt.frac_bits;
+    let mut m = ModuleBuilder::new(recip_name(fmt, mode, stages));
+    m.describe(format!(
+        "Floating-point reciprocal 1 / x in {}, rounded once {mode} (restoring division).",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", f)
+        .param("round", mode)
+        .param("stages", stages);
+    let x = m.input("x", Ty::UInt(fmt.width()));
+    let steps = recip_raw_steps(fmt);
+    let plan = spread(stages, steps + ROUND_STEPS);
+    let u = unpack(&mut m, fmt, x);
+    // 1/NaN = NaN, 1/0 = inf, 1/inf = 0 (a finite raw value with sig 0 is a zero)
+    let class = class_of(&mut m, u.nan, u.zero);
+    let n = normalize(&mut m, fmt, &u);
+    let xw = sint_width(-fmt.emax() - f as i64 - 4, -fmt.emin() + 2 * f as i64 + 4);
+    let e = to_sint(&mut m, n.exp, xw);
+    let zero = m.sint(xw, 0);
+    let neg_e = m.sub(zero, e);
+    let exp = add_const(&mut m, neg_e, -(f as i64) - 3, xw);
+    let exp = m.name(exp, "recip_exp");
+    let rw = f + 2;
+    let d = zext(&mut m, n.sig, rw);
+    let d = m.name(d, "divisor");
+    for _ in 0..plan[0] {
+        m.stage();
+    }
+
+    // restoring division: the dividend prefix 2^F gives quotient bit F + 3,
+    // then each step doubles the remainder (r < d < 2^(F+1), so 2r fits F + 2 bits)
+    let mut r = m.uint(rw, 1u128 << f);
+    let mut bits = Vec::with_capacity(steps as usize);
+    for step in 0..steps - 1 {
+        // step 0 is quotient bit F + 3 (weight of the dividend prefix 2^F)
+        if step > 0 {
+            let zero_bit = m.uint(1, 0);
+            let low = m.slice(r, rw - 2, 0);
+            r = m.cat(&[low, zero_bit]);
+        }
+        let ge = m.ge(r, d);
+        let diff = m.sub(r, d);
+        let diff = m.as_uint(diff);
+        let diff = m.slice(diff, rw - 1, 0);
+        r = m.mux(ge, diff, r);
+        r = m.name(r, &format!("rem{step}"));
+        bits.push(m.as_uint(ge));
+        for _ in 0..plan[1 + step as usize] {
+            m.stage();
+        }
+    }
+    let q = m.cat(&bits);
+    let q = m.name(q, "quotient");
+    let sticky = m.any_set(r);
+    // 1/inf: a finite raw zero (the quotient of the infinity's significand is not used)
+    let zero_q = m.uint(q.width(), 0);
+    let q = m.mux(u.inf, zero_q, q);
+    let no = m.bool(false);
+    let sticky = m.mux(u.inf, no, sticky);
+    let raw = Raw {
+        sign: u.sign,
+        class,
+        exp,
+        sig: q,
+        sticky,
+    };
+    let rs: u32 = plan[steps as usize..].iter().sum();
+    let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
+    for _ in 0..rs {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(
+        m.finish()
+            .expect("reciprocal generator is type-correct for every format"),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Evaluator;
+    use golden_model::float::{FloatFormat, RoundingMode};
+
+    fn golden_mode(r: Rounding) -> RoundingMode {
+        match r {
+            Rounding::Rne => RoundingMode::NearestEven,
+            Rounding::Rtz => RoundingMode::TowardZero,
+            Rounding::Rup => RoundingMode::Up,
+            Rounding::Rdn => RoundingMode::Down,
+        }
+    }
+
+    /// Every encoding of (4,3) in every mode, of (5,10) in RNE, random values
+    /// otherwise and for binary32, against the golden reciprocal.
+    #[test]
+    fn matches_the_golden_reciprocal() {
+        for (e, f, exhaustive) in [(4, 3, true), (5, 10, true), (8, 23, false)] {
+            let fmt = Format::new(e, f).unwrap();
+            let gf = FloatFormat::new(e, f).unwrap();
+            for mode in Rounding::ALL {
+                for stages in [0, 3] {
+                    let module = recip_module(fmt, mode, stages);
+                    let mut ev = Evaluator::new(&module);
+                    let exhaustive =
+                        exhaustive && (fmt.width() <= 8 || (mode == Rounding::Rne && stages == 0));
+                    let n: u64 = if exhaustive { 1 << fmt.width() } else { 4_000 };
+                    let mut s = 0x9e37_79b9_7f4a_7c15u64;
+                    let mut inputs = Vec::new();
+                    for i in 0..n {
+                        s = s
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        inputs.push(if exhaustive { i } else { (s >> 32) & gf.mask() });
+                    }
+                    // feed back to back; outputs appear `stages` cycles later
+                    let mut got = Vec::new();
+                    for c in 0..inputs.len() + stages as usize {
+                        let x = inputs.get(c).copied().unwrap_or(0);
+                        let out = ev.step(&[x as u128]);
+                        if c >= stages as usize {
+                            got.push(out[0] as u64);
+                        }
+                    }
+                    for (x, z) in inputs.iter().zip(got) {
+                        let want = golden_model::transform::recip(gf, *x, golden_mode(mode));
+                        assert_eq!(z, want, "{fmt} {mode} s{stages}: 1/{x:#x}");
+                    }
+                }
+            }
+        }
+    }
+}
