@@ -13,7 +13,7 @@
 //! favourable choice for the baseline.
 
 use super::exact::{exact_inverse, inverse_entries, reference_origin, scene_builder_translation};
-use super::{conventional_origin, two_step_origin, DotStyle};
+use super::{conventional_origin, dot, invert_hw, two_step_origin, DotStyle};
 use crate::float::{convert, FloatFormat, RoundingMode};
 use std::fmt::Write as _;
 
@@ -181,6 +181,20 @@ pub struct StudyOptions {
     pub offsets: Vec<f64>,
     /// seed of the random origins and matrices
     pub seed: u64,
+    /// how both methods obtain `R⁻¹` (and the conventional `u`)
+    pub inverse: StudyInverse,
+}
+
+/// Where the study's inverse matrices come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StudyInverse {
+    /// the scene builder's: every entry of `R⁻¹` and of `u = −R⁻¹·T` exact,
+    /// rounded once
+    Exact,
+    /// computed in the format at run time: `R⁻¹` by [`super::invert_hw`] in
+    /// the two-step method's dot style; the conventional method's `S` by
+    /// `invert_hw` in the fma style and `u_i = −dot_fma(S[i][·], T)`
+    Hardware,
 }
 
 impl Default for StudyOptions {
@@ -194,6 +208,7 @@ impl Default for StudyOptions {
             random_points: 100,
             offsets: default_offsets(),
             seed: 1,
+            inverse: StudyInverse::Exact,
         }
     }
 }
@@ -287,21 +302,53 @@ struct Prepared {
     t: [u64; 3],
     t64: [f64; 3],
     inv_exact: super::exact::ExactInverse,
+    /// the conventional method's `S`
     inv: [u64; 9],
     u: [u64; 3],
+    /// the two-step method's `R⁻¹`, per style
+    inv_two: Vec<[u64; 9]>,
 }
 
 fn prepare(o: &StudyOptions, p: &Placement) -> Option<Prepared> {
     let (r, t) = forward(o.fmt, p);
     let inv_exact = exact_inverse(o.fmt, &r)?;
-    let inv = inverse_entries(o.fmt, o.mode, &inv_exact);
-    let u = scene_builder_translation(o.fmt, o.mode, &inv_exact, t)?;
+    let (inv, u, inv_two) = match o.inverse {
+        StudyInverse::Exact => {
+            let inv = inverse_entries(o.fmt, o.mode, &inv_exact);
+            let u = scene_builder_translation(o.fmt, o.mode, &inv_exact, t)?;
+            (inv, u, vec![inv; o.styles.len()])
+        }
+        StudyInverse::Hardware => {
+            let h = invert_hw(o.fmt, o.mode, DotStyle::Fma, &r, false);
+            if h.singular {
+                return None;
+            }
+            let s = h.inv;
+            let u = [0, 1, 2].map(|i| {
+                let d = dot(
+                    o.fmt,
+                    o.mode,
+                    DotStyle::Fma,
+                    [s[3 * i], s[3 * i + 1], s[3 * i + 2]],
+                    t,
+                );
+                d ^ o.fmt.sign_bit()
+            });
+            let two = o
+                .styles
+                .iter()
+                .map(|&st| invert_hw(o.fmt, o.mode, st, &r, false).inv)
+                .collect();
+            (s, u, two)
+        }
+    };
     Some(Prepared {
         t,
         t64: t.map(|x| to_f64(o.fmt, x)),
         inv_exact,
         inv,
         u,
+        inv_two,
     })
 }
 
@@ -325,10 +372,10 @@ fn measure(
             conventional_origin(o.fmt, o.mode, &m.inv, m.u, ow),
             reference,
         );
-        for (acc, &style) in two.iter_mut().zip(&o.styles) {
+        for ((acc, &style), inv) in two.iter_mut().zip(&o.styles).zip(&m.inv_two) {
             acc.push(
                 o.fmt,
-                two_step_origin(o.fmt, o.mode, style, &m.inv, m.t, ow),
+                two_step_origin(o.fmt, o.mode, style, inv, m.t, ow),
                 reference,
             );
         }
@@ -387,10 +434,14 @@ pub fn table(o: &StudyOptions, rows: &[Row]) -> String {
     for (k, style) in o.styles.iter().enumerate() {
         let _ = writeln!(
             s,
-            "two-step with dot style `{}`; conventional = one inverse matrix, 9 FMAs; format {}, {:?}\n",
+            "two-step with dot style `{}`; conventional = one inverse matrix, 9 FMAs; format {}, {:?}; inverse {}\n",
             style.word(),
             o.fmt,
-            o.mode
+            o.mode,
+            match o.inverse {
+                StudyInverse::Exact => "exact, rounded once (scene builder)",
+                StudyInverse::Hardware => "computed in the format (invert_hw; conventional u = -S*T by FMA)",
+            }
         );
         let _ = writeln!(
             s,

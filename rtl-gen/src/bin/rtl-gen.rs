@@ -241,6 +241,10 @@ enum Command {
         /// Seed of the random matrices and origins.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// How R^-1 (and the conventional u) are obtained: exact (scene builder, rounded
+        /// once) or hw (computed in the format, as the unit's inverse=hw does).
+        #[arg(long, default_value = "exact")]
+        inverse: String,
     },
 }
 
@@ -336,7 +340,8 @@ fn main() -> ExitCode {
             random,
             random_points,
             seed,
-        } => transform_accuracy(&format, &dot, points, random, random_points, seed),
+            inverse,
+        } => transform_accuracy(&format, &dot, points, random, random_points, seed, &inverse),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
@@ -721,6 +726,7 @@ fn transform_accuracy(
     random: usize,
     random_points: usize,
     seed: u64,
+    inverse: &str,
 ) -> Result<bool, FlowError> {
     use golden_model::transform::{accuracy, DotStyle};
     let bad = |m: String| FlowError::Params(rtl_gen::params::ParamError::Combination(m));
@@ -737,9 +743,15 @@ fn transform_accuracy(
         w => vec![DotStyle::parse(w)
             .ok_or_else(|| bad(format!("--dot {w}: expected separate, fma, dot3 or all")))?],
     };
+    let inverse = match inverse {
+        "exact" => accuracy::StudyInverse::Exact,
+        "hw" => accuracy::StudyInverse::Hardware,
+        w => return Err(bad(format!("--inverse {w}: expected exact or hw"))),
+    };
     let opts = accuracy::StudyOptions {
         fmt,
         styles,
+        inverse,
         points,
         random_matrices: random,
         random_points,
