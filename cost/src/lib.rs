@@ -4,5 +4,8 @@
 //! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
 #![warn(missing_docs)]
 
+pub mod accuracy;
+pub mod charts;
 pub mod shell;
+pub mod sweep;
 pub mod synth;

@@ -40,6 +40,30 @@ enum Cmd {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
+    Charts {
+        /// output directory
+        #[arg(long, default_value = "docs/charts")]
+        out: PathBuf,
+        /// cases per synthetic workload
+        #[arg(long, default_value_t = 200_000)]
+        cases: usize,
+        /// rays per mesh
+        #[arg(long, default_value_t = 2000)]
+        scene_rays: usize,
+        /// meshes (default: every OBJ in ../shared/scenes)
+        #[arg(long)]
+        mesh: Vec<PathBuf>,
+        /// skip place and route
+        #[arg(long)]
+        no_pnr: bool,
+        /// accuracy only
+        #[arg(long)]
+        no_synth: bool,
+        /// seed of every workload
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
 }
 
 fn main() -> ExitCode {
@@ -85,6 +109,53 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 None => {}
             }
         }
+        Cmd::Charts {
+            out,
+            cases,
+            scene_rays,
+            mesh,
+            no_pnr,
+            no_synth,
+            seed,
+        } => {
+            let meshes = if mesh.is_empty() {
+                default_meshes()
+            } else {
+                mesh
+            };
+            let o = cost::sweep::SweepOptions {
+                synth: SynthOptions {
+                    pnr: !no_pnr,
+                    ..Default::default()
+                },
+                cases,
+                scene_rays,
+                meshes,
+                seed,
+                no_synth,
+            };
+            let s = cost::sweep::run(&o)?;
+            cost::sweep::write(&s, &out)?;
+            for f in cost::charts::draw_all(&s, &out)? {
+                println!("wrote {}", f.display());
+            }
+            println!("wrote {}", out.join("sweep.json").display());
+            println!("wrote {}", out.join("tables.md").display());
+        }
     }
     Ok(())
+}
+
+/// The OBJ meshes of `../shared/scenes` (relative to the repository root).
+fn default_meshes() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
 }
