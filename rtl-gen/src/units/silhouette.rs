@@ -187,6 +187,26 @@ fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     m.not(any)
 }
 
+/// OR of `flags` (Bool), one reduction, named `name`.
+#[track_caller]
+fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
+    let v = m.cat(&bits);
+    let v = m.name(v, &format!("{name}_flags"));
+    let r = m.any_set(v);
+    m.name(r, name)
+}
+
+/// AND of `flags` (Bool), one reduction, named `name`.
+#[track_caller]
+fn all_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
+    let v = m.cat(&bits);
+    let v = m.name(v, &format!("{name}_flags"));
+    let r = m.all_ones(v);
+    m.name(r, name)
+}
+
 /// `v` is a NaN.
 #[track_caller]
 fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
@@ -482,7 +502,6 @@ pub fn corner_module(cfg: &Config, all: bool, product: u32, compare_stages: u32)
     for _ in 0..product {
         m.stage();
     }
-    let mut pass = m.bool(true);
     let mut oks = Vec::new();
     for k in 0..12 {
         let ok = le(&mut m, w, lhs[k], rhs[k]);
@@ -491,9 +510,7 @@ pub fn corner_module(cfg: &Config, all: bool, product: u32, compare_stages: u32)
     for _ in 0..compare_stages {
         m.stage();
     }
-    for ok in oks {
-        pass = m.and(pass, ok);
-    }
+    let pass = all_of(&mut m, &oks, "pass");
     m.output("pass", pass);
     Arc::new(
         m.finish()
@@ -556,51 +573,40 @@ pub fn build(cfg: &Config) -> Module {
         read.extend(&o_hi);
     }
     read.extend([t_min, t_max]);
-    let mut nan = m.bool(false);
-    for v in read {
-        let n = is_nan(&mut m, f, v);
-        nan = m.or(nan, n);
-    }
-    let nan = m.name(nan, "nan_in");
-    let mut bad = m.bool(false);
+    let nans: Vec<Sig> = read.iter().map(|&v| is_nan(&mut m, f, v)).collect();
+    let nan = any_of(&mut m, &nans, "nan_in");
+    let mut bad = Vec::new();
     for i in 0..3 {
         let mut vals = vec![o_lo[i], d_lo[i], d_hi[i]];
         if bounded {
             vals.push(o_hi[i]);
         }
         for v in vals {
-            let inf = is_any_inf(&mut m, f, v);
-            bad = m.or(bad, inf);
+            bad.push(is_any_inf(&mut m, f, v));
         }
         let d_ok = le(&mut m, f, d_lo[i], d_hi[i]);
-        let d_bad = m.not(d_ok);
-        bad = m.or(bad, d_bad);
+        bad.push(m.not(d_ok));
         if bounded {
             // shared mode: o_lo <= o_lo holds for every non-NaN value
             let o_ok = le(&mut m, f, o_lo[i], o_hi[i]);
-            let o_bad = m.not(o_ok);
-            bad = m.or(bad, o_bad);
+            bad.push(m.not(o_ok));
         }
     }
+    let bad = any_of(&mut m, &bad, "bad_bounds");
     let not_nan = m.not(nan);
     let invalid = m.and(bad, not_nan);
     let invalid = m.name(invalid, "invalid_in");
     let t_ok = le(&mut m, f, t_min, t_max);
-    let mut empty = m.not(t_ok);
-    let t_min_pinf = is_inf(&mut m, f, t_min, false);
-    let t_max_ninf = is_inf(&mut m, f, t_max, true);
-    empty = m.or(empty, t_min_pinf);
-    empty = m.or(empty, t_max_ninf);
+    let mut empty = vec![m.not(t_ok)];
+    empty.push(is_inf(&mut m, f, t_min, false));
+    empty.push(is_inf(&mut m, f, t_max, true));
     for i in 0..3 {
         let p_ok = le(&mut m, f, p_min[i], p_max[i]);
-        let p_bad = m.not(p_ok);
-        let lo_pinf = is_inf(&mut m, f, p_min[i], false);
-        let hi_ninf = is_inf(&mut m, f, p_max[i], true);
-        empty = m.or(empty, p_bad);
-        empty = m.or(empty, lo_pinf);
-        empty = m.or(empty, hi_ninf);
+        empty.push(m.not(p_ok));
+        empty.push(is_inf(&mut m, f, p_min[i], false));
+        empty.push(is_inf(&mut m, f, p_max[i], true));
     }
-    let empty = m.name(empty, "empty");
+    let empty = any_of(&mut m, &empty, "empty");
 
     // Steps 2 and 3: per axis, mirror and form the numerators.
     let axis = axis_module(cfg, plan.diff);
@@ -637,12 +643,8 @@ pub fn build(cfg: &Config) -> Module {
     for _ in 0..plan.diff {
         m.stage();
     }
-    let mut mixed = m.bool(false);
-    for i in 0..3 {
-        let both = m.and(neg[i], pos[i]);
-        mixed = m.or(mixed, both);
-    }
-    let mixed = m.name(mixed, "mixed");
+    let straddles: Vec<Sig> = (0..3).map(|i| m.and(neg[i], pos[i])).collect();
+    let mixed = any_of(&mut m, &straddles, "mixed");
 
     // Step 4: the two corner tests, in parallel.
     let mut pass = Vec::new();

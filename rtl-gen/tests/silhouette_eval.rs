@@ -1,0 +1,157 @@
+//! IR-evaluator cross-check of `silhouette` and `slab` against their golden
+//! models (no Verilator): every origin mode and rounding policy, five
+//! formats, stage counts from 0 to 9, corner cases and random vectors, plus
+//! structural checks (latency, ports, module names, determinism).
+//!
+//! The evaluator recomputes a submodule for every read of one of its outputs
+//! and again at each clock, so a silhouette vector costs milliseconds here:
+//! the counts are kept small (the million-vector checks are in Verilator,
+//! `tests/silhouette_rtl.rs`).
+
+use rtl_gen::flow::{self, Generated, Testbench};
+
+fn gen(unit: &str, params: &[&str]) -> Generated {
+    let p: Vec<String> = params.iter().map(|s| s.to_string()).collect();
+    flow::generate(unit, &p).unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"))
+}
+
+/// A testbench whose vector `k` is vector `first + k` of the wrapped one.
+struct From<'a>(&'a dyn Testbench, u64);
+
+impl sim::Golden for From<'_> {
+    fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
+        self.0.eval(inputs, outputs)
+    }
+}
+
+impl sim::Stimulus for From<'_> {
+    fn vector(&self, seed: u64, index: u64, inputs: &mut [u64]) {
+        self.0.vector(seed, self.1 + index, inputs)
+    }
+}
+
+impl Testbench for From<'_> {}
+
+/// `corners` vectors from the start (strided over the whole corner list)
+/// and `random` vectors from far beyond the corners.
+fn check(unit: &str, params: &[&str], stages: u32, corners: u64, random: u64) {
+    let g = gen(unit, params);
+    assert_eq!(g.module.latency, stages, "{}", g.module.name);
+    let tb = g.testbench();
+    for (first, n) in [(0, corners), (1_000_000, random)] {
+        let r = g.evaluate(&From(tb.as_ref(), first), n, 5);
+        eprintln!("{} from {first}: {r}", g.module.name);
+        assert_eq!(
+            (r.vectors, r.mismatches),
+            (n, 0),
+            "{} from vector {first}: {r}",
+            g.module.name
+        );
+    }
+}
+
+#[test]
+fn silhouette_binary16_shared_conservative() {
+    check(
+        "silhouette",
+        &["exp_bits=5", "frac_bits=10", "stages=4"],
+        4,
+        250,
+        500,
+    );
+}
+
+#[test]
+fn silhouette_bfloat16_bounded_conservative() {
+    let p = ["exp_bits=8", "frac_bits=7", "origin=bounded", "stages=3"];
+    check("silhouette", &p, 3, 250, 500);
+}
+
+#[test]
+fn silhouette_e4m3_shared_nearest_combinational() {
+    let p = ["exp_bits=4", "frac_bits=3", "rounding=nearest", "stages=0"];
+    check("silhouette", &p, 0, 250, 500);
+}
+
+#[test]
+fn silhouette_e6m9_bounded_nearest_deep() {
+    let p = [
+        "exp_bits=6",
+        "frac_bits=9",
+        "origin=bounded",
+        "rounding=nearest",
+        "stages=9",
+    ];
+    check("silhouette", &p, 9, 200, 400);
+}
+
+#[test]
+fn silhouette_binary32_shared_conservative() {
+    check("silhouette", &["stages=2"], 2, 100, 200);
+}
+
+#[test]
+fn slab_binary32_and_binary16() {
+    check("slab", &["stages=4"], 4, 2000, 2000);
+    check(
+        "slab",
+        &["exp_bits=5", "frac_bits=10", "stages=0"],
+        0,
+        2000,
+        2000,
+    );
+}
+
+#[test]
+fn ports_names_latency_and_determinism() {
+    let g = gen("silhouette", &["origin=bounded", "stages=5"]);
+    assert_eq!(g.module.name, "silhouette_e8m23_bounded_cons_s5");
+    let ins: Vec<&str> = g.ports.inputs.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(ins.len(), 20);
+    assert_eq!(&ins[9..12], &["o_hi_x", "o_hi_y", "o_hi_z"]);
+    assert!(g.ports.inputs.iter().all(|p| p.width == 32));
+    let outs: Vec<&str> = g.ports.outputs.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(outs, ["all_hit", "any_hit", "nan", "invalid", "mixed_sign"]);
+    let shared = gen("silhouette", &["exp_bits=5", "frac_bits=10", "stages=0"]);
+    assert_eq!(shared.module.name, "silhouette_e5m10_shared_cons_s0");
+    assert_eq!(shared.ports.inputs.len(), 17);
+    assert!(!shared
+        .ports
+        .inputs
+        .iter()
+        .any(|p| p.name.starts_with("o_hi")));
+    for s in 0..=16 {
+        let g = gen(
+            "silhouette",
+            &["exp_bits=4", "frac_bits=3", &format!("stages={s}")],
+        );
+        assert_eq!(g.module.latency, s);
+        let g = gen(
+            "slab",
+            &["exp_bits=4", "frac_bits=3", &format!("stages={s}")],
+        );
+        assert_eq!(g.module.latency, s);
+    }
+    let a = gen("silhouette", &["stages=3", "rounding=nearest"]);
+    let b = gen("silhouette", &["rounding=nearest", "stages=3"]);
+    assert_eq!(a.files, b.files);
+    let top = a.files.last().unwrap();
+    assert!(top.text.contains("u_corner_all") && top.text.contains("u_axis_z"));
+    let slab = gen("slab", &[]);
+    let outs: Vec<&str> = slab.ports.outputs.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(outs, ["hit", "t_enter", "t_exit"]);
+}
+
+#[test]
+fn formats_without_an_exact_product_format_are_clear_errors() {
+    let err = flow::generate("silhouette", &["exp_bits=9".into(), "frac_bits=26".into()])
+        .err()
+        .expect("must fail")
+        .to_string();
+    assert!(err.contains("frac_bits=26 is invalid"), "{err}");
+    let err = flow::generate("silhouette", &["origin=both".into()])
+        .err()
+        .expect("must fail")
+        .to_string();
+    assert!(err.contains("one of shared, bounded"), "{err}");
+}
