@@ -885,14 +885,16 @@ fn mismatch(
                 .replace("{seed}", &opts.seed.to_string()),
         );
     }
-    match &written {
-        Ok(()) => replay.push(format!(
+    // the traced variant is built (once, cached) only when something failed
+    match (&written, h.traced()) {
+        (Ok(()), Ok(traced)) => replay.push(format!(
             "{} --vcd {} < {}",
-            shell_quote(&h.binary().display().to_string()),
+            shell_quote(&traced.binary().display().to_string()),
             shell_quote(&vcd.display().to_string()),
             shell_quote(&file.display().to_string())
         )),
-        Err(e) => replay.push(format!("(could not write the replay vector: {e})")),
+        (Ok(()), Err(e)) => replay.push(format!("(no traced harness for a direct replay: {e})")),
+        (Err(e), _) => replay.push(format!("(could not write the replay vector: {e})")),
     }
     Mismatch {
         index,
@@ -927,6 +929,14 @@ pub fn replay(h: &Harness, inputs: &[u64], vcd: Option<&Path>) -> Result<Vec<u64
     }
     w.write_record(inputs)?;
     let bytes = w.finish()?;
+    let traced;
+    let h = match vcd {
+        Some(_) if !h.is_traced() => {
+            traced = h.traced()?;
+            &traced
+        }
+        _ => h,
+    };
     let mut cmd = h.command();
     if let Some(v) = vcd {
         cmd.arg("--vcd").arg(v);

@@ -18,7 +18,8 @@ use crate::ports::PortList;
 pub const HARNESS_SOURCE: &str = include_str!("../../verilator/harness.cpp");
 
 /// Verilator options every harness is built with, besides `--top-module`,
-/// the sources and the build directory. All of them enter the cache key.
+/// the sources, the build directory and the [`variant_flags`]. All of them
+/// enter the cache key.
 pub const VERILATOR_FLAGS: &[&str] = &[
     "--cc",
     "--exe",
@@ -28,18 +29,35 @@ pub const VERILATOR_FLAGS: &[&str] = &[
     "fast",
     "--x-initial",
     "fast",
-    // Tracing code is compiled in but costs nothing measurable until
-    // `--vcd` switches it on, so one binary serves checks and replays.
-    "--trace",
     // A fixed class name lets one harness.cpp include any design.
     "--prefix",
     "Vdut",
-    // Verilator's makefile defaults to -Os; -O3 on the model and runtime
-    // measured 1.7x faster simulation for a 3-stage multiply-compare, for
-    // about two seconds more build time.
-    "-MAKEFLAGS",
-    "OPT_FAST=-O3 OPT_GLOBAL=-O3",
 ];
+
+/// Designs whose Verilog is larger than this are compiled with cheaper C++
+/// optimisation: for the big float units, `-O3` took 3 to 5 times as long to
+/// compile as `-O1` for a simulation speed that 1,000,000 vectors do not need.
+pub const LARGE_DESIGN_BYTES: usize = 48 * 1024;
+
+/// Flags that depend on the build variant: tracing (only for replays with a
+/// VCD, since the trace code roughly doubles the C++ to compile) and the C++
+/// optimisation level (by design size). Part of the cache key.
+pub fn variant_flags(traced: bool, source_bytes: usize) -> Vec<String> {
+    let mut flags = Vec::new();
+    if traced {
+        flags.push("--trace".to_string());
+    }
+    // Verilator's makefile defaults to -Os; -O3 measured 1.7x faster
+    // simulation for a 3-stage multiply-compare, which small designs keep.
+    let opt = if source_bytes <= LARGE_DESIGN_BYTES {
+        "OPT_FAST=-O3 OPT_GLOBAL=-O3 OPT_SLOW=-O1"
+    } else {
+        "OPT_FAST=-O1 OPT_GLOBAL=-O1 OPT_SLOW=-O0"
+    };
+    flags.push("-MAKEFLAGS".to_string());
+    flags.push(opt.to_string());
+    flags
+}
 
 /// Name of the harness executable inside a cache entry.
 pub const BINARY_NAME: &str = "rtl_harness";
@@ -228,6 +246,9 @@ pub struct Harness {
     key: String,
     cached: bool,
     build_time: Duration,
+    traced: bool,
+    /// design directory and cache root, to build the traced variant on demand
+    source: Option<(PathBuf, PathBuf)>,
 }
 
 /// Distinguishes concurrent temporary build directories of one process.
@@ -246,6 +267,35 @@ impl Harness {
     /// reuses the cache entry `cache_root/<key>` when one exists (see
     /// [`Harness::cache_key`]).
     pub fn build(ports: &PortList, dir: &Path, cache_root: &Path) -> Result<Harness, SimError> {
+        Harness::build_variant(ports, dir, cache_root, false)
+    }
+
+    /// The same design built with `--trace`, for replays that write a VCD.
+    /// Built (and cached) on first use.
+    pub fn traced(&self) -> Result<Harness, SimError> {
+        if self.traced {
+            return Ok(self.clone());
+        }
+        let (dir, cache_root) = self.source.as_ref().ok_or_else(|| {
+            SimError::Invalid(format!(
+                "the harness {} was not built from sources, so it has no traced variant",
+                self.binary.display()
+            ))
+        })?;
+        Harness::build_variant(&self.ports, dir, cache_root, true)
+    }
+
+    /// True if this harness can write a VCD (`--vcd`).
+    pub fn is_traced(&self) -> bool {
+        self.traced
+    }
+
+    fn build_variant(
+        ports: &PortList,
+        dir: &Path,
+        cache_root: &Path,
+        traced: bool,
+    ) -> Result<Harness, SimError> {
         let started = Instant::now();
         // Absolute, so that the binary path in replay commands works from
         // any directory.
@@ -260,7 +310,8 @@ impl Harness {
             sources,
             inc,
             version,
-        } = BuildInputs::gather(ports, dir)?;
+            flags,
+        } = BuildInputs::gather(ports, dir, traced)?;
         let entry = cache_root.join(&key);
         let binary = entry.join(BINARY_NAME);
         let make = |cached| Harness {
@@ -270,6 +321,8 @@ impl Harness {
             key: key.clone(),
             cached,
             build_time: started.elapsed(),
+            traced,
+            source: Some((dir.to_path_buf(), cache_root.to_path_buf())),
         };
         if binary.is_file() {
             return Ok(make(true));
@@ -289,7 +342,7 @@ impl Harness {
             std::process::id(),
             BUILD_COUNTER.fetch_add(1, Ordering::Relaxed)
         ));
-        let result = build_in(&tmp, ports, &sources, &inc, &version, &key);
+        let result = build_in(&tmp, ports, &sources, &inc, &version, &key, &flags);
         if let Err(e) = result {
             // Keep the failed build for inspection, replacing an older one.
             let failed = cache_root.join(format!("{key}.failed"));
@@ -331,7 +384,7 @@ impl Harness {
     /// the executable (the Verilog contents, the port list, the harness
     /// source, `verilator --version`, the build flags and `$CXX`).
     pub fn cache_key(ports: &PortList, dir: &Path) -> Result<String, SimError> {
-        Ok(BuildInputs::gather(ports, dir)?.key)
+        Ok(BuildInputs::gather(ports, dir, false)?.key)
     }
 
     /// Wraps an existing harness executable built for `ports`, such as a
@@ -346,6 +399,9 @@ impl Harness {
             key: String::new(),
             cached: true,
             build_time: Duration::ZERO,
+            // a stand-in may or may not trace; `--vcd` tells at run time
+            traced: true,
+            source: None,
         })
     }
 
@@ -423,10 +479,11 @@ struct BuildInputs {
     sources: Vec<(String, Vec<u8>)>,
     inc: String,
     version: String,
+    flags: Vec<String>,
 }
 
 impl BuildInputs {
-    fn gather(ports: &PortList, dir: &Path) -> Result<BuildInputs, SimError> {
+    fn gather(ports: &PortList, dir: &Path, traced: bool) -> Result<BuildInputs, SimError> {
         ports.validate()?;
         let version = verilator_version()?;
         let mut sources = Vec::with_capacity(ports.files.len());
@@ -450,7 +507,13 @@ impl BuildInputs {
             .item(inc.as_bytes())
             .item(ports.to_json().as_bytes())
             .item(version.as_bytes());
-        for f in VERILATOR_FLAGS {
+        let source_bytes = sources.iter().map(|(_, text)| text.len()).sum();
+        let flags = variant_flags(traced, source_bytes);
+        for f in VERILATOR_FLAGS
+            .iter()
+            .copied()
+            .chain(flags.iter().map(String::as_str))
+        {
             h.item(f.as_bytes());
         }
         // The C++ compiler make will use is part of the toolchain too.
@@ -463,6 +526,7 @@ impl BuildInputs {
             sources,
             inc,
             version,
+            flags,
         })
     }
 }
@@ -475,6 +539,7 @@ fn build_in(
     inc: &str,
     version: &str,
     key: &str,
+    flags: &[String],
 ) -> Result<(), SimError> {
     let io = |what: &str, p: &Path, e| SimError::io(format!("{what} {}", p.display()), e);
     let _ = fs::remove_dir_all(tmp);
@@ -510,6 +575,7 @@ fn build_in(
         .unwrap_or(1)
         .to_string();
     let mut args: Vec<String> = VERILATOR_FLAGS.iter().map(|s| s.to_string()).collect();
+    args.extend(flags.iter().cloned());
     args.extend(
         [
             "--top-module",
@@ -549,7 +615,7 @@ fn build_in(
         "format": CACHE_FORMAT,
         "top": ports.top,
         "verilator": version,
-        "flags": VERILATOR_FLAGS,
+        "flags": VERILATOR_FLAGS.iter().map(|s| s.to_string()).chain(flags.iter().cloned()).collect::<Vec<_>>(),
         "sources": names,
     });
     write("manifest.json", &format!("{manifest:#}\n"))
