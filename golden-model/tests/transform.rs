@@ -261,8 +261,8 @@ fn hardware_inverse_is_within_a_few_ulps_of_the_exact_one_when_well_conditioned(
             assert!(!h.singular);
             let exact = scene_builder_inverse(F, RNE, &r);
             let norm = exact.iter().map(|&x| v(x).abs()).fold(0.0, f64::max);
-            for k in 0..9 {
-                let err = (v(h.inv[k]) - v(exact[k])).abs() / (norm * f32::EPSILON as f64);
+            for (&got, &want) in h.inv.iter().zip(&exact) {
+                let err = (v(got) - v(want)).abs() / (norm * f32::EPSILON as f64);
                 worst = worst.max(err);
             }
         }

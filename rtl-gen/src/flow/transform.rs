@@ -268,7 +268,7 @@ impl TransformBench {
         let (index, is_origin) = if self.full {
             (index, true)
         } else {
-            (index / 2, index % 2 == 0)
+            (index / 2, index.is_multiple_of(2))
         };
         let per = self.rays_per_instance();
         let inst = self.instances[(index / per) as usize];
@@ -455,3 +455,53 @@ impl sim::Stimulus for TransformBench {
 }
 
 impl Testbench for TransformBench {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sim::{Golden, Stimulus};
+
+    /// The stimulus reaches both sides of the flag, NaN and infinite
+    /// results, exact zeros (origin at `T`) and, with `inverse=hw`, the hint.
+    #[test]
+    fn stimulus_covers_flag_specials_and_hint() {
+        for given in [&["inverse=pre"][..], &["inverse=hw", "throughput=half"][..]] {
+            let given: Vec<String> = given.iter().map(|s| s.to_string()).collect();
+            let spec = crate::units::transform::Transform;
+            let p =
+                Params::resolve("transform", crate::units::Unit::params(&spec), &given).unwrap();
+            let tb = TransformBench::new(&p);
+            let fmt = tb.cfg.fmt;
+            // ray part (6, or vector + is_origin), t_min, t_max, id, 9 + 3 matrix, hint
+            let n_in = if tb.full { 6 } else { 4 }
+                + 3
+                + 12
+                + (tb.cfg.source == InverseSource::Hardware) as usize;
+            let n_out = if tb.full { 10 } else { 7 };
+            let (mut v, mut o) = (vec![0u64; n_in], vec![0u64; n_out]);
+            let (mut singular, mut nan, mut inf, mut zero, mut hint) = (0, 0, 0, 0, 0);
+            let total = 50_000u64;
+            for i in 0..total {
+                tb.vector(3, i, &mut v);
+                tb.eval(&v, &mut o);
+                singular += (o[n_out - 1] == 1) as u64;
+                let vecs = &o[..n_out - 4];
+                nan += (o[n_out - 1] == 0 && vecs.iter().any(|&x| fmt.is_nan(x))) as u64;
+                inf += vecs.iter().any(|&x| x & !fmt.sign_bit() == fmt.inf(false)) as u64;
+                zero += (o[n_out - 1] == 0 && vecs[..3].iter().all(|&x| x & !fmt.sign_bit() == 0))
+                    as u64;
+                hint += (tb.cfg.source == InverseSource::Hardware && v[n_in - 1] == 1) as u64;
+            }
+            let pct = |x: u64| 100.0 * x as f64 / total as f64;
+            eprintln!(
+                "{given:?}: corners {}, singular {:.1}%, NaN without flag {:.1}%, inf {:.1}%, zero vector {:.1}%, hint {:.1}%",
+                tb.corner_count(), pct(singular), pct(nan), pct(inf), pct(zero), pct(hint)
+            );
+            assert!(pct(singular) > 1.0 && pct(singular) < 30.0);
+            assert!(nan > 100 && inf > 100 && zero > 100);
+            if tb.cfg.source == InverseSource::Hardware {
+                assert!(pct(hint) > 5.0);
+            }
+        }
+    }
+}
