@@ -212,3 +212,51 @@ fn comparisons_select_their_output_and_bad_lines_are_errors() {
         assert!(text(&o).contains(want), "{want}: {}", text(&o));
     }
 }
+
+#[test]
+fn testfloat_spelling_of_format_and_rounding_mode_is_accepted() {
+    let dir = std::env::temp_dir().join("rtl-gen-cli-testfloat-spelling");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // a + b rounded toward -inf, from f64 (exact for these binary32 operands) with
+    // the rounding done by hand: 1 + 2^-30 lies between 1 and 1 + 2^-23
+    let cases = [
+        line(0x3f80_0000, 0x4000_0000, 0x4040_0000), // 1 + 2 = 3 exactly
+        line(0x3f80_0000, 0x3080_0000, 0x3f80_0000), // 1 + 2^-30 -> 1 (down)
+        line(0xbf80_0000, 0xb080_0000, 0xbf80_0001), // -1 - 2^-30 -> -(1 + 2^-23) (down)
+    ]
+    .join("\n");
+    let args = [
+        "check",
+        "fadd",
+        "--format",
+        "binary32",
+        "--round",
+        "down",
+        "--testfloat",
+        "-",
+    ];
+    let o = rtl_gen_piped(&dir, &args, &cases);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("fadd_e8m23_rdn"), "{}", text(&o));
+    let o = rtl_gen_piped(
+        &dir,
+        &[
+            "check",
+            "fadd",
+            "--format",
+            "e8m23",
+            "--round",
+            "near_maxMag",
+            "--testfloat",
+            "-",
+        ],
+        &cases,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("near_maxMag and odd rounding are not implemented"),
+        "{}",
+        text(&o)
+    );
+}

@@ -32,6 +32,64 @@ struct UnitArgs {
     /// Parameter as key=value; repeat for several. Unset parameters take their defaults.
     #[arg(short, long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
+    /// Float units: shorthand for exp_bits/frac_bits: binary16, binary32, binary64,
+    /// bfloat16, or eXmY (e.g. e6m9).
+    #[arg(long, value_name = "FORMAT")]
+    format: Option<String>,
+    /// Float units: shorthand for round=...: rne|rtz|rdn|rup, or TestFloat's names
+    /// near_even, minMag, min, max (also nearest, zero, down, up).
+    #[arg(long, value_name = "MODE")]
+    round: Option<String>,
+}
+
+impl UnitArgs {
+    /// `--param` values plus the ones `--format` and `--round` stand for.
+    fn all_params(&self) -> Result<Vec<String>, FlowError> {
+        let mut params = self.params.clone();
+        if let Some(f) = &self.format {
+            let (e, m) = float_format(f).ok_or_else(|| {
+                bad_usage(format!(
+                    "--format {f}: expected binary16, binary32, binary64, bfloat16 or eXmY"
+                ))
+            })?;
+            params.push(format!("exp_bits={e}"));
+            params.push(format!("frac_bits={m}"));
+        }
+        if let Some(r) = &self.round {
+            let mode = match r.as_str() {
+                "rne" | "near_even" | "nearest" => "rne",
+                "rtz" | "minMag" | "zero" => "rtz",
+                "rdn" | "min" | "down" => "rdn",
+                "rup" | "max" | "up" => "rup",
+                "dyn" => "dyn",
+                other => return Err(bad_usage(format!(
+                    "--round {other}: expected rne|rtz|rdn|rup (or near_even, minMag, min, max); \
+                         near_maxMag and odd rounding are not implemented"
+                ))),
+            };
+            params.push(format!("round={mode}"));
+        }
+        Ok(params)
+    }
+
+    /// Builds and emits the unit with these parameters.
+    fn generate(&self) -> Result<Generated, FlowError> {
+        flow::generate(&self.unit, &self.all_params()?)
+    }
+}
+
+/// (exponent bits, fraction bits) of a format name.
+fn float_format(name: &str) -> Option<(u32, u32)> {
+    match name {
+        "binary16" | "f16" => Some((5, 10)),
+        "binary32" | "f32" => Some((8, 23)),
+        "binary64" | "f64" => Some((11, 52)),
+        "bfloat16" | "bf16" => Some((8, 7)),
+        _ => {
+            let (e, m) = name.strip_prefix('e')?.split_once('m')?;
+            Some((e.parse().ok()?, m.parse().ok()?))
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -376,7 +434,7 @@ fn emit(unit: &UnitArgs, out: &PathBuf, period: f64) -> Result<bool, FlowError> 
             format!("--clock-period-ns must be a positive number of nanoseconds, got {period}"),
         )));
     }
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     for path in g.write(out, period)? {
         println!("wrote {}", path.display());
     }
@@ -474,7 +532,7 @@ fn check(
         Some(n) => n,
         None => regress::all_cores(),
     };
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let mut base = RunReport::new("check", &g);
     base.seed = Some(seed);
     base.total_vectors = vectors;
@@ -549,7 +607,7 @@ fn sim_file(
     cache: Option<PathBuf>,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let mut base = RunReport::new("sim", &g);
     base.input = Some(files.input.display().to_string());
     with_reports(base, reports, |report| {
@@ -573,7 +631,7 @@ fn sim_file(
 }
 
 fn golden_file(unit: &UnitArgs, files: &FileArgs, reports: &ReportArgs) -> Result<bool, FlowError> {
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let mut base = RunReport::new("golden", &g);
     base.input = Some(files.input.display().to_string());
     with_reports(base, reports, |report| {
@@ -614,7 +672,7 @@ fn write_vectors(
     seed: u64,
     out: &std::path::Path,
 ) -> Result<bool, FlowError> {
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let tb = g.testbench();
     let format = byo::write_stimulus(&g, tb.as_ref(), seed, first, count, out)?;
     let word = match format {
@@ -695,7 +753,7 @@ fn replay(
     out: Option<PathBuf>,
     cache: Option<PathBuf>,
 ) -> Result<bool, FlowError> {
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let dir = out_dir(&g, out);
     g.write(&dir, 10.0)?;
     let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
@@ -773,7 +831,7 @@ fn check_testfloat(
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
     use rtl_gen::flow::testfloat;
-    let g = flow::generate(&unit.unit, &unit.params)?;
+    let g = unit.generate()?;
     let map = testfloat::Mapping::for_unit(&g, result).map_err(bad_usage)?;
     let mut base = RunReport::new("testfloat", &g);
     let name = if source == "-" { "<stdin>" } else { source };
