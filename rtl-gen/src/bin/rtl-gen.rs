@@ -62,10 +62,12 @@ impl UnitArgs {
                 "rdn" | "min" | "down" => "rdn",
                 "rup" | "max" | "up" => "rup",
                 "dyn" => "dyn",
-                other => return Err(bad_usage(format!(
+                other => {
+                    return Err(bad_usage(format!(
                     "--round {other}: expected rne|rtz|rdn|rup (or near_even, minMag, min, max); \
                          near_maxMag and odd rounding are not implemented"
-                ))),
+                )))
+                }
             };
             params.push(format!("round={mode}"));
         }
@@ -415,16 +417,22 @@ fn list() {
     for entry in flow::catalog() {
         let u = entry.unit;
         println!("{}: {}", u.name(), u.summary());
-        for p in u.params() {
-            let range = match p.kind {
-                ParamKind::Int { min, max } => format!("{min}..={max}"),
-                ParamKind::Choice(words) => words.join(" | "),
-            };
-            println!(
-                "    {:<10} {:<12} default {:<6} {}",
-                p.name, range, p.default, p.doc
-            );
+        let rows: Vec<(String, &str)> = u
+            .params()
+            .iter()
+            .map(|p| {
+                let range = match p.kind {
+                    ParamKind::Int { min, max } => format!("{min}..={max}"),
+                    ParamKind::Choice(words) => words.join("|"),
+                };
+                (format!("{}={range} [{}]", p.name, p.default), p.doc)
+            })
+            .collect();
+        let width = rows.iter().map(|(head, _)| head.len()).max().unwrap_or(0);
+        for (head, doc) in rows {
+            println!("    {head:<width$}  {doc}");
         }
+        println!();
     }
 }
 
