@@ -2,6 +2,6 @@
 //! logic to the module being built, or builds a module of its own to be
 //! instantiated; none touches the emitter.
 
-pub mod int;
 pub mod float;
+pub mod int;
 pub mod recip;

@@ -6,9 +6,6 @@
 
 pub mod byo;
 pub mod cull;
-pub mod mulcmp;
-pub mod silhouette;
-pub mod slab;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;
@@ -20,8 +17,11 @@ pub mod fmul;
 pub mod fmul_exact;
 pub mod fstim;
 pub mod funpack;
+pub mod mulcmp;
 pub mod regress;
 pub mod report;
+pub mod silhouette;
+pub mod slab;
 pub mod stimulus;
 pub mod testfloat;
 pub mod transform;

@@ -1,9 +1,6 @@
 //! The units the generator offers, each with its parameters.
 
 pub mod cull;
-pub mod mulcmp;
-pub mod silhouette;
-pub mod slab;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;
@@ -15,6 +12,9 @@ pub mod fminmax;
 pub mod fmul;
 pub mod fmul_exact;
 pub mod funpack;
+pub mod mulcmp;
+pub mod silhouette;
+pub mod slab;
 pub mod transform;
 
 use crate::ir::Module;
