@@ -11,6 +11,7 @@ pub mod bvh;
 pub mod hybrid;
 pub mod mesh;
 pub mod render;
+pub mod rtl;
 pub mod scene;
 pub mod stats;
 pub mod tester;

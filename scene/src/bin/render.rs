@@ -79,6 +79,21 @@ enum Cmd {
         #[arg(long, default_value_t = 64)]
         rays_per_step: usize,
     },
+    /// RTL in the loop: record every box test of a (small) golden render, run
+    /// them through the Verilated binary32 silhouette units (shared- and
+    /// bounded-origin, one stream each), render again answering every box test
+    /// from the RTL outputs and check the image is bit-identical.
+    RtlLoop {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG (the image answered by the RTL)
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// directory for the generated Verilog and the vector streams
+        /// (default: target/rtl-loop/<pid>)
+        #[arg(long)]
+        work: Option<PathBuf>,
+    },
     /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same run.
     Bench {
         #[command(flatten)]
@@ -232,6 +247,39 @@ fn run(cli: Cli) -> Result<(), String> {
                 if !same {
                     return Err(format!("{name}: asynchronous image differs"));
                 }
+            }
+        }
+        Cmd::RtlLoop { c, out, work } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let work = work.unwrap_or_else(scene::rtl::default_work_dir);
+            eprintln!(
+                "building (or finding in {}) the Verilated silhouette harnesses; a first build takes minutes",
+                sim::default_cache_root().display()
+            );
+            let r = scene::rtl::rtl_loop(&s, &acc, opts, w, h, &work, true)?;
+            if let Some(out) = &out {
+                r.rtl.save_png(out)?;
+            }
+            println!(
+                "{} {}x{}, bundles {}: {} rays; golden render {:.2} s, RTL-answered render {:.2} s{}\n",
+                s.path.display(),
+                w,
+                h,
+                if opts.bundles.enabled {
+                    format!("≤ {}", opts.bundles.max_size)
+                } else {
+                    "off".into()
+                },
+                r.golden.rays(),
+                r.golden.time.as_secs_f64(),
+                r.rtl.time.as_secs_f64(),
+                out.map(|o| format!(" -> {}", o.display()))
+                    .unwrap_or_default()
+            );
+            println!("{r}");
+            if !r.ok() {
+                return Err("RTL in the loop: the RTL-answered render differs".into());
             }
         }
         Cmd::Bench { c } => {
