@@ -6,6 +6,7 @@
 
 pub mod accuracy;
 pub mod charts;
+pub mod fit;
 pub mod shell;
 pub mod sweep;
 pub mod synth;

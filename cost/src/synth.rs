@@ -49,6 +49,8 @@ pub struct SynthOptions {
     pub target_mhz: f64,
     /// cache directory (`None`: no cache)
     pub cache: Option<PathBuf>,
+    /// report only what the cache holds (no tool runs)
+    pub cached_only: bool,
 }
 
 impl Default for SynthOptions {
@@ -61,6 +63,7 @@ impl Default for SynthOptions {
             flat: false,
             target_mhz: 12.0,
             cache: Some(default_cache()),
+            cached_only: false,
         }
     }
 }
@@ -322,6 +325,9 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
                 return Ok(r);
             }
         }
+    }
+    if o.cached_only {
+        return Err(SynthError(format!("{}: not in the cache", g.module.name)));
     }
     let dir = scratch_dir(&g.module.name)?;
     let result = run_in(g, o, &dir);

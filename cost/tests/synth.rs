@@ -49,3 +49,31 @@ fn log_parsers() {
         Some(17)
     );
 }
+
+#[test]
+fn fit_suzanne_format_without_synthesis() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes/suzanne.obj");
+    let (mesh, _) = cost::fit::load(&path).expect("../shared/scenes beside the clone");
+    let o = cost::fit::FitOptions {
+        target_rate: 0.01,
+        target_mhz: 20.0,
+        rays: 100,
+        synth: false,
+        seed: 1,
+    };
+    let f = cost::fit::fit(&mesh, "suzanne", &o).unwrap();
+    assert!(
+        (4..=8).contains(&f.exp_bits) && (4..=23).contains(&f.frac_bits),
+        "{}",
+        f.report
+    );
+    assert!(f.report.contains("meets the target"));
+    rtl_gen::flow::generate("silhouette", &f.params).unwrap();
+}
+
+#[test]
+fn pareto_front_keeps_undominated_points() {
+    let f = cost::charts::pareto_front(&[(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0)]);
+    assert_eq!(f, vec![(1.0, 5.0), (2.0, 3.0), (4.0, 1.0)]);
+}

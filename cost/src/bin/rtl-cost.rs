@@ -40,6 +40,29 @@ enum Cmd {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Smallest silhouette format and stage count for a scene or mesh; emits the RTL, SDC and a report
+    Fit {
+        /// OBJ mesh, or TOML scene with `mesh = "..."`
+        scene: PathBuf,
+        /// false-hit rate target (exclusive)
+        #[arg(long, default_value_t = 0.01)]
+        target_rate: f64,
+        /// target Fmax, MHz
+        #[arg(long, default_value_t = 20.0)]
+        fmax: f64,
+        /// rays traced through the scene
+        #[arg(long, default_value_t = 500)]
+        rays: usize,
+        /// do not run Yosys (stages = the default 4)
+        #[arg(long)]
+        no_synth: bool,
+        /// output directory (Verilog, ports, SDC, fit-report.md)
+        #[arg(long)]
+        out: PathBuf,
+        /// seed
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -60,6 +83,9 @@ enum Cmd {
         /// accuracy only
         #[arg(long)]
         no_synth: bool,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
         /// seed of every workload
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -109,6 +135,34 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 None => {}
             }
         }
+        Cmd::Fit {
+            scene,
+            target_rate,
+            fmax,
+            rays,
+            no_synth,
+            out,
+            seed,
+        } => {
+            let (mesh, path) = cost::fit::load(&scene)?;
+            let name = path.display().to_string();
+            let o = cost::fit::FitOptions {
+                target_rate,
+                target_mhz: fmax,
+                rays,
+                synth: !no_synth,
+                seed,
+            };
+            let f = cost::fit::fit(&mesh, &name, &o)?;
+            let g = rtl_gen::flow::generate("silhouette", &f.params)?;
+            for p in g.write(&out, 1000.0 / fmax)? {
+                println!("wrote {}", p.display());
+            }
+            let rp = out.join("fit-report.md");
+            std::fs::write(&rp, &f.report)?;
+            println!("{}", f.report);
+            println!("wrote {}", rp.display());
+        }
         Cmd::Charts {
             out,
             cases,
@@ -116,6 +170,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             mesh,
             no_pnr,
             no_synth,
+            cached_only,
             seed,
         } => {
             let meshes = if mesh.is_empty() {
@@ -126,6 +181,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let o = cost::sweep::SweepOptions {
                 synth: SynthOptions {
                     pnr: !no_pnr,
+                    cached_only,
                     ..Default::default()
                 },
                 cases,
