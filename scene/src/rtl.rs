@@ -45,6 +45,9 @@ pub const SHARED_PARAMS: [&str; 4] = ["exp_bits=8", "frac_bits=23", "origin=shar
 /// `tests/silhouette_rtl.rs`.
 pub const BOUNDED_PARAMS: [&str; 4] = ["exp_bits=8", "frac_bits=23", "origin=bounded", "stages=2"];
 
+/// The unit's output ports, in the bit order of `Out::to_bits`.
+pub const OUTPUTS: [&str; 5] = ["all_hit", "any_hit", "nan", "invalid", "mixed_sign"];
+
 /// Which silhouette unit a box test goes to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Unit {
@@ -199,6 +202,13 @@ impl UnitHarness {
         g.write(&dir, 10.0).map_err(|e| e.to_string())?;
         let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root())
             .map_err(|e| e.to_string())?;
+        let outs: Vec<&str> = g.ports.outputs.iter().map(|p| p.name.as_str()).collect();
+        if outs != OUTPUTS {
+            return Err(format!(
+                "{}: output ports {outs:?}, expected {OUTPUTS:?} (the packing of Out::to_bits)",
+                g.module.name
+            ));
+        }
         let bench = SilhouetteBench::new(&g.params);
         Ok(UnitHarness {
             generated: g,

@@ -1,4 +1,4 @@
-//! RTL in the loop: every box test of a cornell 24×24 render (single rays,
+//! RTL in the loop: every box test of a cornell 32×32 render (single rays,
 //! shared-origin and bounded-origin bundles) runs through the Verilated
 //! binary32 silhouette units (the configurations of `tests/silhouette_rtl.rs`,
 //! so their harness builds are shared through `target/rtl-cache`), and the
@@ -19,7 +19,7 @@ fn every_box_test_through_the_rtl_gives_the_identical_image() {
     let acc = Accel::build(&s, true);
     let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rtl_loop");
     let _ = std::fs::remove_dir_all(&work);
-    let (w, h) = (24, 24);
+    let (w, h) = (32, 32);
     let r = rtl_loop(&s, &acc, TraceOpts::default(), w, h, &work, false).expect("rtl loop runs");
     eprintln!("cornell {w}x{h}, {} rays\n{r}", r.golden.rays());
     assert!(
