@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod bringup;
 pub mod charts;
 pub mod fit;
 pub mod shell;
