@@ -15,6 +15,7 @@
 //! The wrapper has the unit's `clk` and synchronous active-high `rst`;
 //! [`board_top`] adds a power-on reset for boards without a reset pin.
 
+use rtl_gen::arith::int;
 use rtl_gen::builder::{ModuleBuilder, Sig};
 use rtl_gen::ir::{Module, Ty};
 use std::sync::Arc;
@@ -262,19 +263,17 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
         .param("out_bytes", n_out);
     let rx = m.input("rx", Ty::Bool);
 
-    // receive: bytes shift in from the top, so the first byte ends up lowest
+    // receive: a shift register of bytes; the first byte of a record ends up in in_buf0
     let urx = m.instance("u_rx", &uart_rx(cycles_per_bit), &[("rx", rx)]);
     let byte_valid = urx.get("valid").expect("uart_rx has valid");
     let byte = urx.get("data").expect("uart_rx has data");
-    let in_bits = 8 * n_in as u32;
-    let in_buf = m.reg("in_buf", Ty::UInt(in_bits), None);
-    let shifted = if n_in == 1 {
-        byte
-    } else {
-        let keep = m.slice(in_buf.q, in_bits - 1, 8);
-        m.cat(&[byte, keep])
-    };
-    m.set_next(in_buf, shifted, Some(byte_valid));
+    let in_buf: Vec<_> = (0..n_in)
+        .map(|i| m.reg(&format!("in_buf{i}"), Ty::UInt(8), None))
+        .collect();
+    for i in 0..n_in {
+        let next = if i + 1 < n_in { in_buf[i + 1].q } else { byte };
+        m.set_next(in_buf[i], next, Some(byte_valid));
+    }
     let iw = bits_for(n_in as u64 - 1);
     let in_count = m.reg("in_count", Ty::UInt(iw), Some(0));
     let last_byte = is(&mut m, in_count.q, n_in as u64 - 1);
@@ -288,13 +287,16 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     m.set_next(fire, record_done, None);
 
     let mut conns: Vec<(String, Sig)> = vec![("in_valid".into(), fire.q)];
-    let mut at = 0u32;
+    let mut at = 0usize;
     for p in &in_ports {
         let w = p.ty.width();
-        let bits = m.slice(in_buf.q, at + w - 1, at);
+        let n = w.div_ceil(8) as usize;
+        let bytes: Vec<Sig> = in_buf[at..at + n].iter().rev().map(|r| r.q).collect();
+        let all = m.cat(&bytes);
+        let bits = m.slice(all, w - 1, 0);
         let v = m.cast(bits, p.ty);
         conns.push((p.name.clone(), v));
-        at += 8 * w.div_ceil(8);
+        at += n;
     }
     let conn_refs: Vec<(&str, Sig)> = conns.iter().map(|(n, s)| (n.as_str(), *s)).collect();
     let outs = m.instance("u_unit", unit, &conn_refs);
@@ -303,44 +305,42 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
         m.stage();
     }
     let out_valid = outs.get("out_valid").expect("unit has out_valid");
-    let mut parts = Vec::new();
-    for p in out_ports.iter().rev() {
+    let mut record = Vec::with_capacity(n_out);
+    for p in &out_ports {
         let v = outs.get(&p.name).expect("unit output by name");
-        let v = m.as_uint(v);
-        let pad = 8 * p.ty.width().div_ceil(8) - p.ty.width();
-        if pad > 0 {
-            let z = m.uint(pad, 0);
-            parts.push(z);
+        let w = p.ty.width();
+        for b in 0..w.div_ceil(8) {
+            let hi = (8 * b + 7).min(w - 1);
+            let part = m.slice(v, hi, 8 * b);
+            record.push(int::zext(&mut m, part, 8));
         }
-        parts.push(v);
     }
-    let record = m.cat(&parts);
-    let out_bits = 8 * n_out as u32;
 
     // send: load the record on out_valid, then one byte per idle transmitter
-    let out_buf = m.reg("out_buf", Ty::UInt(out_bits), None);
+    let out_buf: Vec<_> = (0..n_out)
+        .map(|i| m.reg(&format!("out_buf{i}"), Ty::UInt(8), None))
+        .collect();
     let ow = bits_for(n_out as u64);
     let out_left = m.reg("out_left", Ty::UInt(ow), Some(0));
     let send = m.reg("send", Ty::Bool, Some(0));
-    let out_byte = m.slice(out_buf.q, 7, 0);
     let utx = m.instance(
         "u_tx",
         &uart_tx(cycles_per_bit),
-        &[("start", send.q), ("data", out_byte)],
+        &[("start", send.q), ("data", out_buf[0].q)],
     );
     let tx_busy = utx.get("busy").expect("uart_tx has busy");
     let tx = utx.get("tx").expect("uart_tx has tx");
-
-    let rest = if n_out == 1 {
-        out_buf.q
-    } else {
-        let z = m.uint(8, 0);
-        let hi = m.slice(out_buf.q, out_bits - 1, 8);
-        m.cat(&[z, hi])
-    };
-    let buf_next = m.mux(send.q, rest, out_buf.q);
-    let buf_next = m.mux(out_valid, record, buf_next);
-    m.set_next(out_buf, buf_next, None);
+    let zero8 = m.uint(8, 0);
+    for i in 0..n_out {
+        let rest = if i + 1 < n_out {
+            out_buf[i + 1].q
+        } else {
+            zero8
+        };
+        let next = m.mux(send.q, rest, out_buf[i].q);
+        let next = m.mux(out_valid, record[i], next);
+        m.set_next(out_buf[i], next, None);
+    }
 
     let pending = m.any_set(out_left.q);
     let tx_idle = m.not(tx_busy);
