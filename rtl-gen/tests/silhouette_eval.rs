@@ -155,3 +155,15 @@ fn formats_without_an_exact_product_format_are_clear_errors() {
         .to_string();
     assert!(err.contains("one of shared, bounded"), "{err}");
 }
+
+#[test]
+fn silhouette_extreme_formats() {
+    // (2,1): the smallest format; (2,25): products below the wide format's
+    // normal range (F > bias + 2); (9,1): the widest exponent, one fraction bit
+    let p = ["exp_bits=2", "frac_bits=1", "stages=1"];
+    check("silhouette", &p, 1, 150, 300);
+    let p = ["exp_bits=2", "frac_bits=25", "origin=bounded", "stages=2"];
+    check("silhouette", &p, 2, 150, 300);
+    let p = ["exp_bits=9", "frac_bits=1", "rounding=nearest", "stages=0"];
+    check("silhouette", &p, 0, 150, 300);
+}
