@@ -788,6 +788,14 @@ impl ModuleBuilder {
             }
             return self.poison(Ty::Bool);
         }
+        // an unsigned value is never below zero: fold `x < 0` and `0 <= x`,
+        // which Verilator rejects as constant comparisons (UNSIGNED)
+        let is_zero = |s: Sig| matches!(self.nodes[s.id.0 as usize].op, Op::Const(0));
+        match op {
+            CmpOp::Lt if !b.ty.is_signed() && is_zero(b) => return self.bool(false),
+            CmpOp::Le if !a.ty.is_signed() && is_zero(a) => return self.bool(true),
+            _ => {}
+        }
         self.op(Op::Cmp(op, a.id, b.id), Ty::Bool)
     }
 

@@ -111,17 +111,25 @@ pub fn eval_op(op: &Op, ty: Ty, args: &[(u128, Ty)]) -> u128 {
 #[derive(Debug, Clone)]
 pub struct Evaluator<'m> {
     module: &'m Module,
+    /// operands of every node, resolved once
+    operands: Vec<Vec<NodeId>>,
     values: Vec<u128>,
     regs: Vec<u128>,
     subs: Vec<Evaluator<'m>>,
+    /// outputs of each instance in the current cycle
+    sub_outputs: Vec<Vec<u128>>,
+    evaluated: Vec<bool>,
+    scratch: Vec<(u128, Ty)>,
     rst: bool,
 }
 
 impl<'m> Evaluator<'m> {
     /// Registers start at zero, as after `--x-initial fast` in Verilator.
     pub fn new(module: &'m Module) -> Self {
+        let n = module.instances.len();
         Evaluator {
             module,
+            operands: module.nodes.iter().map(|node| node.op.operands()).collect(),
             values: vec![0; module.nodes.len()],
             regs: vec![0; module.registers.len()],
             subs: module
@@ -129,6 +137,9 @@ impl<'m> Evaluator<'m> {
                 .iter()
                 .map(|i| Evaluator::new(&i.module))
                 .collect(),
+            sub_outputs: vec![Vec::new(); n],
+            evaluated: vec![false; n],
+            scratch: Vec::new(),
             rst: false,
         }
     }
@@ -141,33 +152,50 @@ impl<'m> Evaluator<'m> {
         }
     }
 
+    /// Evaluates instance `inst` once for this cycle, from its input nodes.
+    fn eval_instance(&mut self, inst: usize) {
+        let inputs: Vec<u128> = self.module.instances[inst]
+            .inputs
+            .iter()
+            .map(|id| self.values[id.0 as usize])
+            .collect();
+        self.sub_outputs[inst] = self.subs[inst].eval(&inputs);
+        self.evaluated[inst] = true;
+    }
+
     /// Computes every node from the inputs (in port order, valid first if the
-    /// module has a handshake) and the registers; returns the outputs in port order.
+    /// module has a handshake) and the registers; returns the outputs in port
+    /// order. Each instance is evaluated once (its inputs precede its outputs
+    /// in the arena).
     pub fn eval(&mut self, inputs: &[u128]) -> Vec<u128> {
         let m = self.module;
+        self.evaluated.fill(false);
         for (i, node) in m.nodes.iter().enumerate() {
             let v = match &node.op {
                 Op::Input(p) => mask(inputs[*p], node.ty.width()),
                 Op::Reg(r) => self.regs[*r],
                 Op::InstOut { inst, port } => {
-                    let sub_inputs: Vec<u128> = m.instances[*inst]
-                        .inputs
-                        .iter()
-                        .map(|id| self.values[id.0 as usize])
-                        .collect();
-                    // each read recomputes the submodule; cheap enough for unit tests
-                    self.subs[*inst].eval(&sub_inputs)[*port]
+                    if !self.evaluated[*inst] {
+                        self.eval_instance(*inst);
+                    }
+                    self.sub_outputs[*inst][*port]
                 }
                 op => {
-                    let args: Vec<(u128, Ty)> = op
-                        .operands()
-                        .iter()
-                        .map(|id| (self.values[id.0 as usize], m.node(*id).ty))
-                        .collect();
-                    eval_op(op, node.ty, &args)
+                    self.scratch.clear();
+                    for id in &self.operands[i] {
+                        self.scratch
+                            .push((self.values[id.0 as usize], m.node(*id).ty));
+                    }
+                    eval_op(op, node.ty, &self.scratch)
                 }
             };
             self.values[i] = v;
+        }
+        // instances whose outputs nothing reads still hold state
+        for inst in 0..m.instances.len() {
+            if !self.evaluated[inst] {
+                self.eval_instance(inst);
+            }
         }
         m.outputs
             .iter()
@@ -175,29 +203,19 @@ impl<'m> Evaluator<'m> {
             .collect()
     }
 
-    /// A rising clock edge: registers load (after `eval` with this cycle's inputs).
+    /// A rising clock edge: registers load the values of the last `eval`.
     pub fn clock(&mut self) {
-        let m = self.module;
-        for (i, inst) in m.instances.iter().enumerate() {
-            let sub_inputs: Vec<u128> = inst
-                .inputs
-                .iter()
-                .map(|id| self.values[id.0 as usize])
-                .collect();
-            self.subs[i].eval(&sub_inputs);
-            self.subs[i].clock();
+        for sub in &mut self.subs {
+            sub.clock();
         }
-        let next: Vec<u128> = m
-            .registers
-            .iter()
-            .zip(&self.regs)
-            .map(|(r, &cur)| match (self.rst, r.reset) {
+        let m = self.module;
+        for (r, cur) in m.registers.iter().zip(self.regs.iter_mut()) {
+            *cur = match (self.rst, r.reset) {
                 (true, Some(v)) => v,
-                _ if r.enable.is_some_and(|e| self.values[e.0 as usize] == 0) => cur,
+                _ if r.enable.is_some_and(|e| self.values[e.0 as usize] == 0) => *cur,
                 _ => self.values[r.next.0 as usize],
-            })
-            .collect();
-        self.regs = next;
+            };
+        }
     }
 
     /// One full cycle: evaluate with `inputs`, sample outputs, clock.
