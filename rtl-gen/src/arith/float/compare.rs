@@ -7,18 +7,52 @@ use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
+/// Two encodings read as sign and magnitude (the magnitude of an encoding
+/// is monotonic in its value), with the NaN test: what comparisons and
+/// min/max share.
+pub(super) struct SignMagnitude {
+    /// sign of a, sign of b
+    pub sa: Sig,
+    pub sb: Sig,
+    /// the encodings without their sign bits
+    pub mag_a: Sig,
+    pub mag_b: Sig,
+    /// a or b is NaN
+    pub any_nan: Sig,
+}
+
+impl SignMagnitude {
+    #[track_caller]
+    pub fn of(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> SignMagnitude {
+        let w = fmt.width();
+        let sa = m.msb(a);
+        let sb = m.msb(b);
+        let mag_a = m.slice(a, w - 2, 0);
+        let mag_b = m.slice(b, w - 2, 0);
+        let inf = m.uint(w - 1, fmt.inf_bits());
+        let nan_a = m.gt(mag_a, inf);
+        let nan_b = m.gt(mag_b, inf);
+        let any_nan = m.or(nan_a, nan_b);
+        SignMagnitude {
+            sa,
+            sb,
+            mag_a,
+            mag_b,
+            any_nan,
+        }
+    }
+}
+
 /// The three comparisons of `a` and `b` (encodings of `fmt`): `(lt, le, eq)`.
 #[track_caller]
 pub fn compare(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig, Sig) {
-    let w = fmt.width();
-    let sa = m.msb(a);
-    let sb = m.msb(b);
-    let mag_a = m.slice(a, w - 2, 0);
-    let mag_b = m.slice(b, w - 2, 0);
-    let inf = m.uint(w - 1, fmt.inf_bits());
-    let nan_a = m.gt(mag_a, inf);
-    let nan_b = m.gt(mag_b, inf);
-    let any_nan = m.or(nan_a, nan_b);
+    let SignMagnitude {
+        sa,
+        sb,
+        mag_a,
+        mag_b,
+        any_nan,
+    } = SignMagnitude::of(m, fmt, a, b);
     let ordered = m.not(any_nan);
     let mag_or = m.or(mag_a, mag_b);
     let nonzero = m.any_set(mag_or);

@@ -1,6 +1,7 @@
 //! IEEE 754-2019 `minimum` and `maximum`: the canonical NaN if either operand
 //! is NaN; otherwise the smaller (larger) operand with -0 ordered below +0.
 
+use super::compare::SignMagnitude;
 use super::{spread, Format};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -10,14 +11,13 @@ use std::sync::Arc;
 #[track_caller]
 pub fn min_max(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig) {
     let w = fmt.width();
-    let sa = m.msb(a);
-    let sb = m.msb(b);
-    let mag_a = m.slice(a, w - 2, 0);
-    let mag_b = m.slice(b, w - 2, 0);
-    let inf = m.uint(w - 1, fmt.inf_bits());
-    let nan_a = m.gt(mag_a, inf);
-    let nan_b = m.gt(mag_b, inf);
-    let any_nan = m.or(nan_a, nan_b);
+    let SignMagnitude {
+        sa,
+        sb,
+        mag_a,
+        mag_b,
+        any_nan,
+    } = SignMagnitude::of(m, fmt, a, b);
     // a <= b in the total order of non-NaN values with -0 < +0
     let not_sa = m.not(sa);
     let not_sb = m.not(sb);
