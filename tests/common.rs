@@ -42,3 +42,29 @@ pub fn cross_check(
     };
     sim::cross_check(&h, tb.as_ref(), tb.as_ref(), &opts).expect("cross-check runs")
 }
+
+/// The whole check of one configuration: `eval_vectors` vectors through the
+/// IR evaluator, then lint, build and `vectors` vectors through Verilator,
+/// each compared with the golden model; panics on any mismatch.
+pub fn check_unit(
+    test: &str,
+    unit: &str,
+    params: &[&str],
+    eval_vectors: u64,
+    vectors: u64,
+    seed: u64,
+) -> (Generated, sim::CheckReport) {
+    let (g, dir) = generate(test, unit, params);
+    let evaluated = g.evaluate(g.testbench().as_ref(), eval_vectors, seed);
+    assert_eq!(
+        (evaluated.vectors, evaluated.mismatches),
+        (eval_vectors, 0),
+        "{}: IR evaluator: {evaluated}",
+        g.module.name
+    );
+    let report = cross_check(&g, &dir, vectors, seed);
+    assert_eq!(report.vectors, vectors);
+    assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
+    eprintln!("{}: {report}", g.module.name);
+    (g, report)
+}

@@ -10,20 +10,10 @@
 
 mod common;
 
-use common::{cross_check, generate};
+use common::generate;
 
 fn check(test: &str, params: &[&str]) {
-    let (g, dir) = generate(test, "transform", params);
-    let evaluated = g.evaluate(g.testbench().as_ref(), 2_000, 11);
-    assert_eq!(
-        (evaluated.vectors, evaluated.mismatches),
-        (2_000, 0),
-        "IR evaluator: {evaluated}"
-    );
-    let report = cross_check(&g, &dir, 1_000_000, 11);
-    assert_eq!(report.vectors, 1_000_000);
-    assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
-    eprintln!("{}: {report}", g.module.name);
+    common::check_unit(test, "transform", params, 2_000, 1_000_000, 11);
 }
 
 #[test]
