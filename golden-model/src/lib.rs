@@ -5,9 +5,9 @@
 //! RTL must produce.
 #![warn(missing_docs)]
 
-pub mod float;
 pub mod cull;
 pub mod exact;
+pub mod float;
 pub mod mulcmp;
 pub mod silhouette;
 pub mod slab;

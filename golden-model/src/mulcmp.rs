@@ -16,7 +16,11 @@ pub struct MulCmpOut {
 pub fn eval(a: u64, b: u64, c: u64, d: u64) -> MulCmpOut {
     let ab = a as u128 * b as u128;
     let cd = c as u128 * d as u128;
-    MulCmpOut { lt: ab < cd, eq: ab == cd, ab }
+    MulCmpOut {
+        lt: ab < cd,
+        eq: ab == cd,
+        ab,
+    }
 }
 
 #[cfg(test)]
