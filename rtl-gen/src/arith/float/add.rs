@@ -148,16 +148,13 @@ pub fn add_name(fmt: Format, mode: RoundSel, sub: bool, stages: u32) -> String {
 /// `stages` pipeline registers (latency `stages`).
 pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32) -> Arc<Module> {
     let mode: RoundSel = mode.into();
-    let mut m = ModuleBuilder::new(add_name(fmt, mode, sub, stages));
     let what = if sub { "a - b" } else { "a + b" };
-    m.describe(format!(
-        "Floating-point {what} in {}, rounded {mode}.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("round", mode)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        add_name(fmt, mode, sub, stages),
+        format!("Floating-point {what} in {}, rounded {mode}.", fmt.tag()),
+        stages,
+    );
+    m.param("round", mode);
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let rm = Rm::declare(&mut m, mode);

@@ -4,7 +4,6 @@
 use super::add::{add_raw, ADD_RAW_STEPS};
 use super::round::{round, ROUND_STEPS};
 use super::{spread, Format, Rounding};
-use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -17,14 +16,14 @@ pub fn add_down_up_name(fmt: Format, stages: u32) -> String {
 /// registers. `down == up` exactly when the sum is representable (both NaN
 /// for a NaN sum); an exact zero of opposite-signed operands is -0 down and +0 up.
 pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
-    let mut m = ModuleBuilder::new(add_down_up_name(fmt, stages));
-    m.describe(format!(
-        "a + b in {} rounded toward -inf (down) and toward +inf (up) from one exact sum.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        add_down_up_name(fmt, stages),
+        format!(
+            "a + b in {} rounded toward -inf (down) and toward +inf (up) from one exact sum.",
+            fmt.tag()
+        ),
+        stages,
+    );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);

@@ -88,14 +88,14 @@ pub fn compare_name(fmt: Format, stages: u32) -> String {
 /// Outputs `lt = a < b`, `le = a <= b`, `eq = a == b` (IEEE quiet
 /// comparisons) of two `fmt` values; `stages` registers at the outputs.
 pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
-    let mut m = ModuleBuilder::new(compare_name(fmt, stages));
-    m.describe(format!(
-        "IEEE comparisons of two {} values: lt, le, eq (NaN unordered, -0 == +0).",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        compare_name(fmt, stages),
+        format!(
+            "IEEE comparisons of two {} values: lt, le, eq (NaN unordered, -0 == +0).",
+            fmt.tag()
+        ),
+        stages,
+    );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let (lt, le, eq) = compare(&mut m, fmt, a, b);

@@ -82,15 +82,15 @@ fn pick2(m: &mut ModuleBuilder, sel: Sig, a: Prod, b: Prod) -> Prod {
 pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
     let mode: RoundSel = mode.into();
     let f = fmt.frac_bits;
-    let mut m = ModuleBuilder::new(dot3_name(fmt, mode, stages));
-    m.describe(format!(
-        "Fused dot product a0*b0 + a1*b1 + a2*b2 in {}, exact, rounded once {mode}.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", f)
-        .param("round", mode)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        dot3_name(fmt, mode, stages),
+        format!(
+            "Fused dot product a0*b0 + a1*b1 + a2*b2 in {}, exact, rounded once {mode}.",
+            fmt.tag()
+        ),
+        stages,
+    );
+    m.param("round", mode);
     let w = fmt.width();
     let ins: Vec<(Sig, Sig)> = (0..3)
         .map(|i| {

@@ -18,7 +18,6 @@ use super::sum::{sum_two, Term};
 use super::unpack::{norm_exp_width, normalize, unpack};
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
-use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -46,15 +45,15 @@ pub fn fma_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
 pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
     let mode: RoundSel = mode.into();
     let f = fmt.frac_bits;
-    let mut m = ModuleBuilder::new(fma_name(fmt, mode, stages));
-    m.describe(format!(
-        "Fused multiply-add a * b + c in {}, rounded once {mode}.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", f)
-        .param("round", mode)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        fma_name(fmt, mode, stages),
+        format!(
+            "Fused multiply-add a * b + c in {}, rounded once {mode}.",
+            fmt.tag()
+        ),
+        stages,
+    );
+    m.param("round", mode);
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let c = m.input("c", Ty::UInt(fmt.width()));

@@ -46,14 +46,14 @@ pub fn min_max_name(fmt: Format, stages: u32) -> String {
 
 /// Outputs `min` and `max` of two `fmt` values; `stages` registers at the outputs.
 pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
-    let mut m = ModuleBuilder::new(min_max_name(fmt, stages));
-    m.describe(format!(
-        "IEEE 754-2019 minimum and maximum of two {} values (NaN if either is NaN, -0 < +0).",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        min_max_name(fmt, stages),
+        format!(
+            "IEEE 754-2019 minimum and maximum of two {} values (NaN if either is NaN, -0 < +0).",
+            fmt.tag()
+        ),
+        stages,
+    );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let (min, max) = min_max(&mut m, fmt, a, b);

@@ -29,6 +29,7 @@ pub mod round;
 pub mod sum;
 pub mod unpack;
 
+use crate::builder::ModuleBuilder;
 use std::fmt;
 
 /// A binary floating-point format: `exp_bits` exponent bits and `frac_bits`
@@ -42,6 +43,17 @@ pub struct Format {
 }
 
 impl Format {
+    /// Starts the module of an operator on this format, with its description
+    /// and the `exp_bits`, `frac_bits` and `stages` parameters of its header.
+    pub fn operator_module(self, name: String, description: String, stages: u32) -> ModuleBuilder {
+        let mut m = ModuleBuilder::new(name);
+        m.describe(description);
+        m.param("exp_bits", self.exp_bits)
+            .param("frac_bits", self.frac_bits)
+            .param("stages", stages);
+        m
+    }
+
     /// IEEE binary16.
     pub const BINARY16: Format = Format {
         exp_bits: 5,

@@ -77,15 +77,12 @@ pub fn mul_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
 /// `z = a · b` in `fmt`, rounded in `mode`, `stages` pipeline registers.
 pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
     let mode: RoundSel = mode.into();
-    let mut m = ModuleBuilder::new(mul_name(fmt, mode, stages));
-    m.describe(format!(
-        "Floating-point a * b in {}, rounded {mode}.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("round", mode)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        mul_name(fmt, mode, stages),
+        format!("Floating-point a * b in {}, rounded {mode}.", fmt.tag()),
+        stages,
+    );
+    m.param("round", mode);
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let rm = Rm::declare(&mut m, mode);

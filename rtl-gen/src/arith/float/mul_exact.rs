@@ -12,7 +12,6 @@
 use super::mul::{mul_raw, MUL_RAW_STEPS};
 use super::round::{round, ROUND_STEPS};
 use super::{spread, Format, Rounding};
-use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -31,15 +30,15 @@ pub fn mul_exact_name(fmt: Format, stages: u32) -> String {
 /// `stages` pipeline registers. Panics if the wide format is unsupported.
 pub fn mul_exact_module(fmt: Format, stages: u32) -> Arc<Module> {
     let wide = exact_product_format(fmt).expect("exact product format must be supported");
-    let mut m = ModuleBuilder::new(mul_exact_name(fmt, stages));
-    m.describe(format!(
-        "Exact floating-point product of two {} values as a {} value (no rounding).",
-        fmt.tag(),
-        wide.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        mul_exact_name(fmt, stages),
+        format!(
+            "Exact floating-point product of two {} values as a {} value (no rounding).",
+            fmt.tag(),
+            wide.tag()
+        ),
+        stages,
+    );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);

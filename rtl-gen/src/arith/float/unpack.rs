@@ -143,14 +143,14 @@ pub fn unpack_name(fmt: Format, stages: u32) -> String {
 /// golden model, a zero has `exp = emin - F`, and infinities and NaNs have
 /// `exp = 0`, `sig = 0`. `stages` registers at the outputs.
 pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
-    let mut m = ModuleBuilder::new(unpack_name(fmt, stages));
-    m.describe(format!(
-        "Unpack and classify a {} value: sign, class (0 zero, 1 finite, 2 inf, 3 NaN), exponent of the lsb, significand.",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("stages", stages);
+    let mut m = fmt.operator_module(
+        unpack_name(fmt, stages),
+        format!(
+            "Unpack and classify a {} value: sign, class (0 zero, 1 finite, 2 inf, 3 NaN), exponent of the lsb, significand.",
+            fmt.tag()
+        ),
+        stages,
+    );
     let x = m.input("x", Ty::UInt(fmt.width()));
     let u = unpack(&mut m, fmt, x);
     let class = class_code(&mut m, &u);
