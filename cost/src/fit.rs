@@ -67,23 +67,36 @@ fn bits_for_exponent(e: i32) -> u32 {
         .unwrap_or(11)
 }
 
-/// Loads a mesh from an OBJ file, or from a TOML scene naming one
-/// (`mesh = "path"`, relative to the TOML file).
+/// Loads a mesh from an OBJ file, or a whole TOML scene (the scene crate's
+/// format) flattened into one world-space mesh: every instance's triangles
+/// through its forward transform, so the fit sees the scene's real
+/// coordinate range (e.g. instances translated far from the origin).
 pub fn load(path: &Path) -> Result<(Mesh, PathBuf), String> {
     if path.extension().is_some_and(|x| x == "toml") {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        for line in text.lines() {
-            let l = line.trim();
-            if let Some(rest) = l.strip_prefix("mesh") {
-                let rest = rest.trim_start();
-                if let Some(v) = rest.strip_prefix('=') {
-                    let v = v.trim().trim_matches('"');
-                    let p = path.parent().unwrap_or(Path::new(".")).join(v);
-                    return Ok((accuracy::load_mesh(&p)?, p));
-                }
-            }
+        let scene = scene::scene::Scene::load(path).map_err(|e| e.to_string())?;
+        let mut world = Mesh {
+            vertices: Vec::new(),
+            triangles: Vec::new(),
+        };
+        for inst in &scene.instances {
+            let mesh = &scene.meshes[inst.mesh].1;
+            let base = world.vertices.len() as u32;
+            let t = &inst.transform;
+            world.vertices.extend(mesh.vertices.iter().map(|v| {
+                let row = |r: &[f32; 4]| r[0] * v[0] + r[1] * v[1] + r[2] * v[2] + r[3];
+                [row(&t[0]), row(&t[1]), row(&t[2])]
+            }));
+            world
+                .triangles
+                .extend(mesh.triangles.iter().map(|tri| tri.map(|i| i + base)));
         }
-        return Err(format!("{}: no `mesh = \"...\"` line", path.display()));
+        if world.triangles.is_empty() {
+            return Err(format!(
+                "{}: the scene has no instanced triangles",
+                path.display()
+            ));
+        }
+        return Ok((world, path.to_path_buf()));
     }
     Ok((accuracy::load_mesh(path)?, path.to_path_buf()))
 }
