@@ -12,7 +12,7 @@
 //! otherwise; equal-signed zeros keep their sign.
 
 use super::bits::{add_const, shr_jam};
-use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
@@ -163,13 +163,5 @@ pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32
     let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);
     let raw = s.for_rm(&mut m, &rm);
     let rs: u32 = round_cuts.iter().sum();
-    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("adder generator is type-correct for every format"),
-    )
+    finish_rounded(m, fmt, &rm, &raw, rs, "adder")
 }

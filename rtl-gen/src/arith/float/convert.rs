@@ -3,7 +3,7 @@
 //! by the shared rounder of the target format (which also handles overflow
 //! of narrowing conversions and subnormal results). Widening is exact.
 
-use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::{lsb_exp, unpack};
 use super::{spread, Format, Rm, RoundSel};
 use crate::builder::ModuleBuilder;
@@ -57,13 +57,5 @@ pub fn convert_module(
         m.stage();
     }
     let rs: u32 = plan[1..].iter().sum();
-    let z = round_rm(&mut m, to, &rm, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("converter generator is type-correct for every format pair"),
-    )
+    finish_rounded(m, to, &rm, &raw, rs, "converter")
 }

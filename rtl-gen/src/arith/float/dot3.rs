@@ -29,7 +29,7 @@
 
 use super::bits::{add_const, lzc, to_sint};
 use super::fma::{fused_exp_width, zero_term_exp};
-use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{normalize, unpack, Unpacked};
 use super::{spread, Format, Rm, RoundSel, Rounding};
@@ -286,13 +286,5 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
         m.stage();
     }
     let rs: u32 = plan[8..].iter().sum();
-    let zr = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", zr);
-    Arc::new(
-        m.finish()
-            .expect("dot3 generator is type-correct for every format"),
-    )
+    finish_rounded(m, fmt, &rm, &raw, rs, "dot3")
 }

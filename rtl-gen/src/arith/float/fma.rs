@@ -13,7 +13,7 @@
 //! DSL's 128-bit values.
 
 use super::bits::add_const;
-use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{norm_exp_width, normalize, unpack};
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
@@ -149,13 +149,5 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
         m.stage();
     }
     let rs: u32 = plan[5..].iter().sum();
-    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("fma generator is type-correct for every format"),
-    )
+    finish_rounded(m, fmt, &rm, &raw, rs, "fma")
 }

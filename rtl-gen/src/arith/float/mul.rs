@@ -2,7 +2,7 @@
 //! the pipelined integer multiplier), then the shared rounder.
 
 use super::bits::add_const;
-use super::round::{class_of, round_rm, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel};
 use crate::arith::int::umul_module;
@@ -90,13 +90,5 @@ pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
-    let z = round_rm(&mut m, fmt, &rm, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("multiplier generator is type-correct for every format"),
-    )
+    finish_rounded(m, fmt, &rm, &raw, rs, "multiplier")
 }

@@ -284,6 +284,29 @@ pub fn round(
     round_rm(m, fmt, &Rm::fixed(mode), raw, stages, inst)
 }
 
+/// The common end of a rounding operator's module: rounds `raw` into `fmt`
+/// in mode `rm` with `stages` registers inside the rounder, carries the
+/// pipeline over them, outputs the result as `z` and finishes the module.
+#[track_caller]
+pub fn finish_rounded(
+    mut m: ModuleBuilder,
+    fmt: Format,
+    rm: &Rm,
+    raw: &Raw,
+    stages: u32,
+    what: &str,
+) -> Arc<Module> {
+    let z = round_rm(&mut m, fmt, rm, raw, stages, "u_round");
+    for _ in 0..stages {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(
+        m.finish()
+            .unwrap_or_else(|e| panic!("{what} generator is type-correct for every format: {e}")),
+    )
+}
+
 /// [`round`] in the mode `rm` (fixed, or the module's `rm` port, which is
 /// connected to the rounder's).
 #[track_caller]
