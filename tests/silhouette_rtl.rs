@@ -12,6 +12,7 @@
 //! - bfloat16 (8,7), shared, conservative, 1 stage;
 //! - (6,9), bounded, conservative, 6 stages, with bubbles;
 //! - binary16 (5,10), bounded, nearest, combinational (0 stages);
+//! - ray mode: binary32 conservative, 4 stages; bfloat16 nearest, 2 stages, with bubbles;
 //! - slab: binary32, 4 stages; bfloat16, 0 stages.
 
 mod common;
@@ -93,6 +94,18 @@ fn silhouette_binary16_bounded_nearest_combinational() {
         "stages=0",
     ];
     run("sil_b16_near", "silhouette", &p, 0, None);
+}
+
+#[test]
+fn silhouette_ray_mode_binary32() {
+    let p = ["mode=ray", "exp_bits=8", "frac_bits=23", "stages=4"];
+    run("sil_ray_b32", "silhouette", &p, 4, None);
+}
+
+#[test]
+fn silhouette_ray_mode_bfloat16_nearest_with_bubbles() {
+    let p = ["mode=ray", "exp_bits=8", "frac_bits=7", "rounding=nearest", "stages=2"];
+    run("sil_ray_bf16_near", "silhouette", &p, 2, Some(3));
 }
 
 #[test]

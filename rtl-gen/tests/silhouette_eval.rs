@@ -91,6 +91,32 @@ fn silhouette_binary32_shared_conservative() {
 }
 
 #[test]
+fn silhouette_ray_mode_binary16_bfloat16_and_e4m3() {
+    check(
+        "silhouette",
+        &["mode=ray", "exp_bits=5", "frac_bits=10", "stages=4"],
+        4,
+        250,
+        500,
+    );
+    check(
+        "silhouette",
+        &["mode=ray", "exp_bits=8", "frac_bits=7", "stages=0"],
+        0,
+        250,
+        500,
+    );
+    let p = [
+        "mode=ray",
+        "exp_bits=4",
+        "frac_bits=3",
+        "rounding=nearest",
+        "stages=7",
+    ];
+    check("silhouette", &p, 7, 250, 500);
+}
+
+#[test]
 fn slab_binary32_and_binary16() {
     check("slab", &["stages=4"], 4, 2000, 2000);
     check(
@@ -136,7 +162,20 @@ fn ports_names_latency_and_determinism() {
     let b = gen("silhouette", &["rounding=nearest", "stages=3"]);
     assert_eq!(a.files, b.files);
     let top = a.files.last().unwrap();
-    assert!(top.text.contains("u_corner_all") && top.text.contains("u_axis_z"));
+    assert!(top.text.contains("u_tests") && top.text.contains("u_axis_z"));
+    // ray mode: one origin, one direction, one hit bit; no bundle ports
+    let ray = gen("silhouette", &["mode=ray", "stages=4"]);
+    assert_eq!(ray.module.name, "silhouette_e8m23_ray_cons_s4");
+    let ins: Vec<&str> = ray.ports.inputs.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(ins.len(), 14);
+    assert_eq!(&ins[6..12], &["o_x", "o_y", "o_z", "d_x", "d_y", "d_z"]);
+    let outs: Vec<&str> = ray.ports.outputs.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(outs, ["hit", "nan", "invalid"]);
+    let err = flow::generate("silhouette", &["mode=ray".into(), "origin=bounded".into()])
+        .err()
+        .expect("a ray has one origin")
+        .to_string();
+    assert!(err.contains("origin=bounded needs mode=bundle"), "{err}");
     let slab = gen("slab", &[]);
     let outs: Vec<&str> = slab.ports.outputs.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(outs, ["hit", "t_enter", "t_exit"]);

@@ -692,6 +692,7 @@ fn gcd(a: u64, b: u64) -> u64 {
 /// Vectors and golden model of one `silhouette` configuration.
 pub struct SilhouetteBench {
     cfg: Config,
+    ray: bool,
     corners: Vec<BundleIn>,
     stride: u64,
 }
@@ -709,12 +710,14 @@ impl SilhouetteBench {
             "nearest" => Rounding::Nearest,
             _ => Rounding::Conservative,
         };
+        let ray = p.word("mode") == "ray";
         let cfg =
             Config::new(fmt, origin, rounding).expect("exact-product format checked by the unit");
         let corners = corner_cases(fmt, origin == OriginMode::Bounded);
         let stride = coprime_stride(corners.len() as u64);
         SilhouetteBench {
             cfg,
+            ray,
             corners,
             stride,
         }
@@ -763,7 +766,8 @@ impl SilhouetteBench {
         }
     }
 
-    /// Writes a transaction into port order.
+    /// Writes a transaction into port order (ray mode: the lower bounds are
+    /// the ray).
     pub fn to_ports(&self, b: &BundleIn, v: &mut [u64]) {
         let mut k = 0;
         let mut put = |x: u64| {
@@ -777,7 +781,9 @@ impl SilhouetteBench {
             b.o_hi.iter().for_each(|&x| put(x));
         }
         b.d_lo.iter().for_each(|&x| put(x));
-        b.d_hi.iter().for_each(|&x| put(x));
+        if !self.ray {
+            b.d_hi.iter().for_each(|&x| put(x));
+        }
         put(b.t_min);
         put(b.t_max);
     }
@@ -785,6 +791,9 @@ impl SilhouetteBench {
     /// Reads a transaction from port order.
     pub fn from_ports(&self, v: &[u64]) -> BundleIn {
         let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
+        if self.ray {
+            return BundleIn::ray(three(0), three(3), three(6), three(9), v[12], v[13]);
+        }
         let o_lo = three(6);
         let (o_hi, d) = if self.bounded() {
             (three(9), 12)
@@ -812,6 +821,13 @@ impl SilhouetteBench {
 impl sim::Golden for SilhouetteBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.from_ports(inputs));
+        if self.ray {
+            // a ray is a bundle whose bounds coincide; its hit bit is any_hit
+            outputs[0] = out.any_hit as u64;
+            outputs[1] = out.nan as u64;
+            outputs[2] = out.invalid as u64;
+            return;
+        }
         outputs[0] = out.all_hit as u64;
         outputs[1] = out.any_hit as u64;
         outputs[2] = out.nan as u64;

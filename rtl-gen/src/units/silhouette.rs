@@ -1,8 +1,14 @@
 //! `silhouette`: the silhouette-edge ray / bundle versus box tester (seed
-//! 000, issue #4). One transaction per clock: a box, a bundle (direction
-//! bounds `d_lo..d_hi`, an origin `o_lo` or origin bounds `o_lo..o_hi`) and a
-//! segment `[t_min, t_max]` give AllHit and AnyHit in parallel; a single ray
-//! is a bundle whose bounds coincide, and its hit bit is `any_hit`.
+//! 000, issues #4 and #19). One transaction per clock.
+//!
+//! Two modes (`mode`):
+//! - `bundle` (the default, the seed's contribution): a box, a bundle
+//!   (direction bounds `d_lo..d_hi`, an origin `o_lo` or origin bounds
+//!   `o_lo..o_hi`) and a segment `[t_min, t_max]` give AllHit and AnyHit in
+//!   parallel (three-valued: AllHit / AllMiss / Mixed);
+//! - `ray`: one ray (`o`, `d`, one origin) and the one conservative test a
+//!   single ray needs, output `hit`. It is the bundle tester's AnyHit with
+//!   coinciding bounds, bit for bit, at about half the logic.
 //!
 //! The specification is `docs/silhouette.md` and the bit-exact twin is
 //! `golden_model::silhouette`: this generator performs the same steps with
@@ -12,37 +18,42 @@
 //! - the top classifies the inputs (NaN, invalid, empty segment or box, mixed
 //!   direction signs) and combines the verdict;
 //! - three `silhouette_axis_*` instances mirror one axis each so that its
-//!   directions are `>= 0` and form the four numerators `n_any`, `x_any`,
-//!   `n_all`, `x_all` (differences `plane − origin`, the only rounded values);
-//! - two `silhouette_corner_*` instances (AnyHit: best corner, AllHit: worst
-//!   corner) pick the direction bound per product from the numerator's sign,
-//!   form 18 exact products each and evaluate the six silhouette-edge tests,
-//!   three distance checks and three direction checks.
+//!   directions are `>= 0` and form the numerators (differences `plane −
+//!   origin`, the only rounded values): `n_any`, `x_any`, `n_all`, `x_all` in
+//!   bundle mode, `n`, `x` in ray mode;
+//! - one `silhouette_tests_*` instance unpacks every factor once and
+//!   evaluates, per test (AnyHit: best corner, AllHit: worst corner; ray
+//!   mode: the one ray), the six silhouette-edge tests, three distance checks
+//!   and three direction checks as exact comparisons of products
+//!   (`arith::float::product_compare`: significand products and exponent
+//!   sums, no rounder, no IEEE packing).
 //!
 //! Rounding rule per operand (conservative policy, §4.3 of the spec):
 //! `n_any = near − ô_hi` rounded toward −∞ and `x_any = far − ô_lo` toward
 //! +∞ (AnyHit, and the single-ray hit, can only gain hits); `n_all = near −
 //! ô_lo` toward +∞ and `x_all = far − ô_hi` toward −∞ (AllHit can only lose
-//! them). Shared origin: one exact sum per numerator pair, rounded both ways
-//! by `add_down_up`. Nearest policy: every difference rounded to nearest even
-//! (charts only). Products are exact (`mul_exact`, format `(E+2, 2F+1)`),
-//! the numerators are widened exactly, so every comparison is exact.
+//! them). Shared-origin bundles: one exact sum per numerator pair, rounded
+//! both ways by `add_down_up`; ray mode: one adder per plane, rounded in the
+//! one direction the hit needs. Nearest policy: every difference rounded to
+//! nearest even (charts only). Products and comparisons are exact.
 //!
-//! Pipelining: `stages` registers are spread over 13 logical steps: the
-//! difference (6 steps: the adder's 3 and its rounder's 3), the products (5:
-//! the multiplier's 2 and the packing rounder's 3), the comparisons and the
-//! reduction. One register goes to the outputs first.
+//! Pipelining: `stages` registers are spread over 11 logical steps: the
+//! difference (6 steps: the adder's 3 and its rounder's 3), the factors'
+//! normalisation (1), the significand multipliers (2), the comparisons and
+//! the reduction. One register goes to the outputs first.
 
 use super::Unit;
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
 use crate::arith::float::compare::compare;
-use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::MUL_RAW_STEPS;
-use crate::arith::float::mul_exact::{exact_product_format, mul_exact_module};
+use crate::arith::float::mul_exact::exact_product_format;
+use crate::arith::float::product_compare::{
+    factor, product_term, single_term, start_product, term_le, Factor, ProductStart, Term,
+};
 use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread, Format, Rounding};
-use crate::builder::{ModuleBuilder, Sig};
+use crate::builder::{InstanceOutputs, ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 use std::sync::Arc;
@@ -53,7 +64,7 @@ pub struct Silhouette;
 const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "exp_bits",
-        doc: "exponent bits E of the input format (E + 2F <= 60: the exact products need (E+2, 2F+1))",
+        doc: "exponent bits E of the input format (E + 2F <= 60)",
         kind: ParamKind::Int { min: 2, max: 9 },
         default: "8",
     },
@@ -64,8 +75,14 @@ const PARAMS: &[ParamSpec] = &[
         default: "23",
     },
     ParamSpec {
+        name: "mode",
+        doc: "bundle: direction bounds d_lo..d_hi, outputs all_hit/any_hit/mixed_sign; ray: one ray (o, d), output hit",
+        kind: ParamKind::Choice(&["bundle", "ray"]),
+        default: "bundle",
+    },
+    ParamSpec {
         name: "origin",
-        doc: "shared: one origin o_lo; bounded: per-axis origin bounds o_lo..o_hi",
+        doc: "shared: one origin o_lo; bounded: per-axis origin bounds o_lo..o_hi (bundle mode only)",
         kind: ParamKind::Choice(&["shared", "bounded"]),
         default: "shared",
     },
@@ -77,11 +94,21 @@ const PARAMS: &[ParamSpec] = &[
     },
     ParamSpec {
         name: "stages",
-        doc: "pipeline stages (latency in cycles), spread over differences, products, comparisons, reduction",
+        doc: "pipeline stages (latency in cycles), spread over differences, normalisation, products, comparisons, reduction",
         kind: ParamKind::Int { min: 0, max: 16 },
         default: "4",
     },
 ];
+
+/// What one transaction tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// one ray: ports `o_*`, `d_*`; output `hit` (the conservative test)
+    Ray,
+    /// a bundle: ports `o_lo_*` [`o_hi_*`], `d_lo_*`, `d_hi_*`; outputs
+    /// `all_hit`, `any_hit`, `mixed_sign`
+    Bundle,
+}
 
 /// Origin mode: one shared origin or per-axis origin bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -106,7 +133,9 @@ pub enum Policy {
 pub struct Config {
     /// input format
     pub fmt: Format,
-    /// origin mode
+    /// ray or bundle
+    pub mode: Mode,
+    /// origin mode (always `Shared` in ray mode)
     pub origin: Origin,
     /// rounding policy
     pub policy: Policy,
@@ -116,19 +145,23 @@ pub struct Config {
 
 /// Logical steps of the numerators: the adder's exact part and its rounder.
 pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
-/// Logical steps of the exact products: the multiplier and the packing rounder.
-pub const PRODUCT_STEPS: u32 = MUL_RAW_STEPS + ROUND_STEPS;
-/// All logical steps: differences, products, comparisons, reduction.
-pub const STEPS: u32 = DIFF_STEPS + PRODUCT_STEPS + 2;
+/// Logical steps of the factors' unpacking and normalisation.
+pub const NORM_STEPS: u32 = 1;
+/// Logical steps of the significand products (the integer multiplier).
+pub const PRODUCT_STEPS: u32 = MUL_RAW_STEPS;
+/// All logical steps: differences, normalisation, products, comparisons, reduction.
+pub const STEPS: u32 = DIFF_STEPS + NORM_STEPS + PRODUCT_STEPS + 2;
 
 /// How the `stages` registers are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct StagePlan {
     /// registers inside the difference operators (axis blocks)
     pub diff: u32,
-    /// registers inside the exact multipliers and widenings (corner blocks)
+    /// registers after the factors are normalised (tests block)
+    pub norm: u32,
+    /// registers inside the significand multipliers (tests block)
     pub product: u32,
-    /// registers after the 24 comparisons (corner blocks)
+    /// registers after the comparisons (tests block)
     pub compare: u32,
     /// registers after the reduction and verdict (top)
     pub reduce: u32,
@@ -138,33 +171,50 @@ impl StagePlan {
     /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
     pub fn new(stages: u32) -> StagePlan {
         let cuts = spread(stages, STEPS);
-        let (d, p) = (DIFF_STEPS as usize, PRODUCT_STEPS as usize);
+        let d = DIFF_STEPS as usize;
+        let n = d + NORM_STEPS as usize;
+        let p = n + PRODUCT_STEPS as usize;
         StagePlan {
             diff: cuts[..d].iter().sum(),
-            product: cuts[d..d + p].iter().sum(),
-            compare: cuts[d + p],
-            reduce: cuts[d + p + 1],
+            norm: cuts[d..n].iter().sum(),
+            product: cuts[n..p].iter().sum(),
+            compare: cuts[p],
+            reduce: cuts[p + 1],
         }
     }
 }
 
 impl Config {
-    /// The exact-product format `(E + 2, 2F + 1)`.
-    pub fn wide(&self) -> Format {
-        exact_product_format(self.fmt).expect("checked when the configuration was made")
-    }
-
-    /// The parameter tags of module names, e.g. `e8m23_shared_cons_s4`.
+    /// The parameter tags of module names, e.g. `e8m23_shared_cons_s4`
+    /// (bundle) or `e8m23_ray_cons_s4`.
     pub fn tag(&self) -> String {
-        let o = match self.origin {
-            Origin::Shared => "shared",
-            Origin::Bounded => "bounded",
+        let o = match (self.mode, self.origin) {
+            (Mode::Ray, _) => "ray",
+            (Mode::Bundle, Origin::Shared) => "shared",
+            (Mode::Bundle, Origin::Bounded) => "bounded",
         };
         let r = match self.policy {
             Policy::Conservative => "cons",
             Policy::Nearest => "near",
         };
         format!("{}_{o}_{r}_s{}", self.fmt.tag(), self.stages)
+    }
+
+    fn ray(&self) -> bool {
+        self.mode == Mode::Ray
+    }
+
+    fn bounded(&self) -> bool {
+        self.origin == Origin::Bounded
+    }
+
+    fn describe_params(&self, m: &mut ModuleBuilder, stages: u32) {
+        m.param("exp_bits", self.fmt.exp_bits)
+            .param("frac_bits", self.fmt.frac_bits)
+            .param("mode", format!("{:?}", self.mode).to_lowercase())
+            .param("origin", format!("{:?}", self.origin).to_lowercase())
+            .param("rounding", format!("{:?}", self.policy).to_lowercase())
+            .param("stages", stages);
     }
 }
 
@@ -249,35 +299,42 @@ pub fn axis_name(cfg: &Config, stages: u32) -> String {
 }
 
 /// The axis block: mirrors one axis so that its directions are `>= 0`
-/// (sign flips only) and forms the four numerators; `stages` registers
-/// inside the difference operators.
+/// (sign flips only) and forms the numerators; `stages` registers inside
+/// the difference operators.
 ///
-/// Inputs `p_min p_max o_lo [o_hi] d_lo d_hi`; outputs (all `stages` cycles
-/// later) `neg` (`d_lo < 0`: the axis is mirrored), `pos` (`d_hi > 0`),
-/// `a`/`b` (smallest / largest `|d|`), `n_any x_any n_all x_all`.
+/// Bundle mode: inputs `p_min p_max o_lo [o_hi] d_lo d_hi`; outputs (all
+/// `stages` cycles later) `neg` (`d_lo < 0`: the axis is mirrored), `pos`
+/// (`d_hi > 0`), `a`/`b` (smallest / largest `|d|`), `n_any x_any n_all
+/// x_all`. Ray mode: inputs `p_min p_max o d`; outputs `a` (`|d|`), `n`
+/// (entry numerator, rounded down) and `x` (exit numerator, rounded up).
 pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     let f = cfg.fmt;
     let mut m = ModuleBuilder::new(axis_name(cfg, stages));
-    m.describe(
+    m.describe(if cfg.ray() {
+        "One axis of the silhouette ray tester: mirror so that the direction is >= 0, then the \
+         entry numerator n = near - o (rounded down) and the exit numerator x = far - o (rounded up)."
+    } else {
         "One axis of the silhouette tester: mirror so that directions are >= 0, then the entry \
          numerators n = near - o and exit numerators x = far - o for AnyHit (n down, x up) and \
-         AllHit (n up, x down).",
-    );
-    m.param("exp_bits", f.exp_bits)
-        .param("frac_bits", f.frac_bits)
-        .param("origin", format!("{:?}", cfg.origin).to_lowercase())
-        .param("rounding", format!("{:?}", cfg.policy).to_lowercase())
-        .param("stages", stages);
+         AllHit (n up, x down)."
+    });
+    cfg.describe_params(&mut m, stages);
     let ty = Ty::UInt(f.width());
     let p_min = m.input("p_min", ty);
     let p_max = m.input("p_max", ty);
-    let o_lo = m.input("o_lo", ty);
-    let o_hi = match cfg.origin {
-        Origin::Shared => o_lo,
-        Origin::Bounded => m.input("o_hi", ty),
+    let (o_lo, o_hi, d_lo, d_hi) = if cfg.ray() {
+        let o = m.input("o", ty);
+        let d = m.input("d", ty);
+        (o, o, d, d)
+    } else {
+        let o_lo = m.input("o_lo", ty);
+        let o_hi = if cfg.bounded() {
+            m.input("o_hi", ty)
+        } else {
+            o_lo
+        };
+        (o_lo, o_hi, m.input("d_lo", ty), m.input("d_hi", ty))
     };
-    let d_lo = m.input("d_lo", ty);
-    let d_hi = m.input("d_hi", ty);
 
     // Classify the direction interval (by value: -0 is not negative).
     // d_lo < +0: negative sign bit, nonzero, not NaN; +0 < d_hi likewise
@@ -293,8 +350,6 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     };
     let neg = strictly(&mut m, d_lo, true);
     let neg = m.name(neg, "neg");
-    let pos = strictly(&mut m, d_hi, false);
-    let pos = m.name(pos, "pos");
 
     // Mirror: sign flips and swaps only, exact.
     let sb = sign_bit(&mut m, f);
@@ -315,206 +370,298 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     let d_lo_abs = m.and(d_lo, abs_mask);
     let d_hi_abs = m.and(d_hi, abs_mask);
     let a = m.mux(neg, d_hi_abs, d_lo_abs);
-    let b = m.mux(neg, d_lo_abs, d_hi_abs);
 
     // The numerators (the only rounded values).
-    let get = |io: crate::builder::InstanceOutputs, port: &str| {
-        io.get(port).expect("operator output exists")
-    };
-    let (n_any, x_any, n_all, x_all) = match (cfg.origin, cfg.policy) {
-        (Origin::Shared, Policy::Conservative) => {
-            // one exact sum per plane, rounded both ways
-            let adu = add_down_up_module(f, stages);
-            let n = m.instance("u_entry", &adu, &[("a", near), ("b", m_lo)]);
-            let x = m.instance("u_exit", &adu, &[("a", far), ("b", m_lo)]);
-            let n_any = n.get("down").expect("down");
-            let n_all = n.get("up").expect("up");
-            let x_any = x.get("up").expect("up");
-            let x_all = x.get("down").expect("down");
-            (n_any, x_any, n_all, x_all)
+    let z = |io: InstanceOutputs| io.get("z").expect("adder has output z");
+    if cfg.ray() {
+        let (entry, exit) = match cfg.policy {
+            Policy::Conservative => (Rounding::Rdn, Rounding::Rup),
+            Policy::Nearest => (Rounding::Rne, Rounding::Rne),
+        };
+        let entry = add_module(f, entry, false, stages);
+        let exit = add_module(f, exit, false, stages);
+        let n = z(m.instance("u_entry", &entry, &[("a", near), ("b", m_lo)]));
+        let x = z(m.instance("u_exit", &exit, &[("a", far), ("b", m_lo)]));
+        for _ in 0..stages {
+            m.stage();
         }
-        (Origin::Bounded, Policy::Conservative) => {
-            let dn = add_module(f, Rounding::Rdn, false, stages);
-            let up = add_module(f, Rounding::Rup, false, stages);
-            let n_any = get(m.instance("u_n_any", &dn, &[("a", near), ("b", m_hi)]), "z");
-            let x_any = get(m.instance("u_x_any", &up, &[("a", far), ("b", m_lo)]), "z");
-            let n_all = get(m.instance("u_n_all", &up, &[("a", near), ("b", m_lo)]), "z");
-            let x_all = get(m.instance("u_x_all", &dn, &[("a", far), ("b", m_hi)]), "z");
-            (n_any, x_any, n_all, x_all)
+        m.output("a", a);
+        m.output("n", n);
+        m.output("x", x);
+    } else {
+        let pos = strictly(&mut m, d_hi, false);
+        let pos = m.name(pos, "pos");
+        let b = m.mux(neg, d_lo_abs, d_hi_abs);
+        let (n_any, x_any, n_all, x_all) = match (cfg.origin, cfg.policy) {
+            (Origin::Shared, Policy::Conservative) => {
+                // one exact sum per plane, rounded both ways
+                let adu = add_down_up_module(f, stages);
+                let n = m.instance("u_entry", &adu, &[("a", near), ("b", m_lo)]);
+                let x = m.instance("u_exit", &adu, &[("a", far), ("b", m_lo)]);
+                let n_any = n.get("down").expect("down");
+                let n_all = n.get("up").expect("up");
+                let x_any = x.get("up").expect("up");
+                let x_all = x.get("down").expect("down");
+                (n_any, x_any, n_all, x_all)
+            }
+            (Origin::Bounded, Policy::Conservative) => {
+                let dn = add_module(f, Rounding::Rdn, false, stages);
+                let up = add_module(f, Rounding::Rup, false, stages);
+                let n_any = z(m.instance("u_n_any", &dn, &[("a", near), ("b", m_hi)]));
+                let x_any = z(m.instance("u_x_any", &up, &[("a", far), ("b", m_lo)]));
+                let n_all = z(m.instance("u_n_all", &up, &[("a", near), ("b", m_lo)]));
+                let x_all = z(m.instance("u_x_all", &dn, &[("a", far), ("b", m_hi)]));
+                (n_any, x_any, n_all, x_all)
+            }
+            (Origin::Shared, Policy::Nearest) => {
+                let rne = add_module(f, Rounding::Rne, false, stages);
+                let n = z(m.instance("u_entry", &rne, &[("a", near), ("b", m_lo)]));
+                let x = z(m.instance("u_exit", &rne, &[("a", far), ("b", m_lo)]));
+                (n, x, n, x)
+            }
+            (Origin::Bounded, Policy::Nearest) => {
+                let rne = add_module(f, Rounding::Rne, false, stages);
+                let n_any = z(m.instance("u_n_any", &rne, &[("a", near), ("b", m_hi)]));
+                let x_any = z(m.instance("u_x_any", &rne, &[("a", far), ("b", m_lo)]));
+                let n_all = z(m.instance("u_n_all", &rne, &[("a", near), ("b", m_lo)]));
+                let x_all = z(m.instance("u_x_all", &rne, &[("a", far), ("b", m_hi)]));
+                (n_any, x_any, n_all, x_all)
+            }
+        };
+        for _ in 0..stages {
+            m.stage();
         }
-        (Origin::Shared, Policy::Nearest) => {
-            let rne = add_module(f, Rounding::Rne, false, stages);
-            let n = get(
-                m.instance("u_entry", &rne, &[("a", near), ("b", m_lo)]),
-                "z",
-            );
-            let x = get(m.instance("u_exit", &rne, &[("a", far), ("b", m_lo)]), "z");
-            (n, x, n, x)
-        }
-        (Origin::Bounded, Policy::Nearest) => {
-            let rne = add_module(f, Rounding::Rne, false, stages);
-            let n_any = get(
-                m.instance("u_n_any", &rne, &[("a", near), ("b", m_hi)]),
-                "z",
-            );
-            let x_any = get(m.instance("u_x_any", &rne, &[("a", far), ("b", m_lo)]), "z");
-            let n_all = get(
-                m.instance("u_n_all", &rne, &[("a", near), ("b", m_lo)]),
-                "z",
-            );
-            let x_all = get(m.instance("u_x_all", &rne, &[("a", far), ("b", m_hi)]), "z");
-            (n_any, x_any, n_all, x_all)
-        }
-    };
-    for _ in 0..stages {
-        m.stage();
+        m.output("neg", neg);
+        m.output("pos", pos);
+        m.output("a", a);
+        m.output("b", b);
+        m.output("n_any", n_any);
+        m.output("x_any", x_any);
+        m.output("n_all", n_all);
+        m.output("x_all", x_all);
     }
-    m.output("neg", neg);
-    m.output("pos", pos);
-    m.output("a", a);
-    m.output("b", b);
-    m.output("n_any", n_any);
-    m.output("x_any", x_any);
-    m.output("n_all", n_all);
-    m.output("x_all", x_all);
     Arc::new(
         m.finish()
             .expect("silhouette axis generator is type-correct for every accepted format"),
     )
 }
 
-/// Module name of the corner block (`all`: AllHit, else AnyHit).
-pub fn corner_name(cfg: &Config, all: bool, product: u32, compare: u32) -> String {
+/// Module name of the tests block.
+pub fn tests_name(cfg: &Config, plan: &StagePlan) -> String {
+    let mode = match cfg.mode {
+        Mode::Ray => "ray",
+        Mode::Bundle => "bundle",
+    };
     format!(
-        "silhouette_corner_{}_{}_p{product}_c{compare}",
-        if all { "all" } else { "any" },
-        cfg.fmt.tag()
+        "silhouette_tests_{mode}_{}_n{}_p{}_c{}",
+        cfg.fmt.tag(),
+        plan.norm,
+        plan.product,
+        plan.compare
     )
 }
 
-/// The corner block of one test: AllHit (`all`, every left side at its
-/// largest and every right side at its smallest over the bundle: the worst
-/// corner) or AnyHit (the best corner). For each product `v·|d_k|` the bound
-/// of `|d_k|` (`a_k` smallest, `b_k` largest) is picked by the sign bit of
-/// `v`; a zero factor gives `+0` (so `±∞·0 = 0`). Products are exact; the
-/// numerators are widened exactly; the twelve comparisons are exact.
+/// The factor whose fields are those of `b` where `sel`, else of `a`.
+#[track_caller]
+fn pick(m: &mut ModuleBuilder, sel: Sig, b: &Factor, a: &Factor) -> Factor {
+    Factor {
+        sign: m.mux(sel, b.sign, a.sign),
+        zero: m.mux(sel, b.zero, a.zero),
+        inf: m.mux(sel, b.inf, a.inf),
+        exp: m.mux(sel, b.exp, a.exp),
+        sig: m.mux(sel, b.sig, a.sig),
+    }
+}
+
+/// One side of a comparison before the multipliers' registers.
+enum Side {
+    /// a product `v · |d_k|`
+    Product(ProductStart),
+    /// a factor on its own (the numerator of a distance or direction check)
+    Single(Factor),
+}
+
+/// The tests block: every factor unpacked and normalised once, then per
+/// test the twelve comparisons `N_i·|d_j| <= X_j·|d_i|` (six silhouette
+/// edges), `N_i <= t_max·|d_i|` (distance) and `t_min·|d_i| <= X_i`
+/// (direction) as exact comparisons of products.
 ///
-/// Inputs `n_x n_y n_z x_x x_y x_z a_x .. b_z t_min t_max`; output `pass`
-/// (all twelve tests hold), `product + compare` cycles later.
-pub fn corner_module(cfg: &Config, all: bool, product: u32, compare_stages: u32) -> Arc<Module> {
+/// Bundle mode: AnyHit (each side at its best corner of the bundle) and
+/// AllHit (worst corner); for each product `v·|d_k|` the bound of `|d_k|`
+/// (`a_k` smallest, `b_k` largest) is picked by the sign bit of `v`.
+/// Inputs `n_any_* x_any_* n_all_* x_all_* a_* b_* t_min t_max`, outputs
+/// `pass_any`, `pass_all`. Ray mode: inputs `n_* x_* d_* t_min t_max`,
+/// output `pass`. A zero factor gives `+0` (so `±∞·0 = 0`).
+pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     let f = cfg.fmt;
-    let w = cfg.wide();
-    let mut m = ModuleBuilder::new(corner_name(cfg, all, product, compare_stages));
-    m.describe(if all {
-        "AllHit corner test: six silhouette-edge tests N_i*|d_j| <= X_j*|d_i|, three distance checks \
-         N_i <= t_max*|d_i| and three direction checks t_min*|d_i| <= X_i, each side taken at its \
-         worst corner of the bundle; exact products and comparisons."
+    let mut m = ModuleBuilder::new(tests_name(cfg, plan));
+    m.describe(if cfg.ray() {
+        "Silhouette ray test: six silhouette-edge tests N_i*|d_j| <= X_j*|d_i|, three distance \
+         checks N_i <= t_max*|d_i| and three direction checks t_min*|d_i| <= X_i, as exact \
+         comparisons of significand products and exponent sums (no rounding)."
     } else {
-        "AnyHit corner test: six silhouette-edge tests N_i*|d_j| <= X_j*|d_i|, three distance checks \
-         N_i <= t_max*|d_i| and three direction checks t_min*|d_i| <= X_i, each side taken at its \
-         best corner of the bundle; exact products and comparisons."
+        "Silhouette bundle tests, AnyHit (best corner) and AllHit (worst corner): six \
+         silhouette-edge tests N_i*|d_j| <= X_j*|d_i|, three distance checks N_i <= t_max*|d_i| \
+         and three direction checks t_min*|d_i| <= X_i each, as exact comparisons of \
+         significand products and exponent sums (no rounding)."
     });
     m.param("exp_bits", f.exp_bits)
         .param("frac_bits", f.frac_bits)
-        .param("test", if all { "all" } else { "any" })
-        .param("product_stages", product)
-        .param("compare_stages", compare_stages);
+        .param("mode", format!("{:?}", cfg.mode).to_lowercase())
+        .param("norm_stages", plan.norm)
+        .param("product_stages", plan.product)
+        .param("compare_stages", plan.compare);
     let ty = Ty::UInt(f.width());
-    let n: Vec<Sig> = AXES
-        .iter()
-        .map(|a| m.input(&format!("n_{a}"), ty))
-        .collect();
-    let x: Vec<Sig> = AXES
-        .iter()
-        .map(|a| m.input(&format!("x_{a}"), ty))
-        .collect();
-    let a: Vec<Sig> = AXES
-        .iter()
-        .map(|ax| m.input(&format!("a_{ax}"), ty))
-        .collect();
-    let b: Vec<Sig> = AXES
-        .iter()
-        .map(|ax| m.input(&format!("b_{ax}"), ty))
-        .collect();
+    let tests: &[&str] = if cfg.ray() { &[""] } else { &["any", "all"] };
+    let prefix = |t: &str, v: &str| {
+        if t.is_empty() {
+            v.to_string()
+        } else {
+            format!("{v}_{t}")
+        }
+    };
+    // Inputs, then every factor unpacked once.
+    let mut nx: Vec<(Vec<Sig>, Vec<Sig>)> = Vec::new();
+    for t in tests {
+        let n: Vec<Sig> = AXES
+            .iter()
+            .map(|ax| m.input(&format!("{}_{ax}", prefix(t, "n")), ty))
+            .collect();
+        let x: Vec<Sig> = AXES
+            .iter()
+            .map(|ax| m.input(&format!("{}_{ax}", prefix(t, "x")), ty))
+            .collect();
+        nx.push((n, x));
+    }
+    let bound = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
+        AXES.iter()
+            .map(|ax| m.input(&format!("{name}_{ax}"), ty))
+            .collect()
+    };
+    let (a_in, b_in) = if cfg.ray() {
+        let d = bound(&mut m, "d");
+        (d.clone(), d)
+    } else {
+        (bound(&mut m, "a"), bound(&mut m, "b"))
+    };
     let t_min = m.input("t_min", ty);
     let t_max = m.input("t_max", ty);
 
-    let mulx = mul_exact_module(f, product);
-    let widen = convert_module(f, w, Rounding::Rne, product);
-    let a_zero: Vec<Sig> = a.iter().map(|&v| is_zero(&mut m, f, v)).collect();
-    let b_zero: Vec<Sig> = b.iter().map(|&v| is_zero(&mut m, f, v)).collect();
-    let zero = m.uint(f.width(), 0);
+    let fa: Vec<Factor> = (0..3)
+        .map(|i| {
+            let name = if cfg.ray() { "d" } else { "a" };
+            factor(&mut m, f, a_in[i], &format!("{name}_{}", AXES[i]))
+        })
+        .collect();
+    let fb: Vec<Factor> = if cfg.ray() {
+        fa.clone()
+    } else {
+        (0..3)
+            .map(|i| factor(&mut m, f, b_in[i], &format!("b_{}", AXES[i])))
+            .collect()
+    };
+    let ft_min = factor(&mut m, f, t_min, "t_min");
+    let ft_max = factor(&mut m, f, t_max, "t_max");
+    let fnx: Vec<(Vec<Factor>, Vec<Factor>)> = tests
+        .iter()
+        .zip(&nx)
+        .map(|(t, (n, x))| {
+            let fac = |m: &mut ModuleBuilder, v: &[Sig], which: &str| -> Vec<Factor> {
+                (0..3)
+                    .map(|i| factor(m, f, v[i], &format!("{}_{}", prefix(t, which), AXES[i])))
+                    .collect()
+            };
+            (fac(&mut m, n, "n"), fac(&mut m, x, "x"))
+        })
+        .collect();
+    for _ in 0..plan.norm {
+        m.stage();
+    }
 
     // `v · |d_k|`, with |d_k| the bound that makes the product largest
-    // (`want_max`) or smallest, exactly; `+0` if either factor is zero.
-    let product_of = |m: &mut ModuleBuilder, v: Sig, k: usize, want_max: bool, inst: &str| {
-        let s = m.msb(v);
-        // sgn(v) != want_max picks b (the largest |d_k|)
-        let pick_b = if want_max { m.not(s) } else { s };
-        let d = m.mux(pick_b, b[k], a[k]);
-        let d_zero = m.mux(pick_b, b_zero[k], a_zero[k]);
-        let v_zero = is_zero(m, f, v);
-        let z = m.or(v_zero, d_zero);
-        let v = m.mux(z, zero, v);
-        m.instance(inst, &mulx, &[("a", v), ("b", d)])
-            .get("z")
-            .expect("exact multiplier has output z")
+    // (`want_max`) or smallest: sgn(v) != want_max picks b (the largest).
+    let product_of = |m: &mut ModuleBuilder, v: &Factor, k: usize, want_max: bool, inst: &str| {
+        let d = if cfg.ray() {
+            fa[k]
+        } else {
+            let pick_b = if want_max { m.not(v.sign) } else { v.sign };
+            pick(m, pick_b, &fb[k], &fa[k])
+        };
+        Side::Product(start_product(m, f, v, &d, plan.product, inst))
     };
-    let mut lhs = Vec::new();
-    let mut rhs = Vec::new();
-    let mut labels = Vec::new();
-    for &(i, j) in EDGES.iter() {
-        let tag = format!("{}{}", AXES[i], AXES[j]);
-        lhs.push(product_of(&mut m, n[i], j, all, &format!("u_edge_{tag}_l")));
-        rhs.push(product_of(
-            &mut m,
-            x[j],
-            i,
-            !all,
-            &format!("u_edge_{tag}_r"),
-        ));
-        labels.push(format!("edge_{tag}_ok"));
+    let mut sides: Vec<Vec<(Side, Side, String)>> = Vec::new();
+    for (t, (n, x)) in tests.iter().zip(&fnx) {
+        let all = *t == "all";
+        let tag = |s: &str| prefix(t, s);
+        let mut cmp = Vec::new();
+        for &(i, j) in EDGES.iter() {
+            let e = format!("{}{}", AXES[i], AXES[j]);
+            let l = product_of(&mut m, &n[i], j, all, &format!("u_{}_{e}_l", tag("edge")));
+            let r = product_of(&mut m, &x[j], i, !all, &format!("u_{}_{e}_r", tag("edge")));
+            cmp.push((l, r, format!("{}_{e}_ok", tag("edge"))));
+        }
+        for i in 0..3 {
+            let r = product_of(
+                &mut m,
+                &ft_max,
+                i,
+                !all,
+                &format!("u_{}_{}_r", tag("dist"), AXES[i]),
+            );
+            cmp.push((
+                Side::Single(n[i]),
+                r,
+                format!("{}_{}_ok", tag("dist"), AXES[i]),
+            ));
+        }
+        for i in 0..3 {
+            let l = product_of(
+                &mut m,
+                &ft_min,
+                i,
+                all,
+                &format!("u_{}_{}_l", tag("dir"), AXES[i]),
+            );
+            cmp.push((
+                l,
+                Side::Single(x[i]),
+                format!("{}_{}_ok", tag("dir"), AXES[i]),
+            ));
+        }
+        sides.push(cmp);
     }
-    for i in 0..3 {
-        let nw = m.instance(&format!("u_widen_n_{}", AXES[i]), &widen, &[("a", n[i])]);
-        lhs.push(nw.get("z").expect("converter has output z"));
-        rhs.push(product_of(
-            &mut m,
-            t_max,
-            i,
-            !all,
-            &format!("u_dist_{}_r", AXES[i]),
-        ));
-        labels.push(format!("dist_{}_ok", AXES[i]));
-    }
-    for i in 0..3 {
-        lhs.push(product_of(
-            &mut m,
-            t_min,
-            i,
-            all,
-            &format!("u_dir_{}_l", AXES[i]),
-        ));
-        let xw = m.instance(&format!("u_widen_x_{}", AXES[i]), &widen, &[("a", x[i])]);
-        rhs.push(xw.get("z").expect("converter has output z"));
-        labels.push(format!("dir_{}_ok", AXES[i]));
-    }
-    for _ in 0..product {
+    for _ in 0..plan.product {
         m.stage();
     }
-    let mut oks = Vec::new();
-    for k in 0..12 {
-        let ok = le(&mut m, w, lhs[k], rhs[k]);
-        oks.push(m.name(ok, &labels[k]));
+    let term = |m: &mut ModuleBuilder, s: &Side, name: &str| -> Term {
+        match s {
+            Side::Product(p) => product_term(m, f, p, name),
+            Side::Single(v) => single_term(m, f, v, name),
+        }
+    };
+    let mut oks: Vec<Vec<Sig>> = Vec::new();
+    for cmp in &sides {
+        let mut ok = Vec::new();
+        for (l, r, label) in cmp {
+            let base = label.trim_end_matches("_ok");
+            let lt = term(&mut m, l, &format!("{base}_lhs"));
+            let rt = term(&mut m, r, &format!("{base}_rhs"));
+            let v = term_le(&mut m, &lt, &rt);
+            ok.push(m.name(v, label));
+        }
+        oks.push(ok);
     }
-    for _ in 0..compare_stages {
+    for _ in 0..plan.compare {
         m.stage();
     }
-    let pass = all_of(&mut m, &oks, "pass");
-    m.output("pass", pass);
+    for (t, ok) in tests.iter().zip(&oks) {
+        let name = prefix(t, "pass");
+        let pass = all_of(&mut m, ok, &name);
+        m.output(&name, pass);
+    }
     Arc::new(
         m.finish()
-            .expect("silhouette corner generator is type-correct for every accepted format"),
+            .expect("silhouette tests generator is type-correct for every accepted format"),
     )
 }
 
@@ -528,19 +675,19 @@ pub fn build(cfg: &Config) -> Module {
     let f = cfg.fmt;
     let plan = StagePlan::new(cfg.stages);
     let mut m = ModuleBuilder::with_handshake(silhouette_name(cfg));
-    m.describe(
+    m.describe(if cfg.ray() {
+        "Silhouette-edge ray versus box tester (docs/silhouette.md), one ray per transaction: \
+         hit = 0 only if the ray misses the box within [t_min, t_max] (conservative: never a \
+         false miss); nan = a NaN input, invalid = an infinite origin or direction component."
+    } else {
         "Silhouette-edge ray/bundle versus box tester (docs/silhouette.md): all_hit = every ray of \
          the bundle hits the box, any_hit = 0 only if every ray misses (a single ray's conservative \
          hit bit); nan = a NaN input, invalid = infinite or unordered origin/direction bounds, \
-         mixed_sign = direction bounds straddle 0 on an axis (all_hit = 0, any_hit = nonempty).",
-    );
-    m.param("exp_bits", f.exp_bits)
-        .param("frac_bits", f.frac_bits)
-        .param("origin", format!("{:?}", cfg.origin).to_lowercase())
-        .param("rounding", format!("{:?}", cfg.policy).to_lowercase())
-        .param("stages", cfg.stages);
+         mixed_sign = direction bounds straddle 0 on an axis (all_hit = 0, any_hit = nonempty)."
+    });
+    cfg.describe_params(&mut m, cfg.stages);
     let ty = Ty::UInt(f.width());
-    let bounded = cfg.origin == Origin::Bounded;
+    let bounded = cfg.bounded();
     let vec3 = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
         AXES.iter()
             .map(|a| m.input(&format!("{name}_{a}"), ty))
@@ -548,27 +695,28 @@ pub fn build(cfg: &Config) -> Module {
     };
     let p_min = vec3(&mut m, "p_min");
     let p_max = vec3(&mut m, "p_max");
-    let o_lo = vec3(&mut m, "o_lo");
-    let o_hi = if bounded {
-        vec3(&mut m, "o_hi")
+    let (o_lo, o_hi, d_lo, d_hi) = if cfg.ray() {
+        let o = vec3(&mut m, "o");
+        let d = vec3(&mut m, "d");
+        (o.clone(), o, d.clone(), d)
     } else {
-        o_lo.clone()
+        let o_lo = vec3(&mut m, "o_lo");
+        let o_hi = if bounded {
+            vec3(&mut m, "o_hi")
+        } else {
+            o_lo.clone()
+        };
+        (o_lo, o_hi, vec3(&mut m, "d_lo"), vec3(&mut m, "d_hi"))
     };
-    let d_lo = vec3(&mut m, "d_lo");
-    let d_hi = vec3(&mut m, "d_hi");
     let t_min = m.input("t_min", ty);
     let t_max = m.input("t_max", ty);
 
     // Step 1: classify the inputs (no arithmetic).
     let mut read: Vec<Sig> = Vec::new();
-    read.extend(
-        p_min
-            .iter()
-            .chain(&p_max)
-            .chain(&o_lo)
-            .chain(&d_lo)
-            .chain(&d_hi),
-    );
+    read.extend(p_min.iter().chain(&p_max).chain(&o_lo).chain(&d_lo));
+    if !cfg.ray() {
+        read.extend(&d_hi);
+    }
     if bounded {
         read.extend(&o_hi);
     }
@@ -577,15 +725,21 @@ pub fn build(cfg: &Config) -> Module {
     let nan = any_of(&mut m, &nans, "nan_in");
     let mut bad = Vec::new();
     for i in 0..3 {
-        let mut vals = vec![o_lo[i], d_lo[i], d_hi[i]];
+        let mut vals = vec![o_lo[i], d_lo[i]];
+        if !cfg.ray() {
+            vals.push(d_hi[i]);
+        }
         if bounded {
             vals.push(o_hi[i]);
         }
         for v in vals {
             bad.push(is_any_inf(&mut m, f, v));
         }
-        let d_ok = le(&mut m, f, d_lo[i], d_hi[i]);
-        bad.push(m.not(d_ok));
+        if !cfg.ray() {
+            // a ray's bounds coincide: d <= d holds for every non-NaN value
+            let d_ok = le(&mut m, f, d_lo[i], d_hi[i]);
+            bad.push(m.not(d_ok));
+        }
         if bounded {
             // shared mode: o_lo <= o_lo holds for every non-NaN value
             let o_ok = le(&mut m, f, o_lo[i], o_hi[i]);
@@ -610,102 +764,97 @@ pub fn build(cfg: &Config) -> Module {
 
     // Steps 2 and 3: per axis, mirror and form the numerators.
     let axis = axis_module(cfg, plan.diff);
-    let mut neg = Vec::new();
-    let mut pos = Vec::new();
-    let mut av = Vec::new();
-    let mut bv = Vec::new();
-    let mut n_any = Vec::new();
-    let mut x_any = Vec::new();
-    let mut n_all = Vec::new();
-    let mut x_all = Vec::new();
+    let mut axis_out = Vec::new();
     for i in 0..3 {
-        let mut ins = vec![
-            ("p_min", p_min[i]),
-            ("p_max", p_max[i]),
-            ("o_lo", o_lo[i]),
-            ("d_lo", d_lo[i]),
-            ("d_hi", d_hi[i]),
-        ];
-        if bounded {
-            ins.push(("o_hi", o_hi[i]));
+        let mut ins = vec![("p_min", p_min[i]), ("p_max", p_max[i])];
+        if cfg.ray() {
+            ins.push(("o", o_lo[i]));
+            ins.push(("d", d_lo[i]));
+        } else {
+            ins.push(("o_lo", o_lo[i]));
+            ins.push(("d_lo", d_lo[i]));
+            ins.push(("d_hi", d_hi[i]));
+            if bounded {
+                ins.push(("o_hi", o_hi[i]));
+            }
         }
-        let out = m.instance(&format!("u_axis_{}", AXES[i]), &axis, &ins);
-        let g = |p: &str| out.get(p).expect("axis block output");
-        neg.push(g("neg"));
-        pos.push(g("pos"));
-        av.push(g("a"));
-        bv.push(g("b"));
-        n_any.push(g("n_any"));
-        x_any.push(g("x_any"));
-        n_all.push(g("n_all"));
-        x_all.push(g("x_all"));
+        axis_out.push(m.instance(&format!("u_axis_{}", AXES[i]), &axis, &ins));
     }
     for _ in 0..plan.diff {
         m.stage();
     }
-    let straddles: Vec<Sig> = (0..3).map(|i| m.and(neg[i], pos[i])).collect();
-    let mixed = any_of(&mut m, &straddles, "mixed");
+    let g = |i: usize, p: &str| axis_out[i].get(p).expect("axis block output");
 
-    // Step 4: the two corner tests, in parallel.
-    let mut pass = Vec::new();
-    for all in [false, true] {
-        let corner = corner_module(cfg, all, plan.product, plan.compare);
-        let (nn, xx) = if all {
-            (&n_all, &x_all)
-        } else {
-            (&n_any, &x_any)
-        };
-        let names: Vec<[String; 4]> = AXES
-            .iter()
-            .map(|a| {
-                [
-                    format!("n_{a}"),
-                    format!("x_{a}"),
-                    format!("a_{a}"),
-                    format!("b_{a}"),
-                ]
-            })
-            .collect();
-        let mut ins: Vec<(&str, Sig)> = Vec::new();
-        for i in 0..3 {
-            ins.push((names[i][0].as_str(), nn[i]));
-            ins.push((names[i][1].as_str(), xx[i]));
-            ins.push((names[i][2].as_str(), av[i]));
-            ins.push((names[i][3].as_str(), bv[i]));
-        }
-        ins.push(("t_min", t_min));
-        ins.push(("t_max", t_max));
-        let inst = if all { "u_corner_all" } else { "u_corner_any" };
-        let p = m
-            .instance(inst, &corner, &ins)
-            .get("pass")
-            .expect("corner block has output pass");
-        pass.push(p);
-    }
-    for _ in 0..plan.product + plan.compare {
+    // Step 4: the tests (two corners of a bundle, or the ray's one).
+    let tests = tests_module(cfg, &plan);
+    // (tests block port, axis block output) per axis
+    let wiring: &[(&str, &str)] = if cfg.ray() {
+        &[("n", "n"), ("x", "x"), ("d", "a")]
+    } else {
+        &[
+            ("n_any", "n_any"),
+            ("x_any", "x_any"),
+            ("n_all", "n_all"),
+            ("x_all", "x_all"),
+            ("a", "a"),
+            ("b", "b"),
+        ]
+    };
+    let names: Vec<(String, Sig)> = (0..3)
+        .flat_map(|i| wiring.iter().map(move |&(to, from)| (i, to, from)))
+        .map(|(i, to, from)| (format!("{to}_{}", AXES[i]), g(i, from)))
+        .collect();
+    let mut ins: Vec<(&str, Sig)> = names.iter().map(|(n, s)| (n.as_str(), *s)).collect();
+    ins.push(("t_min", t_min));
+    ins.push(("t_max", t_max));
+    let passes = m.instance("u_tests", &tests, &ins);
+    for _ in 0..plan.norm + plan.product + plan.compare {
         m.stage();
     }
-    let (pass_any, pass_all) = (m.name(pass[0], "pass_any"), m.name(pass[1], "pass_all"));
 
     // Step 5: the verdict.
     let not_invalid = m.not(invalid);
     let valid = m.and(not_nan, not_invalid);
     let not_empty = m.not(empty);
     let ok = m.and(valid, not_empty);
-    let not_mixed = m.not(mixed);
-    let all_hit = m.and(ok, not_mixed);
-    let all_hit = m.and(all_hit, pass_all);
-    let any_pass = m.or(mixed, pass_any);
-    let any_hit = m.and(ok, any_pass);
-    let mixed_sign = m.and(valid, mixed);
-    for _ in 0..plan.reduce {
-        m.stage();
+    if cfg.ray() {
+        let pass = passes.get("pass").expect("tests block has output pass");
+        let hit = m.and(ok, pass);
+        for _ in 0..plan.reduce {
+            m.stage();
+        }
+        m.output("hit", hit);
+        m.output("nan", nan);
+        m.output("invalid", invalid);
+    } else {
+        let pass_any = passes
+            .get("pass_any")
+            .expect("tests block has output pass_any");
+        let pass_all = passes
+            .get("pass_all")
+            .expect("tests block has output pass_all");
+        let straddles: Vec<Sig> = (0..3)
+            .map(|i| {
+                let (neg, pos) = (g(i, "neg"), g(i, "pos"));
+                m.and(neg, pos)
+            })
+            .collect();
+        let mixed = any_of(&mut m, &straddles, "mixed");
+        let not_mixed = m.not(mixed);
+        let all_hit = m.and(ok, not_mixed);
+        let all_hit = m.and(all_hit, pass_all);
+        let any_pass = m.or(mixed, pass_any);
+        let any_hit = m.and(ok, any_pass);
+        let mixed_sign = m.and(valid, mixed);
+        for _ in 0..plan.reduce {
+            m.stage();
+        }
+        m.output("all_hit", all_hit);
+        m.output("any_hit", any_hit);
+        m.output("nan", nan);
+        m.output("invalid", invalid);
+        m.output("mixed_sign", mixed_sign);
     }
-    m.output("all_hit", all_hit);
-    m.output("any_hit", any_hit);
-    m.output("nan", nan);
-    m.output("invalid", invalid);
-    m.output("mixed_sign", mixed_sign);
     m.finish()
         .expect("silhouette generator is type-correct for every accepted configuration")
 }
@@ -714,17 +863,31 @@ pub fn build(cfg: &Config) -> Module {
 pub fn config(p: &Params) -> Result<Config, ParamError> {
     let fmt =
         Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
+    // the golden model's reference products need (E + 2, 2F + 1)
     exact_product_format(fmt).map_err(ParamError::Combination)?;
+    let mode = match p.word("mode") {
+        "ray" => Mode::Ray,
+        "bundle" => Mode::Bundle,
+        other => unreachable!("mode choice checked by the parameter table: {other}"),
+    };
     let origin = match p.word("origin") {
         "bounded" => Origin::Bounded,
-        _ => Origin::Shared,
+        "shared" => Origin::Shared,
+        other => unreachable!("origin choice checked by the parameter table: {other}"),
     };
+    if mode == Mode::Ray && origin == Origin::Bounded {
+        return Err(ParamError::Combination(
+            "origin=bounded needs mode=bundle: a ray (mode=ray) has one origin o".into(),
+        ));
+    }
     let policy = match p.word("rounding") {
         "nearest" => Policy::Nearest,
-        _ => Policy::Conservative,
+        "conservative" => Policy::Conservative,
+        other => unreachable!("rounding choice checked by the parameter table: {other}"),
     };
     Ok(Config {
         fmt,
+        mode,
         origin,
         policy,
         stages: p.u32("stages"),
@@ -736,7 +899,7 @@ impl Unit for Silhouette {
         "silhouette"
     }
     fn summary(&self) -> &'static str {
-        "silhouette-edge ray/bundle vs box tester: all_hit, any_hit (three-valued), exact products, conservative differences"
+        "silhouette-edge box tester: bundles (all_hit, any_hit, three-valued) or single rays (hit); exact product comparisons, conservative differences"
     }
     fn params(&self) -> &'static [ParamSpec] {
         PARAMS
@@ -754,7 +917,7 @@ mod tests {
     fn stage_plan_covers_every_register_and_registers_outputs_first() {
         for s in 0..=16 {
             let p = StagePlan::new(s);
-            assert_eq!(p.diff + p.product + p.compare + p.reduce, s);
+            assert_eq!(p.diff + p.norm + p.product + p.compare + p.reduce, s);
         }
         assert_eq!(StagePlan::new(1).reduce, 1);
         let p4 = StagePlan::new(4);

@@ -25,6 +25,7 @@ pub mod fma;
 pub mod minmax;
 pub mod mul;
 pub mod mul_exact;
+pub mod product_compare;
 pub mod round;
 pub mod sum;
 pub mod unpack;
