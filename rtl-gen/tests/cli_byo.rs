@@ -342,3 +342,41 @@ fn convert_goes_both_ways_and_checks_ports_against_a_unit() {
     );
     assert!(o.status.success(), "{}", text(&o));
 }
+
+#[test]
+fn a_port_the_mode_does_not_have_is_named_with_the_mode() {
+    let dir = scratch("cli_byo_mode_port");
+    // a bundle file (d_hi_x) given to the ray-mode silhouette tester
+    let header =
+        "p_min_x p_min_y p_min_z p_max_x p_max_y p_max_z o_x o_y o_z d_hi_x d_y d_z t_min t_max";
+    std::fs::write(
+        dir.join("bundle.txt"),
+        format!("{header}\n0 0 0 0 0 0 0 0 0 0 0 0 0 0\n"),
+    )
+    .unwrap();
+    for cmd in ["golden", "sim"] {
+        let out = format!("bundle.{cmd}.txt");
+        let mut args = vec![
+            cmd,
+            "silhouette",
+            "-p",
+            "mode=ray",
+            "--in",
+            "bundle.txt",
+            "--out",
+            &out,
+        ];
+        if cmd == "sim" {
+            args.extend(["--dir", "gen"]);
+        }
+        let o = rtl_gen_in(&dir, &args);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{cmd}: {t}");
+        assert!(t.contains("field `d_hi_x`: unknown port"), "{cmd}: {t}");
+        assert!(
+            t.contains("mode=ray"),
+            "{cmd}: the error names the mode: {t}"
+        );
+        assert!(!dir.join(&out).exists(), "{cmd}: {out} exists");
+    }
+}

@@ -184,8 +184,19 @@ pub fn run_file(
     mode: Mode,
 ) -> Result<FileOutcome, FlowError> {
     run_file_inner(g, harness, tb, input, output, mode).map_err(|e| {
+        // a unit's ports depend on its parameters (silhouette mode=ray has no d_hi_*)
+        let context = if e.to_string().contains("unknown port") {
+            format!(
+                "\n(these are the ports of `{}`: unit `{}` with {})",
+                g.ports.top,
+                g.unit,
+                g.param_args()
+            )
+        } else {
+            String::new()
+        };
         FlowError::Sim(SimError::Invalid(format!(
-            "{e}\n(no results file written: {})",
+            "{e}{context}\n(no results file written: {})",
             output.display()
         )))
     })
