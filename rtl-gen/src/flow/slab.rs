@@ -1,18 +1,21 @@
 //! Stimulus and golden-model adapter for `slab`, from the same ray
 //! generators as the silhouette testbench ([`super::silhouette`]); the
-//! reciprocal direction is `1/d` rounded to nearest (±∞ for ±0), sometimes
-//! moved by an ulp or replaced by a special value or random bits.
+//! reciprocal direction is `1/d` rounded to nearest (±∞ for ±0), or toward
+//! zero for `rounding=conservative` (the contract of that design), sometimes
+//! moved by an ulp or replaced by a special value or random bits. The golden
+//! model is `golden_model::slab::eval` or `eval_conservative`.
 
 use super::silhouette::{corner_cases, from_f64, gen_ray, nudge, to_f64, RayCase, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
-use golden_model::float::FloatFormat;
-use golden_model::slab::{eval, SlabIn};
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
 
 /// Vectors and golden model of one `slab` configuration.
 pub struct SlabBench {
     fmt: FloatFormat,
+    conservative: bool,
     corners: Vec<SlabIn>,
 }
 
@@ -21,11 +24,19 @@ pub fn recip(fmt: FloatFormat, d: u64) -> u64 {
     from_f64(fmt, 1.0 / to_f64(fmt, d))
 }
 
+/// `1/d` in `fmt` rounded toward zero (±∞ for ±0 only, NaN for NaN): the
+/// reciprocal the conservative slab expects.
+pub fn recip_rtz(fmt: FloatFormat, d: u64) -> u64 {
+    golden_model::transform::recip(fmt, d, RoundingMode::TowardZero)
+}
+
 impl SlabBench {
     /// The testbench for resolved `slab` parameters.
     pub fn new(p: &Params) -> Self {
         let fmt = FloatFormat::new(p.u32("exp_bits"), p.u32("frac_bits"))
             .expect("format checked by the unit");
+        let conservative = p.word("rounding") == "conservative";
+        let recip = if conservative { recip_rtz } else { recip };
         // the single rays of the silhouette corner list (bundles dropped)
         let corners = corner_cases(fmt, false)
             .into_iter()
@@ -39,7 +50,20 @@ impl SlabBench {
                 t_max: b.t_max,
             })
             .collect();
-        SlabBench { fmt, corners }
+        SlabBench {
+            fmt,
+            conservative,
+            corners,
+        }
+    }
+
+    /// The golden model's answer for `x`.
+    pub fn golden(&self, x: &SlabIn) -> SlabOut {
+        if self.conservative {
+            eval_conservative(self.fmt, x)
+        } else {
+            eval(self.fmt, x)
+        }
     }
 
     /// Number of corner-case vectors before the random ones.
@@ -56,6 +80,7 @@ impl SlabBench {
         let mut rng = VectorRng::new(seed, index);
         let kind = KINDS[rng.below(KINDS.len() as u64) as usize];
         let c: RayCase = gen_ray(fmt, &mut rng, kind);
+        let recip = if self.conservative { recip_rtz } else { recip };
         let mut inv_d = c.d.map(|d| recip(fmt, d));
         for v in inv_d.iter_mut() {
             match rng.below(16) {
@@ -87,7 +112,7 @@ impl sim::Golden for SlabBench {
             t_min: v[12],
             t_max: v[13],
         };
-        let out = eval(self.fmt, &x);
+        let out = self.golden(&x);
         outputs[0] = out.hit as u64;
         outputs[1] = out.t_enter;
         outputs[2] = out.t_exit;

@@ -12,9 +12,22 @@
 //! on these values, with −0 below +0 and a canonical NaN, so the tree here
 //! gives the golden model's left-to-right chain bit for bit.)
 //!
+//! `rounding=conservative` builds the conservative slab instead (the design
+//! RAABB publishes; docs/silhouette.md §6, twin
+//! `golden_model::slab::eval_conservative`): `inv_d` is `1/d` rounded toward
+//! zero, read as the interval `|inv_d| ≤ |1/d| ≤ next_up(|inv_d|)`; each
+//! axis is mirrored by the sign bit of `inv_d` so the reciprocal is ≥ 0, the
+//! entry difference `p_min − o` is rounded down and the exit difference
+//! `p_max − o` up, each is multiplied by the interval end that keeps the
+//! bound conservative (the upper end for a negative entry or positive exit
+//! difference, the lower end otherwise) rounded down (entry) or up (exit);
+//! `inv_d = ±∞` (a zero direction component) selects `−∞..+∞` if
+//! `p_min ≤ o ≤ p_max` and the empty `+∞..−∞` otherwise, so no `0·∞` is
+//! formed. The test then never misses a hit of the exact segment.
+//!
 //! Pipelining: `stages` registers spread over 14 logical steps: the
-//! differences (6), the products (5), min/max, the reduction tree and the
-//! final comparison.
+//! differences (6), the products (5), min/max (or the parallel-slab select),
+//! the reduction tree and the final comparison.
 
 use super::Unit;
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
@@ -31,6 +44,29 @@ use std::sync::Arc;
 /// The `slab` unit.
 pub struct Slab;
 
+/// Rounding policy of the slab.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SlabRounding {
+    /// every operation RNE, min/max of the two plane parameters (the classic slab)
+    Nearest,
+    /// directed rounding, interval reciprocal, parallel slabs handled: never misses
+    Conservative,
+}
+
+impl SlabRounding {
+    /// The parameter words, in declaration order.
+    pub const WORDS: &'static [&'static str] = &["nearest", "conservative"];
+
+    /// The policy named by `word`.
+    pub fn parse(word: &str) -> Option<SlabRounding> {
+        match word {
+            "nearest" => Some(SlabRounding::Nearest),
+            "conservative" => Some(SlabRounding::Conservative),
+            _ => None,
+        }
+    }
+}
+
 const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "exp_bits",
@@ -43,6 +79,12 @@ const PARAMS: &[ParamSpec] = &[
         doc: "fraction bits F of the format (1 + E + F <= 64)",
         kind: ParamKind::Int { min: 1, max: 52 },
         default: "23",
+    },
+    ParamSpec {
+        name: "rounding",
+        doc: "nearest: inv_d = RNE(1/d), all RNE (classic, misses hits); conservative: inv_d = RTZ(1/d), directed rounding, d = 0 handled, never misses a hit",
+        kind: ParamKind::Choice(SlabRounding::WORDS),
+        default: "nearest",
     },
     ParamSpec {
         name: "stages",
@@ -136,22 +178,147 @@ pub fn slab_axis_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
     )
 }
 
-/// Module name of the top.
-pub fn slab_name(fmt: Format, stages: u32) -> String {
-    format!("slab_{}_s{stages}", fmt.tag())
+/// Module name of the per-axis block of the conservative slab.
+pub fn slab_axis_cons_name(fmt: Format, diff: u32, product: u32) -> String {
+    format!("slab_axis_cons_{}_d{diff}_p{product}", fmt.tag())
 }
 
-/// Builds the slab tester for `fmt` with `stages` pipeline registers.
-pub fn build(fmt: Format, stages: u32) -> Module {
-    let plan = StagePlan::new(stages);
-    let mut m = ModuleBuilder::with_handshake(slab_name(fmt, stages));
+/// `x` with its sign bit inverted when `flip` (a negation, NaN included).
+#[track_caller]
+fn negate_if(m: &mut ModuleBuilder, fmt: Format, x: Sig, flip: Sig) -> Sig {
+    let w = fmt.width();
+    let sign = m.msb(x);
+    let sign = m.xor(sign, flip);
+    let mag = m.slice(x, w - 2, 0);
+    m.cat(&[sign, mag])
+}
+
+/// One axis of the conservative slab: mirrored by the sign of `inv_d`,
+/// `u = RDN(lo − o)`, `v = RUP(hi − o)`, `near = RDN(u · r_u)`,
+/// `far = RUP(v · r_v)` with `r_u`, `r_v` the ends of `|inv_d| ..
+/// next_up(|inv_d|)` that keep each bound conservative; `inv_d = ±∞` gives
+/// `near, far = −∞, +∞` if `lo ≤ o ≤ hi`, else `+∞, −∞`. Latency
+/// `diff + product`; the select is combinational after the products.
+pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(slab_axis_cons_name(fmt, diff, product));
     m.describe(
-        "Classic slab ray/box tester (baseline): t = (p - o) * inv_d per plane, entry = max of \
-         t_min and the near planes, exit = min of t_max and the far planes, hit = entry <= exit; \
-         every operation RNE, min/max IEEE 754-2019 (NaN propagates).",
+        "One slab of the conservative slab tester: mirrored by the sign of inv_d; \
+         u = RDN(lo - o), v = RUP(hi - o); near = RDN(u * r_u), far = RUP(v * r_v) with r_u, r_v \
+         the ends of |inv_d| .. next_up(|inv_d|) that keep the bounds conservative; \
+         inv_d = +-inf (d = 0): near, far = -inf, +inf if lo <= o <= hi, else +inf, -inf.",
     );
     m.param("exp_bits", fmt.exp_bits)
         .param("frac_bits", fmt.frac_bits)
+        .param("diff_stages", diff)
+        .param("product_stages", product);
+    let w = fmt.width();
+    let ty = Ty::UInt(w);
+    let p_min = m.input("p_min", ty);
+    let p_max = m.input("p_max", ty);
+    let o = m.input("o", ty);
+    let inv_d = m.input("inv_d", ty);
+
+    // mirror so that the reciprocal is >= 0: lo = -p_max, hi = -p_min, o = -o
+    let mirror = m.msb(inv_d);
+    let mirror = m.name(mirror, "mirror");
+    let lo = m.mux(mirror, p_max, p_min);
+    let lo = negate_if(&mut m, fmt, lo, mirror);
+    let lo = m.name(lo, "lo");
+    let hi = m.mux(mirror, p_min, p_max);
+    let hi = negate_if(&mut m, fmt, hi, mirror);
+    let hi = m.name(hi, "hi");
+    let om = negate_if(&mut m, fmt, o, mirror);
+    let om = m.name(om, "o_mirrored");
+
+    // the reciprocal interval r_lo = |inv_d| ..= r_hi = next_up(|inv_d|)
+    let mag = m.slice(inv_d, w - 2, 0);
+    let inf = m.uint(w - 1, fmt.inf_bits());
+    let parallel = m.eq(mag, inf);
+    let parallel = m.name(parallel, "parallel");
+    let finite = m.lt(mag, inf);
+    let one = m.uint(w - 1, 1);
+    let up = m.add(mag, one);
+    let up = m.slice(up, w - 2, 0);
+    let hi_mag = m.mux(finite, up, mag);
+    let plus = m.bool(false);
+    let r_lo = m.cat(&[plus, mag]);
+    let r_lo = m.name(r_lo, "r_lo");
+    let r_hi = m.cat(&[plus, hi_mag]);
+    let r_hi = m.name(r_hi, "r_hi");
+
+    let sub_dn = add_module(fmt, Rounding::Rdn, true, diff);
+    let sub_up = add_module(fmt, Rounding::Rup, true, diff);
+    let z = |io: crate::builder::InstanceOutputs| io.get("z").expect("operator has output z");
+    let u = z(m.instance("u_sub_lo", &sub_dn, &[("a", lo), ("b", om)]));
+    let v = z(m.instance("u_sub_hi", &sub_up, &[("a", hi), ("b", om)]));
+    for _ in 0..diff {
+        m.stage();
+    }
+    let u = m.name(u, "u");
+    let v = m.name(v, "v");
+    let zero = m.uint(w, 0);
+    let (u_neg, u_le0, _) = compare(&mut m, fmt, u, zero);
+    let (v_pos, v_ge0, _) = compare(&mut m, fmt, zero, v);
+    let r_u = m.mux(u_neg, r_hi, r_lo);
+    let r_v = m.mux(v_pos, r_hi, r_lo);
+    let inside = m.and(u_le0, v_ge0);
+    let inside = m.name(inside, "in_slab");
+    let mul_dn = mul_module(fmt, Rounding::Rdn, product);
+    let mul_up = mul_module(fmt, Rounding::Rup, product);
+    let t0 = z(m.instance("u_mul_lo", &mul_dn, &[("a", u), ("b", r_u)]));
+    let t1 = z(m.instance("u_mul_hi", &mul_up, &[("a", v), ("b", r_v)]));
+    for _ in 0..product {
+        m.stage();
+    }
+    let pos_inf = m.uint(w, fmt.inf_bits());
+    let neg_inf = m.uint(w, fmt.inf_bits() | 1u128 << (w - 1));
+    let open_near = m.mux(inside, neg_inf, pos_inf);
+    let open_far = m.mux(inside, pos_inf, neg_inf);
+    let near = m.mux(parallel, open_near, t0);
+    let far = m.mux(parallel, open_far, t1);
+    m.output("near", near);
+    m.output("far", far);
+    Arc::new(
+        m.finish()
+            .expect("conservative slab axis generator is type-correct for every format"),
+    )
+}
+
+/// Module name of the top: `slab_e8m23_s4` (nearest), `slab_e8m23_cons_s4`.
+pub fn slab_name(fmt: Format, rounding: SlabRounding, stages: u32) -> String {
+    match rounding {
+        SlabRounding::Nearest => format!("slab_{}_s{stages}", fmt.tag()),
+        SlabRounding::Conservative => format!("slab_{}_cons_s{stages}", fmt.tag()),
+    }
+}
+
+/// Builds the slab tester for `fmt` with `rounding` and `stages` pipeline registers.
+pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
+    let plan = StagePlan::new(stages);
+    let mut m = ModuleBuilder::with_handshake(slab_name(fmt, rounding, stages));
+    m.describe(match rounding {
+        SlabRounding::Nearest => {
+            "Classic slab ray/box tester (baseline): t = (p - o) * inv_d per plane, entry = max of \
+             t_min and the near planes, exit = min of t_max and the far planes, hit = entry <= exit; \
+             every operation RNE, min/max IEEE 754-2019 (NaN propagates)."
+        }
+        SlabRounding::Conservative => {
+            "Conservative slab ray/box tester: inv_d = RTZ(1/d) widened to |inv_d| .. \
+             next_up(|inv_d|), entry parameters rounded down and exit parameters up, a zero \
+             direction component (inv_d = +-inf) tested as a parallel slab; entry = max of t_min \
+             and the entries, exit = min of t_max and the exits, hit = entry <= exit. Never \
+             misses a hit of the exact segment."
+        }
+    });
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param(
+            "rounding",
+            match rounding {
+                SlabRounding::Nearest => "nearest",
+                SlabRounding::Conservative => "conservative",
+            },
+        )
         .param("stages", stages);
     let ty = Ty::UInt(fmt.width());
     let vec3 = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
@@ -166,7 +333,10 @@ pub fn build(fmt: Format, stages: u32) -> Module {
     let t_min = m.input("t_min", ty);
     let t_max = m.input("t_max", ty);
 
-    let axis = slab_axis_module(fmt, plan.diff, plan.product);
+    let axis = match rounding {
+        SlabRounding::Nearest => slab_axis_module(fmt, plan.diff, plan.product),
+        SlabRounding::Conservative => slab_axis_cons_module(fmt, plan.diff, plan.product),
+    };
     let mut near = Vec::new();
     let mut far = Vec::new();
     for i in 0..3 {
@@ -216,7 +386,7 @@ impl Unit for Slab {
         "slab"
     }
     fn summary(&self) -> &'static str {
-        "classic slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE, hit/t_enter/t_exit"
+        "slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE or conservative, hit/t_enter/t_exit"
     }
     fn params(&self) -> &'static [ParamSpec] {
         PARAMS
@@ -224,7 +394,9 @@ impl Unit for Slab {
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
         let fmt =
             Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
-        Ok(build(fmt, p.u32("stages")))
+        let rounding = SlabRounding::parse(p.word("rounding"))
+            .expect("the parameter parser accepts only the declared words");
+        Ok(build(fmt, rounding, p.u32("stages")))
     }
 }
 
