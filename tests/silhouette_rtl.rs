@@ -129,3 +129,17 @@ fn slab_bfloat16_combinational() {
         None,
     );
 }
+
+/// The conservative slab (`rounding=conservative`, issue 19 item 3): binary32, 4 stages.
+#[test]
+fn slab_conservative_binary32() {
+    let p = ["rounding=conservative", "exp_bits=8", "frac_bits=23", "stages=4"];
+    run("slab_cons_b32", "slab", &p, 4, None);
+}
+
+/// The conservative slab: bfloat16, 2 stages.
+#[test]
+fn slab_conservative_bfloat16() {
+    let p = ["rounding=conservative", "exp_bits=8", "frac_bits=7", "stages=2"];
+    run("slab_cons_bf16", "slab", &p, 2, None);
+}
