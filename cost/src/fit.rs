@@ -228,7 +228,9 @@ pub fn fit(mesh: &Mesh, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std::
         let so = SynthOptions {
             generic: false,
             ecp5: false,
+            xilinx: false,
             pnr: false,
+            pnr_ecp5: false,
             target_mhz: o.target_mhz,
             ..Default::default()
         };

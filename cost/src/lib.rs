@@ -1,5 +1,6 @@
 //! Hardware cost against accuracy of the generated units (issue #8): the
-//! synthesis runner ([`synth`], Yosys and nextpnr-ice40), accuracy on shared
+//! synthesis runner ([`synth`], the pinned yowasp Yosys 0.70 and nextpnr-ice40 /
+//! nextpnr-ecp5 of scripts/fpga-requirements.txt), accuracy on shared
 //! workloads ([`accuracy`]), charts ([`charts`]), scene-fitted formats
 //! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
 #![warn(missing_docs)]

