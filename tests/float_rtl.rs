@@ -239,3 +239,22 @@ fn funpack() {
     c.push(("funpack", &["exp_bits=11", "frac_bits=52", "stages=1"]));
     check("funpack", &c);
 }
+
+#[test]
+fn frecip_every_mode() {
+    // one fixed mode per module (the divider has no rm port): the four
+    // formats spread over the four modes, plus binary32 in the two the
+    // slab baselines use (RNE for the nearest slab, RTZ for the conservative)
+    let mut c: Vec<(&str, &[&str])> = Vec::new();
+    for (fmt, (round, stages)) in [B32, B16, BF16, ODD].into_iter().zip([
+        ("round=rup", "stages=2"),
+        ("round=rdn", "stages=0"),
+        ("round=rne", "stages=3"),
+        ("round=rtz", "stages=1"),
+    ]) {
+        c.push(("frecip", with(fmt, &[round, stages])));
+    }
+    c.push(("frecip", with(B32, &["round=rne", "stages=4"])));
+    c.push(("frecip", with(B32, &["round=rtz", "stages=4"])));
+    check("frecip", &c);
+}

@@ -15,6 +15,7 @@ pub mod ffma;
 pub mod fminmax;
 pub mod fmul;
 pub mod fmul_exact;
+pub mod frecip;
 pub mod fstim;
 pub mod funpack;
 pub mod mulcmp;
@@ -102,6 +103,10 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::fdot3::FDot3,
             testbench: |p| Box::new(fdot3::FDot3Bench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::frecip::FRecip,
+            testbench: |p| Box::new(frecip::FRecipBench::new(p)),
         },
         Entry {
             unit: &crate::units::funpack::FUnpack,

@@ -11,6 +11,7 @@ pub mod ffma;
 pub mod fminmax;
 pub mod fmul;
 pub mod fmul_exact;
+pub mod frecip;
 pub mod funpack;
 pub mod mulcmp;
 pub mod silhouette;
