@@ -104,7 +104,13 @@ fn silhouette_ray_mode_binary32() {
 
 #[test]
 fn silhouette_ray_mode_bfloat16_nearest_with_bubbles() {
-    let p = ["mode=ray", "exp_bits=8", "frac_bits=7", "rounding=nearest", "stages=2"];
+    let p = [
+        "mode=ray",
+        "exp_bits=8",
+        "frac_bits=7",
+        "rounding=nearest",
+        "stages=2",
+    ];
     run("sil_ray_bf16_near", "silhouette", &p, 2, Some(3));
 }
 
@@ -133,13 +139,23 @@ fn slab_bfloat16_combinational() {
 /// The conservative slab (`rounding=conservative`, issue 19 item 3): binary32, 4 stages.
 #[test]
 fn slab_conservative_binary32() {
-    let p = ["rounding=conservative", "exp_bits=8", "frac_bits=23", "stages=4"];
+    let p = [
+        "rounding=conservative",
+        "exp_bits=8",
+        "frac_bits=23",
+        "stages=4",
+    ];
     run("slab_cons_b32", "slab", &p, 4, None);
 }
 
 /// The conservative slab: bfloat16, 2 stages.
 #[test]
 fn slab_conservative_bfloat16() {
-    let p = ["rounding=conservative", "exp_bits=8", "frac_bits=7", "stages=2"];
+    let p = [
+        "rounding=conservative",
+        "exp_bits=8",
+        "frac_bits=7",
+        "stages=2",
+    ];
     run("slab_cons_bf16", "slab", &p, 2, None);
 }
