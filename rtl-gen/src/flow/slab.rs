@@ -2,7 +2,9 @@
 //! generators as the silhouette testbench ([`super::silhouette`]); the
 //! reciprocal direction is `1/d` rounded to nearest (±∞ for ±0), or toward
 //! zero for `rounding=conservative` (the contract of that design), sometimes
-//! moved by an ulp or replaced by a special value or random bits. The golden
+//! moved by an ulp or replaced by a special value or random bits (for the
+//! conservative slab also by ±max_finite and ±0, the reciprocals whose
+//! widened interval ends at ∞ or starts at 0). The golden
 //! model is `golden_model::slab::eval` or `eval_conservative`.
 
 use super::silhouette::{corner_cases, from_f64, gen_ray, nudge, to_f64, RayCase, KINDS};
@@ -87,6 +89,9 @@ impl SlabBench {
                 0 => *v = nudge(fmt, *v, if rng.below(2) == 0 { -1 } else { 1 }),
                 1 => *v = rng.bits(fmt.width()),
                 2 => *v = fmt.inf(rng.below(2) == 0),
+                // the conservative slab's interval ends: next_up(max_finite) = ∞, and 0
+                3 if self.conservative => *v = fmt.max_finite(rng.below(2) == 0),
+                4 if self.conservative => *v = fmt.zero(rng.below(2) == 0),
                 _ => {}
             }
         }
