@@ -295,3 +295,33 @@ fn conservative_slab_parallel_rays() {
     // 1/2 is exact, but the unit cannot know: the exit uses next_up(0.5)
     assert_eq!(c.t_exit, nudge(F, b(0.25), 1));
 }
+
+/// Why the contract is RTZ: for a tiny direction `1/d` overflows, to ∞ in
+/// RNE (read as a parallel slab: a false miss) but to max_finite in RTZ
+/// (widened to max_finite..∞: the hit is kept).
+#[test]
+fn rtz_reciprocal_keeps_tiny_directions_apart_from_zero() {
+    let h = FloatFormat::BINARY16;
+    let f = |x: f64| from_f64(h, x);
+    let tiny = h.min_subnormal(false); // 2^-24, 1/d = 2^24 > 65504
+    let bx = BoxIn {
+        p_min: [tiny, f(-1.0), f(-1.0)],
+        p_max: [f(1.0); 3],
+    };
+    let r = RayIn {
+        o: [f(0.0); 3],
+        d: [tiny, f(0.0), f(0.0)],
+        t_min: f(0.0),
+        t_max: f(2.0),
+    };
+    assert!(ray_hits_box(h, &bx, &r).hit, "reaches x = 2^-24 at t = 1");
+    let rtz = cons_in(h, &bx, &r);
+    assert_eq!(rtz.inv_d[0], h.max_finite(false));
+    assert!(eval_conservative(h, &rtz).hit);
+    let rne = rne_in(h, &bx, &r);
+    assert_eq!(rne.inv_d[0], h.inf(false));
+    assert!(
+        !eval_conservative(h, &rne).hit,
+        "outside the contract: RNE's ∞ reads as d = 0"
+    );
+}
