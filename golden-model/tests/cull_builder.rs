@@ -4,9 +4,10 @@
 //! they hit (exact segment / triangle test on every culled leaf).
 //!
 //! Meshes: a procedural torus, a random triangle soup, and the shared
-//! scenes `teapot.obj` and `suzanne.obj` when `../shared/scenes` exists.
+//! scenes `teapot.obj` and `suzanne.obj` from `../shared/scenes` (the tests
+//! fail, naming the path, when that folder is missing).
 
-use golden_model::cull::builder::{build_planes, centroid, height, BuildParams};
+use golden_model::cull::builder::{build_planes, centroid, height, try_build_planes, BuildParams};
 use golden_model::cull::bvh::{parse_obj, Bvh, Mesh};
 use golden_model::cull::exact::Dyadic;
 use golden_model::cull::stats::{random_rays, trace, Counts, Rng};
@@ -64,11 +65,54 @@ fn meshes() -> Vec<(String, Mesh)> {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../shared/scenes")
             .join(name);
-        if let Ok(text) = std::fs::read_to_string(&p) {
-            v.push((name.to_string(), parse_obj(&text).expect("valid OBJ")));
-        }
+        let text = std::fs::read_to_string(&p).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (the shared meshes live in ../shared/scenes beside the clone)",
+                p.display()
+            )
+        });
+        v.push((name.to_string(), parse_obj(&text).expect("valid OBJ")));
     }
     v
+}
+
+/// A vertex with a NaN or infinite coordinate is an error naming its line,
+/// index and coordinates (the builder's exact arithmetic has no value for it).
+#[test]
+fn non_finite_vertex_is_an_error_naming_the_vertex() {
+    let obj = |c: &str| format!("v 0 0 0\nv 1 0 0\n# c\nv {c}\nf 1 2 3\n");
+    for (c, shown) in [
+        ("0 nan 1", "(0, NaN, 1)"),
+        ("inf 0 1", "(inf, 0, 1)"),
+        ("0 0 -inf", "(0, 0, -inf)"),
+        ("1e39 0 1", "(inf, 0, 1)"),
+    ] {
+        let e = parse_obj(&obj(c)).unwrap_err();
+        assert!(
+            e.starts_with("line 4: vertex 2 (0-based) is ")
+                && e.contains(shown)
+                && e.contains("finite"),
+            "{c}: {e}"
+        );
+    }
+    assert!(parse_obj(&obj("0 1 1e38")).is_ok());
+    // a mesh built in code: the builder returns the error, build_planes panics with it
+    let mut mesh = torus(8, 4);
+    mesh.vertices[5] = [1.0, f32::NAN, 0.0];
+    let params = BuildParams {
+        plane: FloatFormat::BINARY16,
+        k: 4,
+        samples: 4,
+    };
+    let bvh = Bvh::build(&mesh, 4);
+    let e = try_build_planes(&mesh, &bvh, &params).unwrap_err();
+    assert_eq!(
+        e,
+        "vertex 5 (0-based) is (1, NaN, 0): coordinates must be finite (no NaN or infinity)"
+    );
+    let p = std::panic::catch_unwind(|| build_planes(&mesh, &bvh, &params)).unwrap_err();
+    let m = p.downcast_ref::<String>().expect("message");
+    assert!(m.contains("cull-plane builder: vertex 5 (0-based)"), "{m}");
 }
 
 #[test]

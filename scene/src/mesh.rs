@@ -7,6 +7,8 @@ use golden_model::cull::bvh::Mesh;
 use std::path::Path;
 
 /// Loads an OBJ file (every object merged, polygons fanned into triangles by `tobj`).
+/// A vertex with a NaN or infinite coordinate is an error naming it (index in
+/// the merged mesh, coordinates).
 pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     let opts = tobj::LoadOptions {
         triangulate: true,
@@ -29,6 +31,7 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     if mesh.triangles.is_empty() {
         return Err("no triangles".into());
     }
+    mesh.check_finite()?;
     Ok(mesh)
 }
 

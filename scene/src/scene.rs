@@ -401,6 +401,10 @@ impl Scene {
                     }
                 }
             }
+            // obj meshes are checked as loaded (naming the file); this also
+            // covers procedural shapes and recentering (finite but huge values)
+            mesh.check_finite()
+                .map_err(|e| err(path, &field, format!("mesh `{name}`: {e}")))?;
             names.insert(name.clone(), meshes.len());
             meshes.push((name.clone(), mesh));
         }

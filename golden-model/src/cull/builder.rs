@@ -155,8 +155,21 @@ fn select(
     )
 }
 
-/// Places up to `params.k` planes on every node of `bvh`.
+/// Places up to `params.k` planes on every node of `bvh`; panics with
+/// [`try_build_planes`]'s message on a mesh with a non-finite vertex.
 pub fn build_planes(mesh: &Mesh, bvh: &Bvh, params: &BuildParams) -> CullPlanes {
+    try_build_planes(mesh, bvh, params).unwrap_or_else(|e| panic!("cull-plane builder: {e}"))
+}
+
+/// Places up to `params.k` planes on every node of `bvh`, or `Err` naming the
+/// first vertex of `mesh` with a NaN or infinite coordinate (the exact
+/// arithmetic has no value for it) — see [`Mesh::check_finite`].
+pub fn try_build_planes(
+    mesh: &Mesh,
+    bvh: &Bvh,
+    params: &BuildParams,
+) -> Result<CullPlanes, String> {
+    mesh.check_finite()?;
     let pf = params.plane;
     let nn = bvh.nodes.len();
     let mut planes: Vec<Vec<Plane>> = vec![Vec::new(); nn];
@@ -268,5 +281,5 @@ pub fn build_planes(mesh: &Mesh, bvh: &Bvh, params: &BuildParams) -> CullPlanes 
         planes[id] = p;
         scores[id] = s;
     }
-    CullPlanes { planes, scores }
+    Ok(CullPlanes { planes, scores })
 }

@@ -30,6 +30,27 @@ impl Mesh {
         }
         (lo, hi)
     }
+    /// `Err` naming the first vertex with a NaN or infinite coordinate (its
+    /// 0-based index and coordinates). The plane builder's exact arithmetic
+    /// and the box bounds need finite vertices; every mesh loader checks this.
+    pub fn check_finite(&self) -> Result<(), String> {
+        match self
+            .vertices
+            .iter()
+            .position(|v| v.iter().any(|x| !x.is_finite()))
+        {
+            Some(i) => Err(non_finite_vertex(i, &self.vertices[i])),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The message for vertex `i` (0-based) at `v` that is not finite.
+pub fn non_finite_vertex(i: usize, v: &[f32; 3]) -> String {
+    format!(
+        "vertex {i} (0-based) is ({}, {}, {}): coordinates must be finite (no NaN or infinity)",
+        v[0], v[1], v[2]
+    )
 }
 
 /// What a node holds.
@@ -182,6 +203,8 @@ fn bounds_of(mesh: &Mesh, tris: &[u32]) -> ([f32; 3], [f32; 3]) {
 
 /// Reads a Wavefront OBJ file's `v` and `f` lines (polygons fanned into
 /// triangles, negative indices and `v/t/n` forms accepted; everything else ignored).
+/// A vertex with a NaN or infinite coordinate (`nan`, `inf`, or a value beyond
+/// the f32 range such as `1e39`) is an error naming its line, index and coordinates.
 pub fn parse_obj(text: &str) -> Result<Mesh, String> {
     let mut mesh = Mesh::default();
     for (ln, line) in text.lines().enumerate() {
@@ -198,7 +221,15 @@ pub fn parse_obj(text: &str) -> Result<Mesh, String> {
                 if c.len() != 3 {
                     return Err(format!("line {}: vertex needs 3 coordinates", ln + 1));
                 }
-                mesh.vertices.push([c[0], c[1], c[2]]);
+                let v = [c[0], c[1], c[2]];
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(format!(
+                        "line {}: {}",
+                        ln + 1,
+                        non_finite_vertex(mesh.vertices.len(), &v)
+                    ));
+                }
+                mesh.vertices.push(v);
             }
             Some("f") => {
                 let n = mesh.vertices.len() as i64;
