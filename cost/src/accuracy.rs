@@ -19,7 +19,8 @@
 //!
 //! Metrics: false-hit rate = false hits / exact misses; false misses (a hit
 //! the tester loses: for the silhouette tester this is a wrongful cull and
-//! must be 0; the slab baseline has some, reported); uncertain = `any_hit ∧
+//! must be 0, and so for the conservative slab; the RNE slab baseline has
+//! some, reported); uncertain = `any_hit ∧
 //! ¬all_hit` on a single ray. Bundles (scene and random): direction
 //! intervals `d·(1 ± s)` around each ray with a shared origin; resolved =
 //! AllHit or AllMiss (no per-ray tests needed); a verdict contradicted by
@@ -232,13 +233,29 @@ pub fn round_case(fmt: FloatFormat, c: &Case) -> (BoxIn, RayIn) {
     )
 }
 
+/// Single-ray statistics of every box tester on one workload.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RayStatsAll {
+    /// silhouette tester, conservative, shared origin: `any_hit` of
+    /// `BundleIn::ray` (the `hit` output of `mode=ray`, and the AnyHit bit of
+    /// `mode=bundle` on a single ray: one number serves both modes)
+    pub silhouette: RayStats,
+    /// slab baseline, RNE products, `inv_d = RNE(1/d)` (`slab`, the default
+    /// `rounding=nearest`)
+    pub slab: RayStats,
+    /// conservative slab (`slab -p rounding=conservative`):
+    /// `golden_model::slab::eval_conservative` with `inv_d = RTZ(1/d)`, the
+    /// reciprocal `rtl-gen/src/flow/slab.rs` feeds it
+    pub slab_conservative: RayStats,
+}
+
 /// Single-ray statistics of the silhouette tester (conservative, shared
-/// origin) and of the slab baseline (RNE, `inv_d` correctly rounded).
-pub fn ray_stats(fmt: FloatFormat, cases: &[Case]) -> (RayStats, RayStats) {
+/// origin), the RNE slab (`inv_d` correctly rounded) and the conservative
+/// slab (`inv_d` rounded toward zero, directed products).
+pub fn ray_stats(fmt: FloatFormat, cases: &[Case]) -> RayStatsAll {
     let cfg = silhouette::Config::new(fmt, OriginMode::Shared, Rounding::Conservative)
         .expect("format has an exact-product format");
-    let mut sil = RayStats::default();
-    let mut slb = RayStats::default();
+    let mut all = RayStatsAll::default();
     for c in cases {
         let (bx, ray) = round_case(fmt, c);
         let exact = ray_hits_box(fmt, &bx, &ray).hit;
@@ -246,20 +263,24 @@ pub fn ray_stats(fmt: FloatFormat, cases: &[Case]) -> (RayStats, RayStats) {
             &cfg,
             &BundleIn::ray(bx.p_min, bx.p_max, ray.o, ray.d, ray.t_min, ray.t_max),
         );
-        let s = slab::eval(
-            fmt,
-            &SlabIn {
-                p_min: bx.p_min,
-                p_max: bx.p_max,
-                o: ray.o,
-                inv_d: ray.d.map(|d| recip(fmt, d, RoundingMode::NearestEven)),
-                t_min: ray.t_min,
-                t_max: ray.t_max,
-            },
-        );
+        let slab_in = |round: RoundingMode| SlabIn {
+            p_min: bx.p_min,
+            p_max: bx.p_max,
+            o: ray.o,
+            inv_d: ray.d.map(|d| recip(fmt, d, round)),
+            t_min: ray.t_min,
+            t_max: ray.t_max,
+        };
+        let s = slab::eval(fmt, &slab_in(RoundingMode::NearestEven));
+        let sc = slab::eval_conservative(fmt, &slab_in(RoundingMode::TowardZero));
         for (st, hit, unc) in [
-            (&mut sil, out.any_hit, out.any_hit && !out.all_hit),
-            (&mut slb, s.hit, false),
+            (
+                &mut all.silhouette,
+                out.any_hit,
+                out.any_hit && !out.all_hit,
+            ),
+            (&mut all.slab, s.hit, false),
+            (&mut all.slab_conservative, sc.hit, false),
         ] {
             st.n += 1;
             st.hits += exact as u64;
@@ -268,7 +289,7 @@ pub fn ray_stats(fmt: FloatFormat, cases: &[Case]) -> (RayStats, RayStats) {
             st.uncertain += unc as u64;
         }
     }
-    (sil, slb)
+    all
 }
 
 /// Bundle statistics: each case becomes a bundle of directions

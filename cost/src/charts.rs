@@ -9,14 +9,42 @@ use std::path::{Path, PathBuf};
 
 const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
-/// One series of points `(x, y, label)`.
+/// One plotted point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// x
+    pub x: f64,
+    /// y
+    pub y: f64,
+    /// text drawn beside it
+    pub label: String,
+    /// false misses of the design it stands for (a design with any is never
+    /// on the Pareto front)
+    pub false_misses: u64,
+}
+
+impl Point {
+    /// A point of a design without false misses.
+    pub fn new(x: f64, y: f64, label: impl Into<String>) -> Self {
+        Point {
+            x,
+            y,
+            label: label.into(),
+            false_misses: 0,
+        }
+    }
+}
+
+/// One series of points.
 pub struct Series {
     /// legend name
     pub name: String,
     /// colour
     pub color: RGBColor,
     /// points
-    pub points: Vec<(f64, f64, String)>,
+    pub points: Vec<Point>,
+    /// hollow markers instead of filled ones
+    pub hollow: bool,
 }
 
 /// A scatter chart on log-log (or lin-log) axes.
@@ -35,10 +63,16 @@ pub struct Chart {
     pub y_floor: f64,
     /// series
     pub series: Vec<Series>,
-    /// mark the Pareto front (smaller x and smaller y are better)
+    /// mark the Pareto front (smaller x and smaller y are better) among the
+    /// points without false misses ([`sound_front`])
     pub pareto: bool,
     /// legend in the lower right corner instead of the upper right
     pub legend_low: bool,
+    /// vertical reference lines `(x, label)` (published figures without a
+    /// measured y), with the legend entry `refs_name`
+    pub refs: Vec<(f64, String)>,
+    /// legend entry of the reference lines
+    pub refs_name: String,
 }
 
 /// The points no other point beats in both coordinates, sorted by x.
@@ -54,6 +88,85 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     front
 }
 
+/// The Pareto front among the points whose design has no false miss (y
+/// drawn at least at `y_floor`): a tester that loses hits is not compared
+/// with one that never does, however few false hits it reports.
+pub fn sound_front(points: &[Point], y_floor: f64) -> Vec<(f64, f64)> {
+    let sound: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| p.false_misses == 0)
+        .map(|p| (p.x, p.y.max(y_floor)))
+        .collect();
+    pareto_front(&sound)
+}
+
+/// A short tick label: `10k`, `20k`, `1.5k`, `2M`, `500`, `0.5`, `1e-3`.
+pub fn tick_label(v: f64) -> String {
+    fn trim(x: f64) -> String {
+        let t = format!("{x:.2}");
+        let t = t.trim_end_matches('0').trim_end_matches('.');
+        t.to_string()
+    }
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if a >= 1e6 {
+        format!("{}M", trim(v / 1e6))
+    } else if a >= 1e3 {
+        format!("{}k", trim(v / 1e3))
+    } else if a >= 0.01 {
+        trim(v)
+    } else {
+        let e = a.log10().floor() as i32;
+        let m = v / 10f64.powi(e);
+        let m = (m * 10.0).round() / 10.0;
+        if (m - m.round()).abs() < 1e-9 {
+            format!("{}e{e}", m.round() as i64)
+        } else {
+            format!("{m}e{e}")
+        }
+    }
+}
+
+/// Tick positions of a log axis over `[lo, hi]`: `(labelled, unlabelled)`.
+/// Labelled: 1, 2, 5 × 10^k if at most `max_labels` of them fall in the
+/// range, else the powers of ten (every second, third, ... one if there are
+/// still more than `max_labels`); unlabelled: the other 1..9 × 10^k. A range
+/// holding no labelled tick gets its ends' 1..9 × 10^k values as labels.
+pub fn log_ticks(lo: f64, hi: f64, max_labels: usize) -> (Vec<f64>, Vec<f64>) {
+    if !(lo > 0.0 && hi > lo) {
+        return (Vec::new(), Vec::new());
+    }
+    let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let inside = |v: &f64| *v >= lo * (1.0 - 1e-12) && *v <= hi * (1.0 + 1e-12);
+    let at = |m: u32, e: i32| m as f64 * 10f64.powi(e);
+    let all: Vec<(u32, i32)> = (e0..=e1)
+        .flat_map(|e| (1..=9).map(move |m| (m, e)))
+        .filter(|&(m, e)| inside(&at(m, e)))
+        .collect();
+    let pick = |f: &dyn Fn(u32, i32) -> bool| -> Vec<f64> {
+        all.iter()
+            .filter(|&&(m, e)| f(m, e))
+            .map(|&(m, e)| at(m, e))
+            .collect()
+    };
+    let mut bold = pick(&|m, _| matches!(m, 1 | 2 | 5));
+    if bold.len() > max_labels {
+        let n = pick(&|m, _| m == 1).len();
+        let step = n.div_ceil(max_labels.max(1)).max(1) as i32;
+        bold = pick(&|m, e| m == 1 && e.rem_euclid(step) == 0);
+    }
+    if bold.is_empty() {
+        bold = all.iter().map(|&(m, e)| at(m, e)).collect();
+    }
+    let light = all
+        .iter()
+        .map(|&(m, e)| at(m, e))
+        .filter(|v| !bold.iter().any(|b| (b / v - 1.0).abs() < 1e-9))
+        .collect();
+    (bold, light)
+}
+
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     c: &Chart,
@@ -62,13 +175,16 @@ where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
-    let pts: Vec<(f64, f64)> = c
+    let mut pts: Vec<(f64, f64)> = c
         .series
         .iter()
-        .flat_map(|s| s.points.iter().map(|p| (p.0, p.1.max(c.y_floor))))
+        .flat_map(|s| s.points.iter().map(|p| (p.x, p.y.max(c.y_floor))))
         .collect();
     if pts.is_empty() {
         return Ok(());
+    }
+    if let Some(y) = pts.first().map(|p| p.1) {
+        pts.extend(c.refs.iter().map(|r| (r.0, y)));
     }
     let (mut x0, mut x1) = pts
         .iter()
@@ -92,51 +208,54 @@ where
         .margin(14)
         .x_label_area_size(44)
         .y_label_area_size(70);
-    let y_range = (y0..y1).log_scale();
+    let (yb, yl) = log_ticks(y0, y1, 12);
+    let y_range = (y0..y1)
+        .log_scale()
+        .with_key_points(yb)
+        .with_light_points(yl);
+    // on a rate axis the floor stands for zero
+    let zero_floor = c.y_floor == RATE_FLOOR;
+    let fmt = |v: &f64| tick_label(*v);
+    let y_fmt = move |v: &f64| {
+        if zero_floor && (*v / RATE_FLOOR - 1.0).abs() < 1e-9 {
+            "0".to_string()
+        } else {
+            tick_label(*v)
+        }
+    };
     if c.x_log {
-        let mut ch = chart.build_cartesian_2d((x0..x1).log_scale(), y_range)?;
+        let (xb, xl) = log_ticks(x0, x1, 12);
+        let x_range = (x0..x1)
+            .log_scale()
+            .with_key_points(xb)
+            .with_light_points(xl);
+        let mut ch = chart.build_cartesian_2d(x_range, y_range)?;
         ch.configure_mesh()
             .x_desc(&c.x_label)
             .y_desc(&c.y_label)
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&fmt)
+            .y_label_formatter(&y_fmt)
             .label_style(("sans-serif", 14))
             .draw()?;
-        plot(&mut ch, c)?;
-        ch.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(if c.legend_low {
-                SeriesLabelPosition::LowerRight
-            } else {
-                SeriesLabelPosition::UpperRight
-            })
-            .draw()?;
+        plot(&mut ch, c, (y0, y1))?;
+        legend(&mut ch, c)?;
     } else {
         let mut ch = chart.build_cartesian_2d(x0..x1, y_range)?;
         ch.configure_mesh()
             .x_desc(&c.x_label)
             .y_desc(&c.y_label)
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&fmt)
+            .y_label_formatter(&y_fmt)
             .label_style(("sans-serif", 14))
             .draw()?;
-        plot(&mut ch, c)?;
-        ch.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(if c.legend_low {
-                SeriesLabelPosition::LowerRight
-            } else {
-                SeriesLabelPosition::UpperRight
-            })
-            .draw()?;
+        plot(&mut ch, c, (y0, y1))?;
+        legend(&mut ch, c)?;
     }
     root.present()?;
     Ok(())
 }
 
-fn plot<'a, DB: DrawingBackend + 'a, X, Y>(
+fn legend<'a, DB: DrawingBackend + 'a, X, Y>(
     ch: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     c: &Chart,
 ) -> Result<(), Box<dyn std::error::Error>>
@@ -145,16 +264,56 @@ where
     Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
     DB::ErrorType: 'static,
 {
+    ch.configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(if c.legend_low {
+            SeriesLabelPosition::LowerRight
+        } else {
+            SeriesLabelPosition::UpperRight
+        })
+        .draw()?;
+    Ok(())
+}
+
+fn plot<'a, DB: DrawingBackend + 'a, X, Y>(
+    ch: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    c: &Chart,
+    (y0, y1): (f64, f64),
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    X: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+    DB::ErrorType: 'static,
+{
+    if !c.refs.is_empty() {
+        let grey = RGBColor(90, 90, 90);
+        for (k, (x, label)) in c.refs.iter().enumerate() {
+            let line = ch.draw_series(DashedLineSeries::new(
+                vec![(*x, y0), (*x, y1)],
+                6,
+                4,
+                grey.stroke_width(2),
+            ))?;
+            if k == 0 {
+                line.label(&c.refs_name).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], grey.stroke_width(2))
+                });
+            }
+            ch.draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (*x * 1.015, y0 * 1.5),
+                ("sans-serif", 13).into_font().color(&grey),
+            )))?;
+        }
+    }
     if c.pareto {
-        let all: Vec<(f64, f64)> = c
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().map(|p| (p.0, p.1.max(c.y_floor))))
-            .collect();
-        let front = pareto_front(&all);
+        let all: Vec<Point> = c.series.iter().flat_map(|s| s.points.clone()).collect();
+        let front = sound_front(&all, c.y_floor);
         let grey = RGBColor(120, 120, 120);
         ch.draw_series(LineSeries::new(front.clone(), grey.stroke_width(2)))?
-            .label("Pareto front")
+            .label("Pareto front (designs with 0 false misses)")
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], grey.stroke_width(2))
             });
@@ -166,15 +325,23 @@ where
     }
     for s in &c.series {
         let color = s.color;
-        let pts: Vec<(f64, f64)> = s.points.iter().map(|p| (p.0, p.1.max(c.y_floor))).collect();
+        let hollow = s.hollow;
+        let style = move || {
+            if hollow {
+                color.stroke_width(2)
+            } else {
+                color.filled()
+            }
+        };
+        let pts: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x, p.y.max(c.y_floor))).collect();
         ch.draw_series(LineSeries::new(pts.clone(), color.mix(0.5).stroke_width(1)))?;
-        ch.draw_series(pts.iter().map(|p| Circle::new(*p, 5, color.filled())))?
+        ch.draw_series(pts.iter().map(|p| Circle::new(*p, 5, style())))?
             .label(&s.name)
-            .legend(move |(x, y)| Circle::new((x + 9, y), 5, color.filled()));
+            .legend(move |(x, y)| Circle::new((x + 9, y), 5, style()));
         ch.draw_series(s.points.iter().map(|p| {
             Text::new(
-                p.2.clone(),
-                (p.0, p.1.max(c.y_floor)),
+                p.label.clone(),
+                (p.x, p.y.max(c.y_floor)),
                 ("sans-serif", 13).into_font().color(&color),
             )
         }))?;
@@ -208,124 +375,177 @@ const RED_: RGBColor = RGBColor(200, 40, 40);
 /// Lower bound drawn for a zero rate on a log axis.
 pub const RATE_FLOOR: f64 = 1e-6;
 
+const PURPLE_: RGBColor = RGBColor(120, 70, 170);
+
+/// The box testers' colours, in the order of [`sweep::BOX_DESIGNS`].
+fn design_color(label: &str) -> RGBColor {
+    match label {
+        "silhouette ray" => BLUE_,
+        "silhouette bundle" => PURPLE_,
+        "slab conservative" => GREEN_,
+        _ => ORANGE_,
+    }
+}
+
+/// Legend name of a box tester.
+fn design_name(label: &str) -> &'static str {
+    match label {
+        "silhouette ray" => "silhouette mode=ray (never misses)",
+        "silhouette bundle" => "silhouette mode=bundle (never misses)",
+        "slab conservative" => "slab rounding=conservative (never misses)",
+        _ => "slab RNE (misses hits: never on the front)",
+    }
+}
+
+/// One series per box tester: `(Xilinx LUT, y(tester stats at format f), "mF")`
+/// with the design's false misses over all workloads attached.
+fn box_series(s: &Sweep, y: &dyn Fn(&str, u32) -> Option<f64>) -> Vec<Series> {
+    sweep::BOX_DESIGNS
+        .iter()
+        .map(|(label, _, _)| {
+            let points = sweep::FRACS
+                .iter()
+                .filter_map(|&f| {
+                    let r = sweep::find_design(s, label, f)?;
+                    let luts = r.xilinx.as_ref()?.luts as f64;
+                    Some(Point {
+                        x: luts,
+                        y: y(label, f)?,
+                        label: format!("m{f}"),
+                        false_misses: sweep::false_misses(s, label, f).0,
+                    })
+                })
+                .collect();
+            Series {
+                name: design_name(label).into(),
+                color: design_color(label),
+                points,
+                hollow: false,
+            }
+        })
+        .collect()
+}
+
+/// RAABB's published LUTs as reference lines.
+fn raabb_refs() -> Vec<(f64, String)> {
+    sweep::RAABB
+        .iter()
+        .map(|(f, lut, _, _)| (*lut as f64, format!("RAABB m={f}")))
+        .collect()
+}
+
+const RAABB_NAME: &str = "RAABB, published LUT (Xilinx XST estimates, exponent 11 bits)";
+
 /// Draws every chart into `dir`; returns the files written.
 pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
     std::fs::create_dir_all(dir)?;
     let mut out = Vec::new();
-    let scene_rate = |f: u32, sil: bool| {
-        s.boxes
-            .iter()
-            .find(|b| b.frac_bits == f && b.workload == "scene")
-            .map(|b| {
-                if sil {
-                    b.silhouette.false_hit_rate()
-                } else {
-                    // the slab errs both ways: count both against it
-                    (b.slab.false_hits + b.slab.false_misses) as f64 / b.slab.n.max(1) as f64
-                }
-            })
-    };
-    // 1. box testers: iCE40 LUT4 against scene false-hit rate
-    let mut series = Vec::new();
-    for (unit, name, color) in [
-        (
-            "silhouette",
-            "silhouette (conservative): false hits / misses",
-            BLUE_,
-        ),
-        (
-            "slab",
-            "slab (RNE): (false hits + false misses) / rays",
-            ORANGE_,
-        ),
-    ] {
-        let mut pts = Vec::new();
-        for f in sweep::FRACS {
-            if let (Some(r), Some(rate)) =
-                (sweep::find(s, unit, f), scene_rate(f, unit == "silhouette"))
-            {
-                if let Some(i) = &r.ice40 {
-                    pts.push((i.luts as f64, rate, format!("m{f}")));
-                }
-            }
+    let on = |wl: &'static str| {
+        move |label: &str, f: u32| {
+            s.boxes
+                .iter()
+                .find(|b| b.frac_bits == f && b.workload == wl)
+                .map(|b| b.stats(label).clone())
         }
-        series.push(Series {
-            name: name.into(),
-            color,
-            points: pts,
-        });
-    }
+    };
+    let scene = on("scene");
+    // 1. box testers: Xilinx LUT against the scene false-hit rate
     out.extend(write_chart(
         &Chart {
             stem: "boxes_luts_vs_false_hits".into(),
-            title: "Ray/box testers, e8mF: iCE40 LUT4 vs error rate on scene rays".into(),
-            x_label: "iCE40 LUT4 (Yosys synth_ice40)".into(),
-            y_label: format!("error rate (0 drawn at {RATE_FLOOR:.0e})"),
+            title: "Ray/box testers, e8mF, stages=4: Xilinx LUT vs false hits on scene rays".into(),
+            x_label: "Xilinx LUT (synth_xilinx -flatten, synthesis estimate)".into(),
+            y_label: "false hits / exact misses (log axis; none at the 0 tick)".to_string(),
             x_log: true,
             y_floor: RATE_FLOOR,
-            series,
+            series: box_series(s, &|l, f| scene(l, f).map(|r| r.false_hit_rate())),
             pareto: true,
             legend_low: false,
+            refs: raabb_refs(),
+            refs_name: RAABB_NAME.into(),
         },
         dir,
     )?);
-    // 2. error rate against fraction bits, per workload
+    // 2. box testers: Xilinx LUT against false misses (all workloads)
+    out.extend(write_chart(
+        &Chart {
+            stem: "boxes_luts_vs_false_misses".into(),
+            title: "Ray/box testers, e8mF, stages=4: Xilinx LUT vs false misses (lost hits)".into(),
+            x_label: "Xilinx LUT (synth_xilinx -flatten, synthesis estimate)".into(),
+            y_label: "false misses / exact hits, all workloads (none at the 0 tick)".into(),
+            x_log: true,
+            y_floor: RATE_FLOOR,
+            series: box_series(s, &|l, f| {
+                let (fm, hits) = sweep::false_misses(s, l, f);
+                (hits > 0).then(|| fm as f64 / hits as f64)
+            }),
+            pareto: false,
+            legend_low: false,
+            refs: raabb_refs(),
+            refs_name: RAABB_NAME.into(),
+        },
+        dir,
+    )?);
+    // 3. false-hit rate against fraction bits, per workload, for the two
+    //    testers that never miss (the RNE slab's rates are in the tables)
     let mut series = Vec::new();
     for (wl, color) in [("random", GREEN_), ("scene", BLUE_), ("grazing", RED_)] {
-        for sil in [true, false] {
-            let pts: Vec<(f64, f64, String)> = s
+        for label in ["silhouette ray", "slab conservative"] {
+            let sil = label.starts_with("silhouette");
+            let pts: Vec<Point> = s
                 .boxes
                 .iter()
                 .filter(|b| b.workload == wl)
-                .map(|b| {
-                    let r = if sil {
-                        b.silhouette.false_hit_rate()
-                    } else {
-                        b.slab.false_hit_rate()
-                    };
-                    (b.frac_bits as f64, r, String::new())
-                })
+                .map(|b| Point::new(b.frac_bits as f64, b.stats(label).false_hit_rate(), ""))
                 .collect();
             series.push(Series {
                 name: format!(
-                    "{wl}: {} false-hit rate",
-                    if sil { "silhouette" } else { "slab" }
+                    "{wl}: {}",
+                    if sil {
+                        "silhouette"
+                    } else {
+                        "conservative slab"
+                    }
                 ),
-                color: if sil {
-                    color
-                } else {
-                    RGBColor(color.0 / 2 + 100, color.1 / 2 + 100, color.2 / 2 + 100)
-                },
+                color,
                 points: pts,
+                hollow: !sil,
             });
         }
     }
     out.extend(write_chart(
         &Chart {
             stem: "boxes_false_hits_vs_frac".into(),
-            title: "False-hit rate against fraction bits (exponent 8)".into(),
+            title: "False-hit rate against fraction bits (exponent 8), testers that never miss"
+                .into(),
             x_label: "fraction bits F".into(),
-            y_label: format!("false hits / exact misses (0 at {RATE_FLOOR:.0e})"),
+            y_label: "false hits / exact misses (log axis; none at the 0 tick)".to_string(),
             x_log: false,
             y_floor: RATE_FLOOR,
             series,
             pareto: false,
             legend_low: true,
+            refs: Vec::new(),
+            refs_name: String::new(),
         },
         dir,
     )?);
-    // 3. Fmax / logic depth against LUTs for every synthesised unit
+    // 4. Fmax / logic depth against LUTs for every synthesised unit
     let mut depth = Vec::new();
     let mut fmax = Vec::new();
     for r in &s.cost {
+        let f = r.params.get("frac_bits").cloned().unwrap_or_default();
+        let name = match (r.params.get("mode"), r.params.get("rounding")) {
+            (Some(m), _) if r.unit == "silhouette" => format!("{} {m} m{f}", r.unit),
+            (_, Some(rd)) if r.unit == "slab" => format!("{} {rd} m{f}", r.unit),
+            _ => format!("{} m{f}", r.unit),
+        };
         if let Some(i) = &r.ice40 {
-            let f = r.params.get("frac_bits").cloned().unwrap_or_default();
-            depth.push((i.luts as f64, i.depth as f64, format!("{} m{f}", r.unit)));
+            depth.push(Point::new(i.luts as f64, i.depth as f64, name.clone()));
         }
         if let (Some(i), Some(p)) = (&r.ice40, &r.pnr) {
             if let Some(fm) = p.fmax_mhz {
-                let f = r.params.get("frac_bits").cloned().unwrap_or_default();
-                fmax.push((i.luts as f64, fm, format!("{} m{f}", r.unit)));
+                fmax.push(Point::new(i.luts as f64, fm, name.clone()));
             }
         }
     }
@@ -341,9 +561,12 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                 name: "unit (stages as swept)".into(),
                 color: BLUE_,
                 points: depth,
+                hollow: false,
             }],
             pareto: false,
             legend_low: true,
+            refs: Vec::new(),
+            refs_name: String::new(),
         },
         dir,
     )?);
@@ -360,14 +583,17 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                     name: "Fmax after routing".into(),
                     color: GREEN_,
                     points: fmax,
+                    hollow: false,
                 }],
                 pareto: false,
                 legend_low: false,
+                refs: Vec::new(),
+                refs_name: String::new(),
             },
             dir,
         )?);
     }
-    // 4. transform: LUT4 against median relative error far from the instance
+    // 5. transform: LUT4 against median relative error far from the instance
     let mut two = Vec::new();
     let mut conv = Vec::new();
     for f in sweep::TRANSFORM_FRACS {
@@ -381,12 +607,24 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
             continue;
         };
         if let Some(r) = sweep::find(s, "transform", f).and_then(|r| r.ice40.as_ref()) {
-            two.push((r.luts as f64, far.two_step_med, format!("m{f} far")));
-            two.push((r.luts as f64, near.two_step_med, format!("m{f} near")));
+            two.push(Point::new(
+                r.luts as f64,
+                far.two_step_med,
+                format!("m{f} far"),
+            ));
+            two.push(Point::new(
+                r.luts as f64,
+                near.two_step_med,
+                format!("m{f} near"),
+            ));
         }
         if let Some(l) = sweep::conventional_luts(s, f) {
-            conv.push((l as f64, far.conv_med, format!("m{f} far")));
-            conv.push((l as f64, near.conv_med.min(1e3), format!("m{f} near")));
+            conv.push(Point::new(l as f64, far.conv_med, format!("m{f} far")));
+            conv.push(Point::new(
+                l as f64,
+                near.conv_med.min(1e3),
+                format!("m{f} near"),
+            ));
         }
     }
     out.extend(write_chart(
@@ -402,15 +640,19 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                     name: "two-step (RTL unit, chained fma)".into(),
                     color: BLUE_,
                     points: two,
+                    hollow: false,
                 },
                 Series {
                     name: "conventional [S | u] (composed)".into(),
                     color: RED_,
                     points: conv,
+                    hollow: false,
                 },
             ],
             pareto: true,
             legend_low: true,
+            refs: Vec::new(),
+            refs_name: String::new(),
         },
         dir,
     )?);

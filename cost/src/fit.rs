@@ -176,7 +176,11 @@ pub fn fit(mesh: &Mesh, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std::
             break;
         }
         let fmt = FloatFormat::new(exp_bits, f)?;
-        let (sil, slb) = accuracy::ray_stats(fmt, &cases);
+        let accuracy::RayStatsAll {
+            silhouette: sil,
+            slab: slb,
+            ..
+        } = accuracy::ray_stats(fmt, &cases);
         let nb = cases.len().min(5000);
         let b = accuracy::bundle_stats(fmt, &cases[..nb], 1e-3, o.seed);
         let ok = sil.false_hit_rate() < o.target_rate && sil.false_misses == 0 && b.wrong == 0;
