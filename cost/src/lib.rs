@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod boxes;
 pub mod bringup;
 pub mod charts;
 pub mod fit;

@@ -75,6 +75,27 @@ enum Cmd {
         #[arg(long, default_value_t = 1)]
         seed: u64,
     },
+    /// The box testers side by side (silhouette ray/bundle, RNE and conservative slab, the slab's reciprocal per box test, RAABB's figures): one table, the issue-19 targets checked
+    Boxes {
+        /// fraction bits to compare (exponent 8)
+        #[arg(long, value_delimiter = ',', default_value = "7,10,15,23")]
+        fracs: Vec<u32>,
+        /// pipeline stages of every design
+        #[arg(long, default_value_t = 4)]
+        stages: u32,
+        /// width of the renders that measure box tests per ray
+        #[arg(long, default_value_t = 96)]
+        width: u32,
+        /// scenes whose box tests per ray amortise the reciprocal (default: scenes/*.toml)
+        #[arg(long)]
+        scene: Vec<PathBuf>,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// also write the report here
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -230,8 +251,50 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             println!("wrote {}", out.join("sweep.json").display());
             println!("wrote {}", out.join("tables.md").display());
         }
+        Cmd::Boxes {
+            fracs,
+            stages,
+            width,
+            scene,
+            cached_only,
+            out,
+        } => {
+            let scenes = if scene.is_empty() {
+                default_scenes()
+            } else {
+                scene
+            };
+            if scenes.is_empty() {
+                return Err(
+                    "no scenes: give --scene FILE (the shipped ones are scenes/*.toml)".into(),
+                );
+            }
+            let paths: Vec<&std::path::Path> = scenes.iter().map(|p| p.as_path()).collect();
+            let loads = cost::boxes::scene_loads(&paths, width)?;
+            let rows = cost::boxes::synthesise(&fracs, stages, cached_only)?;
+            let text = cost::boxes::markdown(&rows, &loads, stages);
+            println!("{text}");
+            if let Some(path) = out {
+                std::fs::write(&path, text)?;
+                println!("wrote {}", path.display());
+            }
+        }
     }
     Ok(())
+}
+
+/// The shipped scenes (`scenes/*.toml` of the repository).
+fn default_scenes() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
 }
 
 /// The OBJ meshes of `../shared/scenes` (relative to the repository root).
