@@ -39,9 +39,16 @@ fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
     );
 
     // exactly one timing line, and it is the last line
-    let timing: Vec<&str> = stdout.lines().filter(|l| l.starts_with("timing:")).collect();
+    let timing: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("timing:"))
+        .collect();
     assert_eq!(timing.len(), 1, "one timing line:\n{stdout}");
-    assert_eq!(stdout.lines().last(), Some(timing[0]), "the timing line ends the output");
+    assert_eq!(
+        stdout.lines().last(),
+        Some(timing[0]),
+        "the timing line ends the output"
+    );
     let rest = timing[0]
         .strip_prefix("timing: met at ")
         .unwrap_or_else(|| panic!("timing met: {}", timing[0]));
@@ -49,7 +56,9 @@ fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
         .split_once(" MHz (target ")
         .unwrap_or_else(|| panic!("timing line format: {}", timing[0]));
     assert_eq!(target, "25 MHz)", "{}", timing[0]);
-    let mhz: f64 = mhz.parse().unwrap_or_else(|_| panic!("routed MHz: {}", timing[0]));
+    let mhz: f64 = mhz
+        .parse()
+        .unwrap_or_else(|_| panic!("routed MHz: {}", timing[0]));
     assert!(mhz >= 25.0, "routed {mhz} MHz below the 25 MHz target");
 
     // the routed design is on the 85F: LUTs and the three pins
@@ -57,14 +66,20 @@ fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
         stdout.contains("TRELLIS_COMB:") && stdout.contains("/  83640"),
         "ECP5-85F utilisation:\n{stdout}"
     );
-    assert!(stdout.contains("TRELLIS_IO:       3/"), "clk, rx, tx:\n{stdout}");
+    assert!(
+        stdout.contains("TRELLIS_IO:       3/"),
+        "clk, rx, tx:\n{stdout}"
+    );
 
     // an ECP5 bitstream for the board's part, not empty
     let bit = std::fs::read(out.join("bringup.bit")).expect("bringup.bit written");
     assert!(bit.len() > 10_000, "bringup.bit has {} bytes", bit.len());
     assert_eq!(&bit[..2], &[0xff, 0x00], "ecppack's comment header");
     let head = String::from_utf8_lossy(&bit[..64]);
-    assert!(head.contains("LFE5U-85F-6CABGA381"), "part in the header: {head:?}");
+    assert!(
+        head.contains("LFE5U-85F-6CABGA381"),
+        "part in the header: {head:?}"
+    );
     assert!(
         bit.windows(2).take(256).any(|w| w == [0xbd, 0xb3]),
         "ECP5 preamble 0xBDB3"
