@@ -57,8 +57,14 @@ pub struct SceneLoad {
 }
 
 /// Synthesises every design at every fraction width of `fracs` (exponent 8,
-/// `stages` pipeline registers), Xilinx / iCE40 / ECP5, no place and route.
-pub fn synthesise(fracs: &[u32], stages: u32, cached_only: bool) -> Result<Vec<Row>, String> {
+/// `stages` pipeline registers; the reciprocal, which runs once per ray,
+/// `recip_stages`), Xilinx / iCE40 / ECP5, no place and route.
+pub fn synthesise(
+    fracs: &[u32],
+    stages: u32,
+    recip_stages: u32,
+    cached_only: bool,
+) -> Result<Vec<Row>, String> {
     let o = SynthOptions {
         generic: false,
         pnr: false,
@@ -70,10 +76,15 @@ pub fn synthesise(fracs: &[u32], stages: u32, cached_only: bool) -> Result<Vec<R
     for &frac in fracs {
         for (label, unit, extra) in DESIGNS {
             let mut p: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
+            let depth = if unit == "frecip" {
+                recip_stages
+            } else {
+                stages
+            };
             p.extend([
                 "exp_bits=8".into(),
                 format!("frac_bits={frac}"),
-                format!("stages={stages}"),
+                format!("stages={depth}"),
             ]);
             let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
             eprintln!("synthesising {} ...", g.module.name);
@@ -145,14 +156,15 @@ fn find<'a>(rows: &'a [Row], label: &str, frac: u32) -> Option<&'a Row> {
 }
 
 /// The report: the table, the reciprocal per box test, the targets.
-pub fn markdown(rows: &[Row], loads: &[SceneLoad], stages: u32) -> String {
+pub fn markdown(rows: &[Row], loads: &[SceneLoad], stages: u32, recip_stages: u32) -> String {
     let yosys = rows
         .iter()
         .find(|r| r.ok())
         .map(|r| r.report.yosys_version.clone())
         .unwrap_or_default();
     let mut s = format!(
-        "Box testers, exponent 8, stages={stages}; {yosys}; Xilinx = `synth_xilinx -flatten` \
+        "Box testers, exponent 8, stages={stages} (the per-ray reciprocal `frecip`: \
+         stages={recip_stages}); {yosys}; Xilinx = `synth_xilinx -flatten` \
          (LUT = LUT1..LUT6 summed; synthesis estimates, no vendor place and route), iCE40 = \
          `synth_ice40` LUT4, ECP5 = `synth_ecp5` LUT4 / MULT18X18D.\n\n\
          | design | format | Xilinx LUT | FF | DSP48 | CARRY4 | iCE40 LUT4 | ECP5 LUT4 | ECP5 DSP | LUT / conservative slab | LUT / RNE slab |\n\
@@ -298,7 +310,7 @@ mod tests {
             rays: 10,
             per_ray: 4.0,
         }];
-        let t = markdown(&rows, &loads, 4);
+        let t = markdown(&rows, &loads, 4, 8);
         assert!(
             t.contains("- met: silhouette ray e8m23: 8000 LUT (at most 8800), 36 DSP48"),
             "{t}"
@@ -320,7 +332,7 @@ mod tests {
         // a failed synthesis is a row that says so, not a figure
         let mut rows = rows;
         rows[0].failed = Some("yosys failed".into());
-        let t = markdown(&rows, &loads, 4);
+        let t = markdown(&rows, &loads, 4, 8);
         assert!(
             t.contains("| silhouette ray | e8m23 | synthesis failed: yosys failed |"),
             "{t}"

@@ -504,11 +504,33 @@ fn run_in(g: &Generated, o: &SynthOptions, dir: &Path) -> Result<SynthReport, Sy
     g.write(dir, 1000.0 / o.target_mhz)
         .map_err(|e| SynthError(e.to_string()))?;
     let files: Vec<String> = g.files.iter().map(|f| f.file_name.clone()).collect();
-    let script = yosys_script(&g.module.name, &files, o);
-    std::fs::write(dir.join("run.ys"), &script).map_err(io("script"))?;
     let yosys_version = yosys_version()?;
     let t0 = Instant::now();
-    yosys(dir, "run.ys", "yosys.log")?;
+    // One Yosys process per flow: in one process, Yosys 0.70's ABC9 aborts on
+    // the binary32 reciprocal in synth_xilinx after synth_ice40 / synth_ecp5
+    // ran on the same design, while each flow alone maps it.
+    let flows = [
+        ("generic", o.generic),
+        ("ice40", o.ice40),
+        ("ecp5", o.ecp5),
+        ("xilinx", o.xilinx),
+    ];
+    for (flow, on) in flows {
+        if !on {
+            continue;
+        }
+        let only = SynthOptions {
+            generic: flow == "generic",
+            ice40: flow == "ice40",
+            ecp5: flow == "ecp5",
+            xilinx: flow == "xilinx",
+            ..o.clone()
+        };
+        let script = yosys_script(&g.module.name, &files, &only);
+        let name = format!("run_{flow}.ys");
+        std::fs::write(dir.join(&name), &script).map_err(io("script"))?;
+        yosys(dir, &name, &format!("yosys_{flow}.log"))?;
+    }
     let yosys_seconds = t0.elapsed().as_secs_f64();
     let mut r = SynthReport {
         unit: g.unit.clone(),

@@ -80,9 +80,13 @@ enum Cmd {
         /// fraction bits to compare (exponent 8)
         #[arg(long, value_delimiter = ',', default_value = "7,10,15,23")]
         fracs: Vec<u32>,
-        /// pipeline stages of every design
+        /// pipeline stages of every box tester
         #[arg(long, default_value_t = 4)]
         stages: u32,
+        /// pipeline stages of the per-ray reciprocal (Yosys 0.70's ABC9 aborts on the binary32
+        /// and e8m15 reciprocal at 4 stages; it maps at 2 and 8)
+        #[arg(long, default_value_t = 8)]
+        recip_stages: u32,
         /// width of the renders that measure box tests per ray
         #[arg(long, default_value_t = 96)]
         width: u32,
@@ -254,6 +258,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Cmd::Boxes {
             fracs,
             stages,
+            recip_stages,
             width,
             scene,
             cached_only,
@@ -271,8 +276,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             }
             let paths: Vec<&std::path::Path> = scenes.iter().map(|p| p.as_path()).collect();
             let loads = cost::boxes::scene_loads(&paths, width)?;
-            let rows = cost::boxes::synthesise(&fracs, stages, cached_only)?;
-            let text = cost::boxes::markdown(&rows, &loads, stages);
+            let rows = cost::boxes::synthesise(&fracs, stages, recip_stages, cached_only)?;
+            let text = cost::boxes::markdown(&rows, &loads, stages, recip_stages);
             println!("{text}");
             if let Some(path) = out {
                 std::fs::write(&path, text)?;
