@@ -1,5 +1,6 @@
 //! `rtl-cost fit` on a mesh with a NaN or infinite vertex: exit 2, the error
-//! names the file and the vertex, nothing is written (issue #13).
+//! names the file and the vertex, nothing is written (issue #13); an empty
+//! mesh likewise (issue #15).
 
 use std::path::Path;
 use std::process::Command;
@@ -29,6 +30,32 @@ fn fit_rejects_a_non_finite_vertex() {
                 && err.contains("must be finite"),
             "{err}"
         );
+        assert!(!out.exists(), "wrote {}", out.display());
+    }
+}
+
+/// An OBJ without triangles (or without anything) is an error, not a fit of
+/// "0 box tests" (issue #15).
+#[test]
+fn fit_rejects_an_empty_mesh() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fit-empty-mesh");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, text) in [("empty.obj", ""), ("points.obj", "v 0 0 0\nv 1 0 0\n")] {
+        let obj = dir.join(name);
+        std::fs::write(&obj, text).unwrap();
+        let out = dir.join("out");
+        let r = Command::new(env!("CARGO_BIN_EXE_rtl-cost"))
+            .arg("fit")
+            .arg(&obj)
+            .arg("--out")
+            .arg(&out)
+            .arg("--no-synth")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(name) && err.contains("no triangles"), "{err}");
         assert!(!out.exists(), "wrote {}", out.display());
     }
 }
