@@ -45,6 +45,8 @@ pub struct Series {
     pub points: Vec<Point>,
     /// hollow markers instead of filled ones
     pub hollow: bool,
+    /// join the points in order (a design over its formats)
+    pub line: bool,
 }
 
 /// A scatter chart on log-log (or lin-log) axes.
@@ -66,8 +68,8 @@ pub struct Chart {
     /// mark the Pareto front (smaller x and smaller y are better) among the
     /// points without false misses ([`sound_front`])
     pub pareto: bool,
-    /// legend in the lower right corner instead of the upper right
-    pub legend_low: bool,
+    /// where the legend goes
+    pub legend: SeriesLabelPosition,
     /// vertical reference lines `(x, label)` (published figures without a
     /// measured y), with the legend entry `refs_name`
     pub refs: Vec<(f64, String)>,
@@ -130,7 +132,7 @@ pub fn tick_label(v: f64) -> String {
 
 /// Tick positions of a log axis over `[lo, hi]`: `(labelled, unlabelled)`.
 /// Labelled: 1, 2, 5 × 10^k if at most `max_labels` of them fall in the
-/// range, else the powers of ten (every second, third, ... one if there are
+/// range (1, 2, 3, 5 × 10^k if fewer than 4 would), else the powers of ten (every second, third, ... one if there are
 /// still more than `max_labels`); unlabelled: the other 1..9 × 10^k. A range
 /// holding no labelled tick gets its ends' 1..9 × 10^k values as labels.
 pub fn log_ticks(lo: f64, hi: f64, max_labels: usize) -> (Vec<f64>, Vec<f64>) {
@@ -151,6 +153,9 @@ pub fn log_ticks(lo: f64, hi: f64, max_labels: usize) -> (Vec<f64>, Vec<f64>) {
             .collect()
     };
     let mut bold = pick(&|m, _| matches!(m, 1 | 2 | 5));
+    if bold.len() < 4 {
+        bold = pick(&|m, _| matches!(m, 1 | 2 | 3 | 5));
+    }
     if bold.len() > max_labels {
         let n = pick(&|m, _| m == 1).len();
         let step = n.div_ceil(max_labels.max(1)).max(1) as i32;
@@ -268,11 +273,7 @@ where
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
-        .position(if c.legend_low {
-            SeriesLabelPosition::LowerRight
-        } else {
-            SeriesLabelPosition::UpperRight
-        })
+        .position(c.legend.clone())
         .draw()?;
     Ok(())
 }
@@ -313,7 +314,11 @@ where
         let front = sound_front(&all, c.y_floor);
         let grey = RGBColor(120, 120, 120);
         ch.draw_series(LineSeries::new(front.clone(), grey.stroke_width(2)))?
-            .label("Pareto front (designs with 0 false misses)")
+            .label(if all.iter().any(|p| p.false_misses > 0) {
+                "Pareto front (designs with 0 false misses)"
+            } else {
+                "Pareto front"
+            })
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], grey.stroke_width(2))
             });
@@ -334,7 +339,9 @@ where
             }
         };
         let pts: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x, p.y.max(c.y_floor))).collect();
-        ch.draw_series(LineSeries::new(pts.clone(), color.mix(0.5).stroke_width(1)))?;
+        if s.line {
+            ch.draw_series(LineSeries::new(pts.clone(), color.mix(0.5).stroke_width(1)))?;
+        }
         ch.draw_series(pts.iter().map(|p| Circle::new(*p, 5, style())))?
             .label(&s.name)
             .legend(move |(x, y)| Circle::new((x + 9, y), 5, style()));
@@ -421,6 +428,7 @@ fn box_series(s: &Sweep, y: &dyn Fn(&str, u32) -> Option<f64>) -> Vec<Series> {
                 color: design_color(label),
                 points,
                 hollow: false,
+                line: true,
             }
         })
         .collect()
@@ -460,7 +468,7 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
             y_floor: RATE_FLOOR,
             series: box_series(s, &|l, f| scene(l, f).map(|r| r.false_hit_rate())),
             pareto: true,
-            legend_low: false,
+            legend: SeriesLabelPosition::UpperRight,
             refs: raabb_refs(),
             refs_name: RAABB_NAME.into(),
         },
@@ -480,7 +488,7 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                 (hits > 0).then(|| fm as f64 / hits as f64)
             }),
             pareto: false,
-            legend_low: false,
+            legend: SeriesLabelPosition::UpperRight,
             refs: raabb_refs(),
             refs_name: RAABB_NAME.into(),
         },
@@ -510,6 +518,7 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                 color,
                 points: pts,
                 hollow: !sil,
+                line: true,
             });
         }
     }
@@ -524,7 +533,7 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
             y_floor: RATE_FLOOR,
             series,
             pareto: false,
-            legend_low: true,
+            legend: SeriesLabelPosition::MiddleRight,
             refs: Vec::new(),
             refs_name: String::new(),
         },
@@ -562,9 +571,10 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                 color: BLUE_,
                 points: depth,
                 hollow: false,
+                line: false,
             }],
             pareto: false,
-            legend_low: true,
+            legend: SeriesLabelPosition::LowerRight,
             refs: Vec::new(),
             refs_name: String::new(),
         },
@@ -584,9 +594,10 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                     color: GREEN_,
                     points: fmax,
                     hollow: false,
+                    line: false,
                 }],
                 pareto: false,
-                legend_low: false,
+                legend: SeriesLabelPosition::UpperRight,
                 refs: Vec::new(),
                 refs_name: String::new(),
             },
@@ -641,16 +652,18 @@ pub fn draw_all(s: &Sweep, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::erro
                     color: BLUE_,
                     points: two,
                     hollow: false,
+                    line: false,
                 },
                 Series {
                     name: "conventional [S | u] (composed)".into(),
                     color: RED_,
                     points: conv,
                     hollow: false,
+                    line: false,
                 },
             ],
             pareto: true,
-            legend_low: true,
+            legend: SeriesLabelPosition::LowerRight,
             refs: Vec::new(),
             refs_name: String::new(),
         },

@@ -54,9 +54,12 @@ fn log_ticks_thin_out_wide_ranges() {
     // still too many: every second power
     let (bold, _) = log_ticks(1e-12, 1e12, 12);
     assert!(bold.len() <= 13, "{bold:?}");
+    // a range of less than a decade also gets its 3s
+    let (bold, _) = log_ticks(2_020.0, 17_000.0, 12);
+    assert_eq!(bold, [3_000.0, 5_000.0, 10_000.0]);
     // a narrow range without 1, 2 or 5 still gets labels
-    let (bold, _) = log_ticks(2_100.0, 4_800.0, 12);
-    assert_eq!(bold, [3_000.0, 4_000.0]);
+    let (bold, _) = log_ticks(6_100.0, 9_500.0, 12);
+    assert_eq!(bold, [7_000.0, 8_000.0, 9_000.0]);
     assert_eq!(log_ticks(0.0, 1.0, 12), (vec![], vec![]));
 }
 
