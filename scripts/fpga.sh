@@ -9,7 +9,8 @@
 #   orangecrab  LFE5U-25F-8MG285C      48 MHz   constraints/orangecrab_bringup.lpf  synth_ecp5, nextpnr-ecp5, ecppack
 #
 # BOARD defaults to icebreaker (so `scripts/fpga.sh UNIT -p ...` works as before); UNIT defaults
-# to slab e5m7, 4 stages (the default reduced-precision unit); UNIT is any unit of `rtl-gen list`.
+# to slab e5m7, 6 stages (the default reduced-precision unit; 4 stages route at 10.75 MHz on the
+# UP5K, below the iCEBreaker's 12 MHz, 6 at 15.85 MHz); UNIT is any unit of `rtl-gen list`.
 #
 # Emits the UART bring-up wrapper with its board top (rtl-bringup, lint with verilator -Wall) at
 # CPB clock cycles a bit (default: the board clock / 115200 baud: 104, 217, 417), synthesises,
@@ -65,7 +66,7 @@ for t in "$YOSYS" "$NEXTPNR" "$PACK"; do
     fi
 done
 if [ $# -eq 0 ]; then
-    set -- slab -p exp_bits=5 -p frac_bits=7 -p stages=4
+    set -- slab -p exp_bits=5 -p frac_bits=7 -p stages=6
 fi
 rm -rf "$OUT/rtl"
 mkdir -p "$OUT"
