@@ -3,7 +3,19 @@
 //! mesh likewise (issue #15).
 
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Output};
+
+/// `rtl-cost fit OBJ --out OUT --no-synth`.
+fn fit(obj: &Path, out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rtl-cost"))
+        .arg("fit")
+        .arg(obj)
+        .arg("--out")
+        .arg(out)
+        .arg("--no-synth")
+        .output()
+        .unwrap()
+}
 
 #[test]
 fn fit_rejects_a_non_finite_vertex() {
@@ -14,14 +26,7 @@ fn fit_rejects_a_non_finite_vertex() {
         let obj = dir.join("bad.obj");
         std::fs::write(&obj, format!("v 0 0 0\nv 1 0 0\nv {c}\nf 1 2 3\n")).unwrap();
         let out = dir.join("out");
-        let r = Command::new(env!("CARGO_BIN_EXE_rtl-cost"))
-            .arg("fit")
-            .arg(&obj)
-            .arg("--out")
-            .arg(&out)
-            .arg("--no-synth")
-            .output()
-            .unwrap();
+        let r = fit(&obj, &out);
         let err = String::from_utf8_lossy(&r.stderr);
         assert_eq!(r.status.code(), Some(2), "{err}");
         assert!(
@@ -45,14 +50,7 @@ fn fit_rejects_an_empty_mesh() {
         let obj = dir.join(name);
         std::fs::write(&obj, text).unwrap();
         let out = dir.join("out");
-        let r = Command::new(env!("CARGO_BIN_EXE_rtl-cost"))
-            .arg("fit")
-            .arg(&obj)
-            .arg("--out")
-            .arg(&out)
-            .arg("--no-synth")
-            .output()
-            .unwrap();
+        let r = fit(&obj, &out);
         let err = String::from_utf8_lossy(&r.stderr);
         assert_eq!(r.status.code(), Some(2), "{name}: {err}");
         assert!(err.contains(name) && err.contains("no triangles"), "{err}");
