@@ -217,34 +217,8 @@ fn conservative_slab_binary32_realistic_scene() {
     let n = cases(200_000);
     let mut rng = Rng(0xACC0_0001);
     let mut acc = Acc::default();
-    let f = |x: f64| from_f64(F, x);
     for _ in 0..n {
-        let c = [0; 3].map(|_| rng.unit() * 2.0 - 1.0);
-        let h = [0; 3].map(|_| rng.unit().powi(3) * 0.5);
-        let bx = BoxIn {
-            p_min: [0, 1, 2].map(|i| f(c[i] - h[i])),
-            p_max: [0, 1, 2].map(|i| f(c[i] + h[i])),
-        };
-        let o = [0; 3].map(|_| rng.unit() * 8.0 - 4.0);
-        let target: [f64; 3] = if rng.chance(1, 2) {
-            [0, 1, 2].map(|i| c[i] + (rng.unit() * 2.0 - 1.0) * h[i] * 1.5)
-        } else {
-            [0; 3].map(|_| rng.unit() * 2.0 - 1.0)
-        };
-        let mut d = [0, 1, 2].map(|i| target[i] - o[i]);
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        d = d.map(|x| x / len);
-        let t_max = if rng.chance(1, 2) {
-            f64::INFINITY
-        } else {
-            rng.unit() * 10.0
-        };
-        let r = RayIn {
-            o: o.map(f),
-            d: d.map(f),
-            t_min: f(0.0),
-            t_max: f(t_max),
-        };
+        let (bx, r) = realistic_scene_case(&mut rng);
         tally(&mut acc, F, &bx, &r);
     }
     print_row("e8m23 realistic", &acc);

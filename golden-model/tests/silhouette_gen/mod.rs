@@ -432,6 +432,40 @@ pub fn formats() -> Vec<FloatFormat> {
     ]
 }
 
+/// One case of the realistic binary32 scene distribution: a box in
+/// [-1,1]^3 of random size, an origin in [-4,4]^3, a unit direction (aimed
+/// near the box half the time), t_min = 0, t_max = inf or finite.
+pub fn realistic_scene_case(rng: &mut Rng) -> (BoxIn, RayIn) {
+    let f = |x: f64| from_f64(FloatFormat::BINARY32, x);
+    let c = [0; 3].map(|_| rng.unit() * 2.0 - 1.0);
+    let h = [0; 3].map(|_| rng.unit().powi(3) * 0.5);
+    let bx = BoxIn {
+        p_min: [0, 1, 2].map(|i| f(c[i] - h[i])),
+        p_max: [0, 1, 2].map(|i| f(c[i] + h[i])),
+    };
+    let o = [0; 3].map(|_| rng.unit() * 8.0 - 4.0);
+    let target: [f64; 3] = if rng.chance(1, 2) {
+        [0, 1, 2].map(|i| c[i] + (rng.unit() * 2.0 - 1.0) * h[i] * 1.5)
+    } else {
+        [0; 3].map(|_| rng.unit() * 2.0 - 1.0)
+    };
+    let mut d = [0, 1, 2].map(|i| target[i] - o[i]);
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    d = d.map(|x| x / len);
+    let t_max = if rng.chance(1, 2) {
+        f64::INFINITY
+    } else {
+        rng.unit() * 10.0
+    };
+    let r = RayIn {
+        o: o.map(f),
+        d: d.map(f),
+        t_min: f(0.0),
+        t_max: f(t_max),
+    };
+    (bx, r)
+}
+
 /// Environment variable: number of cases for the long loops (default given).
 pub fn cases(default: u64) -> u64 {
     std::env::var("SILHOUETTE_CASES")
