@@ -5,46 +5,16 @@
 //! default that keeps the classic slab). The million-vector checks are in
 //! Verilator, `tests/silhouette_rtl.rs`.
 
-use rtl_gen::flow::{self, Generated, Testbench};
+mod evaluate;
+
+use rtl_gen::flow::Generated;
 
 fn gen(params: &[&str]) -> Generated {
-    let p: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-    flow::generate("slab", &p).unwrap_or_else(|e| panic!("generate slab {params:?}: {e}"))
+    evaluate::gen("slab", params)
 }
 
-/// A testbench whose vector `k` is vector `first + k` of the wrapped one.
-struct From<'a>(&'a dyn Testbench, u64);
-
-impl sim::Golden for From<'_> {
-    fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
-        self.0.eval(inputs, outputs)
-    }
-}
-
-impl sim::Stimulus for From<'_> {
-    fn vector(&self, seed: u64, index: u64, inputs: &mut [u64]) {
-        self.0.vector(seed, self.1 + index, inputs)
-    }
-}
-
-impl Testbench for From<'_> {}
-
-/// `corners` vectors from the start and `random` vectors from far beyond the
-/// corners, through the IR evaluator and the golden model.
 fn check(params: &[&str], stages: u32, corners: u64, random: u64) {
-    let g = gen(params);
-    assert_eq!(g.module.latency, stages, "{}", g.module.name);
-    let tb = g.testbench();
-    for (first, n) in [(0, corners), (1_000_000, random)] {
-        let r = g.evaluate(&From(tb.as_ref(), first), n, 5);
-        eprintln!("{} from {first}: {r}", g.module.name);
-        assert_eq!(
-            (r.vectors, r.mismatches),
-            (n, 0),
-            "{} from vector {first}: {r}",
-            g.module.name
-        );
-    }
+    evaluate::check("slab", params, stages, corners, random)
 }
 
 #[test]
