@@ -373,7 +373,7 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
 
     // The numerators (the only rounded values).
     let z = |io: InstanceOutputs| io.get("z").expect("adder has output z");
-    if cfg.ray() {
+    let outputs = if cfg.ray() {
         let (entry, exit) = match cfg.policy {
             Policy::Conservative => (Rounding::Rdn, Rounding::Rup),
             Policy::Nearest => (Rounding::Rne, Rounding::Rne),
@@ -382,12 +382,7 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
         let exit = add_module(f, exit, false, stages);
         let n = z(m.instance("u_entry", &entry, &[("a", near), ("b", m_lo)]));
         let x = z(m.instance("u_exit", &exit, &[("a", far), ("b", m_lo)]));
-        for _ in 0..stages {
-            m.stage();
-        }
-        m.output("a", a);
-        m.output("n", n);
-        m.output("x", x);
+        vec![("a", a), ("n", n), ("x", x)]
     } else {
         let pos = strictly(&mut m, d_hi, false);
         let pos = m.name(pos, "pos");
@@ -428,17 +423,22 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
                 (n_any, x_any, n_all, x_all)
             }
         };
-        for _ in 0..stages {
-            m.stage();
-        }
-        m.output("neg", neg);
-        m.output("pos", pos);
-        m.output("a", a);
-        m.output("b", b);
-        m.output("n_any", n_any);
-        m.output("x_any", x_any);
-        m.output("n_all", n_all);
-        m.output("x_all", x_all);
+        vec![
+            ("neg", neg),
+            ("pos", pos),
+            ("a", a),
+            ("b", b),
+            ("n_any", n_any),
+            ("x_any", x_any),
+            ("n_all", n_all),
+            ("x_all", x_all),
+        ]
+    };
+    for _ in 0..stages {
+        m.stage();
+    }
+    for (name, value) in outputs {
+        m.output(name, value);
     }
     Arc::new(
         m.finish()
@@ -817,15 +817,10 @@ pub fn build(cfg: &Config) -> Module {
     let valid = m.and(not_nan, not_invalid);
     let not_empty = m.not(empty);
     let ok = m.and(valid, not_empty);
-    if cfg.ray() {
+    let outputs = if cfg.ray() {
         let pass = passes.get("pass").expect("tests block has output pass");
         let hit = m.and(ok, pass);
-        for _ in 0..plan.reduce {
-            m.stage();
-        }
-        m.output("hit", hit);
-        m.output("nan", nan);
-        m.output("invalid", invalid);
+        vec![("hit", hit), ("nan", nan), ("invalid", invalid)]
     } else {
         let pass_any = passes
             .get("pass_any")
@@ -846,14 +841,19 @@ pub fn build(cfg: &Config) -> Module {
         let any_pass = m.or(mixed, pass_any);
         let any_hit = m.and(ok, any_pass);
         let mixed_sign = m.and(valid, mixed);
-        for _ in 0..plan.reduce {
-            m.stage();
-        }
-        m.output("all_hit", all_hit);
-        m.output("any_hit", any_hit);
-        m.output("nan", nan);
-        m.output("invalid", invalid);
-        m.output("mixed_sign", mixed_sign);
+        vec![
+            ("all_hit", all_hit),
+            ("any_hit", any_hit),
+            ("nan", nan),
+            ("invalid", invalid),
+            ("mixed_sign", mixed_sign),
+        ]
+    };
+    for _ in 0..plan.reduce {
+        m.stage();
+    }
+    for (name, value) in outputs {
+        m.output(name, value);
     }
     m.finish()
         .expect("silhouette generator is type-correct for every accepted configuration")
