@@ -184,8 +184,20 @@ pub fn run_file(
     mode: Mode,
 ) -> Result<FileOutcome, FlowError> {
     run_file_inner(g, harness, tb, input, output, mode).map_err(|e| {
-        // a unit's ports depend on its parameters (silhouette mode=ray has no d_hi_*)
-        let context = if e.to_string().contains("unknown port") {
+        // a unit's ports depend on its parameters (silhouette mode=ray has no
+        // d_hi_*): a file naming a port this instance lacks gets them named
+        let is_port = |name: &str| {
+            g.ports
+                .inputs
+                .iter()
+                .chain(&g.ports.outputs)
+                .any(|p| p.name == name)
+        };
+        let names_absent_port = matches!(
+            &e,
+            FlowError::Sim(SimError::Format { field: Some(f), .. }) if !is_port(f)
+        );
+        let context = if names_absent_port {
             format!(
                 "\n(these are the ports of `{}`: unit `{}` with {})",
                 g.ports.top,
