@@ -700,17 +700,20 @@ pub struct SilhouetteBench {
 impl SilhouetteBench {
     /// The testbench for resolved `silhouette` parameters.
     pub fn new(p: &Params) -> Self {
-        let fmt = FloatFormat::new(p.u32("exp_bits"), p.u32("frac_bits"))
-            .expect("format checked by the unit");
-        let origin = match p.word("origin") {
-            "bounded" => OriginMode::Bounded,
-            _ => OriginMode::Shared,
+        // the unit's one parse of the parameters, mapped onto the golden model's
+        use crate::units::silhouette::{self as unit, Mode, Origin, Policy};
+        let u = unit::config(p).expect("parameters checked by the unit");
+        let fmt =
+            FloatFormat::new(u.fmt.exp_bits, u.fmt.frac_bits).expect("format checked by the unit");
+        let origin = match u.origin {
+            Origin::Bounded => OriginMode::Bounded,
+            Origin::Shared => OriginMode::Shared,
         };
-        let rounding = match p.word("rounding") {
-            "nearest" => Rounding::Nearest,
-            _ => Rounding::Conservative,
+        let rounding = match u.policy {
+            Policy::Nearest => Rounding::Nearest,
+            Policy::Conservative => Rounding::Conservative,
         };
-        let ray = p.word("mode") == "ray";
+        let ray = u.mode == Mode::Ray;
         let cfg =
             Config::new(fmt, origin, rounding).expect("exact-product format checked by the unit");
         let corners = corner_cases(fmt, origin == OriginMode::Bounded);
