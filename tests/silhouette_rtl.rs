@@ -5,15 +5,15 @@
 //! configuration also with random idle cycles (bubbles). Every design is
 //! linted with `verilator --lint-only -Wall` first.
 //!
-//! Configurations (chosen to keep Verilator builds few: all seven take about
-//! 3 minutes on 2 cores with a cold build cache):
+//! Configurations (chosen to keep Verilator builds few):
 //! - binary32, shared origin (single rays and shared-origin bundles), conservative, 4 stages;
 //! - binary32, bounded origin (bundles), conservative, 2 stages;
 //! - bfloat16 (8,7), shared, conservative, 1 stage;
 //! - (6,9), bounded, conservative, 6 stages, with bubbles;
 //! - binary16 (5,10), bounded, nearest, combinational (0 stages);
 //! - ray mode: binary32 conservative, 4 stages; bfloat16 nearest, 2 stages, with bubbles;
-//! - slab: binary32, 4 stages; bfloat16, 0 stages.
+//! - slab: binary32, 4 stages; bfloat16, 0 stages;
+//! - conservative slab: binary32, 4 stages; bfloat16, 2 stages.
 
 mod common;
 
