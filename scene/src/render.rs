@@ -326,6 +326,35 @@ impl Frame {
         )
         .map_err(|e| format!("{}: {e}", path.display()))
     }
+    /// The primary hits as text (`render --dump-hits`): a `#` header, then
+    /// one line per pixel, row-major from the top-left pixel,
+    /// `x y instance primitive t` with `t` the hit distance in units of the
+    /// camera ray's direction (`look_at − position` normalised, plus the
+    /// pixel offset on the image plane at distance 1: the direction of
+    /// [`Cam::dir`], not normalised) as a decimal and its binary64 bits in
+    /// hex; a miss is `x y - - -`. `x` grows to the right, `y` downwards.
+    pub fn hits_text(&self, header: &str) -> String {
+        use std::fmt::Write as _;
+        let mut s = String::with_capacity(40 * self.ids.len() + 256);
+        for line in header.lines() {
+            let _ = writeln!(s, "# {line}");
+        }
+        let _ = writeln!(s, "# width {} height {}", self.w, self.h);
+        let _ = writeln!(s, "# x y instance primitive t t_bits(binary64 hex)");
+        for (k, (&(inst, prim), &t)) in self.ids.iter().zip(&self.t).enumerate() {
+            let (x, y) = (k as u32 % self.w, k as u32 / self.w);
+            if inst == crate::trace::NONE {
+                let _ = writeln!(s, "{x} {y} - - -");
+            } else {
+                let _ = writeln!(s, "{x} {y} {inst} {prim} {:e} {t:016x}", f64::from_bits(t));
+            }
+        }
+        s
+    }
+    /// The same primary hits (instance, primitive and `t` of every pixel).
+    pub fn same_hits(&self, other: &Frame) -> bool {
+        self.w == other.w && self.h == other.h && self.ids == other.ids && self.t == other.t
+    }
     /// Total rays traced.
     pub fn rays(&self) -> u64 {
         self.stats.total().rays

@@ -6,10 +6,13 @@
 //! | [`Golden`] | `silhouette::eval` (binary32, conservative), hit = `any_hit` | same unit, AllHit / AllMiss / Mixed |
 //! | [`Exact`] | `exact::ray_box::ray_hits_box` (rationals) | not used (bundles are split) |
 //! | [`Slab`] | plain `f32` slab test (reciprocal direction), for speed comparison | not used |
+//! | [`Reduced`] | the silhouette unit in a reduced format `eXmY` (`--box-format`): ray and box rounded outward, bounded-origin unit | same, bounds rounded outward |
+//! | [`Checked`] | wraps a tester; every single-ray miss is checked against [`Exact`] on the unrounded binary32 ray | the wrapped tester |
 //! | `rtl::RtlTester` | the Verilated silhouette unit | the same unit |
 
 use golden_model::exact::ray_box::{ray_hits_box, BoxIn, RayIn};
-use golden_model::float::FloatFormat;
+use golden_model::float::{convert, sub, FloatFormat, RoundingMode};
+use std::sync::atomic::{AtomicU64, Ordering};
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding, Verdict};
 
 /// One box test of a single ray: box, origin, direction (binary32 bits), segment `[0, t_max]`.
@@ -25,6 +28,9 @@ pub struct RayBox {
     pub d: [u64; 3],
     /// segment end (binary32 bits; may be +inf)
     pub t_max: u64,
+    /// a top-level test: the box and the origin are world coordinates (else
+    /// the instance's model space)
+    pub world: bool,
 }
 
 /// A bundle box test: the silhouette unit's inputs (binary32 bits), shared
@@ -35,6 +41,8 @@ pub struct BundleBox {
     pub input: BundleIn,
     /// every ray has the same origin (use the shared-origin unit)
     pub shared: bool,
+    /// a top-level test in world coordinates (see [`RayBox::world`])
+    pub world: bool,
 }
 
 /// A box tester.
@@ -170,5 +178,193 @@ impl BoxTester for Slab {
     }
     fn name(&self) -> &'static str {
         "slab"
+    }
+}
+
+/// The silhouette unit in a reduced format (`render --box-format eXmY`,
+/// `rtl-cost fit`), as the hardware would see a binary32 ray and box:
+///
+/// * the box is rounded outward (`p_min` down, `p_max` up);
+/// * the ray enters the format **as an interval**: each origin and
+///   direction component rounded down and up, `t_max` up, `t_min = 0`, and
+///   the whole set is tested by the bounded-origin, direction-interval unit
+///   (`mode=bundle origin=bounded rounding=conservative`): its AnyHit is
+///   false only if every ray of the set misses, and the true ray is one of
+///   them, so a miss of the reduced test is a miss of the unrounded ray;
+/// * bundles: every bound rounded outward the same way (AllMiss stays
+///   proven for every ray; AllHit on the enlarged box only makes rays enter
+///   a node, never skip one);
+/// * a value beyond the format's range (rounded to an infinity) answers
+///   hit / Mixed: the unit would read it as invalid and answer miss.
+///
+/// Coordinates: below the instance boxes, the instance's model space (after
+/// the two-step inverse transform), so a mesh far from the world origin keeps
+/// its small model-space coordinates; the instance boxes (top level) relative
+/// to a **scene anchor** `a` (binary32, the centre of the top-level root box:
+/// [`Reduced::with_world_anchor`]), as a scene stored around its own centre:
+/// `p − a` and `o − a` are formed in binary64 rounded outward (once per ray
+/// for the origin, once per box when the tree is built), then rounded outward
+/// into the format. Directions and `t` are not translated.
+#[derive(Debug, Clone, Copy)]
+pub struct Reduced {
+    fmt: FloatFormat,
+    cfg: Config,
+    /// binary64 bits of the scene anchor (top-level tests only)
+    anchor: [u64; 3],
+}
+
+impl Reduced {
+    /// The tester for `fmt`, or why the unit has no such format.
+    pub fn new(fmt: FloatFormat) -> Result<Reduced, String> {
+        let cfg = Config::new(fmt, OriginMode::Bounded, Rounding::Conservative)
+            .map_err(|e| format!("box format {fmt}: {e}"))?;
+        Ok(Reduced {
+            fmt,
+            cfg,
+            anchor: [0; 3],
+        })
+    }
+    /// Top-level tests relative to the anchor `a` (binary32 coordinates).
+    pub fn with_world_anchor(self, a: [f32; 3]) -> Reduced {
+        Reduced {
+            anchor: a.map(|x| (x as f64).to_bits()),
+            ..self
+        }
+    }
+    /// The scene anchor the renderer and `fit` use: the centre of the
+    /// top-level root box, rounded to binary32.
+    pub fn scene_anchor(accel: &crate::bvh::Accel) -> [f32; 3] {
+        let root = &accel.tlas.nodes[0];
+        [0, 1, 2].map(|i| ((root.min[i] as f64 + root.max[i] as f64) / 2.0) as f32)
+    }
+    /// The format.
+    pub fn format(&self) -> FloatFormat {
+        self.fmt
+    }
+    /// `b` (binary32 bits) rounded in `mode`, or `None` if it leaves the
+    /// format's finite range while `b` is finite.
+    fn round(&self, b: u64, mode: RoundingMode) -> Option<u64> {
+        let f32f = FloatFormat::BINARY32;
+        let r = convert(f32f, self.fmt, b, mode);
+        Some(r).filter(|&r| finite(self.fmt, r) || !finite(f32f, b))
+    }
+    /// A coordinate on `axis` (binary32 bits) minus the anchor's, rounded in
+    /// `mode` (binary64 first, then the format: two roundings the same way).
+    fn round_at(&self, axis: usize, b: u64, mode: RoundingMode) -> Option<u64> {
+        let (f32f, f64f) = (FloatFormat::BINARY32, FloatFormat::BINARY64);
+        if !finite(f32f, b) {
+            return self.round(b, mode);
+        }
+        let wide = convert(f32f, f64f, b, mode);
+        let rel = sub(f64f, wide, self.anchor[axis], mode);
+        let r = convert(f64f, self.fmt, rel, mode);
+        Some(r).filter(|&r| finite(self.fmt, r))
+    }
+    /// A binary32 bundle record with every bound rounded outward; positions
+    /// relative to the anchor when `world`.
+    fn enclose(&self, x: &BundleIn, world: bool) -> Option<BundleIn> {
+        let (down, up) = (RoundingMode::Down, RoundingMode::Up);
+        let vec = |v: [u64; 3], mode: RoundingMode, position: bool| -> Option<[u64; 3]> {
+            let one = |i: usize| {
+                if position && world {
+                    self.round_at(i, v[i], mode)
+                } else {
+                    self.round(v[i], mode)
+                }
+            };
+            Some([one(0)?, one(1)?, one(2)?])
+        };
+        Some(BundleIn {
+            p_min: vec(x.p_min, down, true)?,
+            p_max: vec(x.p_max, up, true)?,
+            o_lo: vec(x.o_lo, down, true)?,
+            o_hi: vec(x.o_hi, up, true)?,
+            d_lo: vec(x.d_lo, down, false)?,
+            d_hi: vec(x.d_hi, up, false)?,
+            t_min: self.round(x.t_min, down)?,
+            t_max: self.round(x.t_max, up)?,
+        })
+    }
+}
+
+impl BoxTester for Reduced {
+    fn ray(&self, x: &RayBox) -> bool {
+        let input = BundleIn {
+            o_hi: x.o,
+            d_lo: x.d,
+            d_hi: x.d,
+            ..ray_input(x)
+        };
+        match self.enclose(&input, x.world) {
+            Some(r) => eval(&self.cfg, &r).any_hit,
+            None => true,
+        }
+    }
+    fn bundle(&self, x: &BundleBox) -> Verdict {
+        match self.enclose(&x.input, x.world) {
+            Some(r) => eval(&self.cfg, &r).verdict(),
+            None => Verdict::Mixed,
+        }
+    }
+    fn supports_bundles(&self) -> bool {
+        true
+    }
+    fn name(&self) -> &'static str {
+        "reduced"
+    }
+}
+
+/// `x` (bits of `f`) is finite.
+fn finite(f: FloatFormat, x: u64) -> bool {
+    x & f.mask() & !f.sign_bit() < f.inf(false)
+}
+
+/// A tester whose single-ray misses are checked against the exact test of
+/// the unrounded binary32 ray (`fit`'s zero-false-miss rule, measured on
+/// the renderer's own tests): counts tests, misses and false misses.
+#[derive(Debug)]
+pub struct Checked<T> {
+    /// the tester answering
+    pub inner: T,
+    /// single-ray tests
+    pub tests: AtomicU64,
+    /// single-ray misses (each checked exactly)
+    pub misses: AtomicU64,
+    /// misses the exact test calls hits
+    pub false_misses: AtomicU64,
+}
+
+impl<T> Checked<T> {
+    /// Wraps `inner`.
+    pub fn new(inner: T) -> Checked<T> {
+        Checked {
+            inner,
+            tests: AtomicU64::new(0),
+            misses: AtomicU64::new(0),
+            false_misses: AtomicU64::new(0),
+        }
+    }
+}
+
+impl<T: BoxTester> BoxTester for Checked<T> {
+    fn ray(&self, x: &RayBox) -> bool {
+        self.tests.fetch_add(1, Ordering::Relaxed);
+        let hit = self.inner.ray(x);
+        if !hit {
+            self.misses.fetch_add(1, Ordering::Relaxed);
+            if Exact.ray(x) {
+                self.false_misses.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        hit
+    }
+    fn bundle(&self, x: &BundleBox) -> Verdict {
+        self.inner.bundle(x)
+    }
+    fn supports_bundles(&self) -> bool {
+        self.inner.supports_bundles()
+    }
+    fn name(&self) -> &'static str {
+        self.inner.name()
     }
 }

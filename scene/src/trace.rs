@@ -595,6 +595,7 @@ impl<'a> Tracer<'a> {
                         ..bb.input
                     },
                     shared: bb.shared,
+                    world: space == Space::World,
                 };
                 st.bundle_tests += 1;
                 st.bundle_rays += n as u64;
@@ -630,6 +631,7 @@ impl<'a> Tracer<'a> {
                     o,
                     d,
                     t_max: r.box_t_max(),
+                    world: space == Space::World,
                 })
             })
             .collect()
@@ -693,5 +695,6 @@ fn bundle_bounds(
             t_max,
         },
         shared,
+        world: false,
     })
 }

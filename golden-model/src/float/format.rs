@@ -91,6 +91,31 @@ impl FloatFormat {
         })
     }
 
+    /// `(exp_bits, frac_bits)` of a format name: `binary16`, `binary32`,
+    /// `binary64`, `bfloat16` (also `f16`, `f32`, `f64`, `bf16`) or `eXmY`
+    /// (e.g. `e6m9`), unchecked; `None` if the text is no such name.
+    pub fn parse_name(name: &str) -> Option<(u32, u32)> {
+        match name {
+            "binary16" | "f16" => Some((5, 10)),
+            "binary32" | "f32" => Some((8, 23)),
+            "binary64" | "f64" => Some((11, 52)),
+            "bfloat16" | "bf16" => Some((8, 7)),
+            _ => {
+                let (e, m) = name.strip_prefix('e')?.split_once('m')?;
+                Some((e.parse().ok()?, m.parse().ok()?))
+            }
+        }
+    }
+
+    /// The format a name ([`FloatFormat::parse_name`]) stands for, or a
+    /// message saying why the text is no supported format.
+    pub fn from_name(name: &str) -> Result<FloatFormat, String> {
+        let (e, m) = FloatFormat::parse_name(name).ok_or_else(|| {
+            format!("`{name}`: expected binary16, binary32, binary64, bfloat16 or eXmY (e.g. e6m9)")
+        })?;
+        FloatFormat::new(e, m).map_err(|err| format!("`{name}`: {err}"))
+    }
+
     /// For the named constants only: a compile-time error if invalid.
     const fn must(exp_bits: u32, frac_bits: u32) -> FloatFormat {
         match FloatFormat::new(exp_bits, frac_bits) {

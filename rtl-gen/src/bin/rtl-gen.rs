@@ -82,16 +82,7 @@ impl UnitArgs {
 
 /// (exponent bits, fraction bits) of a format name.
 fn float_format(name: &str) -> Option<(u32, u32)> {
-    match name {
-        "binary16" | "f16" => Some((5, 10)),
-        "binary32" | "f32" => Some((8, 23)),
-        "binary64" | "f64" => Some((11, 52)),
-        "bfloat16" | "bf16" => Some((8, 7)),
-        _ => {
-            let (e, m) = name.strip_prefix('e')?.split_once('m')?;
-            Some((e.parse().ok()?, m.parse().ok()?))
-        }
-    }
+    golden_model::float::FloatFormat::parse_name(name)
 }
 
 #[derive(clap::Args)]

@@ -8,7 +8,8 @@ use scene::hybrid::{orders, render_async, render_sync, HybridOpts};
 use scene::render::render;
 use scene::scene::Scene;
 use scene::stats::{plane_savings, table};
-use scene::tester::{BoxTester, Exact, Golden, Slab};
+use golden_model::float::FloatFormat;
+use scene::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use scene::trace::{BundleOpts, TraceOpts};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -66,6 +67,13 @@ enum Cmd {
         /// also render without cull planes and report what the planes saved
         #[arg(long)]
         plane_savings: bool,
+        /// box tests in a reduced format eXmY (e.g. e6m9) instead of binary32: the
+        /// silhouette unit with ray and boxes rounded outward (--box golden only)
+        #[arg(long, value_name = "eXmY")]
+        box_format: Option<String>,
+        /// write every pixel's primary hit (instance, primitive, t) as text
+        #[arg(long, value_name = "FILE")]
+        dump_hits: Option<PathBuf>,
     },
     /// Hybrid raster + ray tracing (seed 002): synchronous and asynchronous
     /// renders for several primitive orders, counts of emitted/culled/traced rays.
@@ -143,26 +151,52 @@ fn run(cli: Cli) -> Result<(), String> {
             out,
             box_kind,
             plane_savings: ps,
+            box_format,
+            dump_hits,
         } => {
             let (s, w, h, mut opts) = setup(&c)?;
-            let tester: Box<dyn BoxTester> = match box_kind {
-                BoxKind::Golden => Box::new(Golden::default()),
-                BoxKind::Exact => Box::new(Exact),
-                BoxKind::Slab => {
-                    opts.planes = false;
-                    opts.f32_transform = true;
-                    Box::new(Slab)
+            let reduced = match &box_format {
+                None => None,
+                Some(name) => {
+                    if !matches!(box_kind, BoxKind::Golden) {
+                        return Err("--box-format needs --box golden (the silhouette unit)".into());
+                    }
+                    let fmt = FloatFormat::from_name(name).map_err(|e| format!("--box-format {e}"))?;
+                    Some(Reduced::new(fmt).map_err(|e| format!("--box-format {name}: {e}"))?)
                 }
             };
+            if matches!(box_kind, BoxKind::Slab) {
+                opts.planes = false;
+                opts.f32_transform = true;
+            }
             let acc = build(&s, opts.planes);
+            let tester: Box<dyn BoxTester> = match box_kind {
+                BoxKind::Golden => match reduced {
+                    Some(r) => Box::new(r.with_world_anchor(Reduced::scene_anchor(&acc))),
+                    None => Box::new(Golden::default()),
+                },
+                BoxKind::Exact => Box::new(Exact),
+                BoxKind::Slab => Box::new(Slab),
+            };
             let f = render(&s, &acc, tester.as_ref(), opts, w, h, true);
             f.save_png(&out)?;
+            if let Some(path) = &dump_hits {
+                let header = format!(
+                    "render --dump-hits: {} {w}x{h}, box tester {}{}\ncamera: pixel (x, y) looks along forward + sx*right + sy*up, sx, sy the pixel centre on the image plane at distance 1 (x right, y down); t in units of that direction",
+                    s.path.display(),
+                    tester.name(),
+                    box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default()
+                );
+                std::fs::write(path, f.hits_text(&header))
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
             println!(
-                "{} {}x{}, box tester {}, bundles {}: {} rays in {:.2} s = {:.0} rays/s -> {}",
+                "{} {}x{}, box tester {}{}, bundles {}: {} rays in {:.2} s = {:.0} rays/s -> {}",
                 s.path.display(),
                 w,
                 h,
                 tester.name(),
+                box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default(),
                 if opts.bundles.enabled {
                     format!("≤ {}", opts.bundles.max_size)
                 } else {
