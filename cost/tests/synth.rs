@@ -204,21 +204,22 @@ fn log_parsers() {
 fn fit_suzanne_format_without_synthesis() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes/suzanne.obj");
-    let (mesh, _) = cost::fit::load(&path).expect("../shared/scenes beside the clone");
+    let scene = cost::fit::load(&path).expect("../shared/scenes beside the clone");
     let o = cost::fit::FitOptions {
         target_rate: 0.01,
         target_mhz: 20.0,
-        rays: 100,
+        width: Some(40),
         synth: false,
-        seed: 1,
+        device: "ecp5-85f".into(),
+        exact_all: false,
     };
-    let f = cost::fit::fit(&mesh, "suzanne", &o).unwrap();
+    let f = cost::fit::fit(&scene, "suzanne", &o).unwrap();
     assert!(
-        (4..=8).contains(&f.exp_bits) && (4..=23).contains(&f.frac_bits),
+        (4..=8).contains(&f.format.exp_bits()) && (3..=23).contains(&f.format.frac_bits()),
         "{}",
         f.report
     );
-    assert!(f.report.contains("meets the target"));
+    assert_eq!(f.picked().same_image, Some(true), "{}", f.report);
     rtl_gen::flow::generate("silhouette", &f.params).unwrap();
 }
 

@@ -79,6 +79,10 @@ enum Cmd {
         /// also write the result as JSON (key `format` spelled eXmY)
         #[arg(long)]
         json: Option<PathBuf>,
+        /// test every single-ray miss with the exact rational test (default: only the misses
+        /// the proven binary32 unit calls hits; much slower)
+        #[arg(long)]
+        exact_all: bool,
     },
     /// The box testers side by side (silhouette ray/bundle, RNE and conservative slab, the slab's reciprocal per box test, RAABB's figures): one table, the issue-19 targets checked
     Boxes {
@@ -202,6 +206,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             no_synth,
             out,
             json,
+            exact_all,
         } => {
             let sc = cost::fit::load(&scene)?;
             let name = scene.display().to_string();
@@ -211,6 +216,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 width,
                 synth: !no_synth,
                 device,
+                exact_all,
             };
             let f = cost::fit::fit(&sc, &name, &o)?;
             let g = rtl_gen::flow::generate("silhouette", &f.params)?;

@@ -1,0 +1,74 @@
+//! `render --box-format eXmY --dump-hits FILE` (issue #15): the reduced-format
+//! box tester renders the binary32 image (the dumps agree line for line), the
+//! dump is one line per pixel with a documented header, and a bad format is
+//! an error (exit 2) that writes nothing.
+
+use std::path::Path;
+use std::process::Command;
+
+fn render(args: &[&str], png: &Path) -> std::process::Output {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
+    Command::new(env!("CARGO_BIN_EXE_render"))
+        .arg("render")
+        .arg(scene)
+        .args(["--width", "32", "-o"])
+        .arg(png)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn body(text: &str) -> Vec<&str> {
+    text.lines().filter(|l| !l.starts_with('#')).collect()
+}
+
+#[test]
+fn reduced_format_dump_equals_binary32_dump() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("render-formats");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut dumps = Vec::new();
+    for fmt in [None, Some("e6m9"), Some("e5m5")] {
+        let dump = dir.join(format!("{}.txt", fmt.unwrap_or("binary32")));
+        let mut args = vec!["--dump-hits", dump.to_str().unwrap()];
+        if let Some(f) = fmt {
+            args.extend(["--box-format", f]);
+        }
+        let r = render(&args, &dir.join("x.png"));
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let text = std::fs::read_to_string(&dump).unwrap();
+        assert!(text.starts_with("# render --dump-hits:"), "{text}");
+        assert!(text.contains("# width 32 height 32"));
+        if let Some(f) = fmt {
+            assert!(String::from_utf8_lossy(&r.stdout).contains(&format!("reduced {f}")));
+        }
+        dumps.push(text);
+    }
+    let base = body(&dumps[0]);
+    assert_eq!(base.len(), 32 * 32);
+    let hits = base.iter().filter(|l| !l.ends_with(" - - -")).count();
+    assert!(hits > 500, "{hits} hit pixels");
+    assert_eq!(base[33].split(' ').take(2).collect::<Vec<_>>(), ["1", "1"]);
+    for d in &dumps[1..] {
+        assert_eq!(body(d), base, "reduced-format render differs from binary32");
+    }
+}
+
+#[test]
+fn a_bad_box_format_is_an_error_and_writes_nothing() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("render-bad-format");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (arg, says) in [
+        (vec!["--box-format", "e9x3"], "expected binary16"),
+        (vec!["--box-format", "e3m70"], "e3m70"),
+        (vec!["--box-format", "e6m9", "--box", "exact"], "--box golden"),
+    ] {
+        let png = dir.join("x.png");
+        let r = render(&arg, &png);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{arg:?}: {err}");
+        assert!(err.contains(says), "{arg:?}: {err}");
+        assert!(!png.exists(), "{arg:?} wrote {}", png.display());
+    }
+}
