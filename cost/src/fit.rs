@@ -433,10 +433,12 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     };
     let mut stages = 4u32;
     let mut ice40_luts = None;
+    let mut device_luts = None;
     if o.synth {
+        let ecp5 = device.0.starts_with("ecp5");
         let so = SynthOptions {
             generic: false,
-            ecp5: false,
+            ecp5,
             xilinx: false,
             pnr: false,
             pnr_ecp5: false,
@@ -462,6 +464,11 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             if ok || s >= 16 || tries >= 4 {
                 stages = s;
                 ice40_luts = Some(ice.luts);
+                device_luts = if ecp5 {
+                    rep.ecp5.as_ref().map(|e| e.luts)
+                } else {
+                    Some(ice.luts)
+                };
                 break;
             }
             // the path shrinks roughly as 1/(stages + 1): jump there, then step
@@ -482,12 +489,13 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             "Not synthesised (`--no-synth`): stages = {stages}, the default; device fit unknown.\n"
         )?;
     }
-    let device_fit = ice40_luts.map(|l| l <= device.1);
-    if let Some(l) = ice40_luts {
+    let device_fit = device_luts.map(|l| l <= device.1);
+    if let Some(l) = device_luts {
         writeln!(
             r,
-            "Device {}: {l} LUT4 needed of {} → {} (LUT4 count only; routing may need more room).\n",
+            "Device {}: {l} LUT4 needed ({} mapping) of {} → {} (LUT4 count only, not placed: routing may need more room).\n",
             device.0,
+            if device.0.starts_with("ecp5") { "synth_ecp5" } else { "synth_ice40" },
             device.1,
             if l <= device.1 { "fits" } else { "does NOT fit" }
         )?;
