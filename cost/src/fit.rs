@@ -192,24 +192,28 @@ pub fn load(path: &Path) -> Result<Scene, String> {
     Scene::parse(&text, path).map_err(|e| e.to_string())
 }
 
-/// The largest |coordinate| and the smallest nonzero box size of `bvh`,
-/// coordinates relative to `anchor`.
-fn extents(bvh: &Bvh, anchor: [f64; 3]) -> (f64, f64) {
+/// The largest |coordinate|, the smallest nonzero box size and the smallest
+/// nonzero |coordinate| of `bvh`, coordinates relative to `anchor`.
+fn extents(bvh: &Bvh, anchor: [f64; 3]) -> (f64, f64, f64) {
     let mut big = 0f64;
     let mut small = f64::INFINITY;
+    let mut least = f64::INFINITY;
     for n in &bvh.nodes {
         let mut size = 0f64;
         for i in 0..3 {
-            big = big
-                .max((n.min[i] as f64 - anchor[i]).abs())
-                .max((n.max[i] as f64 - anchor[i]).abs());
+            for x in [n.min[i] as f64 - anchor[i], n.max[i] as f64 - anchor[i]] {
+                big = big.max(x.abs());
+                if x != 0.0 {
+                    least = least.min(x.abs());
+                }
+            }
             size = size.max(n.max[i] as f64 - n.min[i] as f64);
         }
         if size > 0.0 {
             small = small.min(size);
         }
     }
-    (big, small)
+    (big, small, least)
 }
 
 /// The ulp of `fmt` at magnitude `x` (normal range).
@@ -289,14 +293,14 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             extents(&blas.bvh, [0.0; 3]),
         ));
     }
-    writeln!(r, "| space | largest coordinate magnitude | smallest box size |\n|---|---|---|")?;
-    for (s, (big, small)) in &spaces {
-        writeln!(r, "| {s} | {big:.4e} | {small:.4e} |")?;
+    writeln!(r, "| space | largest coordinate magnitude | smallest box size | smallest nonzero coordinate magnitude |\n|---|---|---|---|")?;
+    for (s, (big, small, least)) in &spaces {
+        writeln!(r, "| {s} | {big:.4e} | {small:.4e} | {least:.4e} |")?;
     }
     let ulp_reason = |fmt: FloatFormat| -> Option<String> {
-        spaces.iter().find_map(|(s, (big, small))| {
+        spaces.iter().find_map(|(s, (big, small, _))| {
             if *big >= max_value(fmt) / 16.0 {
-                return Some(format!("{s}: |coordinate| {big:.3e} beyond the range / 16"));
+                return Some(format!("{s}: coordinate magnitude {big:.3e} beyond the range / 16"));
             }
             let u = ulp(fmt, *big);
             (u > *small).then(|| format!("{s}: ulp {u:.3e} at {big:.3e} > smallest box {small:.3e}"))
@@ -359,9 +363,29 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
         ok
     };
     let mut best: Option<FloatFormat> = None;
+    let mut skipped = String::new();
     let width = |f: FloatFormat| f.exp_bits() + f.frac_bits();
+    // the smallest nonzero magnitude that matters: coordinates and box sizes
+    let tiny = spaces
+        .iter()
+        .map(|(_, x)| x.1.min(x.2))
+        .fold(f64::INFINITY, f64::min);
     for e in EXP_BITS {
-        // the narrowest accepted fraction for this exponent, by bisection
+        if let Some(b) = best {
+            let emin = (b.emin() as f64).exp2();
+            if tiny >= emin {
+                // every value is normal in b's exponent: a wider exponent with fewer
+                // fraction bits is coarser at every value that matters
+                skipped = format!(
+                    "Exponents e{e}..e{} not tried: every nonzero coordinate and box size (smallest {tiny:.3e}) is a normal number of {b} (≥ 2^{}), so a wider exponent with fewer fraction bits is coarser at every one of them.\n",
+                    EXP_BITS.end(),
+                    b.emin()
+                );
+                break;
+            }
+        }
+        // the narrowest accepted fraction for this exponent, by bisection (box
+        // tests per ray fall as the fraction grows)
         let (mut lo, mut hi) = (*FRAC_BITS.start(), *FRAC_BITS.end());
         if let Some(b) = best {
             // only narrower than the best so far is of interest
@@ -371,23 +395,32 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             hi = hi.min(width(b) - e - 1);
         }
         let fmt = |f: u32| FloatFormat::new(e, f).expect("exponent 4..=8, fraction 3..=23");
-        if !judge(fmt(hi), &mut candidates) {
+        // with a bound from a narrower exponent, its widest fraction first: if that
+        // fails, every narrower one does
+        if best.is_some() && !judge(fmt(hi), &mut candidates) {
             continue;
         }
-        while lo < hi {
+        let mut found = None;
+        while lo <= hi {
             let mid = (lo + hi) / 2;
             if judge(fmt(mid), &mut candidates) {
-                hi = mid;
+                found = Some(mid);
+                hi = mid - 1;
             } else {
                 lo = mid + 1;
             }
         }
-        if best.is_none_or(|b| width(fmt(hi)) < width(b)) {
-            best = Some(fmt(hi));
+        if let Some(f) = found {
+            if best.is_none_or(|b| width(fmt(f)) < width(b)) {
+                best = Some(fmt(f));
+            }
         }
     }
     let seconds = start.elapsed().as_secs_f64();
     writeln!(r, "\n## Candidates ({seconds:.1} s)\n")?;
+    if !skipped.is_empty() {
+        writeln!(r, "{skipped}")?;
+    }
     writeln!(r, "Single-ray misses: a miss the binary32 unit also reports is an exact miss (that unit is proven conservative and checked against the exact test by its own tests); every other miss, and one in {}, is tested with the exact rational test{}.\n", Checked::<Golden>::SAMPLE, if o.exact_all { " — here every miss was (`--exact-all`)" } else { " (`--exact-all`: every miss)" })?;
     writeln!(r, "| format | box tests/ray | vs binary32 | single-ray misses | tested exactly | false misses | same image | verdict |\n|---|---|---|---|---|---|---|---|")?;
     for c in &candidates {

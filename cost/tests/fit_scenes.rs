@@ -54,6 +54,21 @@ fn every_shipped_scene_gets_a_format_with_the_binary32_image() {
 }
 
 #[test]
+fn every_shipped_mesh_gets_a_format_with_the_binary32_image() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/meshes");
+    for name in ["spot", "suzanne", "teapot"] {
+        let path = dir.join(format!("{name}.obj"));
+        let scene = cost::fit::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let f = cost::fit::fit(&scene, name, &options(40)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let p = f.picked();
+        println!("{name}: {} ({:?} box tests/ray, binary32 {:.3})", f.format, p.box_tests_per_ray, f.binary32_box_tests_per_ray);
+        assert_eq!(p.same_image, Some(true), "{name}: {}", f.report);
+        assert_eq!(p.false_misses, 0, "{name}");
+        assert!(f.candidates.iter().all(|c| c.false_misses == 0), "{name}");
+    }
+}
+
+#[test]
 fn fit_writes_json_and_rejects_a_scene_without_instances() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fit-json");
     let _ = std::fs::remove_dir_all(&dir);
