@@ -198,7 +198,7 @@ fn comparisons_select_their_output_and_bad_lines_are_errors() {
     for (content, want) in [
         (
             "3FF0000000000000 3FF0000000000000 0 00\n",
-            "<stdin>: line 1, field `a`: value wider than port",
+            "<stdin>: line 1, field `a`: `3FF0000000000000` is not 8 hex digit(s)",
         ),
         (
             "3F800000 0\n",
@@ -206,7 +206,7 @@ fn comparisons_select_their_output_and_bad_lines_are_errors() {
         ),
         (
             "\n3F800000 3F800000 x 00\n",
-            "<stdin>: line 2, field `result lt`: `x` is not a hex number",
+            "<stdin>: line 2, field `result lt`: `x` is not 1 hex digit(s)",
         ),
         ("# nothing\n", "no TestFloat cases"),
     ] {
@@ -264,4 +264,15 @@ fn testfloat_spelling_of_format_and_rounding_mode_is_accepted() {
         "{}",
         text(&o)
     );
+}
+
+#[test]
+fn nan_exact_without_testfloat_is_a_usage_error() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+        .args(["check", "fadd", "--nan-exact"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--testfloat"), "{err}");
 }

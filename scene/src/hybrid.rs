@@ -175,6 +175,10 @@ pub struct HybridOpts {
     pub order: Vec<usize>,
     /// rays the ray processor handles after each primitive (0: only at the end)
     pub rays_per_step: usize,
+    /// primitives rasterised while a traced batch's results are in flight: the
+    /// contribution check sees the depth buffer that many primitives after the
+    /// cull did (0: the same one), as a ray unit with latency would
+    pub result_latency: usize,
 }
 
 /// The sample's depth-buffer entry.
@@ -316,9 +320,9 @@ pub fn render_async(
                    queue: &mut VecDeque<QRay>,
                    samples: &[Option<Sample>],
                    tile_range: &[(f64, f64)],
-                   results: &mut [Vec<Option<bool>>],
                    c: &mut HybridCounts,
-                   st: &mut Stats| {
+                   st: &mut Stats|
+     -> Vec<(QRay, bool)> {
         let mut batch = Vec::new();
         while batch.len() < limit {
             let Some(q) = queue.pop_front() else { break };
@@ -340,14 +344,21 @@ pub fn render_async(
             batch.push(q);
         }
         if batch.is_empty() {
-            return;
+            return Vec::new();
         }
         c.traced += batch.len() as u64;
         let rays: Vec<SecRay> = batch.iter().map(|q| q.ray).collect();
         let occ = trace_batch(&tracer, accel.scale, &rays, st);
-        for (q, o) in batch.iter().zip(occ) {
+        batch.into_iter().zip(occ).collect::<Vec<_>>()
+    };
+    // contribution check, when a batch's results arrive: the full surface id,
+    // never the wrapping generation
+    let check = |done: Vec<(QRay, bool)>,
+                 samples: &[Option<Sample>],
+                 results: &mut [Vec<Option<bool>>],
+                 c: &mut HybridCounts| {
+        for (q, o) in done {
             let pix = (q.id >> 6) as usize;
-            // contribution check: the full surface id, never the wrapping generation
             if samples[pix].map(|s| s.key) == Some(q.key) {
                 results[pix][q.slot] = Some(o);
             } else {
@@ -355,8 +366,14 @@ pub fn render_async(
             }
         }
     };
+    // traced batches in flight: (primitive index at which they arrive, results)
+    let mut in_flight: VecDeque<(usize, Vec<(QRay, bool)>)> = VecDeque::new();
 
-    for &k in &hopts.order {
+    for (step, &k) in hopts.order.iter().enumerate() {
+        while in_flight.front().is_some_and(|b| b.0 <= step) {
+            let (_, done) = in_flight.pop_front().expect("front checked");
+            check(done, &samples, &mut results, &mut c);
+        }
         let tri = &tris[k];
         c.primitives += 1;
         let mut touched = Vec::new();
@@ -400,27 +417,28 @@ pub fn render_async(
             update_tile(tile, &samples, &mut tile_range);
         }
         if hopts.rays_per_step > 0 {
-            process(
+            let done = process(
                 hopts.rays_per_step,
                 &mut queue,
                 &samples,
                 &tile_range,
-                &mut results,
                 &mut c,
                 &mut f.stats,
             );
+            if hopts.result_latency == 0 {
+                check(done, &samples, &mut results, &mut c);
+            } else {
+                in_flight.push_back((step + hopts.result_latency, done));
+            }
         }
     }
+    // geometry complete: the batches in flight arrive, then the queue drains
+    for (_, done) in in_flight.drain(..) {
+        check(done, &samples, &mut results, &mut c);
+    }
     while !queue.is_empty() {
-        process(
-            4096,
-            &mut queue,
-            &samples,
-            &tile_range,
-            &mut results,
-            &mut c,
-            &mut f.stats,
-        );
+        let done = process(4096, &mut queue, &samples, &tile_range, &mut c, &mut f.stats);
+        check(done, &samples, &mut results, &mut c);
     }
     for p in 0..n {
         if let (Some(s), Some(sf)) = (samples[p], surf[p]) {

@@ -387,6 +387,27 @@ impl Scene {
         if c.position == c.look_at {
             return Err(err(path, "camera.look_at", "equals camera.position"));
         }
+        for (field, v) in [("camera.position", c.position), ("camera.look_at", c.look_at), ("camera.up", c.up)] {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(err(path, field, format!("{v:?}: coordinates must be finite")));
+            }
+        }
+        // the camera basis is built in f32 (render::Cam): its squared length must not overflow
+        let view = [0, 1, 2].map(|i| c.look_at[i] - c.position[i]);
+        let len2 = view.iter().map(|x| x * x).sum::<f32>();
+        if !len2.is_finite() || len2 == 0.0 {
+            let dist = (0..3)
+                .map(|i| (c.look_at[i] as f64 - c.position[i] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            return Err(err(
+                path,
+                "camera.look_at",
+                format!(
+                    "is {dist:.3e} from camera.position: the camera set-up (binary32) needs a distance between about 1e-19 and 1.8e19"
+                ),
+            ));
+        }
         let mut meshes = Vec::new();
         let mut names = BTreeMap::new();
         for (name, m) in &def.meshes {

@@ -37,6 +37,7 @@ fn async_equals_sync_for_several_orders() {
                 &HybridOpts {
                     order: order.clone(),
                     rays_per_step: step,
+                    result_latency: 0,
                 },
             );
             assert_eq!(f.ids, sync.ids, "{name}/{step}: visible surfaces");
@@ -63,4 +64,55 @@ fn async_equals_sync_for_several_orders() {
         }
     }
     assert!(culled_any, "some order culls rays");
+}
+
+/// The contribution check (seed 002's verification logic) exercised: with
+/// results in flight while later primitives are rasterised, rays culled
+/// against one depth buffer come back after their sample's surface changed
+/// (including generation wrap-arounds: a sample can change surface 8 times
+/// within the latency, so its 3-bit generation matches again). Every such
+/// stale result must be discarded (`discarded > 0`) and the image must still
+/// be the synchronous one, bit for bit.
+#[test]
+fn stale_results_are_discarded_by_the_contribution_check() {
+    let mut s =
+        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
+    s.render.ao_rays = 2;
+    let acc = Accel::build(&s, true);
+    let (w, h) = (24, 24);
+    let g = Golden::default();
+    let opts = TraceOpts::default();
+    let sync = render_sync(&s, &acc, &g, opts, w, h);
+    let used: u64 = sync.stats.total().rays;
+    let mut discarded = 0;
+    for (name, order) in orders(&s, &acc, 5) {
+        for latency in [1usize, 8, 64] {
+            let (f, c) = render_async(
+                &s,
+                &acc,
+                &g,
+                opts,
+                w,
+                h,
+                &HybridOpts {
+                    order: order.clone(),
+                    rays_per_step: 16,
+                    result_latency: latency,
+                },
+            );
+            assert_eq!(f.ids, sync.ids, "{name}/{latency}: visible surfaces");
+            assert_eq!(f.t, sync.t, "{name}/{latency}: depths");
+            for p in 0..f.color.len() {
+                assert_eq!(
+                    f.color[p].map(f32::to_bits),
+                    sync.color[p].map(f32::to_bits),
+                    "{name}/{latency}: pixel {p}"
+                );
+            }
+            assert_eq!(c.used, used, "{name}/{latency}");
+            eprintln!("{name:>14} latency {latency:>2}: discarded {} of {} traced", c.discarded, c.traced);
+            discarded += c.discarded;
+        }
+    }
+    assert!(discarded > 0, "no stale result reached the contribution check");
 }

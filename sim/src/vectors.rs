@@ -729,17 +729,62 @@ impl<R: BufRead> TextReader<R> {
     }
 
     /// Reads lines until one with content; false at end of input.
+    /// Reads the next line that is not blank or a comment into `self.line`.
+    /// A UTF-8 byte-order mark before the first line is skipped (editors on
+    /// Windows write one); bytes that are not UTF-8 and control characters
+    /// other than tab and CR are errors naming the line and the column, so
+    /// nothing invisible is echoed into a message.
     fn next_content_line(&mut self) -> Result<bool, SimError> {
+        let mut bytes = Vec::new();
         loop {
             self.line.clear();
+            bytes.clear();
             let n = self
                 .inner
-                .read_line(&mut self.line)
+                .read_until(b'\n', &mut bytes)
                 .map_err(|e| SimError::io(format!("reading {}", self.stream), e))?;
             if n == 0 {
                 return Ok(false);
             }
             self.line_no += 1;
+            let mut b: &[u8] = &bytes;
+            if self.line_no == 1 {
+                b = b.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(b);
+            }
+            let at = || Location::Line(self.line_no);
+            let text = std::str::from_utf8(b).map_err(|e| {
+                let k = e.valid_up_to();
+                SimError::format(
+                    &self.stream,
+                    at(),
+                    None,
+                    format!(
+                        "not UTF-8 text: byte {:#04x} at column {} (a binary rtlvec stream is read \
+                         as binary, not as text)",
+                        b[k],
+                        k + 1
+                    ),
+                )
+            })?;
+            if let Some((col, c)) = text
+                .chars()
+                .enumerate()
+                .find(|(_, c)| {
+                    (c.is_control() && !matches!(c, '\t' | '\r' | '\n')) || *c == '\u{feff}'
+                })
+            {
+                return Err(SimError::format(
+                    &self.stream,
+                    at(),
+                    None,
+                    format!(
+                        "control or invisible character U+{:04X} at column {} (text vector files hold printable text)",
+                        c as u32,
+                        col + 1
+                    ),
+                ));
+            }
+            self.line.push_str(text);
             if !strip_comment(&self.line).trim().is_empty() {
                 return Ok(true);
             }
@@ -1239,6 +1284,30 @@ odd flag:1  a wide   # header, widths optional with a port list
         assert_eq!(v, [0xffff, 0, 0x0123_4567_89ab_cdef, (1 << 33) - 1]);
         assert!(!r.read_record(&mut v).unwrap());
         assert_eq!(r.line(), 5);
+    }
+
+    #[test]
+    fn text_reader_skips_a_byte_order_mark_and_names_bad_bytes() {
+        let text = "\u{feff}a flag wide odd\n1 0 2 3\n";
+        let mut r = TextReader::new(text.as_bytes(), "t.txt", Some(&ports())).unwrap();
+        let mut v = [0; 4];
+        assert!(r.read_record(&mut v).unwrap());
+        assert_eq!(v, [1, 0, 2, 3]);
+        // a NUL byte: named by code point and column, never echoed raw
+        let e = text_error("a flag wide odd\n1 0\u{0}2 3\n", Some(&ports()));
+        assert_eq!(e, "t.txt: line 2: control or invisible character U+0000 at column 4 (text vector files hold printable text)");
+        assert!(!e.contains('\u{0}'));
+        // binary garbage: the line and the column of the first bad byte
+        let mut bytes = b"a flag wide odd\n1 0 ".to_vec();
+        bytes.extend([0xff, 0xfe, b'\n']);
+        let e = match TextReader::new(&bytes[..], "t.txt", Some(&ports())) {
+            Ok(mut r) => r.read_record(&mut v).unwrap_err().to_string(),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.starts_with("t.txt: line 2: not UTF-8 text: byte 0xff at column 5"), "{e}");
+        // a mark after the first line is no mark: an error, not a silent skip
+        let e = text_error("a flag wide odd\n\u{feff}1 0 2 3\n", Some(&ports()));
+        assert!(e.contains("line 2: control or invisible character U+FEFF at column 1"), "{e}");
     }
 
     fn text_error(text: &str, expected: Option<&[Port]>) -> String {

@@ -166,7 +166,7 @@ enum Command {
         testfloat: Option<String>,
         /// With --testfloat: a NaN result must equal the expected NaN bit for bit
         /// (default: any NaN matches any NaN).
-        #[arg(long)]
+        #[arg(long, requires = "testfloat")]
         nan_exact: bool,
         /// With --testfloat: the output compared with the expected result (default: the only
         /// output, else `z`; e.g. `lt` for fcmp, `min` for fminmax).

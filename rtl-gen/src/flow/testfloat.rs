@@ -79,15 +79,23 @@ pub fn read_cases<R: BufRead>(
                 ),
             ));
         }
+        // TestFloat writes every field with exactly its width's hex digits (4 for
+        // binary16, 8 for binary32, 1 for a boolean, 2 for the flags): a field of
+        // another length is a cut line or a file for another format
         let parse = |tok: &str, field: &str, width: u32| -> Result<u64, SimError> {
-            let v = u64::from_str_radix(tok, 16).map_err(|_| {
-                SimError::format(
+            let digits = width.div_ceil(4) as usize;
+            if tok.len() != digits || !tok.bytes().all(|b| b.is_ascii_hexdigit()) {
+                return Err(SimError::format(
                     stream,
                     at(),
                     Some(field),
-                    format!("`{tok}` is not a hex number of at most 64 bits"),
-                )
-            })?;
+                    format!(
+                        "`{tok}` is not {digits} hex digit(s): a {width}-bit field has exactly {digits} \
+                         (a line cut short, or a file for another format)"
+                    ),
+                ));
+            }
+            let v = u64::from_str_radix(tok, 16).expect("checked hex digits");
             if width < 64 && v >> width != 0 {
                 return Err(SimError::format(
                     stream,
@@ -104,7 +112,7 @@ pub fn read_cases<R: BufRead>(
         }
         let expected = parse(fields[n], &format!("result {}", result.name), result.width)?;
         let flags = match fields.get(n + 1) {
-            Some(tok) => Some(parse(tok, "flags", 64)?),
+            Some(tok) => Some(parse(tok, "flags", 8)?),
             None => None,
         };
         cases.push(Case {
@@ -547,7 +555,7 @@ mod tests {
     fn cases_parse_with_and_without_flags_and_errors_name_line_and_field() {
         let ins = [Port::new("a", 32), Port::new("b", 32)];
         let z = Port::new("z", 32);
-        let text = "# made by a script\n3F800000 BF800000 00000000 00\n\n7F800000 1 7FC00000\n";
+        let text = "# made by a script\n3F800000 BF800000 00000000 00\n\n7F800000 00000001 7FC00000\n";
         let c = read_cases(text.as_bytes(), "t", &ins, &z).unwrap();
         assert_eq!(c.len(), 2);
         assert_eq!(c[0].operands, [0x3f80_0000, 0xbf80_0000]);
@@ -562,12 +570,21 @@ mod tests {
                 .to_string()
         };
         assert!(err("1 2\n").contains("t: line 1: wrong field count: 2 fields"));
+        let ok = "3F800000 BF800000 00000000 00\n";
         assert_eq!(
-            err("1 2 3 0\n1 G 3 0\n"),
-            "t: line 2, field `b`: `G` is not a hex number of at most 64 bits"
+            err(&format!("{ok}3F800000 0000000G 00000000 00\n")),
+            "t: line 2, field `b`: `0000000G` is not 8 hex digit(s): a 32-bit field has exactly 8 \
+             (a line cut short, or a file for another format)"
         );
-        assert!(err("1 2 100000000 0\n")
-            .contains("line 1, field `result z`: value wider than port: 0x100000000"));
+        // a line cut inside the result (the cut value would have read as a small number)
+        assert!(err(&format!("{ok}3F800000 3F800000 3F8\n"))
+            .contains("line 2, field `result z`: `3F8` is not 8 hex digit(s)"));
+        // a binary16 file fed to a binary32 unit (zero-extended, it could have matched)
+        assert!(err("3C00 3C00 3C00 00\n").contains("line 1, field `a`: `3C00` is not 8 hex digit(s)"));
+        // flags are two hex digits (8 bits)
+        assert!(err("3F800000 3F800000 3F800000 100\n")
+            .contains("line 1, field `flags`: `100` is not 2 hex digit(s)"));
+        assert!(err("3F800000 3F800000 3F800000 0\n").contains("field `flags`"));
     }
 
     #[test]

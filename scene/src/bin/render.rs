@@ -86,6 +86,10 @@ enum Cmd {
         /// rays the ray processor handles after each primitive
         #[arg(long, default_value_t = 64)]
         rays_per_step: usize,
+        /// primitives rasterised while a traced batch's results are in flight (the
+        /// contribution check then sees a later depth buffer than the cull)
+        #[arg(long, default_value_t = 0)]
+        result_latency: usize,
     },
     /// RTL in the loop: record every box test of a (small) golden render, run
     /// them through the Verilated binary32 silhouette units (shared- and
@@ -232,6 +236,7 @@ fn run(cli: Cli) -> Result<(), String> {
             c,
             out,
             rays_per_step,
+            result_latency,
         } => {
             let (s, w, h, opts) = setup(&c)?;
             let acc = build(&s, opts.planes);
@@ -259,6 +264,7 @@ fn run(cli: Cli) -> Result<(), String> {
                     &HybridOpts {
                         order,
                         rays_per_step,
+                        result_latency,
                     },
                 );
                 let same = f.ids == sync.ids
