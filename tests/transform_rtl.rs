@@ -12,51 +12,16 @@ mod common;
 
 use common::generate;
 
-fn check(test: &str, params: &[&str]) {
-    common::check_unit(test, "transform", params, 2_000, 1_000_000, 11);
-}
-
-#[test]
-fn binary32_fma_full_rne_8_stages() {
-    check(
-        "xf_fma",
-        &["dot=fma", "throughput=full", "round=rne", "stages=8"],
-    );
-}
-
-#[test]
-fn binary32_separate_half_rdn_5_stages() {
-    check(
-        "xf_sep",
-        &["dot=separate", "throughput=half", "round=rdn", "stages=5"],
-    );
-}
-
-#[test]
-fn binary32_dot3_full_rup_3_stages() {
-    check(
-        "xf_dot3",
-        &["dot=dot3", "throughput=full", "round=rup", "stages=3"],
-    );
-}
-
-#[test]
-fn hw_inverse_binary32_dot3_full_rne_12_stages() {
-    check(
+/// The six configurations: test name, parameters.
+const CONFIGS: [(&str, &[&str]); 6] = [
+    ("xf_fma", &["dot=fma", "throughput=full", "round=rne", "stages=8"]),
+    ("xf_sep", &["dot=separate", "throughput=half", "round=rdn", "stages=5"]),
+    ("xf_dot3", &["dot=dot3", "throughput=full", "round=rup", "stages=3"]),
+    (
         "xf_hw_dot3",
-        &[
-            "inverse=hw",
-            "dot=dot3",
-            "throughput=full",
-            "round=rne",
-            "stages=12",
-        ],
-    );
-}
-
-#[test]
-fn hw_inverse_binary16_fma_half_rtz_combinational() {
-    check(
+        &["inverse=hw", "dot=dot3", "throughput=full", "round=rne", "stages=12"],
+    ),
+    (
         "xf_hw_h_fma",
         &[
             "exp_bits=5",
@@ -68,12 +33,8 @@ fn hw_inverse_binary16_fma_half_rtz_combinational() {
             "stages=0",
             "id_bits=64",
         ],
-    );
-}
-
-#[test]
-fn hw_inverse_binary16_separate_full_rdn_6_stages() {
-    check(
+    ),
+    (
         "xf_hw_h_sep",
         &[
             "exp_bits=5",
@@ -85,7 +46,53 @@ fn hw_inverse_binary16_separate_full_rdn_6_stages() {
             "stages=6",
             "id_bits=9",
         ],
-    );
+    ),
+];
+
+fn check(k: usize) {
+    let (test, params) = CONFIGS[k];
+    common::check_unit(test, "transform", params, 2_000, 1_000_000, 11);
+}
+
+/// The IR evaluator of every configuration against the golden model, no
+/// Verilator build (the mutation check's fast test, scripts/mutants.sh).
+#[test]
+fn transform_evaluator_matches_golden_model() {
+    for (test, params) in CONFIGS {
+        let (g, _) = generate(&format!("{test}_eval"), "transform", params);
+        let r = g.evaluate(g.testbench().as_ref(), 2_000, 11);
+        assert_eq!((r.vectors, r.mismatches), (2_000, 0), "{}: {r}", g.module.name);
+    }
+}
+
+#[test]
+fn binary32_fma_full_rne_8_stages() {
+    check(0);
+}
+
+#[test]
+fn binary32_separate_half_rdn_5_stages() {
+    check(1);
+}
+
+#[test]
+fn binary32_dot3_full_rup_3_stages() {
+    check(2);
+}
+
+#[test]
+fn hw_inverse_binary32_dot3_full_rne_12_stages() {
+    check(3);
+}
+
+#[test]
+fn hw_inverse_binary16_fma_half_rtz_combinational() {
+    check(4);
+}
+
+#[test]
+fn hw_inverse_binary16_separate_full_rdn_6_stages() {
+    check(5);
 }
 
 #[test]
