@@ -31,7 +31,7 @@ killed=0
 while IFS= read -r line; do
     case "$line" in ''|'#'*) continue ;; esac
     total=$((total + 1))
-    IFS=$'\x1f' read -r unit file from to test < <(printf '%s' "$line" | sed 's/ ||| /\x1f/g')
+    IFS=$'\x1f' read -r unit file from to test < <(printf '%s\n' "$line" | sed 's/ ||| /\x1f/g')
     if ! python3 - "$tree/$file" "$from" "$to" <<'EOF'
 import sys
 path, old, new = sys.argv[1:4]
