@@ -7,7 +7,7 @@ use scene::bvh::Accel;
 use scene::hybrid::{orders, render_async, render_sync, HybridOpts};
 use scene::render::render;
 use scene::scene::Scene;
-use scene::stats::{plane_savings, table};
+use scene::stats::{bundle_savings, plane_savings, table};
 use golden_model::float::FloatFormat;
 use scene::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use scene::trace::{BundleOpts, TraceOpts};
@@ -67,6 +67,9 @@ enum Cmd {
         /// also render without cull planes and report what the planes saved
         #[arg(long)]
         plane_savings: bool,
+        /// also render without bundles and report the box tests the bundles saved, net
+        #[arg(long)]
+        bundle_savings: bool,
         /// box tests in a reduced format eXmY (e.g. e6m9) instead of binary32: the
         /// silhouette unit with ray and boxes rounded outward (--box golden only)
         #[arg(long, value_name = "eXmY")]
@@ -155,6 +158,7 @@ fn run(cli: Cli) -> Result<(), String> {
             out,
             box_kind,
             plane_savings: ps,
+            bundle_savings: bs,
             box_format,
             dump_hits,
         } => {
@@ -229,6 +233,21 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!(
                     "cull planes (same render without them; identical image: {same}):\n\n{}",
                     plane_savings(&f.stats, &g.stats)
+                );
+            }
+            if bs && opts.bundles.enabled {
+                let single = TraceOpts {
+                    bundles: BundleOpts {
+                        enabled: false,
+                        ..opts.bundles
+                    },
+                    ..opts
+                };
+                let g = render(&s, &acc, tester.as_ref(), single, w, h, true);
+                println!(
+                    "bundles (same render with single rays; identical image: {}):\n\n{}",
+                    g.same_hits(&f),
+                    bundle_savings(&f.stats, &g.stats)
                 );
             }
         }
