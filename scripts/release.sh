@@ -4,7 +4,8 @@
 # 1. Verilator against the golden model on at least 10^8 vectors over the seed units'
 #    configurations (every output of every valid cycle compared), each configuration with
 #    `rtl-gen check --jobs --report --junit`;
-# 2. the exact-reference property tests at 10^7 cases (silhouette rays and bundles, cull);
+# 2. the exact-reference property tests at 10^7 cases (silhouette rays and bundles, cull, the
+#    transform unit's hardware inverse against the exact rational inverse);
 # 3. the mutation check (scripts/mutants.sh), unless RELEASE_MUTANTS=0.
 #
 #   bash scripts/release.sh                        # everything, reports in out/release/
@@ -60,10 +61,10 @@ EOF
 fi
 if [ "${RELEASE_EXACT:-1}" != 0 ]; then
     t0=$(date +%s)
-    SILHOUETTE_CASES="$cases" SILHOUETTE_BUNDLES="$cases" CULL_CASES="$cases" \
+    SILHOUETTE_CASES="$cases" SILHOUETTE_BUNDLES="$cases" CULL_CASES="$cases" TRANSFORM_CASES="$cases" \
         cargo test --release -p golden-model --test silhouette_props --test cull_props \
-        -- --nocapture >"$out/exact.log" 2>&1
-    echo "exact reference: $cases cases each (silhouette rays, bundles, cull), 0 errors, $(( $(date +%s) - t0 )) s (log $out/exact.log)"
+        --test transform -- --nocapture >"$out/exact.log" 2>&1
+    echo "exact reference: $cases cases each (silhouette rays, bundles, cull, transform inverse), 0 errors, $(( $(date +%s) - t0 )) s (log $out/exact.log)"
 fi
 if [ "${RELEASE_MUTANTS:-1}" != 0 ]; then
     bash scripts/mutants.sh | tee "$out/mutants.log" | tail -1
