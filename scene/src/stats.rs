@@ -41,31 +41,44 @@ pub fn table(s: &Stats) -> String {
     out
 }
 
-/// What the cull planes saved: the same render with and without planes.
-pub fn plane_savings(with: &Stats, without: &Stats) -> String {
-    let mut out = String::from(
-        "| rays | leaf visits (no planes → planes) | saved | tri tests (no planes → planes) | saved |\n|---|---|---|---|---|\n",
-    );
-    let mut line = |name: &str, a: &KindStats, b: &KindStats| {
-        let pct = |x: u64, y: u64| 100.0 * (1.0 - x as f64 / y.max(1) as f64);
-        out += &format!(
-            "| {name} | {} → {} | {:.1} % | {} → {} | {:.1} % |\n",
-            b.leaf_visits,
-            a.leaf_visits,
-            pct(a.leaf_visits, b.leaf_visits),
-            b.tri_tests,
-            a.tri_tests,
-            pct(a.tri_tests, b.tri_tests)
-        );
-    };
+/// A table of one row per ray type and a total: `header`, then `row(name,
+/// with, without)` for the render with the feature and the one without.
+fn per_kind(
+    header: &str,
+    with: &Stats,
+    without: &Stats,
+    row: impl Fn(&str, &KindStats, &KindStats) -> String,
+) -> String {
+    let mut out = header.to_string();
     for k in RayKind::ALL {
         let (a, b) = (&with.kinds[k as usize], &without.kinds[k as usize]);
         if a.rays > 0 {
-            line(k.name(), a, b);
+            out += &row(k.name(), a, b);
         }
     }
-    line("all", &with.total(), &without.total());
+    out += &row("all", &with.total(), &without.total());
     out
+}
+
+/// What the cull planes saved: the same render with and without planes.
+pub fn plane_savings(with: &Stats, without: &Stats) -> String {
+    let pct = |x: u64, y: u64| 100.0 * (1.0 - x as f64 / y.max(1) as f64);
+    per_kind(
+        "| rays | leaf visits (no planes → planes) | saved | tri tests (no planes → planes) | saved |\n|---|---|---|---|---|\n",
+        with,
+        without,
+        |name, a, b| {
+            format!(
+                "| {name} | {} → {} | {:.1} % | {} → {} | {:.1} % |\n",
+                b.leaf_visits,
+                a.leaf_visits,
+                pct(a.leaf_visits, b.leaf_visits),
+                b.tri_tests,
+                a.tri_tests,
+                pct(a.tri_tests, b.tri_tests)
+            )
+        },
+    )
 }
 
 /// What the bundles saved, net: the same render with and without bundles.
@@ -76,28 +89,22 @@ pub fn plane_savings(with: &Stats, without: &Stats) -> String {
 /// segment ends before the box into the node, so the net figure, box tests
 /// without bundles minus with them, is the one to quote.
 pub fn bundle_savings(with: &Stats, without: &Stats) -> String {
-    let mut out = String::from(
+    let tests = |k: &KindStats| k.ray_box_tests + k.bundle_tests;
+    per_kind(
         "| rays | box tests (no bundles → bundles) | net saved | gross counter | leaf visits (no bundles → bundles) |\n|---|---|---|---|---|\n",
-    );
-    let mut line = |name: &str, a: &KindStats, b: &KindStats| {
-        let tests = |k: &KindStats| k.ray_box_tests + k.bundle_tests;
-        let net = tests(b) as i64 - tests(a) as i64;
-        out += &format!(
-            "| {name} | {} → {} | {net} ({:.1} %) | {} | {} → {} |\n",
-            tests(b),
-            tests(a),
-            100.0 * net as f64 / tests(b).max(1) as f64,
-            a.saved_box_tests,
-            b.leaf_visits,
-            a.leaf_visits,
-        );
-    };
-    for k in RayKind::ALL {
-        let (a, b) = (&with.kinds[k as usize], &without.kinds[k as usize]);
-        if a.rays > 0 {
-            line(k.name(), a, b);
-        }
-    }
-    line("all", &with.total(), &without.total());
-    out
+        with,
+        without,
+        |name, a, b| {
+            let net = tests(b) as i64 - tests(a) as i64;
+            format!(
+                "| {name} | {} → {} | {net} ({:.1} %) | {} | {} → {} |\n",
+                tests(b),
+                tests(a),
+                100.0 * net as f64 / tests(b).max(1) as f64,
+                a.saved_box_tests,
+                b.leaf_visits,
+                a.leaf_visits,
+            )
+        },
+    )
 }

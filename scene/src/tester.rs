@@ -12,8 +12,8 @@
 
 use golden_model::exact::ray_box::{ray_hits_box, BoxIn, RayIn};
 use golden_model::float::{convert, sub, FloatFormat, RoundingMode};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding, Verdict};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// One box test of a single ray: box, origin, direction (binary32 bits), segment `[0, t_max]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -237,10 +237,6 @@ impl Reduced {
         let root = &accel.tlas.nodes[0];
         [0, 1, 2].map(|i| ((root.min[i] as f64 + root.max[i] as f64) / 2.0) as f32)
     }
-    /// The format.
-    pub fn format(&self) -> FloatFormat {
-        self.fmt
-    }
     /// `b` (binary32 bits) rounded in `mode`, or `None` if it leaves the
     /// format's finite range while `b` is finite.
     fn round(&self, b: u64, mode: RoundingMode) -> Option<u64> {
@@ -289,13 +285,7 @@ impl Reduced {
 
 impl BoxTester for Reduced {
     fn ray(&self, x: &RayBox) -> bool {
-        let input = BundleIn {
-            o_hi: x.o,
-            d_lo: x.d,
-            d_hi: x.d,
-            ..ray_input(x)
-        };
-        match self.enclose(&input, x.world) {
+        match self.enclose(&ray_input(x), x.world) {
             Some(r) => eval(&self.cfg, &r).any_hit,
             None => true,
         }
@@ -321,7 +311,7 @@ fn finite(f: FloatFormat, x: u64) -> bool {
 
 /// A tester whose single-ray misses are checked against the exact test of
 /// the unrounded binary32 ray (`fit`'s zero-false-miss rule, measured on
-/// the renderer's own tests): counts tests, misses and false misses. A miss
+/// the renderer's own tests): counts misses and false misses. A miss
 /// the binary32 unit ([`Golden`], proven conservative and checked against
 /// the exact test on 10^7 cases by its own tests) also reports is an exact
 /// miss; every other miss, and one miss in [`Checked::SAMPLE`] regardless, is
@@ -337,9 +327,7 @@ fn finite(f: FloatFormat, x: u64) -> bool {
 pub struct Checked<T> {
     /// the tester answering
     pub inner: T,
-    /// single-ray tests
-    pub tests: AtomicU64,
-    /// single-ray misses (each checked exactly)
+    /// single-ray misses
     pub misses: AtomicU64,
     /// misses the exact test calls hits
     pub false_misses: AtomicU64,
@@ -348,7 +336,7 @@ pub struct Checked<T> {
     /// test every miss exactly, not only where the binary32 unit hits
     pub exact_all: bool,
     /// single-ray and bundle tests so far
-    pub box_tests: AtomicU64,
+    box_tests: AtomicU64,
     budget: u64,
     over: AtomicBool,
     binary32: Golden,
@@ -358,15 +346,10 @@ impl<T> Checked<T> {
     /// One single-ray miss in this many is tested exactly even where the
     /// binary32 unit agrees.
     pub const SAMPLE: u64 = 64;
-    /// Wraps `inner`, no budget.
-    pub fn new(inner: T) -> Checked<T> {
-        Checked::with_budget(inner, u64::MAX)
-    }
     /// Wraps `inner`; the render is cut short after `budget` box tests.
     pub fn with_budget(inner: T, budget: u64) -> Checked<T> {
         Checked {
             inner,
-            tests: AtomicU64::new(0),
             misses: AtomicU64::new(0),
             false_misses: AtomicU64::new(0),
             exact_checks: AtomicU64::new(0),
@@ -399,7 +382,6 @@ impl<T: BoxTester> BoxTester for Checked<T> {
         if !self.spend() {
             return false;
         }
-        self.tests.fetch_add(1, Ordering::Relaxed);
         let hit = self.inner.ray(x);
         if !hit {
             let k = self.misses.fetch_add(1, Ordering::Relaxed);

@@ -5,21 +5,46 @@
 
 use scene::bvh::Accel;
 use scene::hybrid::{orders, render_async, render_sync, HybridOpts};
+use scene::render::Frame;
 use scene::scene::Scene;
 use scene::tester::Golden;
 use scene::trace::TraceOpts;
 use std::path::Path;
 
-#[test]
-fn async_equals_sync_for_several_orders() {
+const W: u32 = 24;
+const H: u32 = 24;
+
+/// Cornell (2 AO rays), its acceleration structure and its synchronous render
+/// at W×H, the reference of every asynchronous one.
+fn cornell_sync() -> (Scene, Accel, Frame) {
     let mut s =
         Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
     s.render.ao_rays = 2;
     let acc = Accel::build(&s, true);
-    let (w, h) = (24, 24);
+    let sync = render_sync(&s, &acc, &Golden::default(), TraceOpts::default(), W, H);
+    (s, acc, sync)
+}
+
+/// The asynchronous render has the synchronous one's surfaces, depths and
+/// colour bits.
+fn assert_same_image(f: &Frame, sync: &Frame, what: &str) {
+    assert_eq!(f.ids, sync.ids, "{what}: visible surfaces");
+    assert_eq!(f.t, sync.t, "{what}: depths");
+    for p in 0..f.color.len() {
+        assert_eq!(
+            f.color[p].map(f32::to_bits),
+            sync.color[p].map(f32::to_bits),
+            "{what}: pixel {p}"
+        );
+    }
+}
+
+#[test]
+fn async_equals_sync_for_several_orders() {
+    let (s, acc, sync) = cornell_sync();
+    let (w, h) = (W, H);
     let g = Golden::default();
     let opts = TraceOpts::default();
-    let sync = render_sync(&s, &acc, &g, opts, w, h);
     let used: u64 = sync.stats.total().rays;
     let mut culled_any = false;
     for (name, order) in orders(&s, &acc, 5) {
@@ -40,15 +65,7 @@ fn async_equals_sync_for_several_orders() {
                     result_latency: 0,
                 },
             );
-            assert_eq!(f.ids, sync.ids, "{name}/{step}: visible surfaces");
-            assert_eq!(f.t, sync.t, "{name}/{step}: depths");
-            for p in 0..f.color.len() {
-                assert_eq!(
-                    f.color[p].map(f32::to_bits),
-                    sync.color[p].map(f32::to_bits),
-                    "{name}/{step}: pixel {p}"
-                );
-            }
+            assert_same_image(&f, &sync, &format!("{name}/{step}"));
             assert_eq!(
                 c.used, used,
                 "{name}/{step}: rays used = rays of the synchronous render"
@@ -75,14 +92,10 @@ fn async_equals_sync_for_several_orders() {
 /// be the synchronous one, bit for bit.
 #[test]
 fn stale_results_are_discarded_by_the_contribution_check() {
-    let mut s =
-        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
-    s.render.ao_rays = 2;
-    let acc = Accel::build(&s, true);
-    let (w, h) = (24, 24);
+    let (s, acc, sync) = cornell_sync();
+    let (w, h) = (W, H);
     let g = Golden::default();
     let opts = TraceOpts::default();
-    let sync = render_sync(&s, &acc, &g, opts, w, h);
     let used: u64 = sync.stats.total().rays;
     let mut discarded = 0;
     for (name, order) in orders(&s, &acc, 5) {
@@ -100,19 +113,17 @@ fn stale_results_are_discarded_by_the_contribution_check() {
                     result_latency: latency,
                 },
             );
-            assert_eq!(f.ids, sync.ids, "{name}/{latency}: visible surfaces");
-            assert_eq!(f.t, sync.t, "{name}/{latency}: depths");
-            for p in 0..f.color.len() {
-                assert_eq!(
-                    f.color[p].map(f32::to_bits),
-                    sync.color[p].map(f32::to_bits),
-                    "{name}/{latency}: pixel {p}"
-                );
-            }
+            assert_same_image(&f, &sync, &format!("{name}/{latency}"));
             assert_eq!(c.used, used, "{name}/{latency}");
-            eprintln!("{name:>14} latency {latency:>2}: discarded {} of {} traced", c.discarded, c.traced);
+            eprintln!(
+                "{name:>14} latency {latency:>2}: discarded {} of {} traced",
+                c.discarded, c.traced
+            );
             discarded += c.discarded;
         }
     }
-    assert!(discarded > 0, "no stale result reached the contribution check");
+    assert!(
+        discarded > 0,
+        "no stale result reached the contribution check"
+    );
 }
