@@ -14,12 +14,27 @@ use common::generate;
 
 /// The six configurations: test name, parameters.
 const CONFIGS: [(&str, &[&str]); 6] = [
-    ("xf_fma", &["dot=fma", "throughput=full", "round=rne", "stages=8"]),
-    ("xf_sep", &["dot=separate", "throughput=half", "round=rdn", "stages=5"]),
-    ("xf_dot3", &["dot=dot3", "throughput=full", "round=rup", "stages=3"]),
+    (
+        "xf_fma",
+        &["dot=fma", "throughput=full", "round=rne", "stages=8"],
+    ),
+    (
+        "xf_sep",
+        &["dot=separate", "throughput=half", "round=rdn", "stages=5"],
+    ),
+    (
+        "xf_dot3",
+        &["dot=dot3", "throughput=full", "round=rup", "stages=3"],
+    ),
     (
         "xf_hw_dot3",
-        &["inverse=hw", "dot=dot3", "throughput=full", "round=rne", "stages=12"],
+        &[
+            "inverse=hw",
+            "dot=dot3",
+            "throughput=full",
+            "round=rne",
+            "stages=12",
+        ],
     ),
     (
         "xf_hw_h_fma",
@@ -61,7 +76,12 @@ fn transform_evaluator_matches_golden_model() {
     for (test, params) in CONFIGS {
         let (g, _) = generate(&format!("{test}_eval"), "transform", params);
         let r = g.evaluate(g.testbench().as_ref(), 2_000, 11);
-        assert_eq!((r.vectors, r.mismatches), (2_000, 0), "{}: {r}", g.module.name);
+        assert_eq!(
+            (r.vectors, r.mismatches),
+            (2_000, 0),
+            "{}: {r}",
+            g.module.name
+        );
     }
 }
 

@@ -240,18 +240,19 @@ fn frame(
 
 /// Runs the fit on `scene`.
 pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std::error::Error>> {
-    let device = DEVICES
-        .iter()
-        .find(|d| d.0 == o.device)
-        .ok_or_else(|| {
-            format!(
-                "--device {}: expected one of {}",
-                o.device,
-                DEVICES.iter().map(|d| d.0).collect::<Vec<_>>().join(", ")
-            )
-        })?;
+    let device = DEVICES.iter().find(|d| d.0 == o.device).ok_or_else(|| {
+        format!(
+            "--device {}: expected one of {}",
+            o.device,
+            DEVICES.iter().map(|d| d.0).collect::<Vec<_>>().join(", ")
+        )
+    })?;
     if !(o.target_rate >= 0.0 && o.target_rate.is_finite()) {
-        return Err(format!("--target-rate {}: must be a finite number ≥ 0", o.target_rate).into());
+        return Err(format!(
+            "--target-rate {}: must be a finite number ≥ 0",
+            o.target_rate
+        )
+        .into());
     }
     let (sw, sh) = (scene.render.width, scene.render.height);
     let w = o.width.unwrap_or(sw).max(1);
@@ -300,10 +301,13 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     let ulp_reason = |fmt: FloatFormat| -> Option<String> {
         spaces.iter().find_map(|(s, (big, small, _))| {
             if *big >= max_value(fmt) / 16.0 {
-                return Some(format!("{s}: coordinate magnitude {big:.3e} beyond the range / 16"));
+                return Some(format!(
+                    "{s}: coordinate magnitude {big:.3e} beyond the range / 16"
+                ));
             }
             let u = ulp(fmt, *big);
-            (u > *small).then(|| format!("{s}: ulp {u:.3e} at {big:.3e} > smallest box {small:.3e}"))
+            (u > *small)
+                .then(|| format!("{s}: ulp {u:.3e} at {big:.3e} > smallest box {small:.3e}"))
         })
     };
     let mut candidates: Vec<Candidate> = Vec::new();
@@ -425,7 +429,10 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     writeln!(r, "| format | box tests/ray | vs binary32 | single-ray misses | tested exactly | false misses | same image | verdict |\n|---|---|---|---|---|---|---|---|")?;
     for c in &candidates {
         let (cost, rel) = match c.box_tests_per_ray {
-            Some(x) => (format!("{x:.3}"), format!("{:+.2} %", 100.0 * (x / base_cost - 1.0))),
+            Some(x) => (
+                format!("{x:.3}"),
+                format!("{:+.2} %", 100.0 * (x / base_cost - 1.0)),
+            ),
             None => ("–".into(), "–".into()),
         };
         writeln!(
@@ -435,7 +442,11 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             c.misses,
             c.misses_checked,
             c.false_misses,
-            c.same_image.map_or("–".into(), |s| if s { "yes".to_string() } else { "no".to_string() }),
+            c.same_image.map_or("–".into(), |s| if s {
+                "yes".to_string()
+            } else {
+                "no".to_string()
+            }),
             c.rejected.as_deref().unwrap_or("accepted"),
         )?;
     }

@@ -25,7 +25,8 @@ fn every_shipped_scene_gets_a_format_with_the_binary32_image() {
     for name in ["cornell", "bunny", "field", "grass"] {
         let path = dir.join(format!("{name}.toml"));
         let scene = cost::fit::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let f = cost::fit::fit(&scene, name, &options(48)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let f =
+            cost::fit::fit(&scene, name, &options(48)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let p = f.picked();
         println!(
             "{name}: {} ({:?} box tests/ray, binary32 {:.3}), {} candidates, {:.1} s",
@@ -39,16 +40,28 @@ fn every_shipped_scene_gets_a_format_with_the_binary32_image() {
         assert_eq!(p.false_misses, 0, "{name}");
         assert!(p.misses > 0, "{name}: no single-ray miss");
         let cost = p.box_tests_per_ray.expect("rendered");
-        assert!(cost <= 1.01 * f.binary32_box_tests_per_ray, "{name}: {cost}");
+        assert!(
+            cost <= 1.01 * f.binary32_box_tests_per_ray,
+            "{name}: {cost}"
+        );
         for c in &f.candidates {
             assert_eq!(c.false_misses, 0, "{name} {}: false misses", c.format);
             if c.same_image.is_some() {
-                assert_eq!(c.same_image, Some(true), "{name} {}: a sound tester changed the image", c.format);
+                assert_eq!(
+                    c.same_image,
+                    Some(true),
+                    "{name} {}: a sound tester changed the image",
+                    c.format
+                );
             }
         }
         // narrower than binary32, and not so narrow that the render grows (field's old pick,
         // e6m4 from flattened world coordinates, lost every hit pixel)
-        assert!(f.format.exp_bits() + f.format.frac_bits() < 31, "{name}: {}", f.format);
+        assert!(
+            f.format.exp_bits() + f.format.frac_bits() < 31,
+            "{name}: {}",
+            f.format
+        );
         assert!(f.format.frac_bits() >= 5, "{name}: {}", f.format);
     }
 }
@@ -59,9 +72,13 @@ fn every_shipped_mesh_gets_a_format_with_the_binary32_image() {
     for name in ["spot", "suzanne", "teapot"] {
         let path = dir.join(format!("{name}.obj"));
         let scene = cost::fit::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let f = cost::fit::fit(&scene, name, &options(40)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let f =
+            cost::fit::fit(&scene, name, &options(40)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let p = f.picked();
-        println!("{name}: {} ({:?} box tests/ray, binary32 {:.3})", f.format, p.box_tests_per_ray, f.binary32_box_tests_per_ray);
+        println!(
+            "{name}: {} ({:?} box tests/ray, binary32 {:.3})",
+            f.format, p.box_tests_per_ray, f.binary32_box_tests_per_ray
+        );
         assert_eq!(p.same_image, Some(true), "{name}: {}", f.report);
         assert_eq!(p.false_misses, 0, "{name}");
         assert!(f.candidates.iter().all(|c| c.false_misses == 0), "{name}");
@@ -84,9 +101,13 @@ fn fit_writes_json_and_rejects_a_scene_without_instances() {
         .output()
         .unwrap();
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let fmt = v["format"].as_str().expect("format");
-    let (e, m) = fmt.strip_prefix('e').and_then(|s| s.split_once('m')).expect("eXmY");
+    let (e, m) = fmt
+        .strip_prefix('e')
+        .and_then(|s| s.split_once('m'))
+        .expect("eXmY");
     assert_eq!(v["exp_bits"].as_u64(), e.parse::<u64>().ok(), "{v}");
     assert_eq!(v["frac_bits"].as_u64(), m.parse::<u64>().ok(), "{v}");
     assert_eq!(v["same_image_as_binary32"], true);
@@ -105,7 +126,10 @@ fn fit_writes_json_and_rejects_a_scene_without_instances() {
         .unwrap();
     let err = String::from_utf8_lossy(&r.stderr);
     assert_eq!(r.status.code(), Some(2), "{err}");
-    assert!(err.contains("empty.toml") && err.contains("instances") && err.contains("no instance"), "{err}");
+    assert!(
+        err.contains("empty.toml") && err.contains("instances") && err.contains("no instance"),
+        "{err}"
+    );
     assert!(!out.exists());
     let err = cost::fit::load(&scenes.join("no_such_scene.toml")).unwrap_err();
     assert!(err.contains("no_such_scene.toml"), "{err}");

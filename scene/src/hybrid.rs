@@ -437,7 +437,14 @@ pub fn render_async(
         check(done, &samples, &mut results, &mut c);
     }
     while !queue.is_empty() {
-        let done = process(4096, &mut queue, &samples, &tile_range, &mut c, &mut f.stats);
+        let done = process(
+            4096,
+            &mut queue,
+            &samples,
+            &tile_range,
+            &mut c,
+            &mut f.stats,
+        );
         check(done, &samples, &mut results, &mut c);
     }
     for p in 0..n {

@@ -387,9 +387,17 @@ impl Scene {
         if c.position == c.look_at {
             return Err(err(path, "camera.look_at", "equals camera.position"));
         }
-        for (field, v) in [("camera.position", c.position), ("camera.look_at", c.look_at), ("camera.up", c.up)] {
+        for (field, v) in [
+            ("camera.position", c.position),
+            ("camera.look_at", c.look_at),
+            ("camera.up", c.up),
+        ] {
             if v.iter().any(|x| !x.is_finite()) {
-                return Err(err(path, field, format!("{v:?}: coordinates must be finite")));
+                return Err(err(
+                    path,
+                    field,
+                    format!("{v:?}: coordinates must be finite"),
+                ));
             }
         }
         // the camera basis is built in f32 (render::Cam): its squared length must not overflow

@@ -5,9 +5,9 @@
 //! every ray misses; and tight enough to matter (a floor on the exact misses
 //! it resolves, so a tester answering "hit" always fails).
 
+use golden_model::float::FloatFormat;
 use golden_model::silhouette::{BundleIn, Verdict};
 use scene::tester::{BoxTester, BundleBox, Exact, RayBox, Reduced};
-use golden_model::float::FloatFormat;
 
 struct Rng(u64);
 impl Rng {
@@ -81,7 +81,14 @@ fn reduced_tester_never_misses_a_hit_and_resolves_most_misses() {
         .unwrap_or(40_000);
     // (E, F, floor on the non-grazing exact misses resolved; binary32 resolves 0.90:
     // the rest are the far cases beyond the range, answered hit)
-    let formats = [(4, 3, 0.6), (5, 6, 0.75), (5, 12, 0.8), (6, 9, 0.85), (8, 10, 0.85), (8, 23, 0.88)];
+    let formats = [
+        (4, 3, 0.6),
+        (5, 6, 0.75),
+        (5, 12, 0.8),
+        (6, 9, 0.85),
+        (8, 10, 0.85),
+        (8, 23, 0.88),
+    ];
     let mut r = Rng(0x9e37_79b9_7f4a_7c15);
     for (e, f, floor) in formats {
         let fmt = FloatFormat::new(e, f).unwrap();
@@ -128,8 +135,14 @@ fn reduced_tester_never_misses_a_hit_and_resolves_most_misses() {
         }
         let share = resolved as f64 / misses.max(1) as f64;
         println!("{fmt}: {hits} hits; not grazing: {misses} exact misses, {resolved} resolved ({share:.3})");
-        assert!(hits > n as u64 / 10 && misses > n as u64 / 20, "{fmt}: workload too one-sided");
-        assert!(share >= floor, "{fmt}: only {share:.3} of exact misses resolved (floor {floor})");
+        assert!(
+            hits > n as u64 / 10 && misses > n as u64 / 20,
+            "{fmt}: workload too one-sided"
+        );
+        assert!(
+            share >= floor,
+            "{fmt}: only {share:.3} of exact misses resolved (floor {floor})"
+        );
     }
 }
 
@@ -179,10 +192,16 @@ fn reduced_bundle_all_miss_only_when_every_ray_misses() {
         if t.bundle(&b) == Verdict::AllMiss {
             all_miss += 1;
             for ray in &rays {
-                assert!(!Exact.ray(ray), "AllMiss for a bundle with a hitting ray {ray:?}");
+                assert!(
+                    !Exact.ray(ray),
+                    "AllMiss for a bundle with a hitting ray {ray:?}"
+                );
             }
         }
     }
     println!("{checked} bundles, {all_miss} AllMiss");
-    assert!(all_miss > checked / 10, "{all_miss} AllMiss of {checked}: the bundle test resolves nothing");
+    assert!(
+        all_miss > checked / 10,
+        "{all_miss} AllMiss of {checked}: the bundle test resolves nothing"
+    );
 }

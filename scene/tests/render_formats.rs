@@ -62,7 +62,10 @@ fn a_bad_box_format_is_an_error_and_writes_nothing() {
     for (arg, says) in [
         (vec!["--box-format", "e9x3"], "expected binary16"),
         (vec!["--box-format", "e3m70"], "e3m70"),
-        (vec!["--box-format", "e6m9", "--box", "exact"], "--box golden"),
+        (
+            vec!["--box-format", "e6m9", "--box", "exact"],
+            "--box golden",
+        ),
     ] {
         let png = dir.join("x.png");
         let r = render(&arg, &png);

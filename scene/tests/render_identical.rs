@@ -85,7 +85,15 @@ fn bundle_savings_are_reported_net() {
     let s = cornell();
     let acc = Accel::build(&s, true);
     let (w, h) = (32, 32);
-    let with = render(&s, &acc, &Golden::default(), TraceOpts::default(), w, h, false);
+    let with = render(
+        &s,
+        &acc,
+        &Golden::default(),
+        TraceOpts::default(),
+        w,
+        h,
+        false,
+    );
     let single = TraceOpts {
         bundles: BundleOpts {
             enabled: false,
@@ -99,11 +107,22 @@ fn bundle_savings_are_reported_net() {
         let k = &f.stats.kinds[scene::trace::RayKind::Primary as usize];
         k.ray_box_tests + k.bundle_tests
     };
-    assert!(tests(&with) < tests(&without), "{} vs {}", tests(&with), tests(&without));
+    assert!(
+        tests(&with) < tests(&without),
+        "{} vs {}",
+        tests(&with),
+        tests(&without)
+    );
     let t = scene::stats::bundle_savings(&with.stats, &without.stats);
-    let all = t.lines().find(|l| l.starts_with("| all |")).expect("total row");
+    let all = t
+        .lines()
+        .find(|l| l.starts_with("| all |"))
+        .expect("total row");
     let net = tests(&without) as i64 - tests(&with) as i64;
-    let primary = t.lines().find(|l| l.starts_with("| primary |")).expect("primary row");
+    let primary = t
+        .lines()
+        .find(|l| l.starts_with("| primary |"))
+        .expect("primary row");
     assert!(primary.contains(&format!("| {net} (")), "{primary}");
     println!("{t}\n{all}");
 }

@@ -100,13 +100,19 @@ fn semantic_errors_are_named() {
     let m = bad(&(GOOD.to_string() + "[[lights]]\nkind = \"spot\"\nposition = [0, 0, 0]\n"));
     assert!(m.contains("lights[0]") && m.contains("spot"), "{m}");
     // a camera so far from its target that the f32 set-up overflows (was an empty image)
-    let m = bad(&GOOD.replace("position = [0.0, 1.0, 3.0]", "position = [0.0, 1.0, 3.0e19]"));
+    let m = bad(&GOOD.replace(
+        "position = [0.0, 1.0, 3.0]",
+        "position = [0.0, 1.0, 3.0e19]",
+    ));
     assert!(
         m.contains("field `camera.look_at`") && m.contains("3.000e19 from camera.position"),
         "{m}"
     );
     let m = bad(&GOOD.replace("position = [0.0, 1.0, 3.0]", "position = [0.0, nan, 3.0]"));
-    assert!(m.contains("field `camera.position`") && m.contains("finite"), "{m}");
+    assert!(
+        m.contains("field `camera.position`") && m.contains("finite"),
+        "{m}"
+    );
     let e = Scene::load(Path::new("scenes/does-not-exist.toml")).unwrap_err();
     assert!(
         e.to_string()

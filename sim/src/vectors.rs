@@ -766,13 +766,9 @@ impl<R: BufRead> TextReader<R> {
                     ),
                 )
             })?;
-            if let Some((col, c)) = text
-                .chars()
-                .enumerate()
-                .find(|(_, c)| {
-                    (c.is_control() && !matches!(c, '\t' | '\r' | '\n')) || *c == '\u{feff}'
-                })
-            {
+            if let Some((col, c)) = text.chars().enumerate().find(|(_, c)| {
+                (c.is_control() && !matches!(c, '\t' | '\r' | '\n')) || *c == '\u{feff}'
+            }) {
                 return Err(SimError::format(
                     &self.stream,
                     at(),
@@ -1304,10 +1300,16 @@ odd flag:1  a wide   # header, widths optional with a port list
             Ok(mut r) => r.read_record(&mut v).unwrap_err().to_string(),
             Err(e) => e.to_string(),
         };
-        assert!(e.starts_with("t.txt: line 2: not UTF-8 text: byte 0xff at column 5"), "{e}");
+        assert!(
+            e.starts_with("t.txt: line 2: not UTF-8 text: byte 0xff at column 5"),
+            "{e}"
+        );
         // a mark after the first line is no mark: an error, not a silent skip
         let e = text_error("a flag wide odd\n\u{feff}1 0 2 3\n", Some(&ports()));
-        assert!(e.contains("line 2: control or invisible character U+FEFF at column 1"), "{e}");
+        assert!(
+            e.contains("line 2: control or invisible character U+FEFF at column 1"),
+            "{e}"
+        );
     }
 
     fn text_error(text: &str, expected: Option<&[Port]>) -> String {

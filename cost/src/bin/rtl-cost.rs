@@ -232,7 +232,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                     .map_err(|e| format!("{}: {e}", j.display()))?;
                 println!("wrote {}", j.display());
             }
-            println!("fit: {} stages={} in {:.1} s", f.format, f.stages, f.seconds);
+            println!(
+                "fit: {} stages={} in {:.1} s",
+                f.format, f.stages, f.seconds
+            );
         }
         Cmd::Charts {
             out,

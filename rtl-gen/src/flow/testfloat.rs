@@ -555,7 +555,8 @@ mod tests {
     fn cases_parse_with_and_without_flags_and_errors_name_line_and_field() {
         let ins = [Port::new("a", 32), Port::new("b", 32)];
         let z = Port::new("z", 32);
-        let text = "# made by a script\n3F800000 BF800000 00000000 00\n\n7F800000 00000001 7FC00000\n";
+        let text =
+            "# made by a script\n3F800000 BF800000 00000000 00\n\n7F800000 00000001 7FC00000\n";
         let c = read_cases(text.as_bytes(), "t", &ins, &z).unwrap();
         assert_eq!(c.len(), 2);
         assert_eq!(c[0].operands, [0x3f80_0000, 0xbf80_0000]);
@@ -580,7 +581,9 @@ mod tests {
         assert!(err(&format!("{ok}3F800000 3F800000 3F8\n"))
             .contains("line 2, field `result z`: `3F8` is not 8 hex digit(s)"));
         // a binary16 file fed to a binary32 unit (zero-extended, it could have matched)
-        assert!(err("3C00 3C00 3C00 00\n").contains("line 1, field `a`: `3C00` is not 8 hex digit(s)"));
+        assert!(
+            err("3C00 3C00 3C00 00\n").contains("line 1, field `a`: `3C00` is not 8 hex digit(s)")
+        );
         // flags are two hex digits (8 bits)
         assert!(err("3F800000 3F800000 3F800000 100\n")
             .contains("line 1, field `flags`: `100` is not 2 hex digit(s)"));

@@ -3,12 +3,12 @@
 //! compares rays/s with a plain f32 slab renderer.
 
 use clap::{Parser, Subcommand, ValueEnum};
+use golden_model::float::FloatFormat;
 use scene::bvh::Accel;
 use scene::hybrid::{orders, render_async, render_sync, HybridOpts};
 use scene::render::render;
 use scene::scene::Scene;
 use scene::stats::{bundle_savings, plane_savings, table};
-use golden_model::float::FloatFormat;
 use scene::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use scene::trace::{BundleOpts, TraceOpts};
 use std::path::PathBuf;
@@ -169,7 +169,8 @@ fn run(cli: Cli) -> Result<(), String> {
                     if !matches!(box_kind, BoxKind::Golden) {
                         return Err("--box-format needs --box golden (the silhouette unit)".into());
                     }
-                    let fmt = FloatFormat::from_name(name).map_err(|e| format!("--box-format {e}"))?;
+                    let fmt =
+                        FloatFormat::from_name(name).map_err(|e| format!("--box-format {e}"))?;
                     Some(Reduced::new(fmt).map_err(|e| format!("--box-format {name}: {e}"))?)
                 }
             };
@@ -204,7 +205,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 w,
                 h,
                 tester.name(),
-                box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default(),
+                box_format
+                    .as_deref()
+                    .map(|b| format!(" {b}"))
+                    .unwrap_or_default(),
                 if opts.bundles.enabled {
                     format!("≤ {}", opts.bundles.max_size)
                 } else {
