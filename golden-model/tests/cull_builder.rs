@@ -7,8 +7,8 @@
 //! scenes `teapot.obj` and `suzanne.obj` from `../shared/scenes` (the tests
 //! fail, naming the path, when that folder is missing).
 
-use golden_model::cull::builder::{build_planes, centroid, height, try_build_planes, BuildParams};
-use golden_model::cull::bvh::{parse_obj, Bvh, Mesh};
+use golden_model::cull::builder::{build_planes, height, reference, try_build_planes, BuildParams};
+use golden_model::cull::bvh::{parse_obj, Bvh, Mesh, NodeKind};
 use golden_model::cull::exact::Dyadic;
 use golden_model::cull::stats::{random_rays, trace, Counts, Rng};
 use golden_model::cull::tester::Config;
@@ -135,9 +135,20 @@ fn no_vertex_lies_strictly_on_the_empty_side_of_any_stored_plane() {
                 },
             );
             let (mut checked, mut stored, mut touching) = (0u64, 0u64, 0u64);
+            let mut parent = vec![None; bvh.nodes.len()];
+            for (id, node) in bvh.nodes.iter().enumerate() {
+                if let NodeKind::Inner { left, right } = node.kind {
+                    parent[left as usize] = Some(id);
+                    parent[right as usize] = Some(id);
+                } else {
+                    assert!(cp.normals[id].is_empty(), "{name}: leaf {id} stores normals");
+                }
+            }
             for id in 0..bvh.nodes.len() {
-                let node = bvh.nodes[id];
-                let c = centroid(&node.min, &node.max);
+                let (normals, r_min) = cp.normals_of(&bvh, id, parent[id]);
+                assert!(normals.len() <= 8);
+                assert_eq!(cp.w[id].len(), normals.len(), "one distance per shared normal");
+                let r = reference(&r_min);
                 let mut verts: Vec<u32> = bvh
                     .subtree_tris(id)
                     .iter()
@@ -149,16 +160,16 @@ fn no_vertex_lies_strictly_on_the_empty_side_of_any_stored_plane() {
                     .iter()
                     .map(|&v| mesh.vertices[v as usize].map(Dyadic::from_f32))
                     .collect();
-                assert!(cp.planes[id].len() <= 8);
-                for p in &cp.planes[id] {
+                for (n, &wb) in normals.iter().zip(&cp.w[id]) {
                     stored += 1;
-                    let w = Dyadic::from_bits(pf, p.w).expect("finite stored distance");
+                    let w = Dyadic::from_bits(pf, wb).expect("finite stored distance");
                     for v in &vd {
-                        let h = height(pf, &p.n, v, &c);
+                        let h = height(pf, n, v, &r);
                         let o = h.cmp(&w);
                         assert!(
                             o.is_le(),
-                            "{name} {pf}: node {id} plane {p:x?}: vertex {v:?} at {} above w = {}",
+                            "{name} {pf}: node {id} (parent {:?}) normal {n:x?}: vertex {v:?} at {} above w = {}",
+                            parent[id],
                             h.to_f64(),
                             w.to_f64()
                         );
@@ -211,9 +222,17 @@ fn traversal_with_planes_never_skips_a_hit_triangle() {
                 total.wrongful_culls
             );
             assert_eq!(total.wrongful_culls, 0, "{name} {pf} k={k}");
+            // floors from the measured savings (k = 8: 50-52 %, 4: 41-45 %, 2: 26-34 %)
+            let floor = match k {
+                8 => 0.45,
+                4 => 0.37,
+                _ => 0.22,
+            };
             assert!(
-                total.leaf_saving() > 0.05,
-                "{name} {pf} k={k}: planes remove almost nothing"
+                total.leaf_saving() >= floor,
+                "{name} {pf} k={k}: the planes remove {:.1} % of leaf visits (floor {:.0} %)",
+                100.0 * total.leaf_saving(),
+                100.0 * floor
             );
         }
     }

@@ -5,7 +5,8 @@
 //! Two questions, answered exactly on the float inputs:
 //! * [`region_hit`]: does the segment `{o + t·d : t_min ≤ t ≤ t_max}` meet
 //!   the closed box intersected with every plane's closed non-empty side
-//!   `{x : n·(x − c) ≤ w}`, `c = (p_min + p_max)/2`? A tester that culls must
+//!   `{x : n·(x − r) ≤ w}` (`r` the reference point the distances are
+//!   measured from: the parent box's lower corner)? A tester that culls must
 //!   get `false` here (soundness: this region contains the node's geometry).
 //! * [`segment_hits_triangle`]: does the segment meet a triangle?
 
@@ -14,7 +15,6 @@ use std::cmp::Ordering;
 use dashu::base::BitTest;
 use dashu::integer::IBig;
 
-use super::tester::{CullIn, Plane};
 use crate::exact::ray_box::{decode, Exact};
 use crate::float::{round, Class, FloatFormat, RawFloat, RoundingMode};
 
@@ -206,9 +206,31 @@ pub struct RegionResult {
     pub region_hit: bool,
 }
 
-/// The exact region test on the tester's inputs (ray format `fmt`, plane
-/// format `pf`).
-pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &CullIn, k: usize) -> RegionResult {
+/// One exact region question: a box, a segment and planes relative to `r`.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct RegionIn {
+    /// box lower corner (ray format)
+    pub p_min: [u64; 3],
+    /// box upper corner
+    pub p_max: [u64; 3],
+    /// ray origin
+    pub o: [u64; 3],
+    /// ray direction
+    pub d: [u64; 3],
+    /// segment start
+    pub t_min: u64,
+    /// segment end (may be +inf)
+    pub t_max: u64,
+    /// the point the distances are measured from (ray format)
+    pub r: [u64; 3],
+    /// plane normals (plane format), pointing to the empty side
+    pub normals: Vec<[u64; 3]>,
+    /// plane distances (plane format), one per normal
+    pub w: Vec<u64>,
+}
+
+/// The exact region test (ray format `fmt`, plane format `pf`).
+pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &RegionIn) -> RegionResult {
     let invalid = RegionResult {
         invalid: true,
         box_hit: true,
@@ -219,16 +241,22 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &CullIn, k: usize) -> Re
     let mut p_max = Vec::new();
     let mut o = Vec::new();
     let mut d = Vec::new();
+    let mut r = Vec::new();
     for i in 0..3 {
-        let (Some(a), Some(b), Some(c), Some(e)) =
-            (fin(x.p_min[i]), fin(x.p_max[i]), fin(x.o[i]), fin(x.d[i]))
-        else {
+        let (Some(a), Some(b), Some(c), Some(e), Some(q)) = (
+            fin(x.p_min[i]),
+            fin(x.p_max[i]),
+            fin(x.o[i]),
+            fin(x.d[i]),
+            fin(x.r[i]),
+        ) else {
             return invalid;
         };
         p_min.push(a);
         p_max.push(b);
         o.push(c);
         d.push(e);
+        r.push(q);
     }
     let Some(t_min) = fin(x.t_min) else {
         return invalid;
@@ -240,10 +268,9 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &CullIn, k: usize) -> Re
         v => Ext::of(Dyadic::from_exact(&v)),
     };
     let mut planes = Vec::new();
-    for k in 0..k {
-        let p: Plane = x.planes.get(k).copied().unwrap_or_default();
-        let n: Vec<Option<Dyadic>> = p.n.iter().map(|&v| Dyadic::from_bits(pf, v)).collect();
-        let w = Dyadic::from_bits(pf, p.w);
+    for (nb, &wb) in x.normals.iter().zip(&x.w) {
+        let n: Vec<Option<Dyadic>> = nb.iter().map(|&v| Dyadic::from_bits(pf, v)).collect();
+        let w = Dyadic::from_bits(pf, wb);
         if n.iter().any(Option::is_none) || w.is_none() {
             return invalid;
         }
@@ -288,13 +315,12 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &CullIn, k: usize) -> Re
             region_hit: false,
         };
     }
-    let c: Vec<Dyadic> = (0..3).map(|i| p_min[i].add(&p_max[i]).half()).collect();
     for (n, w) in &planes {
         // s(t) = A + t·B ≤ 0 on the non-empty side.
         let mut a = w.neg();
         let mut b = Dyadic::zero();
         for i in 0..3 {
-            a = a.add(&n[i].mul(&o[i].sub(&c[i])));
+            a = a.add(&n[i].mul(&o[i].sub(&r[i])));
             b = b.add(&n[i].mul(&d[i]));
         }
         match b.signum() {

@@ -1,4 +1,4 @@
-//! Cull planes (seed 001, issue #6): per BVH node, up to K planes that mark
+//! Cull planes (seed 001, issues #6, #13): per BVH node, up to K planes that mark
 //! empty parts of the node's box. The specification, with the proofs that
 //! every rounding only makes culling less likely, is `docs/cull.md`.
 //!
@@ -14,4 +14,4 @@ pub mod exact;
 pub mod stats;
 pub mod tester;
 
-pub use tester::{eval, eval_trace, Config, CullIn, CullOut, Plane};
+pub use tester::{eval, eval_trace, ray_terms, ChildIn, Config, CullOut, RayIn, RayTerms};

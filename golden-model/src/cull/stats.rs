@@ -11,7 +11,9 @@
 use super::builder::CullPlanes;
 use super::bvh::{Bvh, Mesh, NodeKind};
 use super::exact::{segment_hits_triangle, Dyadic};
-use super::tester::{eval, Config, CullIn, Plane};
+use super::tester::{
+    box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, RayIn, RayTerms,
+};
 use crate::float::FloatFormat;
 
 /// Totals over a set of rays.
@@ -74,7 +76,9 @@ fn bits(v: f32) -> u64 {
 }
 
 /// Traces one ray (segment `[0, +inf)`); with `check`, every culled leaf is
-/// tested exactly against its triangles.
+/// tested exactly against its triangles. A node is visited when the
+/// conservative slab may hit its box; its children are tested with the ray
+/// terms of its shared normals (computed once for both) and their distances.
 pub fn trace(
     cfg: &Config,
     mesh: &Mesh,
@@ -83,7 +87,7 @@ pub fn trace(
     ray: &Ray,
     check: bool,
 ) -> Counts {
-    assert_eq!(cfg.fmt(), FloatFormat::BINARY32, "meshes are f32");
+    assert_eq!(cfg.ray, FloatFormat::BINARY32, "meshes are f32");
     let mut c = Counts {
         rays: 1,
         ..Counts::default()
@@ -91,29 +95,82 @@ pub fn trace(
     if bvh.nodes.is_empty() {
         return c;
     }
-    // (node, culled by an ancestor's planes)
-    let mut stack = vec![(0usize, false)];
-    while let Some((id, culled_above)) = stack.pop() {
-        let node = bvh.nodes[id];
-        let mut ps: Vec<Plane> = planes.planes[id].clone();
-        ps.resize(cfg.k, Plane::default());
-        let x = CullIn {
-            p_min: node.min.map(bits),
-            p_max: node.max.map(bits),
-            o: ray.o.map(bits),
-            d: ray.d.map(bits),
-            t_min: 0,
-            t_max: bits(f32::INFINITY),
-            planes: ps,
+    let walk = Walk {
+        cfg,
+        mesh,
+        bvh,
+        planes,
+        o: ray.o.map(bits),
+        d: ray.d.map(bits),
+        inv_d: slab_reciprocal(cfg.ray, &ray.d.map(bits)),
+        ray,
+        check,
+    };
+    let root = walk.terms(&planes.root_normals, &bvh.nodes[0].min);
+    walk.visit(0, root.as_ref(), false, &mut c);
+    c
+}
+
+struct Walk<'a> {
+    cfg: &'a Config,
+    mesh: &'a Mesh,
+    bvh: &'a Bvh,
+    planes: &'a CullPlanes,
+    o: [u64; 3],
+    d: [u64; 3],
+    inv_d: [u64; 3],
+    ray: &'a Ray,
+    check: bool,
+}
+
+impl Walk<'_> {
+    /// The ray terms of a set of shared normals (`None` for none).
+    fn terms(&self, normals: &[[u64; 3]], r_min: &[f32; 3]) -> Option<RayTerms> {
+        (!normals.is_empty()).then(|| {
+            ray_terms(
+                self.cfg,
+                &RayIn {
+                    o: self.o,
+                    d: self.d,
+                    r: r_min.map(bits),
+                    normals: normals.to_vec(),
+                },
+            )
+        })
+    }
+
+    /// `terms`: the parent's ray terms (`None` at the root or when the
+    /// parent has no normals); `culled_above`: an ancestor was culled.
+    fn visit(&self, id: usize, terms: Option<&RayTerms>, culled_above: bool, c: &mut Counts) {
+        let node = self.bvh.nodes[id];
+        let f = self.cfg.ray;
+        let Some((t_lo, t_hi)) = box_interval(
+            f,
+            &node.min.map(bits),
+            &node.max.map(bits),
+            &self.o,
+            &self.inv_d,
+            0,
+            bits(f32::INFINITY),
+        ) else {
+            return;
         };
-        let out = eval(cfg, &x);
-        if !out.box_hit {
-            continue;
-        }
         if !culled_above {
             c.node_tests_planes += 1;
         }
-        let culled_here = !culled_above && out.culled();
+        let culled_here = !culled_above
+            && terms.is_some_and(|t| {
+                !eval(
+                    self.cfg,
+                    &ChildIn {
+                        t_lo,
+                        t_hi,
+                        w: self.planes.w[id].clone(),
+                        terms: t.terms.clone(),
+                    },
+                )
+                .keep
+            });
         c.culled_nodes += culled_here as u64;
         let culled = culled_above || culled_here;
         match node.kind {
@@ -123,24 +180,29 @@ pub fn trace(
                 if !culled {
                     c.leaf_visits_planes += 1;
                     c.tri_tests_planes += count as u64;
-                } else if check {
+                } else if self.check {
                     c.checked_leaves += 1;
-                    let o = ray.o.map(Dyadic::from_f32);
-                    let d = ray.d.map(Dyadic::from_f32);
-                    let hit = bvh.leaf_tris(id).iter().any(|&t| {
-                        let v = mesh.corners(t).map(|p| p.map(Dyadic::from_f32));
+                    let o = self.ray.o.map(Dyadic::from_f32);
+                    let d = self.ray.d.map(Dyadic::from_f32);
+                    let hit = self.bvh.leaf_tris(id).iter().any(|&t| {
+                        let v = self.mesh.corners(t).map(|p| p.map(Dyadic::from_f32));
                         segment_hits_triangle(&o, &d, &Dyadic::zero(), None, &v)
                     });
                     c.wrongful_culls += hit as u64;
                 }
             }
             NodeKind::Inner { left, right } => {
-                stack.push((left as usize, culled));
-                stack.push((right as usize, culled));
+                let mine = if culled {
+                    None
+                } else {
+                    self.terms(&self.planes.normals[id], &node.min)
+                };
+                for child in [left, right] {
+                    self.visit(child as usize, mine.as_ref(), culled, c);
+                }
             }
         }
     }
-    c
 }
 
 /// splitmix64, for reproducible ray sets.
