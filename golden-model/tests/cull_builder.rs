@@ -141,13 +141,20 @@ fn no_vertex_lies_strictly_on_the_empty_side_of_any_stored_plane() {
                     parent[left as usize] = Some(id);
                     parent[right as usize] = Some(id);
                 } else {
-                    assert!(cp.normals[id].is_empty(), "{name}: leaf {id} stores normals");
+                    assert!(
+                        cp.normals[id].is_empty(),
+                        "{name}: leaf {id} stores normals"
+                    );
                 }
             }
             for id in 0..bvh.nodes.len() {
                 let (normals, r_min) = cp.normals_of(&bvh, id, parent[id]);
                 assert!(normals.len() <= 8);
-                assert_eq!(cp.w[id].len(), normals.len(), "one distance per shared normal");
+                assert_eq!(
+                    cp.w[id].len(),
+                    normals.len(),
+                    "one distance per shared normal"
+                );
                 let r = reference(&r_min);
                 let mut verts: Vec<u32> = bvh
                     .subtree_tris(id)

@@ -4,9 +4,10 @@
 //! per normal, measured from the parent box's lower corner `r`:
 //! `n·(x − r) ≤ w` is the child's non-empty side.
 //!
-//! Candidate normals: at a leaf, its triangle normals (both ways) and 20
-//! fixed directions (8 cube diagonals, 12 edge diagonals; axis directions cut
-//! nothing off a tight box), each quantised to the plane format (round to
+//! Candidate normals: at a leaf, its triangle normals (both ways) and 98
+//! fixed directions (every integer vector with components in -2..=2, at
+//! least two of them nonzero, in lowest terms; axis directions cut nothing
+//! off a tight box), each quantised to the plane format (round to
 //! nearest: any normal is valid); the best of each octant of directions is
 //! the leaf's *preferred* set. An inner node's preferred set is the best per
 //! octant of its children's preferred normals, judged on its own box. The
@@ -67,7 +68,12 @@ impl CullPlanes {
     }
     /// The normals node `id`'s distances refer to, and the lower corner of
     /// the box they are measured from: its parent's (or the root's own).
-    pub fn normals_of<'a>(&'a self, bvh: &Bvh, id: usize, parent: Option<usize>) -> (&'a [[u64; 3]], [f32; 3]) {
+    pub fn normals_of<'a>(
+        &'a self,
+        bvh: &Bvh,
+        id: usize,
+        parent: Option<usize>,
+    ) -> (&'a [[u64; 3]], [f32; 3]) {
         match parent {
             Some(p) => (&self.normals[p], bvh.nodes[p].min),
             None => (&self.root_normals, bvh.nodes[id].min),
@@ -92,18 +98,27 @@ pub fn height(pf: FloatFormat, n: &[u64; 3], v: &[Dyadic; 3], c: &[Dyadic; 3]) -
 }
 
 fn fixed_directions() -> Vec<[f64; 3]> {
-    let mut v = Vec::new();
-    for x in [-1.0, 0.0, 1.0] {
-        for y in [-1.0, 0.0, 1.0] {
-            for z in [-1.0f64, 0.0, 1.0] {
-                let nz = (x != 0.0) as u32 + (y != 0.0) as u32 + (z != 0.0) as u32;
-                if nz >= 2 {
-                    v.push([x, y, z]);
+    let mut v: Vec<[f64; 3]> = Vec::new();
+    for x in -2i32..=2 {
+        for y in -2i32..=2 {
+            for z in -2i32..=2 {
+                let nz = (x != 0) as u32 + (y != 0) as u32 + (z != 0) as u32;
+                let g = gcd(gcd(x.unsigned_abs(), y.unsigned_abs()), z.unsigned_abs());
+                if nz >= 2 && g == 1 {
+                    v.push([x as f64, y as f64, z as f64]);
                 }
             }
         }
     }
     v
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
 }
 
 fn quantise(pf: FloatFormat, n: [f64; 3]) -> [u64; 3] {
@@ -135,7 +150,14 @@ fn octant(pf: FloatFormat, n: &[u64; 3]) -> usize {
 
 /// Fraction of grid sample points of the box `[min, max]` strictly on the
 /// empty side of `n·(x − r) > w` (f64 estimate, only used to choose).
-fn score(n: &[f64; 3], r: &[f64; 3], w: f64, min: &[f32; 3], max: &[f32; 3], samples: usize) -> f64 {
+fn score(
+    n: &[f64; 3],
+    r: &[f64; 3],
+    w: f64,
+    min: &[f32; 3],
+    max: &[f32; 3],
+    samples: usize,
+) -> f64 {
     let s = samples.max(1);
     let coord = |i: usize, j: usize| {
         min[i] as f64 + (max[i] as f64 - min[i] as f64) * (j as f64 + 0.5) / s as f64 - r[i]
@@ -156,7 +178,14 @@ fn score(n: &[f64; 3], r: &[f64; 3], w: f64, min: &[f32; 3], max: &[f32; 3], sam
 }
 
 /// The grid sample points of the box strictly on the empty side, as a bit set.
-fn cut_mask(n: &[f64; 3], r: &[f64; 3], w: f64, min: &[f32; 3], max: &[f32; 3], samples: usize) -> Vec<u64> {
+fn cut_mask(
+    n: &[f64; 3],
+    r: &[f64; 3],
+    w: f64,
+    min: &[f32; 3],
+    max: &[f32; 3],
+    samples: usize,
+) -> Vec<u64> {
     let s = samples.max(1);
     let coord = |i: usize, j: usize| {
         min[i] as f64 + (max[i] as f64 - min[i] as f64) * (j as f64 + 0.5) / s as f64 - r[i]
@@ -255,7 +284,10 @@ const PREFERRED: usize = 16;
 /// A node's preferred normals: the best of each octant, then the next best
 /// of any octant, [`PREFERRED`] in all.
 fn preferred_of(pf: FloatFormat, mut scored: Vec<([u64; 3], f64)>) -> Vec<[u64; 3]> {
-    let mut v: Vec<[u64; 3]> = best_per_octant(pf, scored.clone()).into_iter().map(|x| x.0).collect();
+    let mut v: Vec<[u64; 3]> = best_per_octant(pf, scored.clone())
+        .into_iter()
+        .map(|x| x.0)
+        .collect();
     scored.retain(|x| x.1 > 0.0 && !v.contains(&x.0));
     scored.sort_by(|a, b| b.1.total_cmp(&a.1));
     for (n, _) in scored {
@@ -344,13 +376,20 @@ pub fn try_build_planes(
             NodeKind::Inner { left, right } => {
                 let (l, r) = (left as usize, right as usize);
                 let mut cands: Vec<[u64; 3]> = preferred[l].clone();
-                for n in preferred[r].iter().copied().chain(dirs.iter().map(|d| quantise(pf, *d))) {
+                for n in preferred[r].iter().copied() {
                     if !cands.contains(&n) {
                         cands.push(n);
                     }
                 }
                 let kids = [l, r].map(|c| Verts::of(mesh, &verts[c]));
-                let set = share(pf, params, bvh, &node.min, &[(l, &kids[0]), (r, &kids[1])], &cands);
+                let set = share(
+                    pf,
+                    params,
+                    bvh,
+                    &node.min,
+                    &[(l, &kids[0]), (r, &kids[1])],
+                    &cands,
+                );
                 out.normals[id] = set.normals;
                 out.scores[id] = set.scores;
                 let [wl, wr]: [Vec<u64>; 2] = set.w.try_into().expect("two children");
@@ -364,7 +403,6 @@ pub fn try_build_planes(
                 let vs = Verts::of(mesh, &v);
                 let scored = cands
                     .iter()
-                    .chain(dirs.iter().map(|d| quantise(pf, *d)).collect::<Vec<_>>().iter())
                     .map(|n| (*n, own_score(n, &vs, &node.min, &node.max)))
                     .collect();
                 preferred[id] = preferred_of(pf, scored);
@@ -434,7 +472,15 @@ fn share(
                 .collect()
         })
         .collect();
-    let words = cut_mask(&[0.0; 3], &[0.0; 3], 0.0, &[0.0; 3], &[0.0; 3], params.samples).len();
+    let words = cut_mask(
+        &[0.0; 3],
+        &[0.0; 3],
+        0.0,
+        &[0.0; 3],
+        &[0.0; 3],
+        params.samples,
+    )
+    .len();
     let mut covered: Vec<Vec<u64>> = vec![vec![0u64; words]; kids.len()];
     let mut chosen: Vec<([u64; 3], f64)> = Vec::new();
     while chosen.len() < params.k {
@@ -474,7 +520,10 @@ fn share(
         w: vec![Vec::new(); kids.len()],
     };
     for (n, sc) in chosen {
-        let w: Option<Vec<u64>> = kids.iter().map(|(_, vs)| vs.fit(pf, &n, &rd, &rf)).collect();
+        let w: Option<Vec<u64>> = kids
+            .iter()
+            .map(|(_, vs)| vs.fit(pf, &n, &rd, &rf))
+            .collect();
         if let Some(w) = w {
             set.normals.push(n);
             set.scores.push(sc);
