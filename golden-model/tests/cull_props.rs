@@ -368,6 +368,8 @@ struct Stats {
     exact_box: u64,
     exact_region: u64,
     tester_culls: u64,
+    /// plane culls of segments starting behind the origin (`t_min < 0`)
+    culls_negative_t_min: u64,
     tester_box_miss: u64,
     checked: u64,
     false_keeps: u64,
@@ -384,6 +386,7 @@ impl Stats {
         self.exact_box += o.exact_box;
         self.exact_region += o.exact_region;
         self.tester_culls += o.tester_culls;
+        self.culls_negative_t_min += o.culls_negative_t_min;
         self.tester_box_miss += o.tester_box_miss;
         self.checked += o.checked;
         self.false_keeps += o.false_keeps;
@@ -453,6 +456,8 @@ fn chunk(f: FloatFormat, pf: FloatFormat, k: usize, kind: Kind, seed: u64, n: u6
         st.exact_region += ex.region_hit as u64;
         st.tester_box_miss += !box_hit as u64;
         st.tester_culls += (box_hit && !keep) as u64;
+        let behind = x.t_min & f.sign_bit() != 0 && x.t_min & !f.sign_bit() != 0;
+        st.culls_negative_t_min += (box_hit && !keep && behind) as u64;
         if (ex.box_hit && !box_hit) || (ex.region_hit && !keep) {
             st.wrongful += 1;
             if st.first_wrongful.is_none() {
@@ -536,8 +541,8 @@ fn no_wrongful_culls_on_random_and_adversarial_cases() {
         }
     }
     eprintln!(
-        "TOTAL {} cases, {} exact checks, {} tester plane culls, {} box misses, wrongful culls {}, false keeps (1/8 sample) {}",
-        grand.cases, grand.checked, grand.tester_culls, grand.tester_box_miss, grand.wrongful, grand.false_keeps
+        "TOTAL {} cases, {} exact checks, {} tester plane culls ({} with t_min < 0), {} box misses, wrongful culls {}, false keeps (1/8 sample) {}",
+        grand.cases, grand.checked, grand.tester_culls, grand.culls_negative_t_min, grand.tester_box_miss, grand.wrongful, grand.false_keeps
     );
     assert_eq!(
         grand.wrongful,
