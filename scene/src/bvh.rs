@@ -14,9 +14,8 @@
 //! it, world-space boxes are not).
 
 use crate::scene::Scene;
-use golden_model::cull::builder::{build_planes, BuildParams};
+use golden_model::cull::builder::{build_planes, BuildParams, CullPlanes};
 use golden_model::cull::bvh::{Bvh, Mesh, Node, NodeKind};
-use golden_model::cull::tester::Plane;
 use golden_model::float::{convert, FloatFormat, RoundingMode};
 use golden_model::transform::exact::scene_builder_inverse;
 use std::time::{Duration, Instant};
@@ -240,13 +239,15 @@ fn best_bin_for(prims: &[Prim], order: &[u32], axis: usize, cmin: f32, scale: f3
     best.1
 }
 
-/// A bottom-level tree: BVH over one mesh, cull planes per node.
+/// A bottom-level tree: BVH over one mesh, cull planes in the shared-normal
+/// layout (normals with the parent, a distance per child, `docs/cull.md`).
 #[derive(Debug, Clone)]
 pub struct Blas {
     /// the SAH tree (padded boxes)
     pub bvh: Bvh,
-    /// per node, up to [`PLANES_K`] planes (binary16), best first
-    pub planes: Vec<Vec<Plane>>,
+    /// up to [`PLANES_K`] shared normals per inner node (binary16), a
+    /// distance per node and normal of its parent
+    pub planes: CullPlanes,
 }
 
 /// An instance as the traversal needs it.
@@ -312,31 +313,38 @@ pub fn build_blas_bvh(mesh: &Mesh, max_leaf: usize) -> Bvh {
     sah_build(&prims, max_leaf, 1.0 / (1u64 << 20) as f64)
 }
 
-/// Widens each plane's distance by a relative 2⁻²⁰ of its node's size (rounded
-/// up in the plane format), so the f64 triangle test's last-bit hits never fall
-/// on an empty side.
-fn pad_planes(bvh: &Bvh, planes: &mut [Vec<Plane>]) {
-    for (id, ps) in planes.iter_mut().enumerate() {
-        let n = bvh.nodes[id];
+/// Widens each plane's distance by a relative 2⁻²⁰ of the size of the box it
+/// is measured from (its parent's; the root's own), rounded up in the plane
+/// format, so the f64 triangle test's last-bit hits never fall on an empty
+/// side. A distance that overflows becomes +∞, which the cull unit flags as
+/// invalid and keeps (never a cull).
+fn pad_planes(bvh: &Bvh, planes: &mut CullPlanes) {
+    let mut reference = vec![0usize; bvh.nodes.len()];
+    for (id, n) in bvh.nodes.iter().enumerate() {
+        if let NodeKind::Inner { left, right } = n.kind {
+            reference[left as usize] = id;
+            reference[right as usize] = id;
+        }
+    }
+    for (id, ws) in planes.w.iter_mut().enumerate() {
+        let n = bvh.nodes[reference[id]];
         let size: f64 = (0..3)
             .map(|i| (n.max[i] as f64 - n.min[i] as f64).abs() + (n.max[i] as f64).abs())
             .sum();
-        for p in ps.iter_mut() {
-            let w = f64::from_bits(convert(
+        for w in ws.iter_mut() {
+            let v = f64::from_bits(convert(
                 PLANE_FMT,
                 FloatFormat::BINARY64,
-                p.w,
+                *w,
                 RoundingMode::NearestEven,
             ));
-            let w2 = w + size / (1u64 << 20) as f64;
-            p.w = convert(
+            *w = convert(
                 FloatFormat::BINARY64,
                 PLANE_FMT,
-                w2.to_bits(),
+                (v + size / (1u64 << 20) as f64).to_bits(),
                 RoundingMode::Up,
             );
         }
-        ps.retain(|p| p.w & !PLANE_FMT.sign_bit() != PLANE_FMT.inf(false));
     }
 }
 
@@ -353,13 +361,18 @@ impl Accel {
             .collect();
         times.blas_sah = t0.elapsed();
         let t1 = Instant::now();
-        let planes: Vec<Vec<Vec<Plane>>> = scene
+        let planes: Vec<CullPlanes> = scene
             .meshes
             .par_iter()
             .zip(&bvhs)
             .map(|((_, m), bvh)| {
                 if !with_planes {
-                    return vec![Vec::new(); bvh.nodes.len()];
+                    return CullPlanes {
+                        normals: vec![Vec::new(); bvh.nodes.len()],
+                        w: vec![Vec::new(); bvh.nodes.len()],
+                        scores: vec![Vec::new(); bvh.nodes.len()],
+                        ..CullPlanes::default()
+                    };
                 }
                 let mut p = build_planes(
                     m,
@@ -369,8 +382,7 @@ impl Accel {
                         k: PLANES_K,
                         samples: 6,
                     },
-                )
-                .planes;
+                );
                 pad_planes(bvh, &mut p);
                 p
             })
@@ -456,7 +468,7 @@ impl Accel {
         let planes: usize = self
             .blas
             .iter()
-            .map(|b| b.planes.iter().map(|p| p.len()).sum::<usize>())
+            .map(|b| b.planes.plane_count())
             .sum();
         format!(
             "{} BLAS ({} nodes, {} cull planes), TLAS {} nodes over {} instances; build: SAH {:.3} s, planes {:.3} s, TLAS {:.3} s",

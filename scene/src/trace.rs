@@ -15,7 +15,9 @@ use crate::bvh::{f32_up, Accel, PLANES_K};
 use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use golden_model::cull::bvh::{Mesh, NodeKind};
-use golden_model::cull::tester::{self as cull, CullIn, Plane};
+use golden_model::cull::tester::{
+    self as cull, box_interval, ray_terms, slab_reciprocal, ChildIn, RayIn, RayTerms,
+};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{self, DotStyle, InstanceTransform, InverseSource, WorldRay};
@@ -466,15 +468,51 @@ impl<'a> Tracer<'a> {
                 r.d = m.dir;
             }
         }
-        self.visit_blas(inst as u32, x.mesh, 0, live, rays, st);
+        let blas = &self.accel.blas[x.mesh];
+        let root_terms = self.ray_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min, &live, rays);
+        self.visit_blas(inst as u32, x.mesh, 0, live, &root_terms, rays, st);
     }
 
+    /// The ray terms (unit `cull_ray`) of a set of shared normals for each
+    /// of the rays `idxs` (model space), sorted by ray index; empty when the
+    /// planes are off or there are no normals.
+    fn ray_terms(
+        &self,
+        normals: &[[u64; 3]],
+        r_min: &[f32; 3],
+        idxs: &[usize],
+        rays: &[TRay],
+    ) -> Vec<(usize, RayTerms)> {
+        if !self.opts.planes || normals.is_empty() {
+            return Vec::new();
+        }
+        let mut v: Vec<(usize, RayTerms)> = idxs
+            .iter()
+            .map(|&i| {
+                let r = &rays[i];
+                let x = RayIn {
+                    o: r.o,
+                    d: r.d,
+                    r: r_min.map(bits),
+                    normals: normals.to_vec(),
+                };
+                (i, ray_terms(&self.cull_cfg, &x))
+            })
+            .collect();
+        v.sort_by_key(|x| x.0);
+        v
+    }
+
+    /// `parent_terms`: the ray terms of the normals this node's distances
+    /// refer to (its parent's, or the root's own set), by ray index.
+    #[allow(clippy::too_many_arguments)]
     fn visit_blas(
         &self,
         inst: u32,
         mesh: usize,
         node: usize,
         idxs: Vec<usize>,
+        parent_terms: &[(usize, RayTerms)],
         rays: &mut [TRay],
         st: &mut KindStats,
     ) {
@@ -489,33 +527,44 @@ impl<'a> Tracer<'a> {
             return;
         }
         let leaf = matches!(n.kind, NodeKind::Leaf { .. });
-        let planes = &blas.planes[node];
-        if self.opts.planes && !planes.is_empty() && (leaf || surv.len() == 1) {
-            let mut ps: Vec<Plane> = planes.clone();
-            ps.resize(PLANES_K, Plane::default());
+        if self.opts.planes && !parent_terms.is_empty() && (leaf || surv.len() == 1) {
+            let w = &blas.planes.w[node];
             surv.retain(|&i| {
                 let r = &rays[i];
+                let Ok(j) = parent_terms.binary_search_by_key(&i, |x| x.0) else {
+                    return true;
+                };
                 st.cull_tests += 1;
-                let out = cull::eval(
-                    &self.cull_cfg,
-                    &CullIn {
-                        p_min: n.min.map(bits),
-                        p_max: n.max.map(bits),
-                        o: r.o,
-                        d: r.d,
-                        t_min: 0,
-                        t_max: r.box_t_max(),
-                        planes: ps.clone(),
-                    },
-                );
-                if !out.keep {
+                // the conservative slab beside the cull unit gives the box interval
+                let keep = box_interval(
+                    FloatFormat::BINARY32,
+                    &n.min.map(bits),
+                    &n.max.map(bits),
+                    &r.o,
+                    &slab_reciprocal(FloatFormat::BINARY32, &r.d),
+                    0,
+                    r.box_t_max(),
+                )
+                .is_some_and(|(t_lo, t_hi)| {
+                    cull::eval(
+                        &self.cull_cfg,
+                        &ChildIn {
+                            t_lo,
+                            t_hi,
+                            w: w.clone(),
+                            terms: parent_terms[j].1.terms.clone(),
+                        },
+                    )
+                    .keep
+                });
+                if !keep {
                     st.culled_nodes += 1;
                     if let NodeKind::Leaf { count, .. } = n.kind {
                         st.culled_leaves += 1;
                         st.culled_leaf_tris += count as u64;
                     }
                 }
-                out.keep
+                keep
             });
             if surv.is_empty() {
                 return;
@@ -558,8 +607,9 @@ impl<'a> Tracer<'a> {
                     &rays[surv[0]],
                     Space::Model,
                 );
+                let terms = self.ray_terms(&blas.planes.normals[node], &n.min, &surv, rays);
                 for c in ord {
-                    self.visit_blas(inst, mesh, c, surv.clone(), rays, st);
+                    self.visit_blas(inst, mesh, c, surv.clone(), &terms, rays, st);
                 }
             }
         }
