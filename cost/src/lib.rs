@@ -1,7 +1,8 @@
 //! Hardware cost against accuracy of the generated units (issue #8): the
 //! synthesis runner ([`synth`], the pinned yowasp Yosys 0.70 and nextpnr-ice40 /
 //! nextpnr-ecp5 of scripts/fpga-requirements.txt), accuracy on shared
-//! workloads ([`accuracy`]), charts ([`charts`]), scene-fitted formats
+//! workloads ([`accuracy`]), charts ([`charts`]), the cull-plane units'
+//! cost ([`cull`]), scene-fitted formats
 //! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
 #![warn(missing_docs)]
 
@@ -9,6 +10,7 @@ pub mod accuracy;
 pub mod boxes;
 pub mod bringup;
 pub mod charts;
+pub mod cull;
 pub mod fit;
 pub mod shell;
 pub mod sweep;

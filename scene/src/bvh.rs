@@ -465,11 +465,7 @@ impl Accel {
     /// Nodes and planes, for the report.
     pub fn describe(&self) -> String {
         let nodes: usize = self.blas.iter().map(|b| b.bvh.nodes.len()).sum();
-        let planes: usize = self
-            .blas
-            .iter()
-            .map(|b| b.planes.plane_count())
-            .sum();
+        let planes: usize = self.blas.iter().map(|b| b.planes.plane_count()).sum();
         format!(
             "{} BLAS ({} nodes, {} cull planes), TLAS {} nodes over {} instances; build: SAH {:.3} s, planes {:.3} s, TLAS {:.3} s",
             self.blas.len(),

@@ -469,7 +469,12 @@ impl<'a> Tracer<'a> {
             }
         }
         let blas = &self.accel.blas[x.mesh];
-        let root_terms = self.ray_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min, &live, rays);
+        let root_terms = self.ray_terms(
+            &blas.planes.root_normals,
+            &blas.bvh.nodes[0].min,
+            &live,
+            rays,
+        );
         self.visit_blas(inst as u32, x.mesh, 0, live, &root_terms, rays, st);
     }
 

@@ -109,6 +109,18 @@ enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The cull-plane units (cull per child, cull_ray per ray and parent) against the plane format (e4m3 .. e8m23, K = 4) and K (1, 2, 8 at e5m10), binary32 rays: one table
+    Cull {
+        /// pipeline stages of both units
+        #[arg(long, default_value_t = 4)]
+        stages: u32,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// also write the report here
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -276,6 +288,20 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             println!("wrote {}", out.join("sweep.json").display());
             println!("wrote {}", out.join("tables.md").display());
         }
+        Cmd::Cull {
+            stages,
+            cached_only,
+            out,
+        } => {
+            let rows = cost::cull::synthesise(&cost::cull::sweep_designs(), stages, cached_only)?;
+            let mut text = cost::cull::markdown(&rows, stages);
+            text += &cost::cull::targets(&rows, None);
+            println!("{text}");
+            if let Some(path) = out {
+                std::fs::write(&path, text)?;
+                println!("wrote {}", path.display());
+            }
+        }
         Cmd::Boxes {
             fracs,
             stages,
@@ -298,7 +324,16 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let paths: Vec<&std::path::Path> = scenes.iter().map(|p| p.as_path()).collect();
             let loads = cost::boxes::scene_loads(&paths, width)?;
             let rows = cost::boxes::synthesise(&fracs, stages, recip_stages, cached_only)?;
-            let text = cost::boxes::markdown(&rows, &loads, stages, recip_stages);
+            let mut text = cost::boxes::markdown(&rows, &loads, stages, recip_stages);
+            // the cull units beside the box testers, same run, same Yosys
+            let cull = cost::cull::synthesise(&[((5, 10), 4)], stages, cached_only)?;
+            let sil_depth = rows
+                .iter()
+                .find(|r| r.label == "silhouette ray" && r.frac == 23 && r.failed.is_none())
+                .and_then(|r| r.report.ice40.as_ref().map(|i| i.depth));
+            text += "\n";
+            text += &cost::cull::markdown(&cull, stages);
+            text += &cost::cull::targets(&cull, sil_depth);
             println!("{text}");
             if let Some(path) = out {
                 std::fs::write(&path, text)?;

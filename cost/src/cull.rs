@@ -1,0 +1,271 @@
+//! The cull-plane units' cost (issue #13): `cull` (per child, beside the
+//! box test) and `cull_ray` (per ray and parent, shared by both children),
+//! binary32 rays and boxes, against the plane format and K, in one run with
+//! one Yosys. Printed by `rtl-cost cull`; the issue's targets are printed
+//! with `rtl-cost boxes` (same run as the slab and silhouette figures),
+//! never asserted in a timed test.
+
+use crate::synth::{self, SynthOptions, SynthReport};
+
+/// One synthesised cull design.
+#[derive(Debug, Clone)]
+pub struct CullRow {
+    /// `cull` or `cull_ray`
+    pub unit: &'static str,
+    /// plane format `(Ep, Fp)`
+    pub plane: (u32, u32),
+    /// planes per node
+    pub k: u32,
+    /// the synthesis report (default when synthesis failed)
+    pub report: SynthReport,
+    /// why synthesis failed (first line of the tool's error), if it did
+    pub failed: Option<String>,
+}
+
+impl CullRow {
+    /// Xilinx LUTs (0 when synthesis failed).
+    pub fn xilinx_luts(&self) -> u64 {
+        self.report.xilinx.as_ref().map_or(0, |x| x.luts)
+    }
+    /// Xilinx DSP48s.
+    pub fn xilinx_dsps(&self) -> u64 {
+        self.report.xilinx.as_ref().map_or(0, |x| x.dsps)
+    }
+    /// iCE40 longest path (LUT4 + carry cells).
+    pub fn depth(&self) -> u64 {
+        self.report.ice40.as_ref().map_or(0, |i| i.depth)
+    }
+}
+
+/// The plane formats of the sweep, e4m3 .. e8m23.
+pub const PLANE_FORMATS: [(u32, u32); 5] = [(4, 3), (5, 7), (5, 10), (6, 15), (8, 23)];
+/// The K values of the sweep (plane format e5m10).
+pub const KS: [u32; 4] = [1, 2, 4, 8];
+
+/// Synthesises `cull` and `cull_ray` with binary32 rays for every
+/// `(plane format, k)` of `designs`, `stages` pipeline registers, Xilinx /
+/// iCE40 / ECP5, no place and route. A design the tools cannot map keeps its
+/// row with the reason.
+pub fn synthesise(
+    designs: &[((u32, u32), u32)],
+    stages: u32,
+    cached_only: bool,
+) -> Result<Vec<CullRow>, String> {
+    let o = SynthOptions {
+        generic: false,
+        pnr: false,
+        pnr_ecp5: false,
+        cached_only,
+        ..SynthOptions::default()
+    };
+    let mut rows = Vec::new();
+    for &(plane, k) in designs {
+        for unit in ["cull", "cull_ray"] {
+            let p = vec![
+                "exp_bits=8".to_string(),
+                "frac_bits=23".to_string(),
+                format!("plane_exp_bits={}", plane.0),
+                format!("plane_frac_bits={}", plane.1),
+                format!("k={k}"),
+                format!("stages={stages}"),
+            ];
+            let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
+            eprintln!("synthesising {} ...", g.module.name);
+            let (report, failed) = match synth::run(&g, &o) {
+                Ok(r) => (r, None),
+                Err(e) => {
+                    let why = e.to_string().lines().next().unwrap_or("").to_string();
+                    eprintln!("{}: synthesis failed: {why}", g.module.name);
+                    (SynthReport::default(), Some(why))
+                }
+            };
+            rows.push(CullRow {
+                unit,
+                plane,
+                k,
+                report,
+                failed,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// Every design of the sweep: the plane formats at K = 4, then K at e5m10.
+pub fn sweep_designs() -> Vec<((u32, u32), u32)> {
+    let mut v: Vec<((u32, u32), u32)> = PLANE_FORMATS.iter().map(|&p| (p, 4)).collect();
+    v.extend(KS.iter().filter(|&&k| k != 4).map(|&k| ((5, 10), k)));
+    v
+}
+
+fn find<'a>(rows: &'a [CullRow], unit: &str, plane: (u32, u32), k: u32) -> Option<&'a CullRow> {
+    rows.iter()
+        .find(|r| r.unit == unit && r.plane == plane && r.k == k && r.failed.is_none())
+}
+
+/// The table: one row per design, both units, and the cost per child test
+/// in a binary BVH (`cull + cull_ray / 2`: one `cull_ray` serves both
+/// children of a parent).
+pub fn markdown(rows: &[CullRow], stages: u32) -> String {
+    let yosys = rows
+        .iter()
+        .find(|r| r.failed.is_none())
+        .map(|r| r.report.yosys_version.clone())
+        .unwrap_or_default();
+    let mut s = format!(
+        "Cull-plane units, binary32 rays and boxes, stages={stages}; {yosys}; Xilinx = \
+         `synth_xilinx -flatten` (synthesis estimates), iCE40 = `synth_ice40` LUT4 (depth: longest \
+         path in LUT4 + carry cells), ECP5 = `synth_ecp5` LUT4 / MULT18X18D. Per child test = \
+         cull + cull_ray / 2 (binary BVH: one cull_ray per ray and parent serves both children).\n\n\
+         | unit | planes | K | Xilinx LUT | FF | DSP48 | iCE40 LUT4 | iCE40 depth | ECP5 LUT4 | ECP5 DSP | per child test, Xilinx LUT |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n"
+    );
+    for r in rows {
+        let fmt = format!("e{}m{}", r.plane.0, r.plane.1);
+        if let Some(why) = &r.failed {
+            s += &format!(
+                "| {} | {fmt} | {} | synthesis failed: {} | | | | | | | |\n",
+                r.unit,
+                r.k,
+                why.replace('|', "/")
+            );
+            continue;
+        }
+        let x = r.report.xilinx.clone().unwrap_or_default();
+        let ice = r.report.ice40.clone().unwrap_or_default();
+        let (el, ed) = r.report.ecp5.as_ref().map_or((0, 0), |e| (e.luts, e.dsps));
+        let per_child = match (
+            find(rows, "cull", r.plane, r.k),
+            find(rows, "cull_ray", r.plane, r.k),
+        ) {
+            (Some(c), Some(t)) if r.unit == "cull" => {
+                format!(
+                    "{:.0}",
+                    c.xilinx_luts() as f64 + t.xilinx_luts() as f64 / 2.0
+                )
+            }
+            _ => "-".into(),
+        };
+        s += &format!(
+            "| {} | {fmt} | {} | {} | {} | {} | {} | {} | {el} | {ed} | {per_child} |\n",
+            r.unit, r.k, x.luts, x.ffs, x.dsps, ice.luts, ice.depth
+        );
+    }
+    s
+}
+
+/// The targets of issue #13, checked against the figures: `cull` K = 4,
+/// e5m10 planes at most 7,700 Xilinx LUT and 12 DSP48, its longest path no
+/// longer than the silhouette tester's (`silhouette_depth`, same stages).
+pub fn targets(rows: &[CullRow], silhouette_depth: Option<u64>) -> String {
+    let mut s =
+        String::from("\nTargets of issue #13 (cull K = 4, binary32 rays, e5m10 planes):\n\n");
+    let mut check = |what: String, ok: bool| {
+        s += &format!("- {}: {what}\n", if ok { "met" } else { "NOT MET" });
+    };
+    let Some(c) = find(rows, "cull", (5, 10), 4) else {
+        s += "- NOT MET: cull K = 4 e5m10 was not synthesised\n";
+        return s;
+    };
+    check(
+        format!(
+            "cull: {} LUT (at most 7700), {} DSP48 (at most 12)",
+            c.xilinx_luts(),
+            c.xilinx_dsps()
+        ),
+        c.xilinx_luts() <= 7_700 && c.xilinx_dsps() <= 12,
+    );
+    if let Some(sd) = silhouette_depth {
+        check(
+            format!(
+                "cull longest path {} iCE40 cells, the silhouette tester's {sd}",
+                c.depth()
+            ),
+            c.depth() <= sd,
+        );
+    }
+    let costs: Vec<(String, u64)> = PLANE_FORMATS
+        .iter()
+        .filter_map(|&p| {
+            find(rows, "cull", p, 4).map(|r| (format!("e{}m{}", p.0, p.1), r.xilinx_luts()))
+        })
+        .collect();
+    if costs.len() > 1 {
+        let falls = costs.windows(2).all(|w| w[0].1 <= w[1].1);
+        let list: Vec<String> = costs.iter().map(|(f, l)| format!("{f} {l}")).collect();
+        check(
+            format!("cull LUT grows with the plane format: {}", list.join(", ")),
+            falls,
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::{Ice40, Xilinx};
+
+    fn row(unit: &'static str, plane: (u32, u32), luts: u64, dsps: u64, depth: u64) -> CullRow {
+        CullRow {
+            unit,
+            plane,
+            k: 4,
+            report: SynthReport {
+                xilinx: Some(Xilinx {
+                    luts,
+                    dsps,
+                    ..Xilinx::default()
+                }),
+                ice40: Some(Ice40 {
+                    depth,
+                    ..Ice40::default()
+                }),
+                ..SynthReport::default()
+            },
+            failed: None,
+        }
+    }
+
+    #[test]
+    fn targets_follow_the_figures_and_the_per_child_cost_halves_cull_ray() {
+        let rows = vec![
+            row("cull", (4, 3), 3_000, 4, 50),
+            row("cull", (5, 10), 5_000, 8, 60),
+            row("cull_ray", (5, 10), 9_000, 12, 70),
+            row("cull", (8, 23), 7_000, 8, 65),
+        ];
+        let t = targets(&rows, Some(60));
+        assert!(
+            t.contains("- met: cull: 5000 LUT (at most 7700), 8 DSP48 (at most 12)"),
+            "{t}"
+        );
+        assert!(
+            t.contains("- met: cull longest path 60 iCE40 cells, the silhouette tester's 60"),
+            "{t}"
+        );
+        assert!(
+            t.contains(
+                "- met: cull LUT grows with the plane format: e4m3 3000, e5m10 5000, e8m23 7000"
+            ),
+            "{t}"
+        );
+        let m = markdown(&rows, 4);
+        assert!(
+            m.contains("| cull | e5m10 | 4 | 5000 | 0 | 8 | 0 | 60 | 0 | 0 | 9500 |"),
+            "{m}"
+        );
+        let worse = vec![
+            row("cull", (5, 10), 7_800, 8, 61),
+            row("cull", (8, 23), 7_000, 8, 61),
+        ];
+        let t = targets(&worse, Some(60));
+        assert!(t.contains("- NOT MET: cull: 7800 LUT"), "{t}");
+        assert!(t.contains("- NOT MET: cull longest path 61"), "{t}");
+        assert!(
+            t.contains("- NOT MET: cull LUT grows with the plane format"),
+            "{t}"
+        );
+        assert!(targets(&[], None).contains("NOT MET: cull K = 4 e5m10 was not synthesised"));
+    }
+}
