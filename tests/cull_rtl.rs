@@ -1,23 +1,34 @@
-//! The cull-plane tester, end to end: generate, lint (`verilator -Wall`),
-//! simulate 1,000,000 vectors per configuration in Verilator (K = 2 and 4;
-//! 200,000 for the extra K = 1 and 8, to keep CI time low) and compare every
-//! output bit with the golden model; the IR evaluator runs a shorter stream
-//! as the third opinion.
+//! The cull-plane tester's two units, end to end: generate, lint
+//! (`verilator --lint-only -Wall`), simulate in Verilator and compare every
+//! output bit with the golden model (`golden_model::cull::tester`); the IR
+//! evaluator runs 3,000 vectors of every configuration as the third opinion.
+//!
+//! `cull` (per child) at K = 1, 2, 4, 8 and `cull_ray` (per ray and parent)
+//! at K = 1, 4, 8: the binary32-ray / e5m10-plane K = 4 configuration at
+//! 4 stages on 1,000,000 vectors each, the others (one with e5m10 rays and
+//! e4m3 planes, other stage counts) on 200,000 to keep CI time low.
 
 mod common;
 
 use common::{cross_check, generate};
 
-/// (exp_bits, frac_bits, plane_exp_bits, plane_frac_bits, k, stages)
-const CONFIGS: &[(u32, u32, u32, u32, u32, u32)] = &[(5, 10, 4, 3, 2, 0), (8, 23, 5, 10, 4, 3)];
+/// (exp_bits, frac_bits, plane_exp_bits, plane_frac_bits, k, stages, vectors)
+type Case = (u32, u32, u32, u32, u32, u32, u64);
 
-/// The other ends of K: one plane (bfloat16 planes) and eight (the
-/// binary32 / e5m10 cost configuration at 4 stages), 200,000 vectors each.
-const EXTRA_CONFIGS: &[(u32, u32, u32, u32, u32, u32)] =
-    &[(8, 23, 8, 7, 1, 1), (8, 23, 5, 10, 8, 4)];
-const EXTRA_VECTORS: u64 = 200_000;
+const CULL: &[Case] = &[
+    (8, 23, 5, 10, 4, 4, 1_000_000),
+    (8, 23, 8, 7, 1, 1, 200_000),
+    (5, 10, 4, 3, 2, 0, 200_000),
+    (8, 23, 5, 10, 8, 6, 200_000),
+];
 
-fn params(c: &(u32, u32, u32, u32, u32, u32)) -> Vec<String> {
+const CULL_RAY: &[Case] = &[
+    (8, 23, 5, 10, 4, 4, 1_000_000),
+    (5, 10, 4, 3, 1, 2, 200_000),
+    (8, 23, 8, 7, 8, 9, 200_000),
+];
+
+fn params(c: &Case) -> Vec<String> {
     vec![
         format!("exp_bits={}", c.0),
         format!("frac_bits={}", c.1),
@@ -28,13 +39,17 @@ fn params(c: &(u32, u32, u32, u32, u32, u32)) -> Vec<String> {
     ]
 }
 
-#[test]
-fn cull_evaluator_matches_golden_model() {
-    for c in CONFIGS.iter().chain(EXTRA_CONFIGS) {
+fn evaluate(unit: &str, cases: &[Case]) {
+    for c in cases {
         let p = params(c);
         let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, _) = generate("cull_eval", "cull", &p);
+        let (g, _) = generate(&format!("{unit}_eval"), unit, &p);
         assert_eq!(g.module.latency, c.5);
+        assert!(
+            g.module.name.contains(&format!("_k{}_s{}", c.4, c.5)),
+            "{}",
+            g.module.name
+        );
         let r = g.evaluate(g.testbench().as_ref(), 3_000, 11);
         assert_eq!(
             (r.vectors, r.mismatches),
@@ -45,34 +60,34 @@ fn cull_evaluator_matches_golden_model() {
     }
 }
 
-#[test]
-fn cull_matches_golden_model_on_a_million_vectors_per_configuration() {
-    for c in CONFIGS {
+fn verilate(unit: &str, cases: &[Case], seed: u64) {
+    for c in cases {
         let p = params(c);
         let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("cull_million", "cull", &p);
-        let report = cross_check(&g, &dir, 1_000_000, 7);
-        assert_eq!(report.vectors, 1_000_000);
+        let (g, dir) = generate(&format!("{unit}_verilator"), unit, &p);
+        let report = cross_check(&g, &dir, c.6, seed);
+        assert_eq!(report.vectors, c.6);
         assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
         eprintln!("{}: {report}", g.module.name);
     }
 }
 
 #[test]
-fn cull_k1_and_k8_match_golden_model() {
-    for c in EXTRA_CONFIGS {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("cull_k1_k8", "cull", &p);
-        assert_eq!(g.module.latency, c.5);
-        assert!(
-            g.module.name.contains(&format!("_k{}_", c.4)),
-            "{}",
-            g.module.name
-        );
-        let report = cross_check(&g, &dir, EXTRA_VECTORS, 17);
-        assert_eq!(report.vectors, EXTRA_VECTORS);
-        assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
-        eprintln!("{}: {report}", g.module.name);
-    }
+fn cull_evaluator_matches_golden_model() {
+    evaluate("cull", CULL);
+}
+
+#[test]
+fn cull_ray_evaluator_matches_golden_model() {
+    evaluate("cull_ray", CULL_RAY);
+}
+
+#[test]
+fn cull_matches_golden_model_in_verilator() {
+    verilate("cull", CULL, 7);
+}
+
+#[test]
+fn cull_ray_matches_golden_model_in_verilator() {
+    verilate("cull_ray", CULL_RAY, 17);
 }

@@ -9,13 +9,16 @@
 //! rounder requires with a sticky bit), one quotient bit per step, and the
 //! remainder's OR is the sticky bit: `1/x = (q + σ) · 2^(−e − F − 3)`.
 //! Specials: NaN → NaN, `1/±0 = ±inf`, `1/±inf = ±0`.
+//!
+//! [`recip_down_up_module`] rounds one quotient both toward −∞ and toward
+//! +∞ (the cull unit's reciprocal bracket), as `add_down_up` does for sums.
 
 use crate::arith::float::bits::{add_const, to_sint};
 use crate::arith::float::round::{class_of, round, Raw, ROUND_STEPS};
 use crate::arith::float::unpack::{normalize, unpack};
 use crate::arith::float::{sint_width, spread, Format, Rounding};
 use crate::arith::int::zext;
-use crate::builder::ModuleBuilder;
+use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -30,35 +33,31 @@ pub fn recip_name(fmt: Format, mode: Rounding, stages: u32) -> String {
     format!("frecip_{}_{mode}_s{stages}", fmt.tag())
 }
 
-/// `z = 1 / x` in `fmt`, rounded once in `mode`, `stages` pipeline registers.
-pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+/// The exact reciprocal of the `fmt` encoding `x` as a raw value: the
+/// quotient `q` (F + 3 or F + 4 bits) with the remainder's OR as the sticky
+/// bit, `1/x = (q + σ) · 2^exp`; NaN → NaN, `1/±0 = ±∞`, `1/±∞ = ±0`.
+/// `cuts[i]` registers go after step `i` of [`recip_raw_steps`] (the
+/// normalisation, then one quotient bit each); the raw value belongs to the
+/// stage after them.
+#[track_caller]
+pub fn recip_raw(m: &mut ModuleBuilder, fmt: Format, x: Sig, cuts: &[u32]) -> Raw {
     let f = fmt.frac_bits;
-    let mut m = ModuleBuilder::new(recip_name(fmt, mode, stages));
-    m.describe(format!(
-        "Floating-point reciprocal 1 / x in {}, rounded once {mode} (restoring division).",
-        fmt.tag()
-    ));
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", f)
-        .param("round", mode)
-        .param("stages", stages);
-    let x = m.input("x", Ty::UInt(fmt.width()));
     let steps = recip_raw_steps(fmt);
-    let plan = spread(stages, steps + ROUND_STEPS);
-    let u = unpack(&mut m, fmt, x);
+    assert_eq!(cuts.len(), steps as usize, "one cut count per step");
+    let u = unpack(m, fmt, x);
     // 1/NaN = NaN, 1/0 = inf, 1/inf = 0 (a finite raw value with sig 0 is a zero)
-    let class = class_of(&mut m, u.nan, u.zero);
-    let n = normalize(&mut m, fmt, &u);
+    let class = class_of(m, u.nan, u.zero);
+    let n = normalize(m, fmt, &u);
     let xw = sint_width(-fmt.emax() - f as i64 - 4, -fmt.emin() + 2 * f as i64 + 4);
-    let e = to_sint(&mut m, n.exp, xw);
+    let e = to_sint(m, n.exp, xw);
     let zero = m.sint(xw, 0);
     let neg_e = m.sub(zero, e);
-    let exp = add_const(&mut m, neg_e, -(f as i64) - 3, xw);
+    let exp = add_const(m, neg_e, -(f as i64) - 3, xw);
     let exp = m.name(exp, "recip_exp");
     let rw = f + 2;
-    let d = zext(&mut m, n.sig, rw);
+    let d = zext(m, n.sig, rw);
     let d = m.name(d, "divisor");
-    for _ in 0..plan[0] {
+    for _ in 0..cuts[0] {
         m.stage();
     }
 
@@ -80,7 +79,7 @@ pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
         r = m.mux(ge, diff, r);
         r = m.name(r, &format!("rem{step}"));
         bits.push(m.as_uint(ge));
-        for _ in 0..plan[1 + step as usize] {
+        for _ in 0..cuts[1 + step as usize] {
             m.stage();
         }
     }
@@ -92,13 +91,31 @@ pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     let q = m.mux(u.inf, zero_q, q);
     let no = m.bool(false);
     let sticky = m.mux(u.inf, no, sticky);
-    let raw = Raw {
+    Raw {
         sign: u.sign,
         class,
         exp,
         sig: q,
         sticky,
-    };
+    }
+}
+
+/// `z = 1 / x` in `fmt`, rounded once in `mode`, `stages` pipeline registers.
+pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+    let f = fmt.frac_bits;
+    let mut m = ModuleBuilder::new(recip_name(fmt, mode, stages));
+    m.describe(format!(
+        "Floating-point reciprocal 1 / x in {}, rounded once {mode} (restoring division).",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", f)
+        .param("round", mode)
+        .param("stages", stages);
+    let x = m.input("x", Ty::UInt(fmt.width()));
+    let steps = recip_raw_steps(fmt);
+    let plan = spread(stages, steps + ROUND_STEPS);
+    let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
     let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
     for _ in 0..rs {
@@ -108,6 +125,42 @@ pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     Arc::new(
         m.finish()
             .expect("reciprocal generator is type-correct for every format"),
+    )
+}
+
+/// Module name of the down/up reciprocal.
+pub fn recip_down_up_name(fmt: Format, stages: u32) -> String {
+    format!("frecip_down_up_{}_s{stages}", fmt.tag())
+}
+
+/// `down = RDN(1 / x)`, `up = RUP(1 / x)` in `fmt` from one exact quotient
+/// (one division, two instances of the shared rounder), `stages` pipeline
+/// registers (the plan of [`recip_module`]).
+pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(recip_down_up_name(fmt, stages));
+    m.describe(format!(
+        "Floating-point reciprocal 1 / x in {} rounded toward -inf (down) and toward +inf (up) \
+         from one exact quotient (restoring division).",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("stages", stages);
+    let x = m.input("x", Ty::UInt(fmt.width()));
+    let steps = recip_raw_steps(fmt);
+    let plan = spread(stages, steps + ROUND_STEPS);
+    let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
+    let rs: u32 = plan[steps as usize..].iter().sum();
+    let down = round(&mut m, fmt, Rounding::Rdn, &raw, rs, "u_round_down");
+    let up = round(&mut m, fmt, Rounding::Rup, &raw, rs, "u_round_up");
+    for _ in 0..rs {
+        m.stage();
+    }
+    m.output("down", down);
+    m.output("up", up);
+    Arc::new(
+        m.finish()
+            .expect("down/up reciprocal generator is type-correct for every format"),
     )
 }
 
@@ -162,6 +215,37 @@ mod tests {
                         assert_eq!(z, want, "{fmt} {mode} s{stages}: 1/{x:#x}");
                     }
                 }
+            }
+        }
+    }
+
+    /// The down/up pair against the golden reciprocal in both directions:
+    /// every encoding of (5,10), random binary32 values.
+    #[test]
+    fn down_up_pair_matches_the_golden_reciprocal() {
+        for (e, f, n) in [(5, 10, 1u64 << 16), (8, 18, 30_000)] {
+            let fmt = Format::new(e, f).unwrap();
+            let gf = FloatFormat::new(e, f).unwrap();
+            let module = recip_down_up_module(fmt, 0);
+            let mut ev = Evaluator::new(&module);
+            let mut s = 0x9e37_79b9_7f4a_7c15u64;
+            for i in 0..n {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let x = if n == 1 << 16 {
+                    i
+                } else {
+                    (s >> 32) & gf.mask()
+                };
+                let out = ev.eval(&[x as u128]);
+                let down = golden_model::transform::recip(gf, x, RoundingMode::Down);
+                let up = golden_model::transform::recip(gf, x, RoundingMode::Up);
+                assert_eq!(
+                    (out[0] as u64, out[1] as u64),
+                    (down, up),
+                    "{fmt}: 1/{x:#x}"
+                );
             }
         }
     }

@@ -1,83 +1,220 @@
 //! Stimulus and golden-model adapter for `cull`.
 //!
-//! Port order: `p_min_{x,y,z}`, `p_max_{x,y,z}`, `o_{x,y,z}`, `d_{x,y,z}`,
-//! `t_min`, `t_max`, then per plane `plane<j>_n{x,y,z}`, `plane<j>_w`;
-//! outputs `box_hit`, `keep`, `invalid`.
+//! Ports (`units::cull::Config::child_inputs`): `t_lo`, `t_hi` (ray
+//! format), `w<j>` (plane format), then per plane `no_lo<j>`, `rcp_lo<j>`,
+//! `rcp_hi<j>`, `dir<j>`; outputs `keep`, `invalid`.
 //!
-//! Vectors (each computed from `(seed, index)` alone), by `index % 8`:
-//! random boxes and rays aimed into the box; planes fitted exactly around a
-//! few points of the box (as the builder fits them) with rays aimed at such a
-//! point and nudged by ulps; rays exactly parallel to a plane through its
-//! support point; origins on a plane; random bit patterns (NaN, infinities,
-//! subnormals); small-exponent and near-overflow scales.
+//! Vectors (each computed from `(seed, index)` alone) start from the
+//! realistic composition: a parent box, a child inside it, a ray and K
+//! quantised normals (the scene of [`super::cull_ray`]); the ray terms from
+//! the golden `ray_terms`, `[t_lo, t_hi]` from the conservative slab
+//! (`box_interval` with `slab_reciprocal`; a random interval when it
+//! misses) and each distance fitted around a few points of the child box
+//! (`RUP(max n·(p − r))`, sometimes through a single point so that the
+//! plane cuts the box, sometimes nudged by ulps). By `index % 16`: 0-6 that
+//! alone (the segment sometimes `[0, +∞)`, sometimes from a random `t_min`);
+//! 7 an exactly perpendicular ray (parallel planes, `b_lo = 0`); 8 `D = 0`
+//! exactly (`no_lo` the widened `w`, signed zeros); 9 reciprocals at the
+//! ends of the range (0, subnormal, largest, ∞, either sign); 10 `no_lo =
+//! −∞` and huge `no_lo`; 11 a NaN, an infinity, a zero or a subnormal in
+//! some inputs; 12 raw bit patterns; 13 `t_lo < 0`, `−0`, `t_lo > t_hi`,
+//! infinite bounds; 14 random `dir` codes (3 included) and parallel planes
+//! with `no_lo` near `w`; 15 extreme scales and subnormal distances.
 
+use super::cull_ray::{
+    configs, from_f64, nudge, parallel, scale, scene, specials, tiny, to_f64, Gen,
+};
 use super::stimulus::{mask, VectorRng};
 use super::Testbench;
 use crate::params::Params;
+use crate::units::cull::{Config as UnitConfig, TermField};
 use golden_model::cull::exact::Dyadic;
-use golden_model::cull::tester::{eval, Config, CullIn, Plane};
-use golden_model::float::{convert, sub, FloatFormat, RoundingMode};
-
-const RNE: RoundingMode = RoundingMode::NearestEven;
+use golden_model::cull::tester::{
+    box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
+};
+use golden_model::float::{convert, FloatFormat, RoundingMode};
 
 /// Testbench of one `cull` configuration.
 pub struct CullBench {
     cfg: Config,
-    f: FloatFormat,
-    pf: FloatFormat,
-    k: usize,
+    unit: UnitConfig,
+}
+
+/// `n·(p − r)` exactly.
+fn height(f: FloatFormat, pf: FloatFormat, n: &[u64; 3], p: &[u64; 3], r: &[u64; 3]) -> Dyadic {
+    let mut s = Dyadic::zero();
+    for i in 0..3 {
+        let ni = Dyadic::from_bits(pf, n[i]).expect("finite normal");
+        let pi = Dyadic::from_bits(f, p[i]).expect("finite point");
+        let ri = Dyadic::from_bits(f, r[i]).expect("finite corner");
+        s = s.add(&ni.mul(&pi.sub(&ri)));
+    }
+    s
+}
+
+/// A point of the box `[lo, hi]`: per axis a face or a random interior
+/// value (kept inside: a rounded interior value can fall just outside).
+fn point(g: &mut Gen, f: FloatFormat, lo: &[u64; 3], hi: &[u64; 3]) -> [u64; 3] {
+    [0, 1, 2].map(|i| {
+        let (a, b) = (to_f64(f, lo[i]), to_f64(f, hi[i]));
+        match g.r.below(3) {
+            0 => lo[i],
+            1 => hi[i],
+            _ => {
+                let v = from_f64(f, a + g.unit() * (b - a));
+                let x = to_f64(f, v);
+                if x < a {
+                    lo[i]
+                } else if x > b {
+                    hi[i]
+                } else {
+                    v
+                }
+            }
+        }
+    })
 }
 
 impl CullBench {
     /// The testbench for resolved `cull` parameters.
     pub fn new(p: &Params) -> Self {
-        let f = FloatFormat::new(p.u32("exp_bits"), p.u32("frac_bits")).expect("checked");
-        let pf =
-            FloatFormat::new(p.u32("plane_exp_bits"), p.u32("plane_frac_bits")).expect("checked");
-        let k = p.u32("k") as usize;
-        CullBench {
-            cfg: Config::new(f, pf, k).expect("checked"),
-            f,
-            pf,
-            k,
-        }
+        let (cfg, unit) = configs(p);
+        CullBench { cfg, unit }
     }
 
     /// The golden model's input from port values.
-    pub fn unpack(&self, v: &[u64]) -> CullIn {
-        let g = |i: usize| [v[i], v[i + 1], v[i + 2]];
-        CullIn {
-            p_min: g(0),
-            p_max: g(3),
-            o: g(6),
-            d: g(9),
-            t_min: v[12],
-            t_max: v[13],
-            planes: (0..self.k)
-                .map(|j| Plane {
-                    n: [v[14 + 4 * j], v[15 + 4 * j], v[16 + 4 * j]],
-                    w: v[17 + 4 * j],
+    pub fn unpack(&self, v: &[u64]) -> ChildIn {
+        let u = &self.unit;
+        let k = self.cfg.k;
+        ChildIn {
+            t_lo: v[u.child_t_lo()],
+            t_hi: v[u.child_t_hi()],
+            w: (0..k).map(|j| v[u.child_w(j)]).collect(),
+            terms: (0..k)
+                .map(|j| NormalTerm {
+                    no_lo: v[u.child_term(j, TermField::NoLo)],
+                    rcp_lo: v[u.child_term(j, TermField::RcpLo)],
+                    rcp_hi: v[u.child_term(j, TermField::RcpHi)],
+                    dir: Crossing::from_code(v[u.child_term(j, TermField::Dir)]),
                 })
                 .collect(),
         }
     }
 
-    fn pack(&self, x: &CullIn, v: &mut [u64]) {
-        let (fm, pm) = (self.f.mask(), self.pf.mask());
-        for i in 0..3 {
-            v[i] = x.p_min[i] & fm;
-            v[3 + i] = x.p_max[i] & fm;
-            v[6 + i] = x.o[i] & fm;
-            v[9 + i] = x.d[i] & fm;
+    fn pack(&self, x: &ChildIn, dir_codes: &[u64], v: &mut [u64]) {
+        let u = &self.unit;
+        let fm = self.cfg.ray.mask();
+        let pm = self.cfg.plane.mask();
+        let cm = self.cfg.crossing().mask();
+        v[u.child_t_lo()] = x.t_lo & fm;
+        v[u.child_t_hi()] = x.t_hi & fm;
+        for j in 0..self.cfg.k {
+            v[u.child_w(j)] = x.w[j] & pm;
+            let t = x.terms[j];
+            v[u.child_term(j, TermField::NoLo)] = t.no_lo & fm;
+            v[u.child_term(j, TermField::RcpLo)] = t.rcp_lo & cm;
+            v[u.child_term(j, TermField::RcpHi)] = t.rcp_hi & cm;
+            v[u.child_term(j, TermField::Dir)] = dir_codes[j] & 3;
         }
-        v[12] = x.t_min & fm;
-        v[13] = x.t_max & fm;
-        for j in 0..self.k {
-            let p = x.planes.get(j).copied().unwrap_or_default();
+    }
+
+    /// The realistic composition at scale `s` (kind 7: a perpendicular ray).
+    fn compose(&self, g: &mut Gen, s: f64, perpendicular: bool) -> ChildIn {
+        let (f, pf, k) = (self.cfg.ray, self.cfg.plane, self.cfg.k);
+        let mut sc = scene(g, f, pf, k, s);
+        let child = if g.chance(7, 8) { sc.aim } else { 1 - sc.aim };
+        let (c_min, c_max) = sc.children[child];
+        // the child's "geometry": every plane keeps these points
+        let pts: Vec<[u64; 3]> = (0..g.range(1, 4))
+            .map(|_| point(g, f, &c_min, &c_max))
+            .collect();
+        if perpendicular {
+            let (d, normals) = parallel(g, f, pf, k);
+            sc.d = d;
+            sc.normals = normals;
+        } else if g.chance(1, 3) {
+            // aimed at a kept point (never culled exactly), sometimes off by ulps
+            let p = g.pick(&pts);
+            let len = 2f64.powi(g.range(-3, 3) as i32);
             for i in 0..3 {
-                v[14 + 4 * j + i] = p.n[i] & pm;
+                let dd = (to_f64(f, p[i]) - to_f64(f, sc.o[i])) * len;
+                sc.d[i] = from_f64(f, dd);
+                if g.chance(1, 3) {
+                    sc.d[i] = nudge(f, sc.d[i], g.range(-2, 2));
+                }
             }
-            v[17 + 4 * j] = p.w & pm;
+        }
+        let r = sc.p_min;
+        let terms = ray_terms(
+            &self.cfg,
+            &RayIn {
+                o: sc.o,
+                d: sc.d,
+                r,
+                normals: sc.normals.clone(),
+            },
+        );
+        let (t_min, t_max) = if g.chance(1, 2) {
+            (f.zero(false), f.inf(false))
+        } else {
+            (
+                from_f64(f, g.signed() * 2.0),
+                if g.chance(1, 2) {
+                    f.inf(false)
+                } else {
+                    from_f64(f, g.unit() * 40.0)
+                },
+            )
+        };
+        let (t_lo, t_hi) = box_interval(
+            f,
+            &c_min,
+            &c_max,
+            &sc.o,
+            &slab_reciprocal(f, &sc.d),
+            t_min,
+            t_max,
+        )
+        .unwrap_or_else(|| {
+            let a = from_f64(f, g.signed() * 30.0);
+            let b = from_f64(f, g.signed() * 30.0);
+            (a, b)
+        });
+        let w = sc
+            .normals
+            .iter()
+            .map(|n| {
+                // through a single point of its own (cuts the box), or around the geometry
+                let own;
+                let fit: &[[u64; 3]] = if g.chance(1, 4) {
+                    own = [point(g, f, &c_min, &c_max)];
+                    &own
+                } else {
+                    &pts
+                };
+                let best = fit
+                    .iter()
+                    .map(|p| height(f, pf, n, p, &r))
+                    .max_by(|a, b| a.cmp(b))
+                    .expect("a point");
+                let w = best.round_to(pf, RoundingMode::Up);
+                let w = if w & !pf.sign_bit() == pf.inf(false) {
+                    pf.max_finite(w & pf.sign_bit() != 0)
+                } else {
+                    w
+                };
+                if g.chance(1, 6) {
+                    nudge(pf, w, g.range(-3, 3))
+                } else {
+                    w
+                }
+            })
+            .collect();
+        ChildIn {
+            t_lo,
+            t_hi,
+            w,
+            terms: terms.terms,
         }
     }
 }
@@ -85,215 +222,123 @@ impl CullBench {
 impl sim::Golden for CullBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.unpack(inputs));
-        outputs[0] = out.box_hit as u64;
-        outputs[1] = out.keep as u64;
-        outputs[2] = out.invalid as u64;
+        outputs[0] = out.keep as u64;
+        outputs[1] = out.invalid as u64;
     }
-}
-
-struct G<'a> {
-    r: &'a mut VectorRng,
-    f: FloatFormat,
-}
-
-impl G<'_> {
-    fn unit(&mut self) -> f64 {
-        (self.r.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + self.r.below((hi - lo + 1) as u64) as i64
-    }
-    fn chance(&mut self, n: u64, d: u64) -> bool {
-        self.r.below(d) < n
-    }
-}
-
-fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
-    let r = convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE);
-    if r & !fmt.sign_bit() == fmt.inf(false) {
-        fmt.max_finite(r & fmt.sign_bit() != 0)
-    } else {
-        r
-    }
-}
-
-fn key(fmt: FloatFormat, b: u64) -> i64 {
-    let mag = (b & fmt.mask() & !fmt.sign_bit()) as i64;
-    if b & fmt.sign_bit() != 0 {
-        -mag - 1
-    } else {
-        mag
-    }
-}
-
-fn from_key(fmt: FloatFormat, k: i64) -> u64 {
-    if k < 0 {
-        ((-(k + 1)) as u64) | fmt.sign_bit()
-    } else {
-        k as u64
-    }
-}
-
-fn nudge(fmt: FloatFormat, b: u64, n: i64) -> u64 {
-    let lim = key(fmt, fmt.max_finite(false));
-    from_key(fmt, (key(fmt, b) + n).clamp(-lim - 1, lim))
-}
-
-fn between(g: &mut G, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (key(g.f, lo), key(g.f, hi));
-    let (a, b) = (a.min(b), a.max(b));
-    from_key(g.f, a + g.r.below((b - a + 1) as u64) as i64)
-}
-
-fn val(g: &mut G, fmt: FloatFormat, scale: i32, spread: i32) -> u64 {
-    if g.chance(1, 30) {
-        return fmt.zero(g.chance(1, 2));
-    }
-    let k = scale + g.range(-(spread as i64), spread as i64) as i32;
-    let v = (1.0 + g.unit()) * 2f64.powi(k.clamp(-1070, 1020));
-    from_f64(fmt, if g.chance(1, 2) { -v } else { v })
 }
 
 impl sim::Stimulus for CullBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        let (f, pf, k) = (self.f, self.pf, self.k);
+        let (f, pf, k) = (self.cfg.ray, self.cfg.plane, self.cfg.k);
+        let cf = self.cfg.crossing();
         let mut rng = VectorRng::new(seed, index);
-        let kind = index % 8;
-        if kind == 7 {
-            // raw bit patterns: specials, subnormals, anything
-            for (i, x) in v.iter_mut().enumerate() {
-                let w = if i < 14 { f.width() } else { pf.width() };
-                *x = rng.bits(w) & mask(w);
+        let kind = index % 16;
+        if kind == 12 {
+            for (i, (_, w)) in self.unit.child_inputs().iter().enumerate() {
+                v[i] = rng.bits(*w) & mask(*w);
             }
             return;
         }
-        let mut g = G { r: &mut rng, f };
-        let scale = match g.r.below(10) {
-            0 => f.emax() - g.range(0, 3) as i32,
-            1 => f.emin() - f.frac_bits() as i32 + g.range(0, 6) as i32,
-            _ => g.range(-5, 5) as i32,
+        let mut g = Gen { r: &mut rng };
+        let s = if kind == 15 {
+            let lo = f.emin() + g.range(0, 4) as i32;
+            let hi = f.emax() - 5 - g.range(0, 3) as i32;
+            2f64.powi(g.pick(&[lo, hi]))
+        } else {
+            scale(&mut g, f)
         };
-        let mut x = CullIn::default();
-        for i in 0..3 {
-            let a = val(&mut g, f, scale, 2);
-            let b = if g.chance(1, 12) {
-                a
-            } else {
-                val(&mut g, f, scale, 2)
-            };
-            let (lo, hi) = if key(f, a) <= key(f, b) {
-                (a, b)
-            } else {
-                (b, a)
-            };
-            x.p_min[i] = lo;
-            x.p_max[i] = hi;
-        }
-        let c: [Dyadic; 3] = [0, 1, 2].map(|i| {
-            Dyadic::from_bits(f, x.p_min[i])
-                .unwrap()
-                .add(&Dyadic::from_bits(f, x.p_max[i]).unwrap())
-                .half()
-        });
-        let np = g.range(1, 3) as usize;
-        let pts: Vec<[u64; 3]> = (0..np)
-            .map(|_| [0, 1, 2].map(|i| between(&mut g, x.p_min[i], x.p_max[i])))
-            .collect();
-        let fit = |n: &[u64; 3]| {
-            let mut best: Option<Dyadic> = None;
-            for p in &pts {
-                let mut s = Dyadic::zero();
-                for i in 0..3 {
-                    let ni = Dyadic::from_bits(pf, n[i]).unwrap();
-                    s = s.add(&ni.mul(&Dyadic::from_bits(f, p[i]).unwrap().sub(&c[i])));
-                }
-                if best.as_ref().is_none_or(|b| s.cmp(b).is_gt()) {
-                    best = Some(s);
-                }
-            }
-            let w = best.unwrap().round_to(pf, RoundingMode::Up);
-            if w & !pf.sign_bit() == pf.inf(false) {
-                pf.max_finite(false)
-            } else {
-                w
-            }
-        };
-        for _ in 0..k {
-            if g.chance(1, 10) {
-                x.planes.push(Plane::default());
-                continue;
-            }
-            let n = [0, 1, 2].map(|_| {
-                if g.chance(1, 4) {
-                    from_f64(pf, [-1.0, 0.0, 1.0][g.r.below(3) as usize])
-                } else {
-                    from_f64(pf, 2.0 * g.unit() - 1.0)
-                }
-            });
-            let w = if kind == 0 && g.chance(1, 2) {
-                val(&mut g, pf, scale.clamp(pf.emin(), pf.emax() - 1), 3)
-            } else {
-                fit(&n)
-            };
-            x.planes.push(Plane { n, w });
-        }
-        let far = scale + g.range(-1, 3) as i32;
-        x.o = [0, 1, 2].map(|_| val(&mut g, f, far, 2));
-        x.d = [0, 1, 2].map(|_| {
-            let s = g.range(-4, 4) as i32;
-            val(&mut g, f, s, 3)
-        });
-        x.t_min = f.zero(false);
-        x.t_max = f.inf(false);
-        if g.chance(1, 4) {
-            x.t_min = from_f64(f, g.unit() * 2.0 - 0.25);
-            if g.chance(1, 2) {
-                x.t_max = from_f64(f, g.unit() * 4.0);
-            }
-        }
-        let target = pts[g.r.below(pts.len() as u64) as usize];
+        let mut x = self.compose(&mut g, s, kind == 7);
+        let mut dir: Vec<u64> = x.terms.iter().map(|t| t.dir.code()).collect();
+        let j = g.r.below(k as u64) as usize;
         match kind {
-            0 | 1 => {
-                let t = [0, 1, 2].map(|i| between(&mut g, x.p_min[i], x.p_max[i]));
-                let t = if kind == 1 { target } else { t };
-                for i in 0..3 {
-                    x.d[i] = sub(f, t[i], x.o[i], RNE);
-                    if g.chance(1, 2) {
-                        x.d[i] = nudge(f, x.d[i], g.range(-2, 2));
+            8 => {
+                // D = w − no_lo = 0 exactly (and signed zeros)
+                for jj in 0..k {
+                    if jj == j || g.chance(1, 3) {
+                        if g.chance(1, 4) {
+                            x.w[jj] = pf.zero(g.chance(1, 2));
+                            x.terms[jj].no_lo = f.zero(g.chance(1, 2));
+                        } else {
+                            x.terms[jj].no_lo = convert(pf, f, x.w[jj], RoundingMode::NearestEven);
+                        }
                     }
                 }
             }
-            2 | 3 => {
-                // parallel to plane 0 (exactly, small-integer normal), through the support point
-                let n = [0, 1, 2]
-                    .map(|_| from_f64(pf, [-1.0, 0.0, 1.0, 2.0, -0.5][g.r.below(5) as usize]));
-                x.planes[0] = Plane { n, w: fit(&n) };
-                let nf = n.map(|b| f64::from_bits(convert(pf, FloatFormat::BINARY64, b, RNE)));
-                let r = [0, 1, 2].map(|_| g.range(-3, 3) as f64);
-                let s = 2f64.powi(g.range(-3, 3) as i32);
-                let dd = [
-                    nf[1] * r[2] - nf[2] * r[1],
-                    nf[2] * r[0] - nf[0] * r[2],
-                    nf[0] * r[1] - nf[1] * r[0],
+            9 => {
+                let ends = [
+                    cf.zero(false),
+                    cf.min_subnormal(false),
+                    cf.max_subnormal(false),
+                    cf.min_normal(false),
+                    cf.max_finite(false),
+                    cf.inf(false),
                 ];
-                x.d = dd.map(|c| from_f64(f, c * s));
-                x.o = target;
-                if kind == 3 {
-                    let i = g.r.below(3) as usize;
-                    x.o[i] = nudge(f, x.o[i], g.range(-1, 1));
+                for jj in 0..k {
+                    if jj == j || g.chance(1, 2) {
+                        let a = g.pick(&ends);
+                        let b = g.pick(&ends);
+                        let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+                        let neg = if g.chance(1, 8) { cf.sign_bit() } else { 0 };
+                        x.terms[jj].rcp_lo = lo | neg;
+                        x.terms[jj].rcp_hi = hi | if g.chance(1, 8) { cf.sign_bit() } else { 0 };
+                    }
                 }
             }
-            4 | 5 => {
-                x.o = target;
-                if kind == 5 {
-                    for i in 0..3 {
-                        x.o[i] = nudge(f, x.o[i], g.range(-1, 1));
+            10 => {
+                x.terms[j].no_lo = if g.chance(1, 2) {
+                    f.inf(true)
+                } else {
+                    nudge(f, f.max_finite(g.chance(1, 2)), -g.range(0, 2))
+                };
+            }
+            11 => {
+                let sf = specials(f);
+                let sp = specials(pf);
+                let sc = specials(cf);
+                for _ in 0..g.range(1, 3) {
+                    let jj = g.r.below(k as u64) as usize;
+                    match g.r.below(6) {
+                        0 => x.t_lo = g.pick(&sf),
+                        1 => x.t_hi = g.pick(&sf),
+                        2 => x.w[jj] = g.pick(&sp),
+                        3 => x.terms[jj].no_lo = g.pick(&sf),
+                        4 => x.terms[jj].rcp_lo = g.pick(&sc),
+                        _ => x.terms[jj].rcp_hi = g.pick(&sc),
                     }
+                }
+            }
+            13 => match g.r.below(5) {
+                0 => x.t_lo = from_f64(f, -g.unit() * 4.0),
+                1 => x.t_lo = f.zero(true),
+                2 => std::mem::swap(&mut x.t_lo, &mut x.t_hi),
+                3 => x.t_hi = f.inf(g.chance(1, 4)),
+                _ => x.t_lo = f.inf(g.chance(1, 2)),
+            },
+            14 => {
+                for d in dir.iter_mut() {
+                    if g.chance(1, 2) {
+                        *d = g.r.below(4);
+                    }
+                }
+                dir[j] = g.pick(&[0, 3]);
+                let no_lo = convert(pf, f, x.w[j], RoundingMode::NearestEven);
+                if no_lo & !f.sign_bit() != f.inf(false) && no_lo & !f.sign_bit() <= f.inf(false) {
+                    x.terms[j].no_lo = nudge(f, no_lo, g.range(-2, 2));
+                }
+            }
+            15 => {
+                for w in x.w.iter_mut() {
+                    if g.chance(1, 3) {
+                        *w = tiny(&mut g, pf);
+                    }
+                }
+                if g.chance(1, 3) {
+                    x.t_lo = tiny(&mut g, f);
                 }
             }
             _ => {}
         }
-        self.pack(&x, v);
+        self.pack(&x, &dir, v);
     }
 }
 

@@ -6,6 +6,7 @@
 
 pub mod byo;
 pub mod cull;
+pub mod cull_ray;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;
@@ -63,6 +64,10 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::cull::Cull,
             testbench: |p| Box::new(cull::CullBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::cull_ray::CullRay,
+            testbench: |p| Box::new(cull_ray::CullRayBench::new(p)),
         },
         Entry {
             unit: &crate::units::transform::Transform,

@@ -1,25 +1,54 @@
-//! `cull`: the cull-plane tester (seed 001, issue #6). For a BVH node's box
-//! and up to K planes, and a ray segment, reports whether the segment may
-//! meet the box (`box_hit`) and the part of it on the non-empty side of every
-//! plane (`keep`); `box_hit & !keep` culls the node.
+//! `cull`: the cull-plane tester's per-child unit (seed 001, issue #13).
+//! Once per child of a BVH node: the child's K plane distances `w`, the
+//! parent's ray terms (from [`super::cull_ray`]) and the box interval
+//! `[t_lo, t_hi]` of the conservative slab beside it give `keep` (the
+//! segment may meet the part of the box on the non-empty side of every
+//! plane) and `invalid` (then `keep = 1`).
 //!
-//! The specification is `docs/cull.md`, the golden model
-//! `golden_model::cull::tester`; this generator follows its steps:
-//! per axis the mirrored entry/exit numerators (one exact difference rounded
-//! down and up, [`add_down_up_module`]), the centroid offsets `M = (near −
-//! ô) + (far − ô)` rounded down and up; per plane `P ≥ −2A` (three exact
-//! products and `2w` summed in the product format, rounded up, converted up)
-//! and `B_lo ≤ n·d` (rounded down); then ratios compared by exact
-//! cross-multiplication ([`mul_exact_module`], one comparison in the product
-//! format): the box interval's largest entry and smallest exit, folded with
-//! every plane's crossing.
+//! The specification is `docs/cull.md`, the bit-exact twin
+//! `golden_model::cull::tester::eval`; this generator performs its steps
+//! with the DSL's float operators:
+//!
+//! 1. `invalid` (a NaN anywhere, an infinite `w`, `no_lo = +∞`) and
+//!    `planes_on = !(t_lo < 0)`;
+//! 2. per plane (one `cull_plane_*` block each, [`plane_module`])
+//!    `D = RUP(w − no_lo)` in the ray format (the adder's exact sum and the
+//!    shared rounder), `w` widened exactly ([`widen`]: zero-padding,
+//!    rebias, a subnormal of the plane format normalised);
+//! 3. `q = RUP(D · rcp)`, `rcp = D > 0 ? rcp_hi : rcp_lo`, by the
+//!    mixed-width multiply ([`mul_mixed_raw`]: a `(F + 1) × (Fc + 1)`
+//!    significand product of the ray-format `D` and the crossing-format
+//!    `rcp`, rounded into the ray format: the golden model's product of
+//!    the widened `rcp`, bit for bit, without an `(F + 1)²` multiplier);
+//! 4. the golden model folds exits `q` into `hi = min(t_hi, …)` and entries
+//!    `−q` into `lo = max(t_lo, …)` by compare and select and asks
+//!    `lo ≤ hi`. With no NaN left (a NaN `q` leaves its plane out, any
+//!    other NaN is `invalid`) that is `l ≤ h` for every entry bound `l` and
+//!    exit bound `h`, which this unit checks side by side (one comparison
+//!    level instead of a chain of K): `t_lo ≤ t_hi`, `t_lo ≤ q_j` per exit,
+//!    `−q_j ≤ t_hi` per entry, and one comparison `−q_i ≤ q_j` per pair of
+//!    planes (it equals `−q_j ≤ q_i`, so it serves whichever is the exit).
+//!    Comparisons are of order keys (the encoding with the magnitude
+//!    complemented when negative; `−v` is the complement of `v`'s key) with
+//!    both zeros equal, the IEEE `≤` the golden model uses. The planes off
+//!    (`t_lo < 0`), every plane check passes and `t_lo ≤ t_hi` remains;
+//! 5. `keep` = every check holds and no parallel plane has `D < 0`, or
+//!    `invalid`.
+//!
+//! Pipelining: `stages` registers are spread ([`spread`]) over the 13
+//! logical steps of [`STEPS`]; one register goes to the outputs first. The
+//! latency is `stages`.
+//!
+//! Also here, shared with [`super::cull_ray`]: the parameters, the
+//! configuration and the port layout of both units.
 
 use super::Unit;
-use crate::arith::float::add::add_module;
-use crate::arith::float::add_down_up::add_down_up_module;
-use crate::arith::float::compare::compare;
+use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
+use crate::arith::float::bits::add_const;
 use crate::arith::float::convert::convert_module;
-use crate::arith::float::mul_exact::{exact_product_format, mul_exact_module};
+use crate::arith::float::mul::{mul_mixed_raw, MUL_RAW_STEPS};
+use crate::arith::float::round::{round, ROUND_STEPS};
+use crate::arith::float::unpack::{normalize, unpack};
 use crate::arith::float::{spread, Format, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -29,7 +58,8 @@ use std::sync::Arc;
 /// The `cull` unit.
 pub struct Cull;
 
-const PARAMS: &[ParamSpec] = &[
+/// The parameters of `cull` and `cull_ray`.
+pub const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "exp_bits",
         doc: "ray/box format exponent bits E",
@@ -44,533 +74,672 @@ const PARAMS: &[ParamSpec] = &[
     },
     ParamSpec {
         name: "plane_exp_bits",
-        doc: "plane format exponent bits (<= E)",
+        doc: "plane format exponent bits Ep (<= E)",
         kind: ParamKind::Int { min: 2, max: 9 },
         default: "5",
     },
     ParamSpec {
         name: "plane_frac_bits",
-        doc: "plane format fraction bits (<= F)",
+        doc: "plane format fraction bits Fp (<= F); the crossing format is (E, min(F, Fp + 8))",
         kind: ParamKind::Int { min: 1, max: 25 },
         default: "10",
     },
     ParamSpec {
         name: "k",
-        doc: "planes per node",
+        doc: "planes (shared normals) per node",
         kind: ParamKind::Int { min: 1, max: 8 },
         default: "4",
     },
     ParamSpec {
         name: "stages",
-        doc: "pipeline stages (latency in cycles), spread over the datapath's 8 steps",
+        doc: "pipeline stages (latency in cycles), spread over the datapath's steps",
         kind: ParamKind::Int { min: 0, max: 16 },
         default: "0",
     },
 ];
 
-/// Logical steps registers are spread over: numerators; centroid offsets and
-/// direction products; offset products and first sums; last sums;
-/// conversions; box ratio comparisons; plane folding; final comparison.
-const STEPS: u32 = 8;
-
-/// A ratio `num / (den · (den2 ? 2 : 1))`, `den > 0`.
-#[derive(Clone, Copy)]
-struct Frac {
-    num: Sig,
-    den: Sig,
-    den2: Sig,
+/// One configuration of `cull` / `cull_ray`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// ray and box format (E, F)
+    pub ray: Format,
+    /// plane format (Ep, Fp), Ep <= E, Fp <= F
+    pub plane: Format,
+    /// planes per node, 1..=8
+    pub k: u32,
+    /// pipeline registers (the latency)
+    pub stages: u32,
 }
 
-struct Ctx {
-    wide: Format,
-    mulx: Arc<Module>,
-    n_inst: usize,
+/// The fields of one normal's ray terms: what `cull_ray` outputs and `cull`
+/// reads per plane, in port order (`no_lo<j>`, `rcp_lo<j>`, `rcp_hi<j>`, `dir<j>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TermField {
+    /// `≤ n·(o − r)`, ray format (NaN: invalid ray or normal)
+    NoLo = 0,
+    /// `≤ 1/|b_lo|`, crossing format
+    RcpLo = 1,
+    /// `≥ 1/|b_lo|`, crossing format
+    RcpHi = 2,
+    /// the sign of `b_lo` (`golden_model::cull::tester::Crossing::code`), UInt(2)
+    Dir = 3,
 }
 
-impl Ctx {
-    fn inst(&mut self, what: &str) -> String {
-        self.n_inst += 1;
-        format!("u_{what}_{}", self.n_inst)
+impl TermField {
+    /// Every field, in port order.
+    pub const ALL: [TermField; 4] = [
+        TermField::NoLo,
+        TermField::RcpLo,
+        TermField::RcpHi,
+        TermField::Dir,
+    ];
+
+    /// The port name of this field of normal `j`.
+    pub fn port(self, j: usize) -> String {
+        let base = match self {
+            TermField::NoLo => "no_lo",
+            TermField::RcpLo => "rcp_lo",
+            TermField::RcpHi => "rcp_hi",
+            TermField::Dir => "dir",
+        };
+        format!("{base}{j}")
     }
-    /// The exact product `a · b` in the wide format.
-    fn mul(&mut self, m: &mut ModuleBuilder, a: Sig, b: Sig) -> Sig {
-        let name = self.inst("mulx");
-        let mulx = self.mulx.clone();
-        m.instance(&name, &mulx, &[("a", a), ("b", b)])
-            .get("z")
-            .expect("z")
+}
+
+/// Width of the crossing code `dir<j>`.
+pub const DIR_WIDTH: u32 = 2;
+/// `dir` code: parallel (`b_lo = 0`; 3 reads as parallel too).
+pub const DIR_PARALLEL: u128 = 0;
+/// `dir` code: exit (`b_lo > 0`).
+pub const DIR_EXIT: u128 = 1;
+/// `dir` code: entry (`b_lo < 0`).
+pub const DIR_ENTRY: u128 = 2;
+
+/// The axis suffixes of vector ports.
+pub const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Fraction bits the crossing format has beyond the plane format (at most
+/// the ray format's): `golden_model::cull::tester::CROSSING_GUARD_BITS`,
+/// checked by the flow.
+pub const CROSSING_GUARD_BITS: u32 = 8;
+
+impl Config {
+    /// The crossing format `(E, min(F, Fp + CROSSING_GUARD_BITS))`: `b_lo`
+    /// and the reciprocals.
+    pub fn crossing(&self) -> Format {
+        Format {
+            exp_bits: self.ray.exp_bits,
+            frac_bits: (self.plane.frac_bits + CROSSING_GUARD_BITS).min(self.ray.frac_bits),
+        }
     }
-    fn sign_bit(&self, m: &mut ModuleBuilder, f: Format) -> Sig {
-        m.uint(f.width(), 1u128 << (f.width() - 1))
+
+    /// The width of field `t`.
+    pub fn term_width(&self, t: TermField) -> u32 {
+        match t {
+            TermField::NoLo => self.ray.width(),
+            TermField::RcpLo | TermField::RcpHi => self.crossing().width(),
+            TermField::Dir => DIR_WIDTH,
+        }
     }
-    fn is_zero(&self, m: &mut ModuleBuilder, f: Format, v: Sig) -> Sig {
-        let mag = m.slice(v, f.width() - 2, 0);
-        let any = m.any_set(mag);
-        m.not(any)
+
+    /// The name tag of both units, e.g. `e8m23_pe5m10_k4_s4`.
+    pub fn tag(&self) -> String {
+        format!(
+            "{}_p{}_k{}_s{}",
+            self.ray.tag(),
+            self.plane.tag(),
+            self.k,
+            self.stages
+        )
     }
-    /// `v < 0` (IEEE: false for NaN and both zeros), without a constant
-    /// comparison.
-    fn is_neg(&self, m: &mut ModuleBuilder, f: Format, v: Sig) -> Sig {
-        let mag = m.slice(v, f.width() - 2, 0);
-        let inf = m.uint(f.width() - 1, f.inf_bits());
-        let not_nan = m.le(mag, inf);
-        let nonzero = m.any_set(mag);
+
+    /// Records the parameters in the module header.
+    pub(super) fn describe_params(&self, m: &mut ModuleBuilder) {
+        m.param("exp_bits", self.ray.exp_bits)
+            .param("frac_bits", self.ray.frac_bits)
+            .param("plane_exp_bits", self.plane.exp_bits)
+            .param("plane_frac_bits", self.plane.frac_bits)
+            .param("k", self.k)
+            .param("stages", self.stages);
+    }
+
+    /// `cull` input index of `t_lo`.
+    pub fn child_t_lo(&self) -> usize {
+        0
+    }
+    /// `cull` input index of `t_hi`.
+    pub fn child_t_hi(&self) -> usize {
+        1
+    }
+    /// `cull` input index of `w<j>`.
+    pub fn child_w(&self, j: usize) -> usize {
+        2 + j
+    }
+    /// `cull` input index of field `t` of plane `j`.
+    pub fn child_term(&self, j: usize, t: TermField) -> usize {
+        2 + self.k as usize + 4 * j + t as usize
+    }
+
+    /// The `cull` data inputs (name, width), in port order: `t_lo`, `t_hi`,
+    /// `w<j>` for every j, then per j the [`TermField`]s.
+    pub fn child_inputs(&self) -> Vec<(String, u32)> {
+        let k = self.k as usize;
+        let mut v = vec![
+            ("t_lo".to_string(), self.ray.width()),
+            ("t_hi".to_string(), self.ray.width()),
+        ];
+        v.extend((0..k).map(|j| (format!("w{j}"), self.plane.width())));
+        for j in 0..k {
+            v.extend(TermField::ALL.map(|t| (t.port(j), self.term_width(t))));
+        }
+        v
+    }
+
+    /// `cull_ray` input index of `o_<axis i>`.
+    pub fn ray_o(&self, i: usize) -> usize {
+        i
+    }
+    /// `cull_ray` input index of `d_<axis i>`.
+    pub fn ray_d(&self, i: usize) -> usize {
+        3 + i
+    }
+    /// `cull_ray` input index of `r_<axis i>`.
+    pub fn ray_r(&self, i: usize) -> usize {
+        6 + i
+    }
+    /// `cull_ray` input index of `n<j>_<axis i>`.
+    pub fn ray_n(&self, j: usize, i: usize) -> usize {
+        9 + 3 * j + i
+    }
+    /// `cull_ray` output index of field `t` of normal `j`.
+    pub fn ray_term(&self, j: usize, t: TermField) -> usize {
+        4 * j + t as usize
+    }
+
+    /// The `cull_ray` data inputs (name, width), in port order: `o_*`,
+    /// `d_*`, `r_*` (ray format), then `n<j>_*` (plane format).
+    pub fn ray_inputs(&self) -> Vec<(String, u32)> {
+        let mut v = Vec::new();
+        for p in ["o", "d", "r"] {
+            v.extend(AXES.map(|a| (format!("{p}_{a}"), self.ray.width())));
+        }
+        for j in 0..self.k as usize {
+            v.extend(AXES.map(|a| (format!("n{j}_{a}"), self.plane.width())));
+        }
+        v
+    }
+
+    /// The `cull_ray` data outputs (name, width), in port order: per
+    /// normal the [`TermField`]s.
+    pub fn ray_outputs(&self) -> Vec<(String, u32)> {
+        (0..self.k as usize)
+            .flat_map(|j| TermField::ALL.map(|t| (t.port(j), self.term_width(t))))
+            .collect()
+    }
+}
+
+/// The configuration of resolved parameters, or why it cannot be built.
+pub fn config(p: &Params) -> Result<Config, ParamError> {
+    let ray =
+        Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
+    let plane = Format::new(p.u32("plane_exp_bits"), p.u32("plane_frac_bits"))
+        .map_err(ParamError::Combination)?;
+    if plane.exp_bits > ray.exp_bits || plane.frac_bits > ray.frac_bits {
+        return Err(ParamError::Combination(format!(
+            "plane format {} (plane_exp_bits={}, plane_frac_bits={}) must not have more exponent \
+             or fraction bits than the ray format {} (exp_bits={}, frac_bits={})",
+            plane.tag(),
+            plane.exp_bits,
+            plane.frac_bits,
+            ray.tag(),
+            ray.exp_bits,
+            ray.frac_bits
+        )));
+    }
+    Ok(Config {
+        ray,
+        plane,
+        k: p.u32("k"),
+        stages: p.u32("stages"),
+    })
+}
+
+/// `x` of `from` widened exactly into `to` (`from`'s exponent and fraction
+/// no wider than `to`'s). Equal exponent widths: the fraction padded with
+/// zeros. Otherwise the exponent is rebiased and a subnormal of `from`
+/// normalised (a leading-zero count over Fp + 1 bits), or, where a
+/// subnormal of `from` can stay subnormal in `to`, the converter
+/// (`inst`). Infinities and zeros keep their sign; a NaN stays a NaN (its
+/// payload padded, not made canonical).
+#[track_caller]
+pub fn widen(m: &mut ModuleBuilder, from: Format, to: Format, x: Sig, inst: &str) -> Sig {
+    assert!(from.exp_bits <= to.exp_bits && from.frac_bits <= to.frac_bits);
+    let pad = to.frac_bits - from.frac_bits;
+    let pad_frac = |m: &mut ModuleBuilder, v: Sig| -> Sig {
+        if pad == 0 {
+            v
+        } else {
+            let z = m.uint(pad, 0);
+            m.cat(&[v, z])
+        }
+    };
+    if from.exp_bits == to.exp_bits {
+        return pad_frac(m, x);
+    }
+    if from.emin() - (from.frac_bits as i64) < to.emin() {
+        let cv = convert_module(from, to, Rounding::Rne, 0);
+        return m.instance(inst, &cv, &[("a", x)]).get("z").expect("z");
+    }
+    let (e, f) = (to.exp_bits, from.frac_bits);
+    let u = unpack(m, from, x);
+    let n = normalize(m, from, &u);
+    let exp = add_const(m, n.exp, to.bias(), e + 2);
+    let exp = m.slice(exp, e - 1, 0);
+    let frac = m.slice(n.sig, f - 1, 0);
+    let frac = pad_frac(m, frac);
+    let ones = m.uint(e, to.exp_ones());
+    let zero_e = m.uint(e, 0);
+    let special = m.or(u.inf, u.nan);
+    let exp = m.mux(special, ones, exp);
+    let exp = m.mux(u.zero, zero_e, exp);
+    let raw_frac = pad_frac(m, u.frac);
+    let frac = m.mux(special, raw_frac, frac);
+    let sign = m.as_uint(u.sign);
+    let v = m.cat(&[sign, exp, frac]);
+    m.name(v, "widened")
+}
+
+/// `v` is ±0 in `fmt`.
+#[track_caller]
+pub fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let mag = m.slice(v, fmt.width() - 2, 0);
+    let any = m.any_set(mag);
+    m.not(any)
+}
+
+/// `v` is a NaN in `fmt` (exponent all ones, fraction not zero: two
+/// reductions, no comparison).
+#[track_caller]
+pub fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let special = is_special(m, fmt, v);
+    let frac = m.slice(v, fmt.frac_bits - 1, 0);
+    let any = m.any_set(frac);
+    m.and(special, any)
+}
+
+/// `v` is a NaN or an infinity in `fmt` (exponent field all ones).
+#[track_caller]
+pub fn is_special(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let e = m.slice(v, fmt.width() - 2, fmt.frac_bits);
+    m.all_ones(e)
+}
+
+/// `v < 0` (false for NaN and both zeros).
+#[track_caller]
+fn is_neg(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let s = m.msb(v);
+    let z = is_zero(m, fmt, v);
+    let nz = m.not(z);
+    let nan = is_nan(m, fmt, v);
+    let ok = m.not(nan);
+    let r = m.and(s, nz);
+    m.and(r, ok)
+}
+
+/// `0 < v` (false for NaN and both zeros).
+#[track_caller]
+fn is_pos(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let s = m.msb(v);
+    let ns = m.not(s);
+    let z = is_zero(m, fmt, v);
+    let nz = m.not(z);
+    let nan = is_nan(m, fmt, v);
+    let ok = m.not(nan);
+    let r = m.and(ns, nz);
+    m.and(r, ok)
+}
+
+/// OR of `flags` (Bool), one reduction, named `name`.
+#[track_caller]
+pub fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
+    let v = m.cat(&bits);
+    let r = m.any_set(v);
+    m.name(r, name)
+}
+
+/// AND of `flags` (Bool), one reduction, named `name`.
+#[track_caller]
+fn all_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
+    let v = m.cat(&bits);
+    let r = m.all_ones(v);
+    m.name(r, name)
+}
+
+/// `!cond | invalid`: a check that does not apply.
+#[track_caller]
+fn unless(m: &mut ModuleBuilder, cond: Sig, invalid: Sig) -> Sig {
+    let nc = m.not(cond);
+    m.or(nc, invalid)
+}
+
+/// A non-NaN bound of the interval for comparisons: its order key (an
+/// unsigned integer of the encoding's width whose order is the order of
+/// the values, except that −0 sits just below +0:
+/// `{!sign, sign ? !magnitude : magnitude}`) and whether it is ±0.
+#[derive(Debug, Clone, Copy)]
+struct Bound {
+    key: Sig,
+    zero: Sig,
+}
+
+impl Bound {
+    #[track_caller]
+    fn of(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Bound {
+        let w = fmt.width();
         let s = m.msb(v);
-        let s = m.and(s, nonzero);
-        m.and(s, not_nan)
-    }
-    /// `2·v` in the wide format for the values that occur (zero, or normal
-    /// far from the top), `v` unchanged if zero, infinite or NaN.
-    fn dbl(&self, m: &mut ModuleBuilder, v: Sig, on: Sig) -> Sig {
-        let w = self.wide;
-        let exp = m.slice(v, w.width() - 2, w.frac_bits);
-        let special = m.all_ones(exp);
-        let zero = self.is_zero(m, w, v);
-        let keep = m.or(special, zero);
-        let off = m.not(on);
-        let keep = m.or(keep, off);
-        let one = m.uint(w.width(), 1u128 << w.frac_bits);
-        let s = m.add(v, one);
-        let s = m.slice(s, w.width() - 1, 0);
-        m.mux(keep, v, s)
-    }
-    /// `a ≤ b` for ratios, by exact cross-multiplication.
-    fn le(&mut self, m: &mut ModuleBuilder, a: Frac, b: Frac) -> Sig {
-        let l = self.mul(m, a.num, b.den);
-        let l = self.dbl(m, l, b.den2);
-        let r = self.mul(m, b.num, a.den);
-        let r = self.dbl(m, r, a.den2);
-        let (_, le, _) = compare(m, self.wide, l, r);
-        le
-    }
-    fn pick(&self, m: &mut ModuleBuilder, sel: Sig, a: Frac, b: Frac) -> Frac {
-        Frac {
-            num: m.mux(sel, a.num, b.num),
-            den: m.mux(sel, a.den, b.den),
-            den2: m.mux(sel, a.den2, b.den2),
+        let mag = m.slice(v, w - 2, 0);
+        let flipped = m.not(mag);
+        let low = m.mux(s, flipped, mag);
+        let ns = m.not(s);
+        let top = m.as_uint(ns);
+        Bound {
+            key: m.cat(&[top, low]),
+            zero: is_zero(m, fmt, v),
         }
     }
-    fn max(&mut self, m: &mut ModuleBuilder, a: Frac, b: Frac) -> Frac {
-        let le = self.le(m, a, b);
-        self.pick(m, le, b, a)
+
+    /// The bound of `−v`: the key complemented.
+    #[track_caller]
+    fn negated(&self, m: &mut ModuleBuilder) -> Bound {
+        Bound {
+            key: m.not(self.key),
+            zero: self.zero,
+        }
     }
-    fn min(&mut self, m: &mut ModuleBuilder, a: Frac, b: Frac) -> Frac {
-        let le = self.le(m, a, b);
-        self.pick(m, le, a, b)
+
+    /// IEEE `self <= other` (one unsigned comparison of the keys, the two
+    /// zeros equal), or `pass`.
+    #[track_caller]
+    fn le(&self, m: &mut ModuleBuilder, other: &Bound, pass: Sig, name: &str) -> Sig {
+        let le = m.le(self.key, other.key);
+        let zeros = m.and(self.zero, other.zero);
+        let early = m.or(zeros, pass);
+        let r = m.or(le, early);
+        m.name(r, name)
     }
 }
 
-/// Module name: formats, K and stages.
-pub fn cull_name(fmt: Format, plane: Format, k: u32, stages: u32) -> String {
-    format!("cull_{}_p{}_k{k}_s{stages}", fmt.tag(), plane.tag())
+/// Logical steps of `cull`: the widening of `w`; the adder's exact sum
+/// ([`ADD_RAW_STEPS`]) and its rounder ([`ROUND_STEPS`]); the pick of the
+/// reciprocal with the multiplier's unpacking, then its significand
+/// product ([`MUL_RAW_STEPS`]); the product's rounder, whose last step also
+/// holds the comparisons and the verdict. The steps are of about equal
+/// logic depth, so [`spread`] balances the stages (at 4: the widening and
+/// exact sum | the sum's rounding | the product | its rounding and the
+/// comparisons).
+pub const STEPS: u32 = 1 + ADD_RAW_STEPS + ROUND_STEPS + 1 + MUL_RAW_STEPS + ROUND_STEPS;
+
+/// How `cull`'s `stages` registers are placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StagePlan {
+    /// after the widening of `w`
+    pub widen: u32,
+    /// after each step of the exact sum `w − no_lo`
+    pub add_raw: [u32; ADD_RAW_STEPS as usize],
+    /// inside the sum's rounder
+    pub add_round: u32,
+    /// inside the significand multiplier
+    pub mul_raw: u32,
+    /// inside the product's rounder
+    pub mul_round: u32,
+    /// after the verdict (the outputs)
+    pub out: u32,
 }
 
-/// Builds the tester for ray format `fmt`, plane format `plane`, `k` planes.
-pub fn build(fmt: Format, plane: Format, k: u32, stages: u32) -> Module {
-    let wide = exact_product_format(fmt).expect("checked by the caller");
-    let mut m = ModuleBuilder::with_handshake(cull_name(fmt, plane, k, stages));
+impl StagePlan {
+    /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
+    pub fn new(stages: u32) -> StagePlan {
+        let c = spread(stages, STEPS);
+        let r = ADD_RAW_STEPS as usize;
+        let n = ROUND_STEPS as usize;
+        let sum = |s: &[u32]| s.iter().sum::<u32>();
+        let (widen, rest) = c.split_at(1);
+        let (add_raw, rest) = rest.split_at(r);
+        let (add_round, rest) = rest.split_at(n);
+        let (mul_raw, rest) = rest.split_at(1 + MUL_RAW_STEPS as usize);
+        let (mul_round, last) = rest.split_at(n - 1);
+        StagePlan {
+            widen: widen[0],
+            add_raw: [add_raw[0], add_raw[1], add_raw[2]],
+            add_round: sum(add_round),
+            mul_raw: sum(mul_raw),
+            mul_round: sum(mul_round),
+            out: last[0],
+        }
+    }
+
+    /// Registers inside the per-plane block.
+    pub fn plane(&self) -> u32 {
+        self.widen
+            + self.add_raw.iter().sum::<u32>()
+            + self.add_round
+            + self.mul_raw
+            + self.mul_round
+    }
+
+    /// The tag of the per-plane block's name, e.g. `w0a001r1m1p0`.
+    fn tag(&self) -> String {
+        let a: String = self.add_raw.iter().map(|c| c.to_string()).collect();
+        format!(
+            "w{}a{a}r{}m{}p{}",
+            self.widen, self.add_round, self.mul_raw, self.mul_round
+        )
+    }
+}
+
+/// Module name of the per-plane block.
+pub fn plane_name(cfg: &Config, plan: &StagePlan) -> String {
+    format!(
+        "cull_plane_{}_p{}_{}",
+        cfg.ray.tag(),
+        cfg.plane.tag(),
+        plan.tag()
+    )
+}
+
+/// The per-plane block: `D = RUP(w − no_lo)` with `w` widened exactly,
+/// `rcp = D > 0 ? rcp_hi : rcp_lo`, `q = RUP(D · rcp)` (the exact product
+/// of a ray-format and a crossing-format significand, one rounding).
+/// Inputs `w` (plane format), `no_lo` (ray), `rcp_lo`, `rcp_hi`
+/// (crossing); outputs `q` and `dist_neg` (`D < 0`), [`StagePlan::plane`]
+/// cycles later.
+pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
+    let (f, pf, cf) = (cfg.ray, cfg.plane, cfg.crossing());
+    let mut m = ModuleBuilder::new(plane_name(cfg, plan));
     m.describe(
-        "Cull-plane tester: box_hit = the ray segment may meet the box; keep = it may meet the box part \
-         on the non-empty side of every plane (box_hit & !keep culls the node); invalid = NaN or \
-         forbidden infinity (then box_hit = keep = 1). Division-free, every rounding directed so \
-         that culling only becomes less likely (docs/cull.md).",
+        "One cull plane: D = RUP(w - no_lo) (w widened exactly into the ray format), \
+         q = RUP(D * (D > 0 ? rcp_hi : rcp_lo)) from the exact product of a ray-format and a \
+         crossing-format significand; dist_neg = D < 0.",
     );
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("plane_exp_bits", plane.exp_bits)
-        .param("plane_frac_bits", plane.frac_bits)
-        .param("k", k)
-        .param("stages", stages);
-    let rw = Ty::UInt(fmt.width());
-    let pw = Ty::UInt(plane.width());
-    let ax = ["x", "y", "z"];
-    let p_min: Vec<Sig> = ax
+    m.param("exp_bits", f.exp_bits)
+        .param("frac_bits", f.frac_bits)
+        .param("plane_exp_bits", pf.exp_bits)
+        .param("plane_frac_bits", pf.frac_bits)
+        .param("stages", plan.plane());
+    let w = m.input("w", Ty::UInt(pf.width()));
+    let no_lo = m.input("no_lo", Ty::UInt(f.width()));
+    let rcp_lo = m.input("rcp_lo", Ty::UInt(cf.width()));
+    let rcp_hi = m.input("rcp_hi", Ty::UInt(cf.width()));
+    let wf = widen(&mut m, pf, f, w, "u_widen");
+    for _ in 0..plan.widen {
+        m.stage();
+    }
+    let sum = add_raw(&mut m, f, wf, no_lo, true, &plan.add_raw);
+    let raw = sum.for_mode(&mut m, Rounding::Rup);
+    let d = round(
+        &mut m,
+        f,
+        Rounding::Rup,
+        &raw,
+        plan.add_round,
+        "u_round_dist",
+    );
+    for _ in 0..plan.add_round {
+        m.stage();
+    }
+    let d = m.name(d, "dist_up");
+    let pos = is_pos(&mut m, f, d);
+    let neg = is_neg(&mut m, f, d);
+    let rcp = m.mux(pos, rcp_hi, rcp_lo);
+    let rcp = m.name(rcp, "rcp");
+    let raw = mul_mixed_raw(&mut m, f, cf, d, rcp, plan.mul_raw, "u_mul");
+    let q = round(&mut m, f, Rounding::Rup, &raw, plan.mul_round, "u_round_q");
+    for _ in 0..plan.mul_round {
+        m.stage();
+    }
+    m.output("q", q);
+    m.output("dist_neg", neg);
+    Arc::new(
+        m.finish()
+            .expect("cull plane generator is type-correct for every accepted configuration"),
+    )
+}
+
+/// Module name of `cull`, e.g. `cull_e8m23_pe5m10_k4_s4`.
+pub fn cull_name(cfg: &Config) -> String {
+    format!("cull_{}", cfg.tag())
+}
+
+/// Builds the per-child tester.
+pub fn build(cfg: &Config) -> Module {
+    let (f, pf, cf) = (cfg.ray, cfg.plane, cfg.crossing());
+    let k = cfg.k as usize;
+    let plan = StagePlan::new(cfg.stages);
+    let mut m = ModuleBuilder::with_handshake(cull_name(cfg));
+    m.describe(
+        "Cull-plane tester, per child (docs/cull.md): keep = the ray segment [t_lo, t_hi] (the box \
+         interval) may meet the part of the child's box on the non-empty side of every plane \
+         n.(x - r) <= w (keep = 0 culls the child); invalid = a NaN input, an infinite distance or \
+         no_lo = +inf (then keep = 1). Per plane D = RUP(w - no_lo), q = RUP(D * rcp), exits lower \
+         the exit, entries raise the entry; every rounding widens the interval.",
+    );
+    cfg.describe_params(&mut m);
+    let ports: Vec<Sig> = cfg
+        .child_inputs()
         .iter()
-        .map(|a| m.input(&format!("p_min_{a}"), rw))
+        .map(|(name, w)| m.input(name, Ty::UInt(*w)))
         .collect();
-    let p_max: Vec<Sig> = ax
-        .iter()
-        .map(|a| m.input(&format!("p_max_{a}"), rw))
-        .collect();
-    let o: Vec<Sig> = ax.iter().map(|a| m.input(&format!("o_{a}"), rw)).collect();
-    let d: Vec<Sig> = ax.iter().map(|a| m.input(&format!("d_{a}"), rw)).collect();
-    let t_min = m.input("t_min", rw);
-    let t_max = m.input("t_max", rw);
-    let mut pn: Vec<[Sig; 3]> = Vec::new();
-    let mut pwv: Vec<Sig> = Vec::new();
-    for j in 0..k {
-        let n = [0, 1, 2].map(|i| m.input(&format!("plane{j}_n{}", ax[i]), pw));
-        pn.push(n);
-        pwv.push(m.input(&format!("plane{j}_w"), pw));
-    }
-    let cuts = spread(stages, STEPS);
-    let cut = |m: &mut ModuleBuilder, step: usize| {
-        for _ in 0..cuts[step] {
-            m.stage();
-        }
-    };
-    let mut cx = Ctx {
-        wide,
-        mulx: mul_exact_module(fmt, 0),
-        n_inst: 0,
-    };
-    let sb = cx.sign_bit(&mut m, fmt);
-    let f = fmt;
+    let t_lo = ports[cfg.child_t_lo()];
+    let t_hi = ports[cfg.child_t_hi()];
+    let w: Vec<Sig> = (0..k).map(|j| ports[cfg.child_w(j)]).collect();
+    let term = |j: usize, t: TermField| ports[cfg.child_term(j, t)];
 
-    // Step 1: classify; mirror; numerators.
-    let special = |m: &mut ModuleBuilder, ff: Format, v: Sig| {
-        let e = m.slice(v, ff.width() - 2, ff.frac_bits);
-        m.all_ones(e)
-    };
-    let mut invalid = m.bool(false);
-    for v in p_min
-        .iter()
-        .chain(&p_max)
-        .chain(&o)
-        .chain(&d)
-        .chain([&t_min])
-    {
-        let s = special(&mut m, f, *v);
-        invalid = m.or(invalid, s);
-    }
-    {
-        let inf = m.uint(f.width() - 1, f.inf_bits());
-        let mag = m.slice(t_max, f.width() - 2, 0);
-        let nan = m.gt(mag, inf);
-        invalid = m.or(invalid, nan);
-    }
-    for j in 0..k as usize {
-        for v in pn[j].iter().chain([&pwv[j]]) {
-            let s = special(&mut m, plane, *v);
-            invalid = m.or(invalid, s);
-        }
-    }
-    let invalid = m.name(invalid, "invalid");
-    let tmin_neg = cx.is_neg(&mut m, f, t_min);
-    let planes_on = m.not(tmin_neg);
-    let planes_on = m.name(planes_on, "planes_on");
-    let adu = add_down_up_module(f, 0);
-    let mut neg = Vec::new();
-    let mut dz = Vec::new();
-    let mut ad = Vec::new();
-    let mut e_dn = Vec::new();
-    let mut e_up = Vec::new();
-    let mut x_dn = Vec::new();
-    let mut x_up = Vec::new();
-    let mut slab_ok = m.bool(true);
-    let abs_mask = m.uint(f.width(), (1u128 << (f.width() - 1)) - 1);
-    for i in 0..3 {
-        let s = m.msb(d[i]);
-        let s = m.name(s, &format!("neg_{}", ax[i]));
-        let z = cx.is_zero(&mut m, f, d[i]);
-        let z = m.name(z, &format!("dzero_{}", ax[i]));
-        let pmax_n = m.xor(p_max[i], sb);
-        let pmin_n = m.xor(p_min[i], sb);
-        let near = m.mux(s, pmax_n, p_min[i]);
-        let far = m.mux(s, pmin_n, p_max[i]);
-        let o_n = m.xor(o[i], sb);
-        let oo = m.mux(s, o_n, o[i]);
-        let moo = m.xor(oo, sb);
-        let e = m.instance(
-            &format!("u_entry_{}", ax[i]),
-            &adu,
-            &[("a", near), ("b", moo)],
-        );
-        let x = m.instance(
-            &format!("u_exit_{}", ax[i]),
-            &adu,
-            &[("a", far), ("b", moo)],
-        );
-        e_dn.push(e.get("down").unwrap());
-        e_up.push(e.get("up").unwrap());
-        x_dn.push(x.get("down").unwrap());
-        x_up.push(x.get("up").unwrap());
-        let (_, le0, _) = compare(&mut m, f, p_min[i], o[i]);
-        let (_, le1, _) = compare(&mut m, f, o[i], p_max[i]);
-        let inside = m.and(le0, le1);
-        let nz = m.not(z);
-        let ok = m.or(nz, inside);
-        slab_ok = m.and(slab_ok, ok);
-        neg.push(s);
-        dz.push(z);
-        ad.push(m.and(d[i], abs_mask));
-    }
-    // plane inputs widened (exact)
-    let widen_n = (plane != f).then(|| convert_module(plane, f, Rounding::Rne, 0));
-    let widen_w = convert_module(plane, wide, Rounding::Rne, 0);
-    let mut nh: Vec<[Sig; 3]> = Vec::new();
-    let mut w2: Vec<Sig> = Vec::new();
-    for j in 0..k as usize {
-        let mut row = [sb; 3];
-        for i in 0..3 {
-            let v = match &widen_n {
-                Some(cv) => m
-                    .instance(&format!("u_widen_p{j}_n{}", ax[i]), cv, &[("a", pn[j][i])])
-                    .get("z")
-                    .unwrap(),
-                None => pn[j][i],
-            };
-            let flipped = m.xor(v, sb);
-            row[i] = m.mux(neg[i], flipped, v);
-        }
-        nh.push(row);
-        let ww = m
-            .instance(&format!("u_widen_p{j}_w"), &widen_w, &[("a", pwv[j])])
-            .get("z")
-            .unwrap();
-        let on = m.bool(true);
-        w2.push(cx.dbl(&mut m, ww, on));
-    }
-    cut(&mut m, 0);
-
-    // Step 2: centroid offsets; direction products.
-    let add_dn = add_module(f, Rounding::Rdn, false, 0);
-    let add_up = add_module(f, Rounding::Rup, false, 0);
-    let mut m_lo = Vec::new();
-    let mut m_hi = Vec::new();
-    for i in 0..3 {
-        m_lo.push(
-            m.instance(
-                &format!("u_mlo_{}", ax[i]),
-                &add_dn,
-                &[("a", e_dn[i]), ("b", x_dn[i])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-        m_hi.push(
-            m.instance(
-                &format!("u_mhi_{}", ax[i]),
-                &add_up,
-                &[("a", e_up[i]), ("b", x_up[i])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-    }
-    let mut bprod: Vec<[Sig; 3]> = Vec::new();
-    for j in 0..k as usize {
-        let mut row = [sb; 3];
-        for i in 0..3 {
-            row[i] = cx.mul(&mut m, nh[j][i], ad[i]);
-        }
-        bprod.push(row);
-    }
-    cut(&mut m, 1);
-
-    // Step 3: offset products (zero normal component → zero), first sums.
-    let wadd_dn = add_module(wide, Rounding::Rdn, false, 0);
-    let wadd_up = add_module(wide, Rounding::Rup, false, 0);
-    let wsb = cx.sign_bit(&mut m, wide);
-    let wzero = m.uint(wide.width(), 0);
-    let mut q: Vec<[Sig; 3]> = Vec::new();
-    let mut b01 = Vec::new();
-    for j in 0..k as usize {
-        let mut row = [sb; 3];
-        for i in 0..3 {
-            let sn = m.msb(nh[j][i]);
-            let msel = m.mux(sn, m_lo[i], m_hi[i]);
-            let p = cx.mul(&mut m, nh[j][i], msel);
-            let nzero = cx.is_zero(&mut m, f, nh[j][i]);
-            let sm = m.msb(msel);
-            let sx = m.xor(sn, sm);
-            let signed_zero = m.mux(sx, wsb, wzero);
-            row[i] = m.mux(nzero, signed_zero, p);
-        }
-        q.push(row);
-        b01.push(
-            m.instance(
-                &format!("u_b01_p{j}"),
-                &wadd_dn,
-                &[("a", bprod[j][0]), ("b", bprod[j][1])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-    }
-    let mut q01 = Vec::new();
-    for j in 0..k as usize {
-        q01.push(
-            m.instance(
-                &format!("u_q01_p{j}"),
-                &wadd_up,
-                &[("a", q[j][0]), ("b", q[j][1])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-    }
-    cut(&mut m, 2);
-
-    // Step 4: last sums.
-    let mut psum = Vec::new();
-    let mut bsum = Vec::new();
-    for j in 0..k as usize {
-        let q012 = m
-            .instance(
-                &format!("u_q012_p{j}"),
-                &wadd_up,
-                &[("a", q01[j]), ("b", q[j][2])],
-            )
-            .get("z")
-            .unwrap();
-        psum.push(
-            m.instance(
-                &format!("u_psum_p{j}"),
-                &wadd_up,
-                &[("a", q012), ("b", w2[j])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-        bsum.push(
-            m.instance(
-                &format!("u_bsum_p{j}"),
-                &wadd_dn,
-                &[("a", b01[j]), ("b", bprod[j][2])],
-            )
-            .get("z")
-            .unwrap(),
-        );
-    }
-    cut(&mut m, 3);
-
-    // Step 5: back to the ray format, rounded the safe way.
-    let cv_up = convert_module(wide, f, Rounding::Rup, 0);
-    let cv_dn = convert_module(wide, f, Rounding::Rdn, 0);
-    let mut p_hi = Vec::new();
-    let mut b_lo = Vec::new();
-    for j in 0..k as usize {
-        let p = m
-            .instance(&format!("u_phi_p{j}"), &cv_up, &[("a", psum[j])])
-            .get("z")
-            .unwrap();
-        p_hi.push(m.name(p, &format!("p_hi_{j}")));
-        let b = m
-            .instance(&format!("u_blo_p{j}"), &cv_dn, &[("a", bsum[j])])
-            .get("z")
-            .unwrap();
-        b_lo.push(m.name(b, &format!("b_lo_{j}")));
-    }
-    cut(&mut m, 4);
-
-    // Step 6: the box interval.
-    let one = m.uint(f.width(), (f.bias() as u128) << f.frac_bits);
-    let no = m.bool(false);
-    let yes = m.bool(true);
-    let unit = Frac {
-        num: t_min,
-        den: one,
-        den2: no,
-    };
-    let tmax = Frac {
-        num: t_max,
-        den: one,
-        den2: no,
-    };
-    let mut lo_c = vec![unit];
-    let mut hi_c = vec![tmax];
-    for i in 0..3 {
-        let en = Frac {
-            num: e_dn[i],
-            den: ad[i],
-            den2: no,
-        };
-        let ex = Frac {
-            num: x_up[i],
-            den: ad[i],
-            den2: no,
-        };
-        lo_c.push(cx.pick(&mut m, dz[i], unit, en));
-        hi_c.push(cx.pick(&mut m, dz[i], tmax, ex));
-    }
-    let a = cx.max(&mut m, lo_c[0], lo_c[1]);
-    let b = cx.max(&mut m, lo_c[2], lo_c[3]);
-    let lo_box = cx.max(&mut m, a, b);
-    let a = cx.min(&mut m, hi_c[0], hi_c[1]);
-    let b = cx.min(&mut m, hi_c[2], hi_c[3]);
-    let hi_box = cx.min(&mut m, a, b);
-    let box_le = cx.le(&mut m, lo_box, hi_box);
-    let box_hit = m.and(slab_ok, box_le);
-    let box_hit = m.name(box_hit, "box_hit_raw");
-    // plane candidates
+    // Step 1: classify.
+    let mut bad = vec![is_nan(&mut m, f, t_lo), is_nan(&mut m, f, t_hi)];
     let pinf = m.uint(f.width(), f.inf_bits());
-    let ninf = m.uint(f.width(), f.inf_bits() | (1u128 << (f.width() - 1)));
-    let mut par_cull = m.bool(false);
-    let mut lo_p = Vec::new();
-    let mut hi_p = Vec::new();
-    for j in 0..k as usize {
-        let p_inf = m.eq(p_hi[j], pinf);
-        let b_ninf = m.eq(b_lo[j], ninf);
-        let bad = m.or(p_inf, b_ninf);
-        let good = m.not(bad);
-        let usable = m.and(planes_on, good);
-        let bz = cx.is_zero(&mut m, f, b_lo[j]);
-        let p_neg = cx.is_neg(&mut m, f, p_hi[j]);
-        let pc = m.and(usable, bz);
-        let pc = m.and(pc, p_neg);
-        par_cull = m.or(par_cull, pc);
-        let bs = m.msb(b_lo[j]);
-        let nbz = m.not(bz);
-        let ub = m.and(usable, nbz);
-        let bneg = m.and(ub, bs);
-        let nbs = m.not(bs);
-        let bpos = m.and(ub, nbs);
-        let pneg = m.xor(p_hi[j], sb);
-        let babs = m.and(b_lo[j], abs_mask);
-        let lo_f = Frac {
-            num: pneg,
-            den: babs,
-            den2: yes,
-        };
-        let hi_f = Frac {
-            num: p_hi[j],
-            den: b_lo[j],
-            den2: yes,
-        };
-        lo_p.push(cx.pick(&mut m, bneg, lo_f, unit));
-        hi_p.push(cx.pick(&mut m, bpos, hi_f, tmax));
+    for j in 0..k {
+        bad.push(is_special(&mut m, pf, w[j]));
+        let no_lo = term(j, TermField::NoLo);
+        bad.push(is_nan(&mut m, f, no_lo));
+        bad.push(m.eq(no_lo, pinf));
+        bad.push(is_nan(&mut m, cf, term(j, TermField::RcpLo)));
+        bad.push(is_nan(&mut m, cf, term(j, TermField::RcpHi)));
     }
-    cut(&mut m, 5);
+    let invalid = any_of(&mut m, &bad, "invalid");
+    let t_lo_neg = is_neg(&mut m, f, t_lo);
+    let planes_on = m.not(t_lo_neg);
+    let planes_on = m.name(planes_on, "planes_on");
 
-    // Step 7: fold the planes in.
-    let mut lo = lo_box;
-    let mut hi = hi_box;
-    for j in 0..k as usize {
-        lo = cx.max(&mut m, lo, lo_p[j]);
-        hi = cx.min(&mut m, hi, hi_p[j]);
+    // Steps 2 and 3, per plane: D, the pick of the reciprocal, q.
+    let block = plane_module(cfg, &plan);
+    let mut qs = Vec::new();
+    let mut par = Vec::new();
+    for j in 0..k {
+        let out = m.instance(
+            &format!("u_plane{j}"),
+            &block,
+            &[
+                ("w", w[j]),
+                ("no_lo", term(j, TermField::NoLo)),
+                ("rcp_lo", term(j, TermField::RcpLo)),
+                ("rcp_hi", term(j, TermField::RcpHi)),
+            ],
+        );
+        qs.push(out.get("q").expect("q"));
+        let dir = term(j, TermField::Dir);
+        let c_exit = m.uint(DIR_WIDTH, DIR_EXIT);
+        let c_entry = m.uint(DIR_WIDTH, DIR_ENTRY);
+        let is_exit = m.eq(dir, c_exit);
+        let is_entry = m.eq(dir, c_entry);
+        par.push((out.get("dist_neg").expect("dist_neg"), is_exit, is_entry));
     }
-    cut(&mut m, 6);
+    for _ in 0..plan.plane() {
+        m.stage();
+    }
+    let par: Vec<(Sig, Sig, Sig)> = par
+        .into_iter()
+        .enumerate()
+        .map(|(j, (neg, is_exit, is_entry))| {
+            let crossing = m.or(is_exit, is_entry);
+            let parallel = m.not(crossing);
+            let pc = m.and(parallel, neg);
+            (m.name(pc, &format!("par_cull{j}")), is_exit, is_entry)
+        })
+        .collect();
 
-    // Step 8: the verdict.
-    let le = cx.le(&mut m, lo, hi);
-    let npc = m.not(par_cull);
-    let keep = m.and(box_hit, npc);
-    let keep = m.and(keep, le);
-    let box_hit = m.or(box_hit, invalid);
-    let keep = m.or(keep, invalid);
-    cut(&mut m, 7);
-    m.output("box_hit", box_hit);
+    // Step 4: every bound of the entry against every bound of the exit.
+    // `keep` needs max(entries) <= min(exits), i.e. l <= h for each pair;
+    // one entry -q_i against one exit q_j is -q_i <= q_j, which is
+    // -q_j <= q_i: one comparison per pair of planes, whichever is the
+    // exit. A pair that does not apply, and an invalid input, pass.
+    let lo = Bound::of(&mut m, f, t_lo);
+    let hi = Bound::of(&mut m, f, t_hi);
+    let mut ok = vec![lo.le(&mut m, &hi, invalid, "box_ok")];
+    let mut planes = Vec::new();
+    for j in 0..k {
+        let q = m.name(qs[j], &format!("q{j}"));
+        let (pc, is_exit, is_entry) = par[j];
+        let nan = is_nan(&mut m, f, q);
+        let usable = m.not(nan);
+        let usable = m.and(usable, planes_on);
+        let ex = m.and(is_exit, usable);
+        let ex = m.name(ex, &format!("exit{j}"));
+        let en = m.and(is_entry, usable);
+        let en = m.name(en, &format!("entry{j}"));
+        let exit = Bound::of(&mut m, f, q);
+        let entry = exit.negated(&mut m);
+        let skip = unless(&mut m, ex, invalid);
+        ok.push(lo.le(&mut m, &exit, skip, &format!("exit{j}_ok")));
+        let skip = unless(&mut m, en, invalid);
+        ok.push(entry.le(&mut m, &hi, skip, &format!("entry{j}_ok")));
+        let pc = m.and(pc, planes_on);
+        let npc = m.not(pc);
+        ok.push(m.or(npc, invalid));
+        planes.push((ex, en, exit, entry));
+    }
+    for j in 0..k {
+        for i in 0..j {
+            let (ex_i, en_i, _, entry_i) = planes[i];
+            let (ex_j, en_j, exit_j, _) = planes[j];
+            let ij = m.and(en_i, ex_j);
+            let ji = m.and(en_j, ex_i);
+            let pair = m.or(ij, ji);
+            let skip = unless(&mut m, pair, invalid);
+            ok.push(entry_i.le(&mut m, &exit_j, skip, &format!("pair{i}{j}_ok")));
+        }
+    }
+
+    // Step 5: the verdict.
+    let keep = all_of(&mut m, &ok, "keep_all");
+    for _ in 0..plan.out {
+        m.stage();
+    }
     m.output("keep", keep);
     m.output("invalid", invalid);
     m.finish()
         .expect("cull generator is type-correct for every accepted configuration")
-}
-
-/// Checks and resolves the unit's parameters.
-pub fn formats(p: &Params) -> Result<(Format, Format), ParamError> {
-    let f = Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
-    let pf = Format::new(p.u32("plane_exp_bits"), p.u32("plane_frac_bits"))
-        .map_err(ParamError::Combination)?;
-    exact_product_format(f).map_err(ParamError::Combination)?;
-    if pf.exp_bits > f.exp_bits || pf.frac_bits > f.frac_bits {
-        return Err(ParamError::Combination(format!(
-            "plane format {} must fit in the ray format {}",
-            pf.tag(),
-            f.tag()
-        )));
-    }
-    Ok((f, pf))
 }
 
 impl Unit for Cull {
@@ -578,13 +747,127 @@ impl Unit for Cull {
         "cull"
     }
     fn summary(&self) -> &'static str {
-        "cull-plane tester: box interval folded with K planes, division-free, conservative (box_hit, keep, invalid)"
+        "cull-plane tester per child: box interval folded with K planes' crossings from the parent's ray terms (keep, invalid)"
     }
     fn params(&self) -> &'static [ParamSpec] {
         PARAMS
     }
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        let (f, pf) = formats(p)?;
-        Ok(build(f, pf, p.u32("k"), p.u32("stages")))
+        Ok(build(&config(p)?))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cfg(k: u32) -> Config {
+        Config {
+            ray: Format::BINARY32,
+            plane: Format::BINARY16,
+            k,
+            stages: 4,
+        }
+    }
+
+    #[test]
+    fn stage_plan_covers_every_register_and_registers_outputs_first() {
+        for s in 0..=16 {
+            let p = StagePlan::new(s);
+            assert_eq!(p.plane() + p.out, s);
+        }
+        assert_eq!(StagePlan::new(1).out, 1);
+        // 4 stages: exact sum | its rounding | the product | its rounding and the verdict
+        let p4 = StagePlan::new(4);
+        let want = StagePlan {
+            widen: 0,
+            add_raw: [0, 0, 1],
+            add_round: 1,
+            mul_raw: 1,
+            mul_round: 0,
+            out: 1,
+        };
+        assert_eq!(p4, want);
+    }
+
+    #[test]
+    fn layout_indices_name_the_ports() {
+        for k in 1..=8 {
+            let c = cfg(k);
+            let ins = c.child_inputs();
+            assert_eq!(ins.len(), 2 + 5 * k as usize);
+            assert_eq!(ins[c.child_t_lo()].0, "t_lo");
+            assert_eq!(ins[c.child_t_hi()].0, "t_hi");
+            for j in 0..k as usize {
+                assert_eq!(ins[c.child_w(j)].0, format!("w{j}"));
+                for t in TermField::ALL {
+                    assert_eq!(ins[c.child_term(j, t)].0, t.port(j));
+                }
+            }
+            let ri = c.ray_inputs();
+            assert_eq!(ri.len(), 9 + 3 * k as usize);
+            for (i, a) in AXES.iter().enumerate() {
+                assert_eq!(ri[c.ray_o(i)].0, format!("o_{a}"));
+                assert_eq!(ri[c.ray_d(i)].0, format!("d_{a}"));
+                assert_eq!(ri[c.ray_r(i)].0, format!("r_{a}"));
+                for j in 0..k as usize {
+                    assert_eq!(ri[c.ray_n(j, i)].0, format!("n{j}_{a}"));
+                }
+            }
+            let ro = c.ray_outputs();
+            for j in 0..k as usize {
+                for t in TermField::ALL {
+                    assert_eq!(ro[c.ray_term(j, t)].0, t.port(j));
+                }
+            }
+        }
+    }
+
+    /// Every encoding of the plane format through [`widen`] against the
+    /// golden model's conversion (a NaN only has to stay a NaN): the
+    /// normalising path, zero-padding alone, and the converter fallback.
+    #[test]
+    fn widen_is_the_exact_conversion() {
+        use crate::eval::Evaluator;
+        use crate::flow::fstim::golden_format;
+        use golden_model::float::{classify, convert, Class, RoundingMode};
+        let f = |e, m| Format::new(e, m).unwrap();
+        for (from, to) in [
+            (f(5, 10), f(8, 23)),
+            (f(4, 3), f(5, 10)),
+            (f(5, 10), f(5, 23)),
+            (f(2, 3), f(3, 5)),
+        ] {
+            let mut m = ModuleBuilder::new("widen_test");
+            let a = m.input("a", Ty::UInt(from.width()));
+            let z = widen(&mut m, from, to, a, "u_convert");
+            m.output("z", z);
+            let module = m.finish().unwrap();
+            let mut ev = Evaluator::new(&module);
+            let (gf, gt) = (golden_format(from), golden_format(to));
+            for x in 0..1u64 << from.width() {
+                let got = ev.eval(&[x as u128])[0] as u64;
+                let want = convert(gf, gt, x, RoundingMode::NearestEven);
+                if classify(gt, want) == Class::NaN {
+                    assert_eq!(classify(gt, got), Class::NaN, "{from} -> {to}: {x:#x}");
+                } else {
+                    assert_eq!(got, want, "{from} -> {to}: {x:#x}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn module_ports_follow_the_layout() {
+        let c = cfg(4);
+        let m = build(&c);
+        let names: Vec<(String, u32)> = m
+            .data_inputs()
+            .iter()
+            .map(|p| (p.name.clone(), p.ty.width()))
+            .collect();
+        assert_eq!(names, c.child_inputs());
+        assert_eq!(m.name, "cull_e8m23_pe5m10_k4_s4");
+        assert_eq!(m.latency, 4);
     }
 }

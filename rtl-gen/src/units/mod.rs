@@ -1,6 +1,7 @@
 //! The units the generator offers, each with its parameters.
 
 pub mod cull;
+pub mod cull_ray;
 pub mod fadd;
 pub mod fadd_down_up;
 pub mod fcmp;

@@ -1,10 +1,17 @@
 //! Multiplication: the exact product of the significands (2F + 2 bits, from
 //! the pipelined integer multiplier), then the shared rounder.
+//!
+//! Mixed widths ([`mul_mixed_raw`], [`mul_mixed_module`]): operands of two
+//! formats `(Ea, Fa)` and `(Eb, Fb)`, each unpacked in its own format, the
+//! `(Fa + 1) × (Fb + 1)` significand product, rounded into a third format.
+//! The product is the same exact value as after widening both operands
+//! exactly into one format, so the rounding is bit-identical to that of
+//! `mul` in the wide format, without its `(F + 1)²` multiplier.
 
 use super::bits::add_const;
 use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
-use super::{sint_width, spread, Format, Rm, RoundSel};
+use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -15,8 +22,15 @@ pub const MUL_RAW_STEPS: u32 = 2;
 
 /// Width of the exponent of [`mul_raw`]'s result.
 pub fn mul_exp_width(fmt: Format) -> u32 {
-    let k = fmt.bias() + fmt.frac_bits as i64;
-    sint_width(2 * (1 - k), 2 * (fmt.exp_ones() as i64 - 1 - k))
+    mul_mixed_exp_width(fmt, fmt)
+}
+
+/// Width of the exponent of [`mul_mixed_raw`]'s result.
+pub fn mul_mixed_exp_width(fa: Format, fb: Format) -> u32 {
+    let ka = fa.bias() + fa.frac_bits as i64;
+    let kb = fb.bias() + fb.frac_bits as i64;
+    let hi = |f: Format, k: i64| f.exp_ones() as i64 - 1 - k;
+    sint_width(2 - ka - kb, hi(fa, ka) + hi(fb, kb))
 }
 
 /// The exact product `a · b` as a raw value (never sticky): significand
@@ -33,9 +47,25 @@ pub fn mul_raw(
     mul_stages: u32,
     inst: &str,
 ) -> Raw {
-    let f = fmt.frac_bits;
-    let ua = unpack(m, fmt, a);
-    let ub = unpack(m, fmt, b);
+    mul_mixed_raw(m, fmt, fmt, a, b, mul_stages, inst)
+}
+
+/// The exact product `a · b` of an `fa` encoding `a` and an `fb` encoding
+/// `b` as a raw value (never sticky): significand `sig_a · sig_b`
+/// (Fa + Fb + 2 bits, from a `(Fa + 1) × (Fb + 1)` multiplier), exponent
+/// `(eff_a − bias_a − Fa) + (eff_b − bias_b − Fb)`. Stages as [`mul_raw`].
+#[track_caller]
+pub fn mul_mixed_raw(
+    m: &mut ModuleBuilder,
+    fa: Format,
+    fb: Format,
+    a: Sig,
+    b: Sig,
+    mul_stages: u32,
+    inst: &str,
+) -> Raw {
+    let ua = unpack(m, fa, a);
+    let ub = unpack(m, fb, b);
     let sign = m.xor(ua.sign, ub.sign);
     let inf_zero = m.and(ua.inf, ub.zero);
     let zero_inf = m.and(ua.zero, ub.inf);
@@ -44,14 +74,15 @@ pub fn mul_raw(
     let nan = m.or(any_nan, invalid);
     let inf = m.or(ua.inf, ub.inf);
     let class = class_of(m, nan, inf);
-    let xw = mul_exp_width(fmt);
-    let iw = fmt.exp_bits + 2;
+    let xw = mul_mixed_exp_width(fa, fb);
+    let iw = fa.exp_bits.max(fb.exp_bits) + 2;
     let ea = crate::arith::int::zext(m, ua.eff_exp, iw);
     let eb = crate::arith::int::zext(m, ub.eff_exp, iw);
     let esum = m.add(ea, eb);
-    let exp = add_const(m, esum, -2 * (fmt.bias() + f as i64), xw);
+    let k = fa.bias() + fa.frac_bits as i64 + fb.bias() + fb.frac_bits as i64;
+    let exp = add_const(m, esum, -k, xw);
     let exp = m.name(exp, "prod_exp");
-    let mul = umul_module(f + 1, f + 1, mul_stages);
+    let mul = umul_module(fa.frac_bits + 1, fb.frac_bits + 1, mul_stages);
     let p = m
         .instance(inst, &mul, &[("a", ua.sig), ("b", ub.sig)])
         .get("p")
@@ -91,4 +122,103 @@ pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
     finish_rounded(m, fmt, &rm, &raw, rs, "multiplier")
+}
+
+/// Module name of the mixed-width multiplier.
+pub fn mul_mixed_name(fa: Format, fb: Format, to: Format, mode: Rounding, stages: u32) -> String {
+    format!(
+        "fmul_{}_x_{}_to_{}_{mode}_s{stages}",
+        fa.tag(),
+        fb.tag(),
+        to.tag()
+    )
+}
+
+/// `z = a · b` for `a` in `fa` and `b` in `fb`, rounded once into `to` in
+/// `mode`, `stages` pipeline registers (the plan of [`mul_module`]). Equal
+/// to widening both operands exactly into a common format and multiplying
+/// there, rounded into `to`.
+pub fn mul_mixed_module(
+    fa: Format,
+    fb: Format,
+    to: Format,
+    mode: Rounding,
+    stages: u32,
+) -> Arc<Module> {
+    let mut m = ModuleBuilder::new(mul_mixed_name(fa, fb, to, mode, stages));
+    m.describe(format!(
+        "Floating-point a * b, a in {}, b in {} ({} x {} significand product), rounded {mode} into {}.",
+        fa.tag(),
+        fb.tag(),
+        fa.frac_bits + 1,
+        fb.frac_bits + 1,
+        to.tag()
+    ));
+    m.param("exp_bits_a", fa.exp_bits)
+        .param("frac_bits_a", fa.frac_bits)
+        .param("exp_bits_b", fb.exp_bits)
+        .param("frac_bits_b", fb.frac_bits)
+        .param("to_exp_bits", to.exp_bits)
+        .param("to_frac_bits", to.frac_bits)
+        .param("round", mode)
+        .param("stages", stages);
+    let a = m.input("a", Ty::UInt(fa.width()));
+    let b = m.input("b", Ty::UInt(fb.width()));
+    let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);
+    let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
+    let raw = mul_mixed_raw(&mut m, fa, fb, a, b, raw_cuts.iter().sum(), "u_mul");
+    let rs: u32 = round_cuts.iter().sum();
+    finish_rounded(m, to, &Rm::fixed(mode), &raw, rs, "mixed multiplier")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Evaluator;
+    use crate::flow::fstim::{golden_format, golden_mode};
+    use golden_model::float::{convert, mul, RoundingMode};
+
+    /// The mixed-width product against the golden model's product of both
+    /// operands widened exactly into `to` (which contains both formats):
+    /// every pair of a small pair of formats in every mode, random pairs of
+    /// the cull unit's formats.
+    #[test]
+    fn mixed_product_is_the_widened_product() {
+        let f = |e, m| Format::new(e, m).unwrap();
+        let cases = [
+            (f(3, 2), f(4, 3), f(4, 3), true),
+            (f(8, 23), f(8, 18), f(8, 23), false),
+            (f(5, 10), f(8, 23), f(8, 23), false),
+            (f(5, 10), f(8, 18), f(8, 18), false),
+            (f(4, 3), f(5, 10), f(5, 10), false),
+        ];
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        for (fa, fb, to, exhaustive) in cases {
+            let (ga, gb, gt) = (golden_format(fa), golden_format(fb), golden_format(to));
+            for mode in Rounding::ALL {
+                let module = mul_mixed_module(fa, fb, to, mode, 0);
+                let mut ev = Evaluator::new(&module);
+                let n: u64 = if exhaustive {
+                    1 << (fa.width() + fb.width())
+                } else {
+                    20_000
+                };
+                for i in 0..n {
+                    let (a, b) = if exhaustive {
+                        (i & ga.mask(), i >> fa.width())
+                    } else {
+                        s ^= s << 13;
+                        s ^= s >> 7;
+                        s ^= s << 17;
+                        (s & ga.mask(), (s >> 32) & gb.mask())
+                    };
+                    let got = ev.eval(&[a as u128, b as u128])[0] as u64;
+                    let wa = convert(ga, gt, a, RoundingMode::NearestEven);
+                    let wb = convert(gb, gt, b, RoundingMode::NearestEven);
+                    let want = mul(gt, wa, wb, golden_mode(mode));
+                    assert_eq!(got, want, "{}: {a:#x} * {b:#x}", module.name);
+                }
+            }
+        }
+    }
 }
