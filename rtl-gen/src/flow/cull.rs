@@ -10,8 +10,8 @@
 //! the golden `ray_terms`, `[t_lo, t_hi]` from the conservative slab
 //! (`box_interval` with `slab_reciprocal`; a random interval when it
 //! misses) and each distance fitted around a few points of the child box
-//! (`RUP(max n·(p − r))`, sometimes through a single point so that the
-//! plane cuts the box, sometimes nudged by ulps). By `index % 16`: 0-6 that
+//! (`max n·(p − r)` rounded up, in binary64; sometimes through a single
+//! point so that the plane cuts the box, sometimes nudged by ulps). By `index % 16`: 0-6 that
 //! alone (the segment sometimes `[0, +∞)`, sometimes from a random `t_min`);
 //! 7 an exactly perpendicular ray (parallel planes, `b_lo = 0`); 8 `D = 0`
 //! exactly (`no_lo` the widened `w`, signed zeros); 9 reciprocals at the
@@ -28,7 +28,6 @@ use super::stimulus::{mask, VectorRng};
 use super::Testbench;
 use crate::params::Params;
 use crate::units::cull::{Config as UnitConfig, TermField};
-use golden_model::cull::exact::Dyadic;
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
 };
@@ -40,16 +39,12 @@ pub struct CullBench {
     unit: UnitConfig,
 }
 
-/// `n·(p − r)` exactly.
-fn height(f: FloatFormat, pf: FloatFormat, n: &[u64; 3], p: &[u64; 3], r: &[u64; 3]) -> Dyadic {
-    let mut s = Dyadic::zero();
-    for i in 0..3 {
-        let ni = Dyadic::from_bits(pf, n[i]).expect("finite normal");
-        let pi = Dyadic::from_bits(f, p[i]).expect("finite point");
-        let ri = Dyadic::from_bits(f, r[i]).expect("finite corner");
-        s = s.add(&ni.mul(&pi.sub(&ri)));
-    }
-    s
+/// `n·(p − r)` in binary64 (the stimulus needs distances near the points,
+/// not exact ones).
+fn height(f: FloatFormat, pf: FloatFormat, n: &[u64; 3], p: &[u64; 3], r: &[u64; 3]) -> f64 {
+    (0..3)
+        .map(|i| to_f64(pf, n[i]) * (to_f64(f, p[i]) - to_f64(f, r[i])))
+        .sum()
 }
 
 /// A point of the box `[lo, hi]`: per axis a face or a random interior
@@ -133,7 +128,7 @@ impl CullBench {
             sc.d = d;
             sc.normals = normals;
         } else if g.chance(1, 3) {
-            // aimed at a kept point (never culled exactly), sometimes off by ulps
+            // aimed at a kept point (kept by every fitted plane), sometimes off by ulps
             let p = g.pick(&pts);
             let len = 2f64.powi(g.range(-3, 3) as i32);
             for i in 0..3 {
@@ -195,9 +190,8 @@ impl CullBench {
                 let best = fit
                     .iter()
                     .map(|p| height(f, pf, n, p, &r))
-                    .max_by(|a, b| a.cmp(b))
-                    .expect("a point");
-                let w = best.round_to(pf, RoundingMode::Up);
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let w = convert(FloatFormat::BINARY64, pf, best.to_bits(), RoundingMode::Up);
                 let w = if w & !pf.sign_bit() == pf.inf(false) {
                     pf.max_finite(w & pf.sign_bit() != 0)
                 } else {
