@@ -551,19 +551,20 @@ fn no_wrongful_culls_on_random_and_adversarial_cases() {
         grand.first_wrongful.as_deref().unwrap_or("")
     );
     assert!(grand.cases >= total.min(1_000_000));
-    // Tightness, from the measured rates (1.2 M CI run of the shared-normal tester: 117,732 plane
-    // culls = 9.81 % of the cases, 6,921 false keeps = 0.577 %): a floor on the culls made and a
+    // Tightness, from the measured rates (1.2 M CI run of the shared-normal tester with the fused
+    // dot products: 120,914 plane culls = 10.08 % of the cases, 6,527 false keeps = 0.544 %; with
+    // two rounded adders per dot product 9.81 % and 0.577 %): a floor on the culls made and a
     // ceiling on the culls lost to rounding, so a looser tester fails.
     let cases = grand.cases as f64;
     assert!(
-        grand.tester_culls as f64 >= 0.093 * cases,
-        "the planes cull too little: {} of {} cases (floor 9.3 %, measured 9.8 %)",
+        grand.tester_culls as f64 >= 0.097 * cases,
+        "the planes cull too little: {} of {} cases (floor 9.7 %, measured 10.1 %)",
         grand.tester_culls,
         grand.cases
     );
     assert!(
-        grand.false_keeps as f64 <= 0.0062 * cases + 20.0,
-        "too many culls lost to rounding: {} false keeps in the 1/8 sample of {} cases (ceiling 0.62 %, measured 0.58 %)",
+        grand.false_keeps as f64 <= 0.0058 * cases + 20.0,
+        "too many culls lost to rounding: {} false keeps in the 1/8 sample of {} cases (ceiling 0.58 %, measured 0.54 %)",
         grand.false_keeps,
         grand.cases
     );

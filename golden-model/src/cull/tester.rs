@@ -19,7 +19,7 @@
 //! so `keep = 0` only when the exact segment misses the region.
 
 use crate::float::{
-    add, add_down_up, classify, convert, le, lt, mul, Class, FloatFormat, RoundingMode,
+    add, add_down_up, classify, convert, dot3_floor, le, lt, mul, Class, FloatFormat, RoundingMode,
 };
 use crate::transform::recip;
 
@@ -224,11 +224,12 @@ fn negate(f: FloatFormat, v: u64) -> u64 {
 /// The ray terms of one parent's normals (unit `cull_ray`).
 ///
 /// 1. `u = o − r` per axis, rounded down and up (`add_down_up`);
-///    `d` rounded down and up into the crossing format;
-/// 2. per normal (widened exactly into the crossing format): the lower
-///    bounds of `n_i·u_i` and `n_i·d_i` (the factor picked by the sign of
-///    `n_i`, a zero `n_i` gives +0), products and both sums rounded down
-///    (`no_lo` in the ray format, `b_lo` in the crossing format);
+/// 2. per normal the lower bounds `no_lo ≤ n·u` (ray format) and `b_lo ≤ n·d`
+///    (crossing format), each one fused three-term dot product
+///    ([`dot3_floor`]: exact products, truncated toward −∞ at the lsb of the
+///    product whose lsb weighs most, summed exactly, rounded down once); for
+///    `n·u` each product takes the factor that bounds it from below (`u_hi`
+///    where `n_i` is negative, else `u_lo`); `d` enters exactly;
 /// 3. `rcp_lo = RDN(1/|b_lo|)`, `rcp_hi = RUP(1/|b_lo|)` (both +∞ for
 ///    `b_lo = 0`).
 ///
@@ -244,30 +245,19 @@ pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
     let invalid = x.o.iter().chain(&x.d).chain(&x.r).any(|&v| bad(f, v))
         || normals.iter().flatten().any(|&v| bad(pf, v));
     let u = [0, 1, 2].map(|i| add_down_up(f, x.o[i], negate(f, x.r[i])));
-    let d_lo = x.d.map(|v| convert(f, cf, v, RDN));
-    let d_hi = x.d.map(|v| convert(f, cf, v, RUP));
     let mut terms = Vec::new();
     let mut b_los = Vec::new();
     for n in &normals {
-        let nc = n.map(|v| convert(pf, cf, v, RNE));
-        let neg = |i: usize| nc[i] & cf.sign_bit() != 0;
-        let no_p = [0, 1, 2].map(|i| {
-            if is_zero(cf, nc[i]) {
-                f.zero(false)
+        let n = n.map(|v| v & pf.mask());
+        let u_lo = [0, 1, 2].map(|i| {
+            if n[i] & pf.sign_bit() != 0 {
+                u[i].up
             } else {
-                let ni = convert(cf, f, nc[i], RNE);
-                mul(f, ni, if neg(i) { u[i].up } else { u[i].down }, RDN)
+                u[i].down
             }
         });
-        let b_p = [0, 1, 2].map(|i| {
-            if is_zero(cf, nc[i]) {
-                cf.zero(false)
-            } else {
-                mul(cf, nc[i], if neg(i) { d_hi[i] } else { d_lo[i] }, RDN)
-            }
-        });
-        let no_lo = add(f, add(f, no_p[0], no_p[1], RDN), no_p[2], RDN);
-        let b_lo = add(cf, add(cf, b_p[0], b_p[1], RDN), b_p[2], RDN);
+        let no_lo = dot3_floor(pf, f, f, n, u_lo);
+        let b_lo = dot3_floor(pf, f, cf, n, x.d);
         let dir = if is_zero(cf, b_lo) {
             Crossing::Parallel
         } else if b_lo & cf.sign_bit() == 0 {

@@ -14,7 +14,7 @@
 //! +∞ (the cull unit's reciprocal bracket), as `add_down_up` does for sums.
 
 use crate::arith::float::bits::{add_const, to_sint};
-use crate::arith::float::round::{class_of, round, Raw, ROUND_STEPS};
+use crate::arith::float::round::{class_of, round, round_down_up, Raw, ROUND_STEPS};
 use crate::arith::float::unpack::{normalize, unpack};
 use crate::arith::float::{sint_width, spread, Format, Rounding};
 use crate::arith::int::zext;
@@ -134,7 +134,7 @@ pub fn recip_down_up_name(fmt: Format, stages: u32) -> String {
 }
 
 /// `down = RDN(1 / x)`, `up = RUP(1 / x)` in `fmt` from one exact quotient
-/// (one division, two instances of the shared rounder), `stages` pipeline
+/// (one division, one normalisation of the shared rounder), `stages` pipeline
 /// registers (the plan of [`recip_module`]).
 pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     let mut m = ModuleBuilder::new(recip_down_up_name(fmt, stages));
@@ -151,8 +151,7 @@ pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     let plan = spread(stages, steps + ROUND_STEPS);
     let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
-    let down = round(&mut m, fmt, Rounding::Rdn, &raw, rs, "u_round_down");
-    let up = round(&mut m, fmt, Rounding::Rup, &raw, rs, "u_round_up");
+    let (down, up) = round_down_up(&mut m, fmt, &raw, raw.sign, raw.sign, rs, "u_round");
     for _ in 0..rs {
         m.stage();
     }

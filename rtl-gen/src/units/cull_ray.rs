@@ -9,36 +9,33 @@
 //! steps with the DSL's float operators:
 //!
 //! 1. `u = o − r` per axis rounded down and up (one exact sum,
-//!    [`add_down_up_module`]); `d` rounded down and up into the crossing
-//!    format ([`convert_module`]; nothing when Fc = F);
-//! 2. per normal and axis the products `n_i·u_i` (ray format) and `n_i·d_i`
-//!    (crossing format), rounded down, the factor picked by the sign of
-//!    `n_i`, by the mixed-width multiplier ([`mul_mixed_module`]: the
-//!    plane-format normal is never widened, its `(Fp + 1)`-bit significand
-//!    meets the other factor's directly; the rounding equals the golden
-//!    model's product of the widened normal); a zero `n_i` gives +0;
-//! 3. both three-term sums, left to right, rounded down ([`add_module`]);
-//! 4. `dir` from `b_lo` (0 parallel for ±0, 1 exit for a clear sign bit, 2
+//!    [`add_down_up_module`]);
+//! 2. per normal both dot products as lower bounds, each one fused operator
+//!    ([`dot3_floor_module`]: three exact `(Fp + 1) × (F + 1)` significand
+//!    products, truncated toward −∞ at the lsb of the product whose lsb
+//!    weighs most, summed exactly, rounded down once): `no_lo` from `n` and
+//!    the factor of `u` picked by the sign of `n_i` (ray format), `b_lo` from
+//!    `n` and `d` (crossing format); the plane-format normal is never widened;
+//! 3. `dir` from `b_lo` (0 parallel for ±0, 1 exit for a clear sign bit, 2
 //!    entry), `rcp_lo = RDN(1/|b_lo|)`, `rcp_hi = RUP(1/|b_lo|)`
 //!    (one division rounded both ways, [`recip_down_up_module`]; both +∞
 //!    for `b_lo = 0`);
-//! 5. a NaN or infinity in `o`, `d`, `r` or a normal (`invalid`) makes
+//! 4. a NaN or infinity in `o`, `d`, `r` or a normal (`invalid`) makes
 //!    every `no_lo` the canonical NaN (so `cull` keeps).
 //!
 //! Pipelining: `stages` registers are spread ([`spread`]) over the steps
-//! of the longer path, the crossing one: the difference (6), the products
-//! (5), two sums (6 each), the reciprocal ([`recip_steps`]: its rounder's 3
-//! and one per two of its normalisation and Fc + 4 division steps). One
-//! register goes to the outputs first. The latency is `stages`.
+//! of the longer path, the crossing one: the difference (6), the dot product
+//! (7), the reciprocal ([`recip_steps`]: its rounder's 3 and one per two of
+//! its normalisation and Fc + 4 division steps). One register goes to the
+//! outputs first. The latency is `stages`.
 
 use super::cull::{any_of, config, is_special, is_zero, Config, TermField, DIR_WIDTH, PARAMS};
 use super::Unit;
-use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
+use crate::arith::float::add::ADD_RAW_STEPS;
 use crate::arith::float::add_down_up::add_down_up_module;
-use crate::arith::float::convert::convert_module;
-use crate::arith::float::mul::{mul_mixed_module, MUL_RAW_STEPS};
+use crate::arith::float::dot3_floor::{dot3_floor_module, DOT3_FLOOR_RAW_STEPS};
 use crate::arith::float::round::ROUND_STEPS;
-use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::float::{spread, Format};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -47,12 +44,10 @@ use crate::params::{ParamError, ParamSpec, Params};
 /// The `cull_ray` unit.
 pub struct CullRay;
 
-/// Logical steps of the difference `o − r` (and the conversions of `d`).
+/// Logical steps of the difference `o − r`.
 pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
-/// Logical steps of the products.
-pub const PROD_STEPS: u32 = MUL_RAW_STEPS + ROUND_STEPS;
-/// Logical steps of one sum.
-pub const SUM_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
+/// Logical steps of a dot product.
+pub const DOT_STEPS: u32 = DOT3_FLOOR_RAW_STEPS + ROUND_STEPS;
 
 /// Logical steps the reciprocal in the crossing format `cf` counts for:
 /// its rounder's, and one per two of its division steps (a division step,
@@ -65,14 +60,10 @@ pub fn recip_steps(cf: Format) -> u32 {
 /// How `cull_ray`'s `stages` registers are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct StagePlan {
-    /// inside the differences and conversions
+    /// inside the differences
     pub diff: u32,
-    /// inside the multipliers
-    pub prod: u32,
-    /// inside the first adders
-    pub sum1: u32,
-    /// inside the second adders
-    pub sum2: u32,
+    /// inside the dot products
+    pub dot: u32,
     /// inside the reciprocals
     pub recip: u32,
 }
@@ -80,30 +71,15 @@ pub struct StagePlan {
 impl StagePlan {
     /// The plan for `stages` registers over the steps of crossing format `cf`.
     pub fn new(stages: u32, cf: Format) -> StagePlan {
-        let segs = [
-            DIFF_STEPS,
-            PROD_STEPS,
-            SUM_STEPS,
-            SUM_STEPS,
-            recip_steps(cf),
-        ];
+        let segs = [DIFF_STEPS, DOT_STEPS, recip_steps(cf)];
         let c = spread(stages, segs.iter().sum());
         let mut at = 0usize;
-        let sums: Vec<u32> = segs
-            .iter()
-            .map(|&n| {
-                let s = c[at..at + n as usize].iter().sum();
-                at += n as usize;
-                s
-            })
-            .collect();
-        StagePlan {
-            diff: sums[0],
-            prod: sums[1],
-            sum1: sums[2],
-            sum2: sums[3],
-            recip: sums[4],
-        }
+        let [diff, dot, recip] = segs.map(|n| {
+            let s = c[at..at + n as usize].iter().sum();
+            at += n as usize;
+            s
+        });
+        StagePlan { diff, dot, recip }
     }
 }
 
@@ -150,7 +126,7 @@ pub fn build(cfg: &Config) -> Module {
         .collect();
     let ax = super::cull::AXES;
 
-    // Step 1: classify; u = o − r down and up; d down and up in the crossing format.
+    // Step 1: classify; u = o − r down and up.
     let mut bad: Vec<Sig> = o
         .iter()
         .chain(&d)
@@ -161,16 +137,8 @@ pub fn build(cfg: &Config) -> Module {
     let invalid = any_of(&mut m, &bad, "invalid");
     let sb = m.uint(f.width(), 1u128 << (f.width() - 1));
     let adu = add_down_up_module(f, plan.diff);
-    let narrow = (cf != f).then(|| {
-        (
-            convert_module(f, cf, Rounding::Rdn, plan.diff),
-            convert_module(f, cf, Rounding::Rup, plan.diff),
-        )
-    });
     let mut u_dn = Vec::new();
     let mut u_up = Vec::new();
-    let mut d_dn = Vec::new();
-    let mut d_up = Vec::new();
     for i in 0..3 {
         let neg_r = m.xor(r[i], sb);
         let u = m.instance(
@@ -180,109 +148,34 @@ pub fn build(cfg: &Config) -> Module {
         );
         u_dn.push(u.get("down").expect("down"));
         u_up.push(u.get("up").expect("up"));
-        match &narrow {
-            Some((dn, up)) => {
-                d_dn.push(z(&mut m, &format!("u_d_lo_{}", ax[i]), dn, &[("a", d[i])]));
-                d_up.push(z(&mut m, &format!("u_d_hi_{}", ax[i]), up, &[("a", d[i])]));
-            }
-            None => {
-                d_dn.push(d[i]);
-                d_up.push(d[i]);
-            }
-        }
     }
     for _ in 0..plan.diff {
         m.stage();
     }
 
-    // Step 2: the products, the factor picked by the sign of n_i.
-    let mul_u = mul_mixed_module(pf, f, f, Rounding::Rdn, plan.prod);
-    let mul_d = mul_mixed_module(pf, cf, cf, Rounding::Rdn, plan.prod);
-    let mut no_p: Vec<[Sig; 3]> = Vec::new();
-    let mut b_p: Vec<[Sig; 3]> = Vec::new();
-    let mut n_zero: Vec<[Sig; 3]> = Vec::new();
-    for j in 0..k {
-        let mut np = [sb; 3];
-        let mut bp = [sb; 3];
-        let mut nz = [sb; 3];
-        for i in 0..3 {
-            let v = n[j][i];
-            let neg = m.msb(v);
-            let uu = m.mux(neg, u_up[i], u_dn[i]);
-            let dd = m.mux(neg, d_up[i], d_dn[i]);
-            np[i] = z(
-                &mut m,
-                &format!("u_nu{j}_{}", ax[i]),
-                &mul_u,
-                &[("a", v), ("b", uu)],
-            );
-            bp[i] = z(
-                &mut m,
-                &format!("u_nd{j}_{}", ax[i]),
-                &mul_d,
-                &[("a", v), ("b", dd)],
-            );
-            nz[i] = is_zero(&mut m, pf, v);
-        }
-        no_p.push(np);
-        b_p.push(bp);
-        n_zero.push(nz);
-    }
-    for _ in 0..plan.prod {
-        m.stage();
-    }
-
-    // Step 3: zero guards; the sums, left to right, rounded down.
-    let add_f = add_module(f, Rounding::Rdn, false, plan.sum1);
-    let add_c = add_module(cf, Rounding::Rdn, false, plan.sum1);
-    let zero_f = m.uint(f.width(), 0);
-    let zero_c = m.uint(cf.width(), 0);
-    let mut no01 = Vec::new();
-    let mut b01 = Vec::new();
-    for j in 0..k {
-        for i in 0..3 {
-            no_p[j][i] = m.mux(n_zero[j][i], zero_f, no_p[j][i]);
-            no_p[j][i] = m.name(no_p[j][i], &format!("no_p{j}_{}", ax[i]));
-            b_p[j][i] = m.mux(n_zero[j][i], zero_c, b_p[j][i]);
-            b_p[j][i] = m.name(b_p[j][i], &format!("b_p{j}_{}", ax[i]));
-        }
-        no01.push(z(
-            &mut m,
-            &format!("u_no01_{j}"),
-            &add_f,
-            &[("a", no_p[j][0]), ("b", no_p[j][1])],
-        ));
-        b01.push(z(
-            &mut m,
-            &format!("u_b01_{j}"),
-            &add_c,
-            &[("a", b_p[j][0]), ("b", b_p[j][1])],
-        ));
-    }
-    for _ in 0..plan.sum1 {
-        m.stage();
-    }
-    let add_f = add_module(f, Rounding::Rdn, false, plan.sum2);
-    let add_c = add_module(cf, Rounding::Rdn, false, plan.sum2);
+    // Step 2: the dot products as lower bounds, the factor of u picked by the sign of n_i.
+    let dot_u = dot3_floor_module(pf, f, f, plan.dot);
+    let dot_d = dot3_floor_module(pf, f, cf, plan.dot);
     let mut no_lo = Vec::new();
     let mut b_lo = Vec::new();
-    for j in 0..k {
-        let s = z(
-            &mut m,
-            &format!("u_no_lo{j}"),
-            &add_f,
-            &[("a", no01[j]), ("b", no_p[j][2])],
-        );
-        no_lo.push(s);
-        let s = z(
-            &mut m,
-            &format!("u_b_lo{j}"),
-            &add_c,
-            &[("a", b01[j]), ("b", b_p[j][2])],
-        );
-        b_lo.push(s);
+    for (j, nj) in n.iter().enumerate() {
+        let mut u_ins = Vec::new();
+        let mut d_ins = Vec::new();
+        for i in 0..3 {
+            let neg = m.msb(nj[i]);
+            let uu = m.mux(neg, u_up[i], u_dn[i]);
+            let uu = m.name(uu, &format!("u_lo_factor{j}_{}", ax[i]));
+            u_ins.push((format!("a{i}"), nj[i]));
+            u_ins.push((format!("b{i}"), uu));
+            d_ins.push((format!("a{i}"), nj[i]));
+            d_ins.push((format!("b{i}"), d[i]));
+        }
+        let u_refs: Vec<(&str, Sig)> = u_ins.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let d_refs: Vec<(&str, Sig)> = d_ins.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        no_lo.push(z(&mut m, &format!("u_no_lo{j}"), &dot_u, &u_refs));
+        b_lo.push(z(&mut m, &format!("u_b_lo{j}"), &dot_d, &d_refs));
     }
-    for _ in 0..plan.sum2 {
+    for _ in 0..plan.dot {
         m.stage();
     }
 
@@ -346,7 +239,7 @@ mod tests {
         let cf = Format::new(8, 10).unwrap();
         for s in 0..=16 {
             let p = StagePlan::new(s, cf);
-            assert_eq!(p.diff + p.prod + p.sum1 + p.sum2 + p.recip, s);
+            assert_eq!(p.diff + p.dot + p.recip, s);
         }
         assert_eq!(StagePlan::new(1, cf).recip, 1);
     }

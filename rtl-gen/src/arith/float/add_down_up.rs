@@ -1,8 +1,9 @@
 //! One exact sum rounded both toward -inf (RDN) and toward +inf (RUP): the
-//! adder's exact part once, two instances of the shared rounder.
+//! adder's exact part once, the shared rounder's normalisation once
+//! ([`round_down_up`]).
 
 use super::add::{add_raw, ADD_RAW_STEPS};
-use super::round::{round, ROUND_STEPS};
+use super::round::{round_down_up, ROUND_STEPS};
 use super::{spread, Format, Rounding};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -32,8 +33,15 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     let rs: u32 = round_cuts.iter().sum();
     let raw_down = s.for_mode(&mut m, Rounding::Rdn);
     let raw_up = s.for_mode(&mut m, Rounding::Rup);
-    let down = round(&mut m, fmt, Rounding::Rdn, &raw_down, rs, "u_round_down");
-    let up = round(&mut m, fmt, Rounding::Rup, &raw_up, rs, "u_round_up");
+    let (down, up) = round_down_up(
+        &mut m,
+        fmt,
+        &raw_down,
+        raw_down.sign,
+        raw_up.sign,
+        rs,
+        "u_round",
+    );
     for _ in 0..rs {
         m.stage();
     }

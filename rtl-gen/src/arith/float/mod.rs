@@ -21,6 +21,7 @@ pub mod bits;
 pub mod compare;
 pub mod convert;
 pub mod dot3;
+pub mod dot3_floor;
 pub mod fma;
 pub mod minmax;
 pub mod mul;

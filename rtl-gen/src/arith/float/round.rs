@@ -113,20 +113,108 @@ pub fn round_module(
     let sig = m.input("sig", Ty::UInt(sw));
     let sticky_in = m.input("sticky", Ty::Bool);
     let rm = Rm::declare(&mut m, mode);
+    let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
+    let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n);
+    for _ in 0..plan[2] {
+        m.stage();
+    }
+    m.output("z", z);
+    Arc::new(
+        m.finish()
+            .expect("rounder generator is type-correct for every format"),
+    )
+}
 
+/// Module name of the down/up rounder.
+pub fn round_down_up_name(fmt: Format, sig_width: u32, exp_width: u32, stages: u32) -> String {
+    format!(
+        "fround_{}_w{sig_width}x{exp_width}_down_up_s{stages}",
+        fmt.tag()
+    )
+}
+
+/// The rounder of [`round_module`] with two outputs, `down` (RDN, sign
+/// `sign_down`) and `up` (RUP, sign `sign_up`), of one raw value: the
+/// leading-zero count and the shift are shared, only the increment and the
+/// packing are built twice. The two signs differ only for an exact zero
+/// whose sign depends on the mode (a sum of opposite-signed operands).
+pub fn round_down_up_module(
+    fmt: Format,
+    sig_width: u32,
+    exp_width: u32,
+    stages: u32,
+) -> Arc<Module> {
+    let sw = sig_width;
+    assert!(
+        sw >= fmt.frac_bits + 2,
+        "rounder needs a significand of at least F + 2 bits"
+    );
+    let mut m = ModuleBuilder::new(round_down_up_name(fmt, sw, exp_width, stages));
+    m.describe(format!(
+        "Shared rounder, two directions: raw (sign per direction, class, exp, {sw}-bit sig, sticky) \
+         to {} rounded toward -inf (down) and toward +inf (up), one normalisation.",
+        fmt.tag()
+    ));
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("sig_width", sw)
+        .param("exp_width", exp_width)
+        .param("stages", stages);
+    let plan = spread(stages, ROUND_STEPS);
+    let sign_down = m.input("sign_down", Ty::Bool);
+    let sign_up = m.input("sign_up", Ty::Bool);
+    let class = m.input("cls", Ty::UInt(2));
+    let exp = m.input("exp", Ty::SInt(exp_width));
+    let sig = m.input("sig", Ty::UInt(sw));
+    let sticky_in = m.input("sticky", Ty::Bool);
+    let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
+    let rdn = Rm::fixed(Rounding::Rdn);
+    let rup = Rm::fixed(Rounding::Rup);
+    let down = round_and_pack(&mut m, fmt, &rdn, sign_down, class, sticky_in, &n);
+    let up = round_and_pack(&mut m, fmt, &rup, sign_up, class, sticky_in, &n);
+    for _ in 0..plan[2] {
+        m.stage();
+    }
+    m.output("down", down);
+    m.output("up", up);
+    Arc::new(
+        m.finish()
+            .expect("down/up rounder generator is type-correct for every format"),
+    )
+}
+
+/// A raw significand moved onto the result's grid (steps 1 and 2 of the
+/// rounder), with what the packing needs.
+struct OnGrid {
+    /// the significand, kept bits at the top
+    shifted: Sig,
+    /// bits lost by a right shift (subnormal results)
+    lost: Sig,
+    /// biased exponent minus one of the result before the increment
+    base: Sig,
+    /// the raw significand is zero
+    sig_zero: Sig,
+}
+
+/// Steps 1-2: leading zeros, distance to emin, the shift (left to normalise,
+/// right with sticky for subnormal results); `plan[0]` and `plan[1]`
+/// registers after them.
+fn shift_to_grid(m: &mut ModuleBuilder, fmt: Format, exp: Sig, sig: Sig, plan: &[u32]) -> OnGrid {
+    let sw = sig.width();
+    let exp_width = exp.width();
     // step 1: leading zeros, distance to emin, shift amounts, exponent base
     let cw = lzc_width(sw);
     let half = 1i64 << (exp_width - 1);
     let offset = sw as i64 - 1 - fmt.emin();
     let (d_lo, d_hi) = (-half + offset, half - 1 + offset);
     let dw = sint_width(d_lo.min(-1), d_hi.max(1i64 << cw)) + 1;
-    let lz = lzc(&mut m, sig);
-    let exp_w = to_sint(&mut m, exp, dw);
+    let lz = lzc(m, sig);
+    let exp_w = to_sint(m, exp, dw);
     let off = m.sint(dw, offset as i128);
     let d = m.add(exp_w, off);
-    let d = super::bits::to_sint(&mut m, d, dw);
+    let d = super::bits::to_sint(m, d, dw);
     let d = m.name(d, "d");
-    let lz_s = to_sint(&mut m, lz, dw);
+    let lz_s = to_sint(m, lz, dw);
     let d_neg = m.msb(d);
     let d_lt_lz = m.lt(d, lz_s);
     let d_bits = m.as_uint(d);
@@ -153,7 +241,7 @@ pub fn round_module(
 
     // step 2: normalise (left) or denormalise with sticky (right)
     let left = m.shl(sig, lshift);
-    let (right, lost) = shr_sticky(&mut m, sig, rshift);
+    let (right, lost) = shr_sticky(m, sig, rshift);
     let shifted = m.mux(d_neg, right, left);
     let shifted = m.name(shifted, "sig_shifted");
     let no_loss = m.bool(false);
@@ -161,8 +249,28 @@ pub fn round_module(
     for _ in 0..plan[1] {
         m.stage();
     }
+    OnGrid {
+        shifted,
+        lost,
+        base,
+        sig_zero,
+    }
+}
 
-    // step 3: round, pack, overflow, specials
+/// Step 3: round in mode `rm`, pack, overflow, specials.
+fn round_and_pack(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    rm: &Rm,
+    sign: Sig,
+    class: Sig,
+    sticky_in: Sig,
+    n: &OnGrid,
+) -> Sig {
+    let (e, f) = (fmt.exp_bits, fmt.frac_bits);
+    let (shifted, lost, base, sig_zero) = (n.shifted, n.lost, n.base, n.sig_zero);
+    let sw = shifted.width();
+    let bw = base.width();
     let top = m.slice(shifted, sw - 1, sw - f - 1);
     let top = m.name(top, "kept");
     let guard = m.bit_at(shifted, sw - f - 2);
@@ -176,18 +284,18 @@ pub fn round_module(
     let sticky = m.or(s1, sticky_in);
     let sticky = m.name(sticky, "sticky_all");
     let lsb = m.bit_at(top, 0);
-    let (inc, to_inf) = decide(&mut m, &rm, sign, guard, sticky, lsb);
+    let (inc, to_inf) = decide(m, rm, sign, guard, sticky, lsb);
     let inc = m.name(inc, "round_up");
     let pw = (bw + f + 2).max(e + f + 1);
     let zf = m.uint(f, 0);
     let base_hi = m.cat(&[base, zf]);
-    let base_hi = zext(&mut m, base_hi, pw);
-    let top_w = zext(&mut m, top, pw);
+    let base_hi = zext(m, base_hi, pw);
+    let top_w = zext(m, top, pw);
     let packed = m.add(base_hi, top_w);
     let inc_u = m.as_uint(inc);
-    let inc_w = zext(&mut m, inc_u, pw);
+    let inc_w = zext(m, inc_u, pw);
     let packed = m.add(packed, inc_w);
-    let packed = zext(&mut m, packed, pw);
+    let packed = zext(m, packed, pw);
     let packed = m.name(packed, "packed_mag");
     let inf_code = m.uint(pw, fmt.inf_bits());
     let ovf = m.ge(packed, inf_code);
@@ -217,15 +325,7 @@ pub fn round_module(
     let sign_u = m.as_uint(sign);
     let signed = m.cat(&[sign_u, mag]);
     let nan = m.uint(fmt.width(), fmt.nan_bits());
-    let z = m.mux(is_nan, nan, signed);
-    for _ in 0..plan[2] {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("rounder generator is type-correct for every format"),
-    )
+    m.mux(is_nan, nan, signed)
 }
 
 /// The increment and the overflow-to-infinity choice of mode `rm` for a
@@ -318,17 +418,7 @@ pub fn round_rm(
     stages: u32,
     inst: &str,
 ) -> Sig {
-    let f = fmt.frac_bits;
-    let (sig, exp) = if raw.sig.width() < f + 2 {
-        let pad = f + 2 - raw.sig.width();
-        let zeros = m.uint(pad, 0);
-        let sig = m.cat(&[raw.sig, zeros]);
-        let half = 1i64 << (raw.exp.width() - 1);
-        let xw = sint_width(-half - pad as i64, half);
-        (sig, add_const(m, raw.exp, -(pad as i64), xw))
-    } else {
-        (raw.sig, raw.exp)
-    };
+    let (sig, exp) = padded(m, fmt, raw);
     let module = round_module(fmt, sig.width(), exp.width(), rm.sel, stages);
     let mut ports = vec![
         ("sign", raw.sign),
@@ -343,4 +433,55 @@ pub fn round_rm(
     m.instance(inst, &module, &ports)
         .get("z")
         .expect("rounder has output z")
+}
+
+/// The raw significand and exponent, the significand padded with zeros to
+/// at least F + 2 bits (the rounder's minimum).
+#[track_caller]
+fn padded(m: &mut ModuleBuilder, fmt: Format, raw: &Raw) -> (Sig, Sig) {
+    let f = fmt.frac_bits;
+    if raw.sig.width() < f + 2 {
+        let pad = f + 2 - raw.sig.width();
+        let zeros = m.uint(pad, 0);
+        let sig = m.cat(&[raw.sig, zeros]);
+        let half = 1i64 << (raw.exp.width() - 1);
+        let xw = sint_width(-half - pad as i64, half);
+        (sig, add_const(m, raw.exp, -(pad as i64), xw))
+    } else {
+        (raw.sig, raw.exp)
+    }
+}
+
+/// Instantiates the down/up rounder ([`round_down_up_module`]) for `raw`
+/// with the sign `sign_down` toward −∞ and `sign_up` toward +∞ and returns
+/// `(down, up)`, which belong to the stage `stages` cycles after the
+/// current one (as [`round`]).
+#[track_caller]
+pub fn round_down_up(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    raw: &Raw,
+    sign_down: Sig,
+    sign_up: Sig,
+    stages: u32,
+    inst: &str,
+) -> (Sig, Sig) {
+    let (sig, exp) = padded(m, fmt, raw);
+    let module = round_down_up_module(fmt, sig.width(), exp.width(), stages);
+    let out = m.instance(
+        inst,
+        &module,
+        &[
+            ("sign_down", sign_down),
+            ("sign_up", sign_up),
+            ("cls", raw.class),
+            ("exp", exp),
+            ("sig", sig),
+            ("sticky", raw.sticky),
+        ],
+    );
+    (
+        out.get("down").expect("rounder has output down"),
+        out.get("up").expect("rounder has output up"),
+    )
 }
