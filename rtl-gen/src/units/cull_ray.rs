@@ -33,7 +33,9 @@ use super::cull::{any_of, config, is_special, is_zero, Config, TermField, DIR_WI
 use super::Unit;
 use crate::arith::float::add::ADD_RAW_STEPS;
 use crate::arith::float::add_down_up::add_down_up_module;
-use crate::arith::float::dot3_floor::{dot3_floor_module, DOT3_FLOOR_RAW_STEPS};
+use crate::arith::float::dot3_floor::{
+    dot3_floor_instance, dot3_floor_module, DOT3_FLOOR_RAW_STEPS,
+};
 use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread, Format};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
@@ -88,17 +90,6 @@ pub fn cull_ray_name(cfg: &Config) -> String {
     format!("cull_ray_{}", cfg.tag())
 }
 
-fn z(
-    m: &mut ModuleBuilder,
-    inst: &str,
-    module: &std::sync::Arc<Module>,
-    ins: &[(&str, Sig)],
-) -> Sig {
-    m.instance(inst, module, ins)
-        .get("z")
-        .expect("operator has output z")
-}
-
 /// Builds the per-ray unit.
 pub fn build(cfg: &Config) -> Module {
     let (f, pf, cf) = (cfg.ray, cfg.plane, cfg.crossing());
@@ -119,7 +110,7 @@ pub fn build(cfg: &Config) -> Module {
         .map(|(name, w)| m.input(name, Ty::UInt(*w)))
         .collect();
     let o: Vec<Sig> = (0..3).map(|i| ports[cfg.ray_o(i)]).collect();
-    let d: Vec<Sig> = (0..3).map(|i| ports[cfg.ray_d(i)]).collect();
+    let d: [Sig; 3] = [0, 1, 2].map(|i| ports[cfg.ray_d(i)]);
     let r: Vec<Sig> = (0..3).map(|i| ports[cfg.ray_r(i)]).collect();
     let n: Vec<[Sig; 3]> = (0..k)
         .map(|j| [0, 1, 2].map(|i| ports[cfg.ray_n(j, i)]))
@@ -159,27 +150,31 @@ pub fn build(cfg: &Config) -> Module {
     let mut no_lo = Vec::new();
     let mut b_lo = Vec::new();
     for (j, nj) in n.iter().enumerate() {
-        let mut u_ins = Vec::new();
-        let mut d_ins = Vec::new();
-        for i in 0..3 {
+        let u_lo = [0, 1, 2].map(|i| {
             let neg = m.msb(nj[i]);
             let uu = m.mux(neg, u_up[i], u_dn[i]);
-            let uu = m.name(uu, &format!("u_lo_factor{j}_{}", ax[i]));
-            u_ins.push((format!("a{i}"), nj[i]));
-            u_ins.push((format!("b{i}"), uu));
-            d_ins.push((format!("a{i}"), nj[i]));
-            d_ins.push((format!("b{i}"), d[i]));
-        }
-        let u_refs: Vec<(&str, Sig)> = u_ins.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        let d_refs: Vec<(&str, Sig)> = d_ins.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        no_lo.push(z(&mut m, &format!("u_no_lo{j}"), &dot_u, &u_refs));
-        b_lo.push(z(&mut m, &format!("u_b_lo{j}"), &dot_d, &d_refs));
+            m.name(uu, &format!("u_lo_factor{j}_{}", ax[i]))
+        });
+        no_lo.push(dot3_floor_instance(
+            &mut m,
+            &dot_u,
+            &format!("u_no_lo{j}"),
+            *nj,
+            u_lo,
+        ));
+        b_lo.push(dot3_floor_instance(
+            &mut m,
+            &dot_d,
+            &format!("u_b_lo{j}"),
+            *nj,
+            d,
+        ));
     }
     for _ in 0..plan.dot {
         m.stage();
     }
 
-    // Step 4: the crossing's direction and reciprocals; invalid rays.
+    // Step 3: the crossing's direction and reciprocals; invalid rays.
     let rcp = recip_down_up_module(cf, plan.recip);
     let abs_mask = m.uint(cf.width(), (1u128 << (cf.width() - 1)) - 1);
     let nan = m.uint(f.width(), f.nan_bits());

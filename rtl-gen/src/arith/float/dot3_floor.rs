@@ -22,6 +22,7 @@
 //! result that infinity (both signs: NaN).
 
 use super::bits::{abs, sadd, ssub, to_sint};
+use super::mul::mixed_format_params;
 use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::{lsb_exp, lsb_exp_width, unpack};
 use super::{sint_width, spread, Format, Rm, Rounding};
@@ -33,6 +34,29 @@ use std::sync::Arc;
 /// Logical steps before the rounder: the product (2, inside the integer
 /// multiplier), the alignment, the sum and its magnitude.
 pub const DOT3_FLOOR_RAW_STEPS: u32 = 4;
+
+/// Input ports, per term: the `fa` and the `fb` factor.
+const PORTS: [[&str; 2]; 3] = [["a0", "b0"], ["a1", "b1"], ["a2", "b2"]];
+
+/// Instantiates `module` (a [`dot3_floor_module`]) as `inst` on the factors
+/// `a` and `b` and returns its result `z`.
+#[track_caller]
+pub fn dot3_floor_instance(
+    m: &mut ModuleBuilder,
+    module: &Arc<Module>,
+    inst: &str,
+    a: [Sig; 3],
+    b: [Sig; 3],
+) -> Sig {
+    let ports: Vec<(&str, Sig)> = PORTS
+        .iter()
+        .zip(a.iter().zip(&b))
+        .flat_map(|(&[pa, pb], (&x, &y))| [(pa, x), (pb, y)])
+        .collect();
+    m.instance(inst, module, &ports)
+        .get("z")
+        .expect("dot3_floor has output z")
+}
 
 /// Module name of the operator.
 pub fn dot3_floor_name(fa: Format, fb: Format, to: Format, stages: u32) -> String {
@@ -65,17 +89,12 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
         fb.frac_bits + 1,
         to.tag()
     ));
-    m.param("exp_bits_a", fa.exp_bits)
-        .param("frac_bits_a", fa.frac_bits)
-        .param("exp_bits_b", fb.exp_bits)
-        .param("frac_bits_b", fb.frac_bits)
-        .param("to_exp_bits", to.exp_bits)
-        .param("to_frac_bits", to.frac_bits)
-        .param("stages", stages);
-    let ins: Vec<(Sig, Sig)> = (0..3)
-        .map(|i| {
-            let a = m.input(&format!("a{i}"), Ty::UInt(fa.width()));
-            let b = m.input(&format!("b{i}"), Ty::UInt(fb.width()));
+    mixed_format_params(&mut m, fa, fb, to).param("stages", stages);
+    let ins: Vec<(Sig, Sig)> = PORTS
+        .iter()
+        .map(|&[a, b]| {
+            let a = m.input(a, Ty::UInt(fa.width()));
+            let b = m.input(b, Ty::UInt(fb.width()));
             (a, b)
         })
         .collect();

@@ -134,6 +134,22 @@ pub fn mul_mixed_name(fa: Format, fb: Format, to: Format, mode: Rounding, stages
     )
 }
 
+/// Records the three formats of a mixed-width operator (operands `a` in
+/// `fa`, `b` in `fb`, result in `to`) as module parameters.
+pub fn mixed_format_params(
+    m: &mut ModuleBuilder,
+    fa: Format,
+    fb: Format,
+    to: Format,
+) -> &mut ModuleBuilder {
+    m.param("exp_bits_a", fa.exp_bits)
+        .param("frac_bits_a", fa.frac_bits)
+        .param("exp_bits_b", fb.exp_bits)
+        .param("frac_bits_b", fb.frac_bits)
+        .param("to_exp_bits", to.exp_bits)
+        .param("to_frac_bits", to.frac_bits)
+}
+
 /// `z = a · b` for `a` in `fa` and `b` in `fb`, rounded once into `to` in
 /// `mode`, `stages` pipeline registers (the plan of [`mul_module`]). Equal
 /// to widening both operands exactly into a common format and multiplying
@@ -154,12 +170,7 @@ pub fn mul_mixed_module(
         fb.frac_bits + 1,
         to.tag()
     ));
-    m.param("exp_bits_a", fa.exp_bits)
-        .param("frac_bits_a", fa.frac_bits)
-        .param("exp_bits_b", fb.exp_bits)
-        .param("frac_bits_b", fb.frac_bits)
-        .param("to_exp_bits", to.exp_bits)
-        .param("to_frac_bits", to.frac_bits)
+    mixed_format_params(&mut m, fa, fb, to)
         .param("round", mode)
         .param("stages", stages);
     let a = m.input("a", Ty::UInt(fa.width()));
