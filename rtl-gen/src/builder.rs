@@ -1124,6 +1124,24 @@ impl ModuleBuilder {
         InstanceOutputs { names, sigs }
     }
 
+    /// The `in_valid` input of a module built with the handshake.
+    pub(crate) fn in_valid(&self) -> Option<Sig> {
+        self.valid.as_ref().map(|v| self.sig(v[0]))
+    }
+
+    /// Adds `op`, whose operands are nodes of this builder, in the current
+    /// stage under `name` (constants fold as usual): the retiming pass
+    /// replays a flattened module through this.
+    #[track_caller]
+    pub(crate) fn replay(&mut self, op: Op, ty: Ty, name: &str) -> Sig {
+        let s = self.op(op, ty);
+        let node = &mut self.nodes[s.id.0 as usize];
+        if !matches!(node.op, Op::Const(_)) {
+            node.name = name.to_string();
+        }
+        s
+    }
+
     /// Finishes the module: outputs are carried to the last stage, whose number
     /// is the latency. Returns every error recorded while building.
     #[track_caller]
@@ -1182,24 +1200,8 @@ impl ModuleBuilder {
     }
 }
 
-/// Rebuilds `op` with every operand passed through `f`.
-fn remap(op: Op, mut f: impl FnMut(NodeId) -> NodeId) -> Op {
-    match op {
-        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => op,
-        Op::Add(a, b) => Op::Add(f(a), f(b)),
-        Op::Sub(a, b) => Op::Sub(f(a), f(b)),
-        Op::Mul(a, b) => Op::Mul(f(a), f(b)),
-        Op::Not(a) => Op::Not(f(a)),
-        Op::Bit(o, a, b) => Op::Bit(o, f(a), f(b)),
-        Op::Cmp(o, a, b) => Op::Cmp(o, f(a), f(b)),
-        Op::Shl(a, b) => Op::Shl(f(a), f(b)),
-        Op::Shr(a, b) => Op::Shr(f(a), f(b)),
-        Op::Mux(s, t, e) => Op::Mux(f(s), f(t), f(e)),
-        Op::Concat(v) => Op::Concat(v.into_iter().map(f).collect()),
-        Op::Slice(a, h, l) => Op::Slice(f(a), h, l),
-        Op::Reduce(o, a) => Op::Reduce(o, f(a)),
-        Op::Cast(a) => Op::Cast(f(a)),
-    }
+fn remap(op: Op, f: impl FnMut(NodeId) -> NodeId) -> Op {
+    op.map_operands(f)
 }
 
 /// A readable name made from the operation and its operands' names, cut to

@@ -158,6 +158,28 @@ impl Op {
     }
 }
 
+impl Op {
+    /// The same operation with every operand passed through `f`.
+    pub fn map_operands(self, mut f: impl FnMut(NodeId) -> NodeId) -> Op {
+        match self {
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => self,
+            Op::Add(a, b) => Op::Add(f(a), f(b)),
+            Op::Sub(a, b) => Op::Sub(f(a), f(b)),
+            Op::Mul(a, b) => Op::Mul(f(a), f(b)),
+            Op::Not(a) => Op::Not(f(a)),
+            Op::Bit(o, a, b) => Op::Bit(o, f(a), f(b)),
+            Op::Cmp(o, a, b) => Op::Cmp(o, f(a), f(b)),
+            Op::Shl(a, b) => Op::Shl(f(a), f(b)),
+            Op::Shr(a, b) => Op::Shr(f(a), f(b)),
+            Op::Mux(s, t, e) => Op::Mux(f(s), f(t), f(e)),
+            Op::Concat(v) => Op::Concat(v.into_iter().map(f).collect()),
+            Op::Slice(a, h, l) => Op::Slice(f(a), h, l),
+            Op::Reduce(o, a) => Op::Reduce(o, f(a)),
+            Op::Cast(a) => Op::Cast(f(a)),
+        }
+    }
+}
+
 /// One node: an operation, its result type, its name (given by the generator
 /// code, or derived from the operation and its operands' names; the emitter
 /// makes names unique), and where in the Rust source it was built.

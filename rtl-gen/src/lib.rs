@@ -14,6 +14,7 @@ pub mod eval;
 pub mod flow;
 pub mod ir;
 pub mod params;
+pub mod retime;
 pub mod units;
 
 /// The generator's name and version, written into every emitted file.

@@ -408,8 +408,7 @@ fn list() {
     for entry in flow::catalog() {
         let u = entry.unit;
         println!("{}: {}", u.name(), u.summary());
-        let rows: Vec<(String, &str)> = u
-            .params()
+        let rows: Vec<(String, &str)> = flow::param_specs(&entry)
             .iter()
             .map(|p| {
                 let range = match p.kind {

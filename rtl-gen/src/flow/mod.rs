@@ -30,7 +30,7 @@ pub mod transform;
 
 use crate::emit::{emit, VerilogFile};
 use crate::ir::{control, Module, Ty};
-use crate::params::{ParamError, Params};
+use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 use crate::units::Unit;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -188,11 +188,35 @@ fn port_width(ty: Ty) -> u32 {
     ty.width()
 }
 
+/// The parameter every unit takes besides its own: where its pipeline
+/// registers go (`crate::retime`).
+pub const PIPELINE: ParamSpec = ParamSpec {
+    name: "pipeline",
+    doc: "register placement: balanced (re-placed by a delay model over the flattened datapath: \
+          one module, the shortest clock period) or plan (the unit's own per-step plan, hierarchical)",
+    kind: ParamKind::Choice(&["balanced", "plan"]),
+    default: "plan",
+};
+
+/// Every parameter of `entry`: its own and the flow's [`PIPELINE`].
+pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
+    let mut specs = entry.unit.params().to_vec();
+    specs.push(PIPELINE);
+    specs
+}
+
 /// Builds `unit` with `given` parameters (`key=value` strings) and emits it.
 pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
     let entry = find(unit)?;
-    let params = Params::resolve(unit, entry.unit.params(), given)?;
-    let module = entry.unit.build(&params)?;
+    let params = Params::resolve(unit, &param_specs(&entry), given)?;
+    let mut module = entry.unit.build(&params)?;
+    if params.word(PIPELINE.name) == "balanced" {
+        let (balanced, _) = crate::retime::balance(&module)
+            .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
+        module = balanced;
+        module.name.push_str("_bal");
+        module.params.insert(PIPELINE.name.into(), "balanced".into());
+    }
     let files = emit(&module, crate::GENERATOR);
     let ports = sim::PortList {
         top: module.name.clone(),

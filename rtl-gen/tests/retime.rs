@@ -1,0 +1,73 @@
+//! `pipeline=balanced`: the re-timed module computes what the golden model
+//! does, with the unit's latency, and its modelled clock period is shorter
+//! than the unit's own plan (so a pass that places registers worse fails).
+
+mod evaluate;
+
+use rtl_gen::retime;
+
+/// (unit, parameters without `pipeline`, latency, required period ratio after/before)
+const CASES: &[(&str, &[&str], u32, f64)] = &[
+    ("mulcmp", &["stages=3"], 3, 1.0),
+    ("fadd", &["exp_bits=8", "frac_bits=23", "stages=3"], 3, 0.8),
+    ("fmul", &["exp_bits=5", "frac_bits=10", "stages=2"], 2, 0.9),
+    ("ffma", &["exp_bits=8", "frac_bits=7", "stages=4"], 4, 0.8),
+    ("silhouette", &["exp_bits=8", "frac_bits=7", "mode=ray", "stages=6"], 6, 0.75),
+    ("silhouette", &["exp_bits=5", "frac_bits=4", "stages=3"], 3, 0.9),
+    ("silhouette", &["exp_bits=5", "frac_bits=6", "origin=bounded", "stages=0"], 0, 1.0),
+    ("slab", &["exp_bits=8", "frac_bits=7", "rounding=conservative", "stages=5"], 5, 0.9),
+    ("transform", &["exp_bits=8", "frac_bits=7", "stages=6"], 6, 0.8),
+    ("cull", &["k=2", "stages=4"], 4, 0.9),
+    ("cull_ray", &["k=2", "stages=4"], 4, 0.9),
+];
+
+#[test]
+fn balanced_pipelines_match_the_golden_model_with_the_same_latency() {
+    for (unit, params, stages, _) in CASES {
+        let mut p: Vec<&str> = params.to_vec();
+        p.push("pipeline=balanced");
+        evaluate::check(unit, &p, *stages, 400, 1_600);
+        let g = evaluate::gen(unit, &p);
+        assert!(
+            g.module.instances.is_empty(),
+            "{}: a balanced module is flat",
+            g.module.name
+        );
+    }
+}
+
+#[test]
+fn balancing_shortens_the_modelled_period() {
+    for (unit, params, _, ratio) in CASES {
+        let plan = evaluate::gen(unit, params);
+        let (_, b) = retime::balance(&plan.module).expect("a pipeline");
+        eprintln!(
+            "{}: modelled period {:.1} -> {:.1} LUT levels, {} register bits",
+            plan.module.name, b.period_before, b.period_after, b.register_bits
+        );
+        assert!(
+            b.period_after <= b.period_before * ratio + 1e-9,
+            "{}: period {:.2} -> {:.2}, expected at most {:.0} % of the plan's",
+            plan.module.name,
+            b.period_before,
+            b.period_after,
+            ratio * 100.0
+        );
+    }
+}
+
+#[test]
+fn state_is_refused() {
+    use rtl_gen::builder::ModuleBuilder;
+    use rtl_gen::ir::Ty;
+    let mut m = ModuleBuilder::new("counter");
+    let r = m.reg("count", Ty::UInt(4), Some(0));
+    let one = m.uint(4, 1);
+    let next = m.add(r.q, one);
+    let next = m.slice(next, 3, 0);
+    m.set_next(r, next, None);
+    m.output("count", r.q);
+    let module = m.finish().expect("builds");
+    let e = retime::balance(&module).unwrap_err();
+    assert!(e.contains("holds state"), "{e}");
+}
