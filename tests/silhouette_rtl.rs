@@ -13,7 +13,8 @@
 //! - binary16 (5,10), bounded, nearest, combinational (0 stages);
 //! - ray mode: binary32 conservative, 4 stages; bfloat16 nearest, 2 stages, with bubbles;
 //! - slab: binary32, 4 stages; bfloat16, 0 stages;
-//! - conservative slab: binary32, 4 stages; bfloat16, 2 stages.
+//! - conservative slab: binary32, 4 stages; bfloat16, 2 stages;
+//! - `pipeline=balanced`: ray mode bfloat16, 12 stages, with bubbles.
 
 mod common;
 
@@ -158,4 +159,19 @@ fn slab_conservative_bfloat16() {
         "stages=2",
     ];
     run("slab_cons_bf16", "slab", &p, 2, None);
+}
+
+/// `pipeline=balanced` (registers re-placed by the delay model, one flat
+/// module): the ray tester at bfloat16 and 12 stages, the configuration that
+/// routes at 100 MHz on the ECP5-85F-6, with bubbles.
+#[test]
+fn silhouette_ray_mode_bfloat16_balanced_12_stages_with_bubbles() {
+    let p = [
+        "mode=ray",
+        "exp_bits=8",
+        "frac_bits=7",
+        "stages=12",
+        "pipeline=balanced",
+    ];
+    run("sil_ray_bf16_bal", "silhouette", &p, 12, Some(3));
 }

@@ -485,7 +485,12 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
     }
     let dir = scratch_dir(&g.module.name)?;
     let result = run_in(g, o, &dir);
-    let _ = std::fs::remove_dir_all(&dir);
+    // RTL_COST_KEEP=1 keeps the tools' logs (nextpnr's critical path) for a look
+    if std::env::var_os("RTL_COST_KEEP").is_some() {
+        eprintln!("kept: {}", dir.display());
+    } else {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
     let report = result?;
     if let Some(cf) = &cache_file {
         if let Some(parent) = cf.parent() {

@@ -93,7 +93,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "stages",
         doc: "pipeline stages (latency in cycles), spread over the datapath's steps",
-        kind: ParamKind::Int { min: 0, max: 16 },
+        kind: ParamKind::Int { min: 0, max: 32 },
         default: "0",
     },
 ];

@@ -38,7 +38,7 @@ pub const ROUND: ParamSpec = ParamSpec {
 pub const STAGES: ParamSpec = ParamSpec {
     name: "stages",
     doc: "pipeline stages (latency in cycles), spread over the operator's steps",
-    kind: ParamKind::Int { min: 0, max: 16 },
+    kind: ParamKind::Int { min: 0, max: 32 },
     default: "2",
 };
 

@@ -95,7 +95,7 @@ const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "stages",
         doc: "pipeline stages (latency in cycles), spread over differences, normalisation, products, comparisons, reduction",
-        kind: ParamKind::Int { min: 0, max: 16 },
+        kind: ParamKind::Int { min: 0, max: 32 },
         default: "4",
     },
 ];

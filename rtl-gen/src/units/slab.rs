@@ -89,7 +89,7 @@ const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "stages",
         doc: "pipeline stages (latency in cycles), spread over differences, products, min/max, reduction, comparison",
-        kind: ParamKind::Int { min: 0, max: 16 },
+        kind: ParamKind::Int { min: 0, max: 32 },
         default: "4",
     },
 ];
