@@ -11,6 +11,7 @@ pub mod boxes;
 pub mod bringup;
 pub mod charts;
 pub mod cull;
+pub mod depth;
 pub mod fit;
 pub mod shell;
 pub mod sweep;

@@ -8,11 +8,13 @@
 //!
 //! 1. the module is flattened (instances inlined, their names prefixed with the
 //!    instance name) and its pipeline registers removed, which leaves one
-//!    combinational graph of the transaction;
+//!    combinational graph of the transaction; unsigned products wider than a
+//!    DSP block's 18 bits are split into 18x18 blocks and a sum, so that
+//!    registers can go between the blocks and the sum;
 //! 2. each operation gets a delay from [`delay`], a model of an FPGA with
 //!    4-input LUTs, carry chains and 18x18 multipliers (one LUT level = 1.0);
 //! 3. the smallest period `P` whose as-soon-as-possible schedule fits in
-//!    `latency` registers is found by bisection (no stage longer than `P`
+//!    the requested latency is found by bisection (no stage longer than `P`
 //!    except where one operation alone is longer); the as-late-as-possible
 //!    schedule of the same `P` is built too and the one that carries fewer
 //!    register bits is kept;
@@ -32,6 +34,8 @@ struct FlatNode {
     op: Op,
     ty: Ty,
     name: String,
+    /// the stage the unit's own plan computes it in (`None` for constants)
+    built: Option<u32>,
 }
 
 /// The flattened, register-free graph of a module.
@@ -43,17 +47,16 @@ struct Flat {
     in_valid: Option<usize>,
 }
 
-/// Inlines `m` into `nodes`, its input ports read from `inputs`; returns the
-/// node of each of its outputs.
+/// Inlines `m` into `nodes`, its input ports read from `inputs` (node, and
+/// the stage the value is in there); returns the same of each output.
 fn inline(
     m: &Module,
-    inputs: &[usize],
+    inputs: &[(usize, u32)],
     prefix: &str,
     nodes: &mut Vec<FlatNode>,
-) -> Result<Vec<usize>, String> {
-    let mut map: Vec<usize> = Vec::with_capacity(m.nodes.len());
-    let mut inlined: HashMap<usize, Vec<usize>> = HashMap::new();
-    let operand = |map: &Vec<usize>, id: NodeId| map[id.0 as usize];
+) -> Result<Vec<(usize, u32)>, String> {
+    let mut map: Vec<(usize, u32)> = Vec::with_capacity(m.nodes.len());
+    let mut inlined: HashMap<usize, Vec<(usize, u32)>> = HashMap::new();
     for (i, node) in m.nodes.iter().enumerate() {
         let flat = match &node.op {
             Op::Input(p) => inputs[*p],
@@ -66,14 +69,15 @@ fn inline(
                     ));
                 }
                 // a pipeline register (or the valid chain) carries the same
-                // transaction's value: in the graph it is that value
-                operand(&map, reg.next)
+                // transaction's value: in the graph it is that value, a stage later
+                let (id, stage) = map[reg.next.0 as usize];
+                (id, stage + 1)
             }
             Op::InstOut { inst, port } => {
                 if !inlined.contains_key(inst) {
                     let instance = &m.instances[*inst];
-                    let ins: Vec<usize> =
-                        instance.inputs.iter().map(|&id| operand(&map, id)).collect();
+                    let ins: Vec<(usize, u32)> =
+                        instance.inputs.iter().map(|id| map[id.0 as usize]).collect();
                     let outs = inline(
                         &instance.module,
                         &ins,
@@ -85,17 +89,33 @@ fn inline(
                 inlined[inst][*port]
             }
             op => {
-                let op = remap(op.clone(), |id| NodeId(operand(&map, id) as u32));
-                let name = match op {
-                    Op::Const(_) => node.name.clone(),
-                    _ => format!("{prefix}{}", node.name),
+                let operands = op.operands();
+                let stage = operands
+                    .iter()
+                    .map(|o| map[o.0 as usize])
+                    .filter(|(id, _)| nodes[*id].built.is_some())
+                    .map(|(_, s)| s)
+                    .max()
+                    .unwrap_or(0);
+                let op = remap(op.clone(), |id| NodeId(map[id.0 as usize].0 as u32));
+                let first = nodes.len();
+                let id = match op {
+                    Op::Const(_) => push(nodes, op, node.ty, node.name.clone()),
+                    Op::Mul(a, b) => split_product(
+                        nodes,
+                        a.0 as usize,
+                        b.0 as usize,
+                        node.ty,
+                        &format!("{prefix}{}", node.name),
+                    ),
+                    op => push(nodes, op, node.ty, format!("{prefix}{}", node.name)),
                 };
-                nodes.push(FlatNode {
-                    op,
-                    ty: node.ty,
-                    name,
-                });
-                nodes.len() - 1
+                for n in &mut nodes[first..] {
+                    if !matches!(n.op, Op::Const(_)) {
+                        n.built = Some(stage);
+                    }
+                }
+                (id, stage)
             }
         };
         map.push(flat);
@@ -103,9 +123,103 @@ fn inline(
     Ok(m.outputs.iter().map(|(_, id)| map[id.0 as usize]).collect())
 }
 
+fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> usize {
+    nodes.push(FlatNode {
+        op,
+        ty,
+        name,
+        built: None,
+    });
+    nodes.len() - 1
+}
+
+/// Operand width of one DSP block (ECP5 MULT18X18D; 7-series DSP48E1 takes 25x18).
+const DSP_BITS: u32 = 18;
+
+/// `a · b` as one node, or, for unsigned operands wider than [`DSP_BITS`],
+/// as the products of their 18-bit pieces summed with their weights: the
+/// same exact product, with places for registers between blocks and sums.
+fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &str) -> usize {
+    let (ta, tb) = (nodes[a].ty, nodes[b].ty);
+    let unsigned = |t: Ty| matches!(t, Ty::UInt(_));
+    if !unsigned(ta) || !unsigned(tb) || ta.width().max(tb.width()) <= DSP_BITS {
+        return push(nodes, Op::Mul(NodeId(a as u32), NodeId(b as u32)), ty, name.to_string());
+    }
+    let pieces = |nodes: &mut Vec<FlatNode>, x: usize, tag: &str| -> Vec<(usize, u32)> {
+        let w = nodes[x].ty.width();
+        (0..w.div_ceil(DSP_BITS))
+            .map(|i| {
+                let lo = i * DSP_BITS;
+                let hi = (lo + DSP_BITS).min(w) - 1;
+                let op = Op::Slice(NodeId(x as u32), hi, lo);
+                (push(nodes, op, Ty::UInt(hi - lo + 1), format!("{name}_{tag}{i}")), lo)
+            })
+            .collect()
+    };
+    let pa = pieces(nodes, a, "a");
+    let pb = pieces(nodes, b, "b");
+    // (node, weight): every block product, then pairwise sums of equal-width terms
+    let mut terms: Vec<(usize, u32)> = Vec::new();
+    for &(x, wx) in &pa {
+        for &(y, wy) in &pb {
+            let w = nodes[x].ty.width() + nodes[y].ty.width();
+            let p = push(
+                nodes,
+                Op::Mul(NodeId(x as u32), NodeId(y as u32)),
+                Ty::UInt(w),
+                format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS),
+            );
+            terms.push((p, wx + wy));
+        }
+    }
+    let total = ty.width();
+    let mut level = 0;
+    while terms.len() > 1 {
+        level += 1;
+        let mut next = Vec::new();
+        for (i, pair) in terms.chunks(2).enumerate() {
+            if let [(x, wx), (y, wy)] = *pair {
+                // align the heavier term onto the lighter one's weight
+                let ((lo, wlo), (hi, whi)) = if wx <= wy { ((x, wx), (y, wy)) } else { ((y, wy), (x, wx)) };
+                let shifted = if whi > wlo {
+                    let z = push(nodes, Op::Const(0), Ty::UInt(whi - wlo), format!("k0_w{}", whi - wlo));
+                    let w = nodes[hi].ty.width() + whi - wlo;
+                    push(nodes, Op::Concat(vec![NodeId(hi as u32), NodeId(z as u32)]), Ty::UInt(w), format!("{name}_shift_l{level}_{i}"))
+                } else {
+                    hi
+                };
+                let w = nodes[lo].ty.width().max(nodes[shifted].ty.width()) + 1;
+                let sum = push(nodes, Op::Add(NodeId(lo as u32), NodeId(shifted as u32)), Ty::UInt(w), format!("{name}_sum_l{level}_{i}"));
+                // the partial sums never exceed the product: keep at most its width
+                let keep = total.saturating_sub(wlo);
+                let sum = if w > keep {
+                    push(nodes, Op::Slice(NodeId(sum as u32), keep - 1, 0), Ty::UInt(keep), format!("{name}_sum_l{level}_{i}"))
+                } else {
+                    sum
+                };
+                next.push((sum, wlo));
+            } else {
+                next.push(pair[0]);
+            }
+        }
+        terms = next;
+    }
+    let (p, weight) = terms[0];
+    debug_assert_eq!(weight, 0, "the lowest block has weight 0");
+    let w = nodes[p].ty.width();
+    match w.cmp(&total) {
+        std::cmp::Ordering::Equal => p,
+        std::cmp::Ordering::Greater => push(nodes, Op::Slice(NodeId(p as u32), total - 1, 0), ty, name.to_string()),
+        std::cmp::Ordering::Less => {
+            let z = push(nodes, Op::Const(0), Ty::UInt(total - w), format!("k0_w{}", total - w));
+            push(nodes, Op::Concat(vec![NodeId(z as u32), NodeId(p as u32)]), ty, name.to_string())
+        }
+    }
+}
+
 fn flatten(m: &Module) -> Result<Flat, String> {
     let mut nodes = Vec::new();
-    let inputs: Vec<usize> = m
+    let inputs: Vec<(usize, u32)> = m
         .inputs
         .iter()
         .enumerate()
@@ -114,8 +228,9 @@ fn flatten(m: &Module) -> Result<Flat, String> {
                 op: Op::Input(p),
                 ty: port.ty,
                 name: port.name.clone(),
+                built: Some(0),
             });
-            p
+            (p, 0)
         })
         .collect();
     let outs = inline(m, &inputs, "", &mut nodes)?;
@@ -123,7 +238,7 @@ fn flatten(m: &Module) -> Result<Flat, String> {
     let outputs = m.outputs[skip..]
         .iter()
         .zip(&outs[skip..])
-        .map(|((port, _), &n)| (port.clone(), n))
+        .map(|((port, _), &(n, _))| (port.clone(), n))
         .collect();
     Ok(Flat {
         nodes,
@@ -159,9 +274,11 @@ pub fn delay(op: &Op, ty: Ty, operand_ty: impl Fn(NodeId) -> Ty) -> f64 {
                 // a few partial products: an adder tree of LUTs
                 1.0 + carry(x.max(y)) * x.min(y).log2().max(1.0)
             } else {
-                // 18x18 blocks, partial products summed by carry chains
+                // 18x18 blocks (the routing to and from a block costs about
+                // as much as the block: a stage of its own at 100 MHz on
+                // ECP5), partial products of signed ones summed by carry chains
                 let blocks = (x / 18.0).ceil() * (y / 18.0).ceil();
-                4.0 + blocks.log2() * carry(ty.width() as f64)
+                5.0 + blocks.log2() * carry(ty.width() as f64)
             }
         }
     }
@@ -172,8 +289,9 @@ struct Schedule {
     stage: Vec<Option<u32>>,
 }
 
-/// Longest chain of delays inside one stage if node `n` starts it.
-fn as_soon_as_possible(flat: &Flat, live: &[bool], d: &[f64], period: f64) -> Schedule {
+/// Every node as early as the period allows.
+fn as_soon_as_possible(g: &Graph, period: f64) -> Schedule {
+    let (flat, live, d) = (&g.flat, &g.live, &g.delay);
     let n = flat.nodes.len();
     let mut stage: Vec<Option<u32>> = vec![None; n];
     let mut arrival = vec![0.0f64; n];
@@ -212,15 +330,8 @@ fn as_soon_as_possible(flat: &Flat, live: &[bool], d: &[f64], period: f64) -> Sc
 }
 
 /// The mirror image: every node as late as its users allow, outputs at `last`.
-fn as_late_as_possible(
-    flat: &Flat,
-    live: &[bool],
-    users: &[Vec<usize>],
-    is_output: &[bool],
-    d: &[f64],
-    period: f64,
-    last: u32,
-) -> Option<Schedule> {
+fn as_late_as_possible(g: &Graph, period: f64, last: u32) -> Option<Schedule> {
+    let (flat, live, users, is_output, d) = (&g.flat, &g.live, &g.users, &g.is_output, &g.delay);
     let n = flat.nodes.len();
     // stages counted back from the last one, and delay from the node to its stage's end
     let mut back: Vec<Option<u32>> = vec![None; n];
@@ -266,7 +377,8 @@ fn last_stage(s: &Schedule) -> u32 {
 }
 
 /// Register bits a schedule carries: each value from its stage to its last user's.
-fn register_bits(flat: &Flat, s: &Schedule, users: &[Vec<usize>], is_output: &[bool], last: u32) -> u64 {
+fn register_bits(g: &Graph, s: &Schedule, last: u32) -> u64 {
+    let (flat, users, is_output) = (&g.flat, &g.users, &g.is_output);
     let mut bits = 0u64;
     for (i, node) in flat.nodes.iter().enumerate() {
         let Some(own) = s.stage[i] else { continue };
@@ -281,102 +393,57 @@ fn register_bits(flat: &Flat, s: &Schedule, users: &[Vec<usize>], is_output: &[b
     bits
 }
 
-/// What [`balance`] did, for the Verilog header and the reports.
+/// What [`balance`] did, for the reports.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Balance {
-    /// longest register-to-register chain of the model before, LUT levels
-    pub period_before: f64,
-    /// the same after
-    pub period_after: f64,
-    /// pipeline register bits after
+    /// longest register-to-register chain of the delay model, LUT levels
+    pub period: f64,
+    /// pipeline register bits (the valid chain not counted)
     pub register_bits: u64,
 }
 
 /// The longest in-stage chain of `flat` under the stages of `s`.
-fn period_of(flat: &Flat, live: &[bool], d: &[f64], s: &Schedule) -> f64 {
-    let n = flat.nodes.len();
+fn period_of(g: &Graph, s: &Schedule) -> f64 {
+    let n = g.flat.nodes.len();
     let mut arrival = vec![0.0f64; n];
     let mut worst = 0.0f64;
     for i in 0..n {
         let Some(si) = s.stage[i] else { continue };
-        if !live[i] {
+        if !g.live[i] {
             continue;
         }
-        let before = flat.nodes[i]
+        let before = g.flat.nodes[i]
             .op
             .operands()
             .iter()
             .filter(|o| s.stage[o.0 as usize] == Some(si))
             .map(|o| arrival[o.0 as usize])
             .fold(0.0, f64::max);
-        arrival[i] = before + d[i];
+        arrival[i] = before + g.delay[i];
         worst = worst.max(arrival[i]);
     }
     worst
 }
 
-/// Stage of every node of the flattened graph as the unit placed it: the
-/// number of registers between the inputs and the node.
-fn stages_as_built(m: &Module, flat_len: usize) -> Option<Schedule> {
-    // walks the same order as `inline`, counting registers instead of removing them
-    fn walk(
-        m: &Module,
-        inputs: &[(usize, u32)],
-        out: &mut Vec<Option<u32>>,
-    ) -> Vec<(usize, u32)> {
-        let mut map: Vec<(usize, u32)> = Vec::with_capacity(m.nodes.len());
-        let mut inlined: HashMap<usize, Vec<(usize, u32)>> = HashMap::new();
-        for node in &m.nodes {
-            let v = match &node.op {
-                Op::Input(p) => inputs[*p],
-                Op::Reg(r) => {
-                    let (id, s) = map[m.registers[*r].next.0 as usize];
-                    (id, s + 1)
-                }
-                Op::InstOut { inst, port } => {
-                    if !inlined.contains_key(inst) {
-                        let instance = &m.instances[*inst];
-                        let ins: Vec<(usize, u32)> =
-                            instance.inputs.iter().map(|id| map[id.0 as usize]).collect();
-                        let outs = walk(&instance.module, &ins, out);
-                        inlined.insert(*inst, outs);
-                    }
-                    inlined[inst][*port]
-                }
-                op => {
-                    let s = op
-                        .operands()
-                        .iter()
-                        .map(|o| map[o.0 as usize])
-                        .filter(|(id, _)| out[*id].is_some())
-                        .map(|(_, s)| s)
-                        .max()
-                        .unwrap_or(0);
-                    let konst = matches!(op, Op::Const(_));
-                    out.push(if konst { None } else { Some(s) });
-                    (out.len() - 1, s)
-                }
-            };
-            map.push(v);
-        }
-        m.outputs.iter().map(|(_, id)| map[id.0 as usize]).collect()
-    }
-    let mut out: Vec<Option<u32>> = (0..m.inputs.len()).map(|_| Some(0)).collect();
-    let inputs: Vec<(usize, u32)> = (0..m.inputs.len()).map(|p| (p, 0)).collect();
-    walk(m, &inputs, &mut out);
-    (out.len() == flat_len).then_some(Schedule { stage: out })
+/// The flattened graph with what scheduling needs.
+struct Graph {
+    flat: Flat,
+    /// read (through other nodes) by an output
+    live: Vec<bool>,
+    /// drives an output
+    is_output: Vec<bool>,
+    /// the live nodes reading each node
+    users: Vec<Vec<usize>>,
+    /// [`delay`] of each node
+    delay: Vec<f64>,
 }
 
-/// Re-places the pipeline registers of `m` (see the module documentation).
-/// The result has the same ports, latency and function, and no instances.
-pub fn balance(m: &Module) -> Result<(Module, Balance), String> {
+fn analyse(m: &Module) -> Result<Graph, String> {
     if m.instances.iter().any(|i| has_handshake_below(&i.module)) {
         return Err(format!("module {}: a submodule has its own handshake", m.name));
     }
     let flat = flatten(m)?;
     let n = flat.nodes.len();
-    let last = m.latency;
-    // live nodes: those an output reads
     let mut live = vec![false; n];
     let mut is_output = vec![false; n];
     for (_, o) in &flat.outputs {
@@ -398,18 +465,41 @@ pub fn balance(m: &Module) -> Result<(Module, Balance), String> {
             }
         }
     }
-    let d: Vec<f64> = flat
+    let delay: Vec<f64> = flat
         .nodes
         .iter()
         .map(|node| delay(&node.op, node.ty, |id| flat.nodes[id.0 as usize].ty))
         .collect();
-    let before = stages_as_built(m, n)
-        .map(|s| period_of(&flat, &live, &d, &s))
-        .unwrap_or(f64::NAN);
+    Ok(Graph {
+        flat,
+        live,
+        is_output,
+        users,
+        delay,
+    })
+}
+
+/// The delay model's clock period of `m` as it is pipelined: the longest
+/// chain of [`delay`]s between two registers, in LUT levels.
+pub fn modelled_period(m: &Module) -> Result<f64, String> {
+    let g = analyse(m)?;
+    let built = Schedule {
+        stage: g.flat.nodes.iter().map(|n| n.built).collect(),
+    };
+    Ok(period_of(&g, &built))
+}
+
+/// Re-places the pipeline registers of `m` so that it has `latency` of them
+/// (see the module documentation). The result has the same ports and
+/// function, `latency` cycles of latency, and no instances.
+pub fn balance(m: &Module, latency: u32) -> Result<(Module, Balance), String> {
+    let g = analyse(m)?;
+    let last = latency;
+    let asap = |period: f64| as_soon_as_possible(&g, period);
     // bisection on the period: the shortest whose ASAP schedule fits the latency
-    let longest = period_of(&flat, &live, &d, &as_soon_as_possible(&flat, &live, &d, f64::INFINITY));
-    let (mut lo, mut hi) = (d.iter().copied().fold(0.0, f64::max), longest.max(1e-9));
-    if last_stage(&as_soon_as_possible(&flat, &live, &d, lo)) <= last {
+    let longest = period_of(&g, &asap(f64::INFINITY));
+    let (mut lo, mut hi) = (g.delay.iter().copied().fold(0.0, f64::max), longest.max(1e-9));
+    if last_stage(&asap(lo)) <= last {
         hi = lo;
     }
     for _ in 0..48 {
@@ -417,30 +507,28 @@ pub fn balance(m: &Module) -> Result<(Module, Balance), String> {
             break;
         }
         let mid = 0.5 * (lo + hi);
-        if last_stage(&as_soon_as_possible(&flat, &live, &d, mid)) <= last {
+        if last_stage(&asap(mid)) <= last {
             hi = mid;
         } else {
             lo = mid;
         }
     }
     let period = hi;
-    let asap = as_soon_as_possible(&flat, &live, &d, period);
-    let mut best = asap;
-    let mut bits = register_bits(&flat, &best, &users, &is_output, last);
-    if let Some(alap) = as_late_as_possible(&flat, &live, &users, &is_output, &d, period, last) {
-        let alap_bits = register_bits(&flat, &alap, &users, &is_output, last);
+    let mut best = asap(period);
+    let mut bits = register_bits(&g, &best, last);
+    if let Some(alap) = as_late_as_possible(&g, period, last) {
+        let alap_bits = register_bits(&g, &alap, last);
         if alap_bits < bits {
             best = alap;
             bits = alap_bits;
         }
     }
-    let after = period_of(&flat, &live, &d, &best);
-    let module = replay(m, &flat, &live, &best, last).map_err(|e| e.to_string())?;
+    let period = period_of(&g, &best);
+    let module = replay(m, &g, &best, last).map_err(|e| e.to_string())?;
     Ok((
         module,
         Balance {
-            period_before: before,
-            period_after: after,
+            period,
             register_bits: bits,
         },
     ))
@@ -451,13 +539,8 @@ fn has_handshake_below(m: &Module) -> bool {
 }
 
 /// Builds the module again from the graph, stage by stage.
-fn replay(
-    m: &Module,
-    flat: &Flat,
-    live: &[bool],
-    s: &Schedule,
-    last: u32,
-) -> Result<Module, BuildErrors> {
+fn replay(m: &Module, g: &Graph, s: &Schedule, last: u32) -> Result<Module, BuildErrors> {
+    let (flat, live) = (&g.flat, &g.live);
     let mut b = match m.handshake {
         Some(_) => ModuleBuilder::with_handshake(m.name.clone()),
         None => ModuleBuilder::new(m.name.clone()),

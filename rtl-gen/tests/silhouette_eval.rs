@@ -109,7 +109,7 @@ fn ports_names_latency_and_determinism() {
         .inputs
         .iter()
         .any(|p| p.name.starts_with("o_hi")));
-    for s in 0..=16 {
+    for s in 0..=32 {
         let g = gen(
             "silhouette",
             &["exp_bits=4", "frac_bits=3", &format!("stages={s}")],

@@ -81,7 +81,7 @@ fn names_ports_latency_and_default() {
         !text.contains("_rne_"),
         "the conservative slab rounds nothing to nearest"
     );
-    for s in 0..=16 {
+    for s in 0..=32 {
         let g = gen(&[
             "rounding=conservative",
             "exp_bits=4",

@@ -121,6 +121,26 @@ enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Routed Fmax against pipeline depth on the ECP5-85F-6: synth_ecp5 and nextpnr-ecp5 of the timing shell for each `stages` and register placement (pipeline=plan|balanced); one table of LUT4, FF, MULT18X18D and MHz
+    Depth {
+        /// unit name (`rtl-gen list`)
+        unit: String,
+        /// parameter key=value besides `stages` and `pipeline` (repeatable)
+        #[arg(short = 'p')]
+        params: Vec<String>,
+        /// pipeline depths to sweep, comma separated
+        #[arg(long, value_delimiter = ',', default_value = "2,4,8,12,16")]
+        stages: Vec<u32>,
+        /// register placements to compare, comma separated
+        #[arg(long, value_delimiter = ',', default_value = "plan,balanced")]
+        pipeline: Vec<String>,
+        /// nextpnr-ecp5 target frequency, MHz
+        #[arg(long, default_value_t = 100.0)]
+        target_mhz: f64,
+        /// also write the table here
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -207,6 +227,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             match json {
                 Some(path) => std::fs::write(path, text + "\n")?,
                 None => {}
+            }
+        }
+        Cmd::Depth {
+            unit,
+            params,
+            stages,
+            pipeline,
+            target_mhz,
+            out,
+        } => {
+            let rows = cost::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz)?;
+            let t = cost::depth::table(&unit, &params, &rows);
+            print!("{t}");
+            if let Some(path) = out {
+                std::fs::write(path, t)?;
             }
         }
         Cmd::Fit {

@@ -192,9 +192,10 @@ fn port_width(ty: Ty) -> u32 {
 /// registers go (`crate::retime`).
 pub const PIPELINE: ParamSpec = ParamSpec {
     name: "pipeline",
-    doc: "register placement: balanced (re-placed by a delay model over the flattened datapath: \
-          one module, the shortest clock period) or plan (the unit's own per-step plan, hierarchical)",
-    kind: ParamKind::Choice(&["balanced", "plan"]),
+    doc: "register placement: plan (the unit's own per-step plan, hierarchical) or balanced \
+          (the combinational datapath, flattened, cut into `stages` stages of equal modelled \
+          delay: one module, a shorter clock period)",
+    kind: ParamKind::Choice(&["plan", "balanced"]),
     default: "plan",
 };
 
@@ -206,16 +207,35 @@ pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
 }
 
 /// Builds `unit` with `given` parameters (`key=value` strings) and emits it.
+///
+/// `pipeline=balanced` builds the unit with `stages=0` (its datapath without
+/// registers, and without the structure a plan adds for its registers, such
+/// as multipliers cut into slices) and lets [`crate::retime::balance`] place
+/// `stages` registers; the module keeps the plan's name with `_bal` added.
 pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
     let entry = find(unit)?;
-    let params = Params::resolve(unit, &param_specs(&entry), given)?;
+    let specs = param_specs(&entry);
+    let params = Params::resolve(unit, &specs, given)?;
     let mut module = entry.unit.build(&params)?;
     if params.word(PIPELINE.name) == "balanced" {
-        let (balanced, _) = crate::retime::balance(&module)
+        if !specs.iter().any(|s| s.name == "stages") {
+            return Err(ParamError::Combination(format!(
+                "unit `{unit}` has no `stages`: pipeline=balanced does not apply"
+            ))
+            .into());
+        }
+        let mut comb = given.to_vec();
+        comb.push("stages=0".into());
+        let datapath = entry
+            .unit
+            .build(&Params::resolve(unit, &specs, &comb)?)?;
+        let (mut balanced, _) = crate::retime::balance(&datapath, params.u32("stages"))
             .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
+        balanced.name = format!("{}_bal", module.name);
+        balanced.params = module.params.clone();
+        balanced.params.insert(PIPELINE.name.into(), "balanced".into());
+        balanced.description = module.description.clone();
         module = balanced;
-        module.name.push_str("_bal");
-        module.params.insert(PIPELINE.name.into(), "balanced".into());
     }
     let files = emit(&module, crate::GENERATOR);
     let ports = sim::PortList {

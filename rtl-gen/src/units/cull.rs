@@ -772,7 +772,7 @@ mod tests {
 
     #[test]
     fn stage_plan_covers_every_register_and_registers_outputs_first() {
-        for s in 0..=16 {
+        for s in 0..=32 {
             let p = StagePlan::new(s);
             assert_eq!(p.plane() + p.out, s);
         }

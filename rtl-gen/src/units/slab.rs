@@ -406,7 +406,7 @@ mod tests {
 
     #[test]
     fn stage_plan_covers_every_register() {
-        for s in 0..=16 {
+        for s in 0..=32 {
             let p = StagePlan::new(s);
             assert_eq!(p.diff + p.product + p.min_max + p.reduce + p.compare, s);
         }
