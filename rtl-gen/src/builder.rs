@@ -1134,6 +1134,10 @@ impl ModuleBuilder {
     /// replays a flattened module through this.
     #[track_caller]
     pub(crate) fn replay(&mut self, op: Op, ty: Ty, name: &str) -> Sig {
+        if let Op::Const(value) = op {
+            // constants belong to no stage: never carried by registers
+            return self.constant_unchecked(ty, value);
+        }
         let s = self.op(op, ty);
         let node = &mut self.nodes[s.id.0 as usize];
         if !matches!(node.op, Op::Const(_)) {
