@@ -90,3 +90,60 @@ pub fn table(unit: &str, params: &[String], rows: &[DepthRow]) -> String {
     }
     t
 }
+
+/// Routed Fmax against stages, one line per register placement, each point
+/// labelled with its ECP5 LUT4 and FF: `<stem>.png` and `.svg` in `dir`.
+pub fn chart(
+    unit: &str,
+    params: &[String],
+    rows: &[DepthRow],
+    stem: &str,
+    dir: &std::path::Path,
+) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
+    use crate::charts::{write_chart, Chart, Point, Series};
+    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    let colors = [RGBColor(230, 110, 14), RGBColor(31, 119, 180)];
+    let mut placements: Vec<&str> = Vec::new();
+    for r in rows {
+        if !placements.contains(&r.pipeline.as_str()) {
+            placements.push(&r.pipeline);
+        }
+    }
+    let series = placements
+        .iter()
+        .enumerate()
+        .map(|(i, p)| Series {
+            name: format!("pipeline={p}"),
+            color: colors[i % colors.len()],
+            points: rows
+                .iter()
+                .filter(|r| r.pipeline == *p)
+                .filter_map(|r| {
+                    let f = r.report.pnr_ecp5.as_ref()?.fmax_mhz?;
+                    let e = r.report.ecp5.as_ref()?;
+                    Some(Point::new(
+                        r.stages as f64,
+                        f,
+                        format!("{:.1}k LUT {:.1}k FF", e.luts as f64 / 1e3, e.ffs as f64 / 1e3),
+                    ))
+                })
+                .collect(),
+            hollow: false,
+            line: true,
+        })
+        .collect();
+    let c = Chart {
+        stem: stem.to_string(),
+        title: format!("{unit} {}: routed Fmax, ECP5-85F-6", params.join(" ")),
+        x_label: "pipeline stages (latency, cycles)".into(),
+        y_label: "routed Fmax, MHz".into(),
+        x_log: false,
+        y_floor: 1.0,
+        series,
+        pareto: false,
+        legend: SeriesLabelPosition::UpperLeft,
+        refs: Vec::new(),
+        refs_name: String::new(),
+    };
+    write_chart(&c, dir)
+}

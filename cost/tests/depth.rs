@@ -28,6 +28,10 @@ fn depth_sweep_routes_both_placements_of_fadd_e5m4() {
         balanced.model_period < plan.model_period,
         "the balanced placement has the shorter modelled period:\n{table}"
     );
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("depth_chart");
+    std::fs::create_dir_all(&dir).unwrap();
+    let files = cost::depth::chart("fadd", &params, &rows, "depth_fadd", &dir).unwrap();
+    assert!(files.iter().all(|f| f.metadata().is_ok_and(|m| m.len() > 1000)), "{files:?}");
     // routing noise aside, the balanced adder is not slower than the plan's
     assert!(
         fmax(balanced) >= 0.9 * fmax(plan),

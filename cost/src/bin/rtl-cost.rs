@@ -140,6 +140,9 @@ enum Cmd {
         /// also write the table here
         #[arg(long)]
         out: Option<PathBuf>,
+        /// also draw Fmax against stages as <DIR>/depth_<unit>_<params>.png and .svg
+        #[arg(long)]
+        chart_dir: Option<PathBuf>,
     },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
@@ -236,12 +239,20 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             pipeline,
             target_mhz,
             out,
+            chart_dir,
         } => {
             let rows = cost::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz)?;
             let t = cost::depth::table(&unit, &params, &rows);
             print!("{t}");
             if let Some(path) = out {
                 std::fs::write(path, t)?;
+            }
+            if let Some(dir) = chart_dir {
+                let tag: Vec<String> = params.iter().map(|p| p.replace('=', "")).collect();
+                let stem = format!("depth_{unit}_{}", tag.join("_"));
+                for p in cost::depth::chart(&unit, &params, &rows, &stem, &dir)? {
+                    println!("wrote {}", p.display());
+                }
             }
         }
         Cmd::Fit {
