@@ -91,7 +91,7 @@ const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "stages",
         doc: "pipeline stages (latency), spread over the subtract and dot-product operators",
-        kind: ParamKind::Int { min: 0, max: 32 },
+        kind: ParamKind::Int { min: 0, max: 48 },
         default: "8",
     },
 ];
