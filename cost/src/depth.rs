@@ -124,7 +124,11 @@ pub fn chart(
                     Some(Point::new(
                         r.stages as f64,
                         f,
-                        format!("{:.1}k LUT {:.1}k FF", e.luts as f64 / 1e3, e.ffs as f64 / 1e3),
+                        format!(
+                            "{:.1}k LUT {:.1}k FF",
+                            e.luts as f64 / 1e3,
+                            e.ffs as f64 / 1e3
+                        ),
                     ))
                 })
                 .collect(),

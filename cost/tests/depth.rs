@@ -20,7 +20,10 @@ fn depth_sweep_routes_both_placements_of_fadd_e5m4() {
     };
     for r in &rows {
         assert_eq!(r.report.latency, 3);
-        assert!(r.report.ecp5.as_ref().is_some_and(|e| e.luts > 0), "{table}");
+        assert!(
+            r.report.ecp5.as_ref().is_some_and(|e| e.luts > 0),
+            "{table}"
+        );
     }
     let (plan, balanced) = (&rows[0], &rows[1]);
     assert!(balanced.report.top.ends_with("_bal"), "{table}");
@@ -31,7 +34,12 @@ fn depth_sweep_routes_both_placements_of_fadd_e5m4() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("depth_chart");
     std::fs::create_dir_all(&dir).unwrap();
     let files = cost::depth::chart("fadd", &params, &rows, "depth_fadd", &dir).unwrap();
-    assert!(files.iter().all(|f| f.metadata().is_ok_and(|m| m.len() > 1000)), "{files:?}");
+    assert!(
+        files
+            .iter()
+            .all(|f| f.metadata().is_ok_and(|m| m.len() > 1000)),
+        "{files:?}"
+    );
     // routing noise aside, the balanced adder is not slower than the plan's
     assert!(
         fmax(balanced) >= 0.9 * fmax(plan),

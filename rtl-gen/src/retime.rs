@@ -76,8 +76,11 @@ fn inline(
             Op::InstOut { inst, port } => {
                 if !inlined.contains_key(inst) {
                     let instance = &m.instances[*inst];
-                    let ins: Vec<(usize, u32)> =
-                        instance.inputs.iter().map(|id| map[id.0 as usize]).collect();
+                    let ins: Vec<(usize, u32)> = instance
+                        .inputs
+                        .iter()
+                        .map(|id| map[id.0 as usize])
+                        .collect();
                     let outs = inline(
                         &instance.module,
                         &ins,
@@ -143,7 +146,12 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
     let (ta, tb) = (nodes[a].ty, nodes[b].ty);
     let unsigned = |t: Ty| matches!(t, Ty::UInt(_));
     if !unsigned(ta) || !unsigned(tb) || ta.width().max(tb.width()) <= DSP_BITS {
-        return push(nodes, Op::Mul(NodeId(a as u32), NodeId(b as u32)), ty, name.to_string());
+        return push(
+            nodes,
+            Op::Mul(NodeId(a as u32), NodeId(b as u32)),
+            ty,
+            name.to_string(),
+        );
     }
     let pieces = |nodes: &mut Vec<FlatNode>, x: usize, tag: &str| -> Vec<(usize, u32)> {
         let w = nodes[x].ty.width();
@@ -152,7 +160,10 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
                 let lo = i * DSP_BITS;
                 let hi = (lo + DSP_BITS).min(w) - 1;
                 let op = Op::Slice(NodeId(x as u32), hi, lo);
-                (push(nodes, op, Ty::UInt(hi - lo + 1), format!("{name}_{tag}{i}")), lo)
+                (
+                    push(nodes, op, Ty::UInt(hi - lo + 1), format!("{name}_{tag}{i}")),
+                    lo,
+                )
             })
             .collect()
     };
@@ -180,20 +191,44 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
         for (i, pair) in terms.chunks(2).enumerate() {
             if let [(x, wx), (y, wy)] = *pair {
                 // align the heavier term onto the lighter one's weight
-                let ((lo, wlo), (hi, whi)) = if wx <= wy { ((x, wx), (y, wy)) } else { ((y, wy), (x, wx)) };
+                let ((lo, wlo), (hi, whi)) = if wx <= wy {
+                    ((x, wx), (y, wy))
+                } else {
+                    ((y, wy), (x, wx))
+                };
                 let shifted = if whi > wlo {
-                    let z = push(nodes, Op::Const(0), Ty::UInt(whi - wlo), format!("k0_w{}", whi - wlo));
+                    let z = push(
+                        nodes,
+                        Op::Const(0),
+                        Ty::UInt(whi - wlo),
+                        format!("k0_w{}", whi - wlo),
+                    );
                     let w = nodes[hi].ty.width() + whi - wlo;
-                    push(nodes, Op::Concat(vec![NodeId(hi as u32), NodeId(z as u32)]), Ty::UInt(w), format!("{name}_shift_l{level}_{i}"))
+                    push(
+                        nodes,
+                        Op::Concat(vec![NodeId(hi as u32), NodeId(z as u32)]),
+                        Ty::UInt(w),
+                        format!("{name}_shift_l{level}_{i}"),
+                    )
                 } else {
                     hi
                 };
                 let w = nodes[lo].ty.width().max(nodes[shifted].ty.width()) + 1;
-                let sum = push(nodes, Op::Add(NodeId(lo as u32), NodeId(shifted as u32)), Ty::UInt(w), format!("{name}_sum_l{level}_{i}"));
+                let sum = push(
+                    nodes,
+                    Op::Add(NodeId(lo as u32), NodeId(shifted as u32)),
+                    Ty::UInt(w),
+                    format!("{name}_sum_l{level}_{i}"),
+                );
                 // the partial sums never exceed the product: keep at most its width
                 let keep = total.saturating_sub(wlo);
                 let sum = if w > keep {
-                    push(nodes, Op::Slice(NodeId(sum as u32), keep - 1, 0), Ty::UInt(keep), format!("{name}_sum_l{level}_{i}"))
+                    push(
+                        nodes,
+                        Op::Slice(NodeId(sum as u32), keep - 1, 0),
+                        Ty::UInt(keep),
+                        format!("{name}_sum_l{level}_{i}"),
+                    )
                 } else {
                     sum
                 };
@@ -209,10 +244,25 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
     let w = nodes[p].ty.width();
     match w.cmp(&total) {
         std::cmp::Ordering::Equal => p,
-        std::cmp::Ordering::Greater => push(nodes, Op::Slice(NodeId(p as u32), total - 1, 0), ty, name.to_string()),
+        std::cmp::Ordering::Greater => push(
+            nodes,
+            Op::Slice(NodeId(p as u32), total - 1, 0),
+            ty,
+            name.to_string(),
+        ),
         std::cmp::Ordering::Less => {
-            let z = push(nodes, Op::Const(0), Ty::UInt(total - w), format!("k0_w{}", total - w));
-            push(nodes, Op::Concat(vec![NodeId(z as u32), NodeId(p as u32)]), ty, name.to_string())
+            let z = push(
+                nodes,
+                Op::Const(0),
+                Ty::UInt(total - w),
+                format!("k0_w{}", total - w),
+            );
+            push(
+                nodes,
+                Op::Concat(vec![NodeId(z as u32), NodeId(p as u32)]),
+                ty,
+                name.to_string(),
+            )
         }
     }
 }
@@ -440,7 +490,10 @@ struct Graph {
 
 fn analyse(m: &Module) -> Result<Graph, String> {
     if m.instances.iter().any(|i| has_handshake_below(&i.module)) {
-        return Err(format!("module {}: a submodule has its own handshake", m.name));
+        return Err(format!(
+            "module {}: a submodule has its own handshake",
+            m.name
+        ));
     }
     let flat = flatten(m)?;
     let n = flat.nodes.len();
@@ -498,7 +551,10 @@ pub fn balance(m: &Module, latency: u32) -> Result<(Module, Balance), String> {
     let asap = |period: f64| as_soon_as_possible(&g, period);
     // bisection on the period: the shortest whose ASAP schedule fits the latency
     let longest = period_of(&g, &asap(f64::INFINITY));
-    let (mut lo, mut hi) = (g.delay.iter().copied().fold(0.0, f64::max), longest.max(1e-9));
+    let (mut lo, mut hi) = (
+        g.delay.iter().copied().fold(0.0, f64::max),
+        longest.max(1e-9),
+    );
     if last_stage(&asap(lo)) <= last {
         hi = lo;
     }

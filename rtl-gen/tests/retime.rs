@@ -12,11 +12,41 @@ const CASES: &[(&str, &[&str], u32, f64)] = &[
     ("fadd", &["exp_bits=8", "frac_bits=23", "stages=3"], 3, 0.8),
     ("fmul", &["exp_bits=5", "frac_bits=10", "stages=2"], 2, 0.9),
     ("ffma", &["exp_bits=8", "frac_bits=7", "stages=4"], 4, 0.8),
-    ("silhouette", &["exp_bits=8", "frac_bits=7", "mode=ray", "stages=6"], 6, 0.75),
-    ("silhouette", &["exp_bits=5", "frac_bits=4", "stages=3"], 3, 0.9),
-    ("silhouette", &["exp_bits=5", "frac_bits=6", "origin=bounded", "stages=0"], 0, 1.0),
-    ("slab", &["exp_bits=8", "frac_bits=7", "rounding=conservative", "stages=5"], 5, 0.9),
-    ("transform", &["exp_bits=8", "frac_bits=7", "stages=6"], 6, 0.8),
+    (
+        "silhouette",
+        &["exp_bits=8", "frac_bits=7", "mode=ray", "stages=6"],
+        6,
+        0.75,
+    ),
+    (
+        "silhouette",
+        &["exp_bits=5", "frac_bits=4", "stages=3"],
+        3,
+        0.9,
+    ),
+    (
+        "silhouette",
+        &["exp_bits=5", "frac_bits=6", "origin=bounded", "stages=0"],
+        0,
+        1.0,
+    ),
+    (
+        "slab",
+        &[
+            "exp_bits=8",
+            "frac_bits=7",
+            "rounding=conservative",
+            "stages=5",
+        ],
+        5,
+        0.9,
+    ),
+    (
+        "transform",
+        &["exp_bits=8", "frac_bits=7", "stages=6"],
+        6,
+        0.8,
+    ),
     ("cull", &["k=2", "stages=4"], 4, 0.9),
     ("cull_ray", &["k=2", "stages=4"], 4, 0.9),
 ];
@@ -64,16 +94,21 @@ fn balancing_shortens_the_modelled_period() {
 fn wide_products_are_split_into_dsp_blocks() {
     let g = evaluate::gen(
         "fmul",
-        &["exp_bits=8", "frac_bits=23", "stages=4", "pipeline=balanced"],
+        &[
+            "exp_bits=8",
+            "frac_bits=23",
+            "stages=4",
+            "pipeline=balanced",
+        ],
     );
     let muls: Vec<u32> = g
         .module
         .nodes
         .iter()
         .filter_map(|n| match n.op {
-            rtl_gen::ir::Op::Mul(a, b) => Some(
-                g.module.node(a).ty.width().max(g.module.node(b).ty.width()),
-            ),
+            rtl_gen::ir::Op::Mul(a, b) => {
+                Some(g.module.node(a).ty.width().max(g.module.node(b).ty.width()))
+            }
             _ => None,
         })
         .collect();
@@ -81,7 +116,12 @@ fn wide_products_are_split_into_dsp_blocks() {
     assert!(muls.iter().all(|&w| w <= 18), "{muls:?}");
     evaluate::check(
         "fmul",
-        &["exp_bits=8", "frac_bits=23", "stages=4", "pipeline=balanced"],
+        &[
+            "exp_bits=8",
+            "frac_bits=23",
+            "stages=4",
+            "pipeline=balanced",
+        ],
         4,
         400,
         4_000,

@@ -226,14 +226,14 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
         }
         let mut comb = given.to_vec();
         comb.push("stages=0".into());
-        let datapath = entry
-            .unit
-            .build(&Params::resolve(unit, &specs, &comb)?)?;
+        let datapath = entry.unit.build(&Params::resolve(unit, &specs, &comb)?)?;
         let (mut balanced, _) = crate::retime::balance(&datapath, params.u32("stages"))
             .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
         balanced.name = format!("{}_bal", module.name);
         balanced.params = module.params.clone();
-        balanced.params.insert(PIPELINE.name.into(), "balanced".into());
+        balanced
+            .params
+            .insert(PIPELINE.name.into(), "balanced".into());
         balanced.description = module.description.clone();
         module = balanced;
     }
