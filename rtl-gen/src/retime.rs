@@ -3,8 +3,10 @@
 //!
 //! Units place their `stage()` calls by logical steps (after the alignment,
 //! after the products, ...); a step that is long, or registers that meet at a
-//! module boundary, set the clock. [`balance`] keeps the unit's function and
-//! latency and re-places every pipeline register:
+//! module boundary, set the clock. [`balance`] keeps a module's function and
+//! ports, removes its pipeline registers and places the requested number
+//! again where they cut the logic evenly (the flow's `pipeline=balanced`
+//! hands it the unit's combinational build):
 //!
 //! 1. the module is flattened (instances inlined, their names prefixed with the
 //!    instance name) and its pipeline registers removed, which leaves one
@@ -136,7 +138,9 @@ fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> usize {
     nodes.len() - 1
 }
 
-/// Operand width of one DSP block (ECP5 MULT18X18D; 7-series DSP48E1 takes 25x18).
+/// Operand width of one DSP block: ECP5's MULT18X18D, the device the model is
+/// calibrated on (a 7-series DSP48E1 takes 25x18, so there a 24x24 product
+/// may take more blocks split this way than whole).
 const DSP_BITS: u32 = 18;
 
 /// `a · b` as one node, or, for unsigned operands wider than [`DSP_BITS`],
