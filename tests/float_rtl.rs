@@ -126,6 +126,7 @@ fn check(test: &str, configs: &[(&str, &[&str])]) {
         module,
         files,
         ports,
+        balance: None,
     };
     let dir = scratch(&format!("float_rtl/{test}"));
     g.write(&dir, 10.0).expect("write");

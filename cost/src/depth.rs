@@ -44,7 +44,7 @@ pub fn sweep(
             p.push(format!("stages={s}"));
             p.push(format!("pipeline={pipeline}"));
             let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
-            let model_period = rtl_gen::retime::modelled_period(&g.module)?;
+            let model_period = g.modelled_period()?;
             eprintln!("{unit} stages={s} pipeline={pipeline} ...");
             let report = synth::run(&g, &o)?;
             rows.push(DepthRow {

@@ -38,6 +38,9 @@ struct FlatNode {
     name: String,
     /// the stage the unit's own plan computes it in (`None` for constants)
     built: Option<u32>,
+    /// a same-bits cast standing for the route to or from a DSP block
+    /// ([`DSP_ROUTE`]), so a register can be placed at either end of it
+    wire: bool,
 }
 
 /// The flattened, register-free graph of a module.
@@ -134,6 +137,7 @@ fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> usize {
         ty,
         name,
         built: None,
+        wire: false,
     });
     nodes.len() - 1
 }
@@ -143,6 +147,44 @@ fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> usize {
 /// may take more blocks split this way than whole).
 const DSP_BITS: u32 = 18;
 
+/// Delay of the route between the fabric and a DSP block on ECP5 (about
+/// 3.2 ns: the blocks sit in rows of their own), in LUT levels.
+const DSP_ROUTE: f64 = 1.8;
+
+/// True when a `wa x wb` product goes to a DSP block rather than LUTs.
+fn on_dsp(wa: u32, wb: u32) -> bool {
+    wa.min(wb) > 4
+}
+
+/// `a · b` on one DSP block, its operands and product behind [`DSP_ROUTE`]
+/// wires: the schedule then puts a register right at the block's output (and
+/// at its input when the stage before is full), so no stage holds a route
+/// in, the block and a route out.
+fn dsp_block(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &str) -> usize {
+    let mul = |nodes: &mut Vec<FlatNode>, a: usize, b: usize| {
+        push(
+            nodes,
+            Op::Mul(NodeId(a as u32), NodeId(b as u32)),
+            ty,
+            name.to_string(),
+        )
+    };
+    if !on_dsp(nodes[a].ty.width(), nodes[b].ty.width()) {
+        return mul(nodes, a, b);
+    }
+    let wire = |nodes: &mut Vec<FlatNode>, x: usize, name: String| {
+        let t = nodes[x].ty;
+        let w = push(nodes, Op::Cast(NodeId(x as u32)), t, name);
+        nodes[w].wire = true;
+        w
+    };
+    let a = wire(nodes, a, format!("{name}_dsp_a"));
+    let b = wire(nodes, b, format!("{name}_dsp_b"));
+    let p = mul(nodes, a, b);
+    nodes[p].name = format!("{name}_dsp_p");
+    wire(nodes, p, name.to_string())
+}
+
 /// `a · b` as one node, or, for unsigned operands wider than [`DSP_BITS`],
 /// as the products of their 18-bit pieces summed with their weights: the
 /// same exact product, with places for registers between blocks and sums.
@@ -150,12 +192,7 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
     let (ta, tb) = (nodes[a].ty, nodes[b].ty);
     let unsigned = |t: Ty| matches!(t, Ty::UInt(_));
     if !unsigned(ta) || !unsigned(tb) || ta.width().max(tb.width()) <= DSP_BITS {
-        return push(
-            nodes,
-            Op::Mul(NodeId(a as u32), NodeId(b as u32)),
-            ty,
-            name.to_string(),
-        );
+        return dsp_block(nodes, a, b, ty, name);
     }
     let pieces = |nodes: &mut Vec<FlatNode>, x: usize, tag: &str| -> Vec<(usize, u32)> {
         let w = nodes[x].ty.width();
@@ -178,11 +215,12 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
     for &(x, wx) in &pa {
         for &(y, wy) in &pb {
             let w = nodes[x].ty.width() + nodes[y].ty.width();
-            let p = push(
+            let p = dsp_block(
                 nodes,
-                Op::Mul(NodeId(x as u32), NodeId(y as u32)),
+                x,
+                y,
                 Ty::UInt(w),
-                format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS),
+                &format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS),
             );
             terms.push((p, wx + wy));
         }
@@ -283,6 +321,7 @@ fn flatten(m: &Module) -> Result<Flat, String> {
                 ty: port.ty,
                 name: port.name.clone(),
                 built: Some(0),
+                wire: false,
             });
             (p, 0)
         })
@@ -324,15 +363,15 @@ pub fn delay(op: &Op, ty: Ty, operand_ty: impl Fn(NodeId) -> Ty) -> f64 {
         }
         Op::Mul(a, b) => {
             let (x, y) = (w(*a), w(*b));
-            if x.min(y) <= 4.0 {
+            if !on_dsp(x as u32, y as u32) {
                 // a few partial products: an adder tree of LUTs
                 1.0 + carry(x.max(y)) * x.min(y).log2().max(1.0)
             } else {
-                // 18x18 blocks (the routing to and from a block costs about
-                // as much as the block: a stage of its own at 100 MHz on
-                // ECP5), partial products of signed ones summed by carry chains
+                // 18x18 blocks (3.9 ns on ECP5-6; the routes to and from the
+                // block are `DSP_ROUTE` wires of their own), the blocks of a
+                // wider signed product summed by carry chains
                 let blocks = (x / 18.0).ceil() * (y / 18.0).ceil();
-                5.0 + blocks.log2() * carry(ty.width() as f64)
+                2.3 + blocks.log2() * carry(ty.width() as f64)
             }
         }
     }
@@ -525,7 +564,10 @@ fn analyse(m: &Module) -> Result<Graph, String> {
     let delay: Vec<f64> = flat
         .nodes
         .iter()
-        .map(|node| delay(&node.op, node.ty, |id| flat.nodes[id.0 as usize].ty))
+        .map(|node| match node.wire {
+            true => DSP_ROUTE,
+            false => delay(&node.op, node.ty, |id| flat.nodes[id.0 as usize].ty),
+        })
         .collect();
     Ok(Graph {
         flat,

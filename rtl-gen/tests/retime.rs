@@ -73,8 +73,8 @@ fn balancing_shortens_the_modelled_period() {
         let mut p: Vec<&str> = params.to_vec();
         p.push("pipeline=balanced");
         let balanced = evaluate::gen(unit, &p);
-        let before = retime::modelled_period(&plan.module).expect("a pipeline");
-        let after = retime::modelled_period(&balanced.module).expect("a pipeline");
+        let before = plan.modelled_period().expect("a pipeline");
+        let after = balanced.modelled_period().expect("a pipeline");
         eprintln!(
             "{}: modelled period {before:.1} -> {after:.1} LUT levels",
             plan.module.name

@@ -182,6 +182,20 @@ pub struct Generated {
     pub files: Vec<VerilogFile>,
     /// the contract with the harness
     pub ports: sim::PortList,
+    /// what `pipeline=balanced` did (`None` for the unit's own plan)
+    pub balance: Option<crate::retime::Balance>,
+}
+
+impl Generated {
+    /// The delay model's clock period of the emitted module, LUT levels.
+    pub fn modelled_period(&self) -> Result<f64, String> {
+        match &self.balance {
+            // measured on the schedule itself: re-reading the emitted module
+            // would put each DSP block's routes back into the block's stage
+            Some(b) => Ok(b.period),
+            None => crate::retime::modelled_period(&self.module),
+        }
+    }
 }
 
 fn port_width(ty: Ty) -> u32 {
@@ -217,6 +231,7 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
     let specs = param_specs(&entry);
     let params = Params::resolve(unit, &specs, given)?;
     let mut module = entry.unit.build(&params)?;
+    let mut balance = None;
     if params.word(PIPELINE.name) == "balanced" {
         if !specs.iter().any(|s| s.name == "stages") {
             return Err(ParamError::Combination(format!(
@@ -227,15 +242,19 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
         let mut comb = given.to_vec();
         comb.push("stages=0".into());
         let datapath = entry.unit.build(&Params::resolve(unit, &specs, &comb)?)?;
-        let (mut balanced, _) = crate::retime::balance(&datapath, params.u32("stages"))
+        let (mut balanced, report) = crate::retime::balance(&datapath, params.u32("stages"))
             .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
         balanced.name = format!("{}_bal", module.name);
         balanced.params = module.params.clone();
         balanced
             .params
             .insert(PIPELINE.name.into(), "balanced".into());
-        balanced.description = module.description.clone();
+        balanced.description = format!(
+            "{} Registers placed by rtl-gen's delay model (pipeline=balanced): modelled period {:.1} LUT levels.",
+            module.description, report.period
+        );
         module = balanced;
+        balance = Some(report);
     }
     let files = emit(&module, crate::GENERATOR);
     let ports = sim::PortList {
@@ -272,6 +291,7 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
         module,
         files,
         ports,
+        balance,
     })
 }
 
