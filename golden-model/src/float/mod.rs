@@ -25,12 +25,13 @@ mod format;
 mod min_max;
 mod mul;
 mod mul_exact;
+pub mod native;
 mod raw;
 mod round;
 mod unpack;
 
 pub use add::{add, sub};
-pub use add_down_up::{add_down_up, DownUp};
+pub use add_down_up::{add_down_up, add_down_up_generic, DownUp};
 pub use compare::{eq, le, lt};
 pub use convert::convert;
 pub use dot3::{dot3, dot3_accumulator_bits};

@@ -1,0 +1,99 @@
+//! Native fast paths, bit-identical to the generic operators (issue #20).
+//!
+//! The generic operators (unpack, exact `RawFloat`, the shared rounder) stay
+//! the reference; the functions here compute the same bits with hardware
+//! floats where that is provably exact, and answer `None` (the caller then
+//! takes the generic path) for the operand classes they do not handle.
+//! `golden-model/tests/fast_paths.rs` checks them against the generic path.
+
+use super::format::FloatFormat;
+
+/// Whether every value of `fmt` is exactly an `f32` (E <= 8, F <= 23): then
+/// [`to_f32`] is exact, and so is the `f64` product of two such values
+/// (at most 48 significand bits, exponents within `2^-298 .. 2^256`).
+#[inline]
+pub fn fits_f32(fmt: FloatFormat) -> bool {
+    fmt.exp_bits() <= 8 && fmt.frac_bits() <= 23
+}
+
+/// The value of `bits` (format `fmt`, [`fits_f32`]) as an `f32`, exactly:
+/// signed zeros and infinities kept, any NaN → a NaN. Bits above
+/// `fmt.width()` are ignored.
+#[inline]
+pub fn to_f32(fmt: FloatFormat, bits: u64) -> f32 {
+    debug_assert!(fits_f32(fmt));
+    if fmt == FloatFormat::BINARY32 {
+        return f32::from_bits(bits as u32);
+    }
+    let f = fmt.frac_bits();
+    let neg = bits & fmt.sign_bit() != 0;
+    let biased = (bits >> f) & fmt.exp_all_ones();
+    let frac = bits & fmt.frac_mask();
+    let mag = if biased == fmt.exp_all_ones() {
+        if frac == 0 {
+            f32::INFINITY
+        } else {
+            f32::NAN
+        }
+    } else {
+        let (sig, exp) = if biased == 0 {
+            (frac, fmt.emin() - f as i32)
+        } else {
+            (frac | 1 << f, biased as i32 - fmt.bias() - f as i32)
+        };
+        // sig < 2^24 and 2^exp are exact f64 values; the product is an f32 value.
+        (sig as f64 * pow2_f64(exp)) as f32
+    };
+    if neg {
+        -mag
+    } else {
+        mag
+    }
+}
+
+/// `2^k` for `-1022 <= k <= 1023`.
+#[inline]
+fn pow2_f64(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// `a + b` (binary32) rounded toward -inf and toward +inf, as the generic
+/// `add_down_up` does, for finite operands; `None` if either is infinite or
+/// NaN.
+///
+/// The exact sum is `s + e` with `s = fl64(a + b)` and `e` its error (two-sum;
+/// no overflow in f64). `t = fl32(s)` (nearest even) is an f64 value too, so
+/// when `t != s` the exact sum lies strictly on the same side of `t` as `s`
+/// and strictly before the next binary32 value (it is within half an f64
+/// spacing of `s`); when `t == s` the sign of `e` says which way. An exact
+/// zero sum is -0 down and +0 up, unless both operands are zeros of one sign.
+#[inline(always)]
+pub fn add_down_up_f32(a: f32, b: f32) -> Option<(f32, f32)> {
+    if !a.is_finite() || !b.is_finite() {
+        return None;
+    }
+    let (x, y) = (a as f64, b as f64);
+    let s = x + y;
+    if s == 0.0 {
+        // f64 sums of f32 values round to zero only when exact.
+        if a == 0.0 && b == 0.0 && a.is_sign_negative() == b.is_sign_negative() {
+            return Some((a, a));
+        }
+        return Some((-0.0, 0.0));
+    }
+    let bv = s - x;
+    let e = (x - (s - bv)) + (y - bv);
+    let t = s as f32;
+    let td = t as f64;
+    // Branch-free: t lies above the exact sum, or below it.
+    let above = (td > s) | ((td == s) & (e < 0.0));
+    let below = (td < s) | ((td == s) & (e > 0.0));
+    // t is nonzero (|s| >= 2^-149): one step away from zero adds 1 to the
+    // bits, one step toward zero subtracts 1 (also from an infinity).
+    let bits = t.to_bits() as i32;
+    let away = 1 - 2 * (bits < 0) as i32; // +1 for positive t, -1 for negative
+    let down = f32::from_bits(bits.wrapping_sub(above as i32 * away) as u32);
+    let up = f32::from_bits(bits.wrapping_add(below as i32 * away) as u32);
+    Some((down, up))
+}
