@@ -25,8 +25,8 @@
 //! ```
 
 use crate::float::{
-    add, add_down_up_generic, classify, convert, le, lt, mul_exact, Class, ExactProductFormat,
-    FloatFormat, FormatError, RoundingMode,
+    add_down_up_generic, add_generic, classify, convert, le, lt, mul_exact, Class,
+    ExactProductFormat, FloatFormat, FormatError, RoundingMode,
 };
 
 /// Whether the rays of a bundle share one origin.
@@ -355,10 +355,10 @@ pub fn eval_trace(cfg: &Config, x: &BundleIn) -> Trace {
             }
             Rounding::Nearest => {
                 let rne = RoundingMode::NearestEven;
-                a_t.n_any = add(f, a_t.near, a_t.m_hi, rne);
-                a_t.x_any = add(f, a_t.far, a_t.m_lo, rne);
-                a_t.n_all = add(f, a_t.near, a_t.m_lo, rne);
-                a_t.x_all = add(f, a_t.far, a_t.m_hi, rne);
+                a_t.n_any = add_generic(f, a_t.near, a_t.m_hi, rne);
+                a_t.x_any = add_generic(f, a_t.far, a_t.m_lo, rne);
+                a_t.n_all = add_generic(f, a_t.near, a_t.m_lo, rne);
+                a_t.x_all = add_generic(f, a_t.far, a_t.m_hi, rne);
             }
         }
     }

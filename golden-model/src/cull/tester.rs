@@ -18,8 +18,10 @@
 //! Every rounded value is rounded the way that only widens the interval,
 //! so `keep = 0` only when the exact segment misses the region.
 
+use crate::float::native::{add_down_up_f32, mul_f32, to_f32};
 use crate::float::{
-    add, add_down_up, classify, convert, dot3_floor, le, lt, mul, Class, FloatFormat, RoundingMode,
+    add_down_up, add_generic, classify, convert, dot3_floor, le, lt, mul_generic, Class,
+    FloatFormat, RoundingMode,
 };
 use crate::transform::recip;
 
@@ -235,19 +237,29 @@ fn negate(f: FloatFormat, v: u64) -> u64 {
 ///
 /// An invalid input gives `no_lo = NaN` for every normal (so `eval` keeps).
 pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
+    ray_terms_parts(cfg, &x.o, &x.d, &x.r, &x.normals)
+}
+
+/// [`ray_terms`] on borrowed parts of a [`RayIn`] (the normals not copied).
+pub fn ray_terms_parts(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> RayTerms {
     let f = cfg.ray;
     let cf = cfg.crossing();
     let pf = cfg.plane;
     let bad = |fmt: FloatFormat, v: u64| matches!(classify(fmt, v), Class::NaN | Class::Inf);
-    let normals: Vec<[u64; 3]> = (0..cfg.k)
-        .map(|j| x.normals.get(j).copied().unwrap_or_default())
-        .collect();
-    let invalid = x.o.iter().chain(&x.d).chain(&x.r).any(|&v| bad(f, v))
-        || normals.iter().flatten().any(|&v| bad(pf, v));
-    let u = [0, 1, 2].map(|i| add_down_up(f, x.o[i], negate(f, x.r[i])));
-    let mut terms = Vec::new();
-    let mut b_los = Vec::new();
-    for n in &normals {
+    let normal = |j: usize| normals.get(j).copied().unwrap_or_default();
+    let invalid = o.iter().chain(d).chain(r).any(|&v| bad(f, v))
+        || (0..cfg.k).any(|j| normal(j).iter().any(|&v| bad(pf, v)));
+    let u = [0, 1, 2].map(|i| add_down_up(f, o[i], negate(f, r[i])));
+    let mut terms = Vec::with_capacity(cfg.k);
+    let mut b_los = Vec::with_capacity(cfg.k);
+    for j in 0..cfg.k {
+        let n = normal(j);
         let n = n.map(|v| v & pf.mask());
         let u_lo = [0, 1, 2].map(|i| {
             if n[i] & pf.sign_bit() != 0 {
@@ -257,7 +269,7 @@ pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
             }
         });
         let no_lo = dot3_floor(pf, f, f, n, u_lo);
-        let b_lo = dot3_floor(pf, f, cf, n, x.d);
+        let b_lo = dot3_floor(pf, f, cf, n, *d);
         let dir = if is_zero(cf, b_lo) {
             Crossing::Parallel
         } else if b_lo & cf.sign_bit() == 0 {
@@ -282,8 +294,86 @@ pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
 }
 
 /// Evaluates one child (unit `cull`).
+#[inline]
 pub fn eval(cfg: &Config, x: &ChildIn) -> CullOut {
+    eval_parts(cfg, x.t_lo, x.t_hi, &x.w, &x.terms)
+}
+
+/// [`eval`] on borrowed parts of a [`ChildIn`] (no allocation on the fast
+/// path): binary32 ray formats take the native path, bit-identical to
+/// [`eval_generic`] (`tests/fast_paths.rs`), others [`eval_generic`].
+pub fn eval_parts(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
+    if cfg.ray == FloatFormat::BINARY32 {
+        eval_f32(cfg, t_lo, t_hi, w, terms)
+    } else {
+        eval_generic(
+            cfg,
+            &ChildIn {
+                t_lo,
+                t_hi,
+                w: w.to_vec(),
+                terms: terms.to_vec(),
+            },
+        )
+    }
+}
+
+/// The reference [`eval`]: the generic float operators, step by step.
+pub fn eval_generic(cfg: &Config, x: &ChildIn) -> CullOut {
     eval_trace(cfg, x).out
+}
+
+/// [`eval_trace`]'s outputs for a binary32 ray format (so the plane and the
+/// crossing formats, contained in it, are exact `f32`s), on values:
+/// comparisons are IEEE comparisons; `D = RUP(w - no_lo)` by the two-sum
+/// directed adder; `q = RUP(D · rcp)` from the exact f64 product. An invalid
+/// input returns before any arithmetic (the generic `keep` is forced to 1
+/// then); afterwards no value is NaN, `w` is finite and `no_lo < +inf`.
+fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
+    let (pf, cf) = (cfg.plane, cfg.crossing());
+    let v = |x: u64| f32::from_bits(x as u32);
+    let (t_lo, t_hi) = (v(t_lo), v(t_hi));
+    let mut invalid = t_lo.is_nan() | t_hi.is_nan();
+    for j in 0..cfg.k {
+        let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
+        let tj = terms.get(j).copied().unwrap_or_default();
+        let no_lo = v(tj.no_lo);
+        invalid |= !wj.is_finite();
+        invalid |= no_lo.is_nan() | (no_lo == f32::INFINITY);
+        invalid |= to_f32(cf, tj.rcp_lo).is_nan() | to_f32(cf, tj.rcp_hi).is_nan();
+    }
+    if invalid {
+        return CullOut {
+            keep: true,
+            invalid,
+        };
+    }
+    let planes_on = !(t_lo < 0.0);
+    let (mut lo, mut hi) = (t_lo, t_hi);
+    let mut par_cull = false;
+    for j in 0..cfg.k {
+        let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
+        let tj = terms.get(j).copied().unwrap_or_default();
+        let dist = add_down_up_f32(wj, -v(tj.no_lo)).1;
+        let rcp = to_f32(cf, if 0.0 < dist { tj.rcp_hi } else { tj.rcp_lo });
+        let q = mul_f32(dist, rcp, RUP);
+        par_cull |= tj.dir == Crossing::Parallel && dist < 0.0;
+        match tj.dir {
+            // a NaN q (inf · 0) compares false: the plane is left out
+            Crossing::Exit if q < hi => hi = q,
+            Crossing::Entry if lo < -q => lo = -q,
+            _ => {}
+        }
+    }
+    let keep = if planes_on {
+        !par_cull && lo <= hi
+    } else {
+        t_lo <= t_hi
+    };
+    CullOut {
+        keep,
+        invalid: false,
+    }
 }
 
 /// Evaluates one child and returns every intermediate value.
@@ -321,13 +411,13 @@ pub fn eval_trace(cfg: &Config, x: &ChildIn) -> Trace {
     let mut par_cull = false;
     let mut planes = Vec::new();
     for (wj, tj) in w.iter().zip(&terms) {
-        let dist = add(f, convert(pf, f, *wj, RNE), negate(f, tj.no_lo), RUP);
+        let dist = add_generic(f, convert(pf, f, *wj, RNE), negate(f, tj.no_lo), RUP);
         let rcp = if lt(f, zero, dist) {
             tj.rcp_hi
         } else {
             tj.rcp_lo
         };
-        let q = mul(f, dist, convert(cf, f, rcp, RNE), RUP);
+        let q = mul_generic(f, dist, convert(cf, f, rcp, RNE), RUP);
         let usable = !nan(f, q);
         let pc = tj.dir == Crossing::Parallel && lt(f, dist, zero);
         par_cull |= pc;

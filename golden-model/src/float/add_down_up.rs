@@ -2,7 +2,7 @@
 
 use super::add::add_raw;
 use super::format::{FloatFormat, RoundingMode};
-use super::native::add_down_up_f32;
+use super::native::{add_down_up_f32, f32_bits};
 use super::raw::Class;
 use super::round::round;
 
@@ -19,17 +19,16 @@ pub struct DownUp {
 /// identical to `(add(.., Down), add(.., Up))`. `down <= a + b <= up`, with
 /// `down == up` exactly when the sum is representable (NaN: both NaN).
 ///
-/// Binary32 with finite operands takes the native two-sum path
-/// (`native::add_down_up_f32`); everything else [`add_down_up_generic`].
+/// Binary32 takes the native two-sum path (`native::add_down_up_f32`),
+/// other formats [`add_down_up_generic`].
 #[inline]
 pub fn add_down_up(fmt: FloatFormat, a: u64, b: u64) -> DownUp {
     if fmt == FloatFormat::BINARY32 {
-        if let Some((d, u)) = add_down_up_f32(f32::from_bits(a as u32), f32::from_bits(b as u32)) {
-            return DownUp {
-                down: d.to_bits() as u64,
-                up: u.to_bits() as u64,
-            };
-        }
+        let (d, u) = add_down_up_f32(f32::from_bits(a as u32), f32::from_bits(b as u32));
+        return DownUp {
+            down: f32_bits(d),
+            up: f32_bits(u),
+        };
     }
     add_down_up_generic(fmt, a, b)
 }

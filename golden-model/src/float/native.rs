@@ -6,7 +6,7 @@
 //! takes the generic path) for the operand classes they do not handle.
 //! `golden-model/tests/fast_paths.rs` checks them against the generic path.
 
-use super::format::FloatFormat;
+use super::format::{FloatFormat, RoundingMode};
 
 /// Whether every value of `fmt` is exactly an `f32` (E <= 8, F <= 23): then
 /// [`to_f32`] is exact, and so is the `f64` product of two such values
@@ -59,8 +59,7 @@ fn pow2_f64(k: i32) -> f64 {
 }
 
 /// `a + b` (binary32) rounded toward -inf and toward +inf, as the generic
-/// `add_down_up` does, for finite operands; `None` if either is infinite or
-/// NaN.
+/// `add_down_up` does (a NaN result is some NaN: callers canonicalise).
 ///
 /// The exact sum is `s + e` with `s = fl64(a + b)` and `e` its error (two-sum;
 /// no overflow in f64). `t = fl32(s)` (nearest even) is an f64 value too, so
@@ -69,18 +68,20 @@ fn pow2_f64(k: i32) -> f64 {
 /// spacing of `s`); when `t == s` the sign of `e` says which way. An exact
 /// zero sum is -0 down and +0 up, unless both operands are zeros of one sign.
 #[inline(always)]
-pub fn add_down_up_f32(a: f32, b: f32) -> Option<(f32, f32)> {
+pub fn add_down_up_f32(a: f32, b: f32) -> (f32, f32) {
     if !a.is_finite() || !b.is_finite() {
-        return None;
+        // inf + x = inf, inf - inf and NaN = NaN: exact, any mode.
+        let r = a + b;
+        return (r, r);
     }
     let (x, y) = (a as f64, b as f64);
     let s = x + y;
     if s == 0.0 {
         // f64 sums of f32 values round to zero only when exact.
         if a == 0.0 && b == 0.0 && a.is_sign_negative() == b.is_sign_negative() {
-            return Some((a, a));
+            return (a, a);
         }
-        return Some((-0.0, 0.0));
+        return (-0.0, 0.0);
     }
     let bv = s - x;
     let e = (x - (s - bv)) + (y - bv);
@@ -95,5 +96,86 @@ pub fn add_down_up_f32(a: f32, b: f32) -> Option<(f32, f32)> {
     let away = 1 - 2 * (bits < 0) as i32; // +1 for positive t, -1 for negative
     let down = f32::from_bits(bits.wrapping_sub(above as i32 * away) as u32);
     let up = f32::from_bits(bits.wrapping_add(below as i32 * away) as u32);
-    Some((down, up))
+    (down, up)
+}
+
+/// `a + b` (binary32) rounded once in `mode`, as the generic `add` (a NaN
+/// result is some NaN).
+#[inline(always)]
+pub fn add_f32(a: f32, b: f32, mode: RoundingMode) -> f32 {
+    match mode {
+        // IEEE addition: nearest even, exact zeros +0 unless both -0.
+        RoundingMode::NearestEven => a + b,
+        RoundingMode::Down => add_down_up_f32(a, b).0,
+        RoundingMode::Up => add_down_up_f32(a, b).1,
+        RoundingMode::TowardZero => {
+            let (d, u) = add_down_up_f32(a, b);
+            if d == 0.0 && u == 0.0 {
+                // an exact zero: +0 unless both operands are -0 (RTZ rule)
+                if a.is_sign_negative() && b.is_sign_negative() && a == 0.0 {
+                    -0.0
+                } else {
+                    0.0
+                }
+            } else if d >= 0.0 {
+                d
+            } else {
+                u
+            }
+        }
+    }
+}
+
+/// `p` rounded once to binary32 in `mode`, where `p` is an exact value
+/// (e.g. the `f64` product of two `f32`s): `t = fl32(p)` nearest even is
+/// an f64 value, one step toward the rounding direction when it lies on the
+/// wrong side of `p`. Infinities and NaN pass; overflow and gradual
+/// underflow as IEEE 754 (RUP: -max not -inf, +inf; RDN the mirror; RTZ max).
+#[inline(always)]
+pub fn round_exact_f64_to_f32(p: f64, mode: RoundingMode) -> f32 {
+    let t = p as f32;
+    let td = t as f64;
+    match mode {
+        RoundingMode::NearestEven => t,
+        RoundingMode::Up => {
+            if td < p {
+                t.next_up()
+            } else {
+                t
+            }
+        }
+        RoundingMode::Down => {
+            if td > p {
+                t.next_down()
+            } else {
+                t
+            }
+        }
+        RoundingMode::TowardZero => {
+            if td.abs() > p.abs() {
+                // one step toward zero (keeps the sign; max from an infinity)
+                f32::from_bits(t.to_bits() - 1)
+            } else {
+                t
+            }
+        }
+    }
+}
+
+/// `a · b` (binary32) rounded once in `mode`, as the generic `mul` (a NaN
+/// result is some NaN). The f64 product of two f32s is exact (48 bits,
+/// `2^-298 ..= 2^256`), special cases included (inf · 0 = NaN, signs XOR).
+#[inline(always)]
+pub fn mul_f32(a: f32, b: f32, mode: RoundingMode) -> f32 {
+    round_exact_f64_to_f32(a as f64 * b as f64, mode)
+}
+
+/// The bits of a binary32 result, any NaN as the canonical NaN.
+#[inline(always)]
+pub fn f32_bits(v: f32) -> u64 {
+    if v.is_nan() {
+        FloatFormat::BINARY32.canonical_nan()
+    } else {
+        v.to_bits() as u64
+    }
 }

@@ -13,7 +13,32 @@ use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
 /// sticky bit, and the rounder rounds `q · 2^(−exp − k)` (subnormal and
 /// overflowing results included: the reciprocal of a tiny subnormal is ∞ in
 /// RNE).
+///
+/// When `k < 64` (F <= 29) the quotient and remainder are formed in `u64`
+/// (the same values, so the same bits); [`recip_generic`] is the `u128`
+/// reference.
+#[inline]
 pub fn recip(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
+    let r = unpack(fmt, x);
+    if r.class == Class::Finite {
+        let k = fmt.frac_bits() + 3 + (128 - r.sig.leading_zeros());
+        if k < 64 {
+            let (num, sig) = (1u64 << k, r.sig as u64);
+            let raw = RawFloat {
+                sign: r.sign,
+                class: Class::Finite,
+                exp: -r.exp - k as i32,
+                sig: (num / sig) as u128,
+                sticky: num % sig != 0,
+            };
+            return round(fmt, raw, mode);
+        }
+    }
+    recip_generic(fmt, x, mode)
+}
+
+/// The reference [`recip`] (`u128` quotient).
+pub fn recip_generic(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
     let r = unpack(fmt, x);
     let raw = match r.class {
         Class::NaN => RawFloat::NAN,
