@@ -16,7 +16,7 @@ use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{
-    self as cull, box_interval, ray_terms, slab_reciprocal, ChildIn, RayIn, RayTerms,
+    self as cull, box_interval, ray_terms_parts, slab_reciprocal, RayTerms,
 };
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
@@ -495,13 +495,10 @@ impl<'a> Tracer<'a> {
             .iter()
             .map(|&i| {
                 let r = &rays[i];
-                let x = RayIn {
-                    o: r.o,
-                    d: r.d,
-                    r: r_min.map(bits),
-                    normals: normals.to_vec(),
-                };
-                (i, ray_terms(&self.cull_cfg, &x))
+                (
+                    i,
+                    ray_terms_parts(&self.cull_cfg, &r.o, &r.d, &r_min.map(bits), normals),
+                )
             })
             .collect();
         v.sort_by_key(|x| x.0);
@@ -551,16 +548,7 @@ impl<'a> Tracer<'a> {
                     r.box_t_max(),
                 )
                 .is_some_and(|(t_lo, t_hi)| {
-                    cull::eval(
-                        &self.cull_cfg,
-                        &ChildIn {
-                            t_lo,
-                            t_hi,
-                            w: w.clone(),
-                            terms: parent_terms[j].1.terms.clone(),
-                        },
-                    )
-                    .keep
+                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &parent_terms[j].1.terms).keep
                 });
                 if !keep {
                     st.culled_nodes += 1;
