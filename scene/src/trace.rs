@@ -269,6 +269,26 @@ impl Default for TraceOpts {
     }
 }
 
+/// The ray terms of one node's shared normals, per ray, filled in on first
+/// use (a ray that never reaches a cull test below the node costs nothing).
+struct LazyTerms<'n> {
+    normals: &'n [[u64; 3]],
+    /// the node's lower corner (binary32 bits)
+    r_min: [u64; 3],
+    /// (ray index, its terms once computed), sorted by ray index
+    rays: Vec<(usize, Option<RayTerms>)>,
+}
+
+impl LazyTerms<'_> {
+    /// The terms of the ray at position `j` of `rays` (ray `r`).
+    fn get(&mut self, cfg: &cull::Config, j: usize, r: &TRay) -> &RayTerms {
+        let (normals, r_min) = (self.normals, self.r_min);
+        self.rays[j]
+            .1
+            .get_or_insert_with(|| ray_terms_parts(cfg, &r.o, &r.d, &r_min, normals))
+    }
+}
+
 /// Traces rays through a scene.
 pub struct Tracer<'a> {
     /// the acceleration structure
@@ -469,40 +489,31 @@ impl<'a> Tracer<'a> {
             }
         }
         let blas = &self.accel.blas[x.mesh];
-        let root_terms = self.ray_terms(
-            &blas.planes.root_normals,
-            &blas.bvh.nodes[0].min,
-            &live,
-            rays,
-        );
-        self.visit_blas(inst as u32, x.mesh, 0, live, &root_terms, rays, st);
+        let mut root_terms =
+            self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min, &live);
+        self.visit_blas(inst as u32, x.mesh, 0, live, &mut root_terms, rays, st);
     }
 
-    /// The ray terms (unit `cull_ray`) of a set of shared normals for each
-    /// of the rays `idxs` (model space), sorted by ray index; empty when the
-    /// planes are off or there are no normals.
-    fn ray_terms(
+    /// The ray terms (unit `cull_ray`) of a set of shared normals for the
+    /// rays `idxs` (model space), each computed when a child's cull test
+    /// first asks for it; no rays when the planes are off or there are no
+    /// normals.
+    fn lazy_terms<'n>(
         &self,
-        normals: &[[u64; 3]],
+        normals: &'n [[u64; 3]],
         r_min: &[f32; 3],
         idxs: &[usize],
-        rays: &[TRay],
-    ) -> Vec<(usize, RayTerms)> {
-        if !self.opts.planes || normals.is_empty() {
-            return Vec::new();
+    ) -> LazyTerms<'n> {
+        let mut rays: Vec<(usize, Option<RayTerms>)> = Vec::new();
+        if self.opts.planes && !normals.is_empty() {
+            rays.extend(idxs.iter().map(|&i| (i, None)));
+            rays.sort_unstable_by_key(|x| x.0);
         }
-        let mut v: Vec<(usize, RayTerms)> = idxs
-            .iter()
-            .map(|&i| {
-                let r = &rays[i];
-                (
-                    i,
-                    ray_terms_parts(&self.cull_cfg, &r.o, &r.d, &r_min.map(bits), normals),
-                )
-            })
-            .collect();
-        v.sort_by_key(|x| x.0);
-        v
+        LazyTerms {
+            normals,
+            r_min: r_min.map(bits),
+            rays,
+        }
     }
 
     /// `parent_terms`: the ray terms of the normals this node's distances
@@ -514,7 +525,7 @@ impl<'a> Tracer<'a> {
         mesh: usize,
         node: usize,
         idxs: Vec<usize>,
-        parent_terms: &[(usize, RayTerms)],
+        parent_terms: &mut LazyTerms,
         rays: &mut [TRay],
         st: &mut KindStats,
     ) {
@@ -529,11 +540,11 @@ impl<'a> Tracer<'a> {
             return;
         }
         let leaf = matches!(n.kind, NodeKind::Leaf { .. });
-        if self.opts.planes && !parent_terms.is_empty() && (leaf || surv.len() == 1) {
+        if self.opts.planes && !parent_terms.rays.is_empty() && (leaf || surv.len() == 1) {
             let w = &blas.planes.w[node];
             surv.retain(|&i| {
                 let r = &rays[i];
-                let Ok(j) = parent_terms.binary_search_by_key(&i, |x| x.0) else {
+                let Ok(j) = parent_terms.rays.binary_search_by_key(&i, |x| x.0) else {
                     return true;
                 };
                 st.cull_tests += 1;
@@ -548,7 +559,8 @@ impl<'a> Tracer<'a> {
                     r.box_t_max(),
                 )
                 .is_some_and(|(t_lo, t_hi)| {
-                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &parent_terms[j].1.terms).keep
+                    let terms = parent_terms.get(&self.cull_cfg, j, r);
+                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &terms.terms).keep
                 });
                 if !keep {
                     st.culled_nodes += 1;
@@ -600,9 +612,9 @@ impl<'a> Tracer<'a> {
                     &rays[surv[0]],
                     Space::Model,
                 );
-                let terms = self.ray_terms(&blas.planes.normals[node], &n.min, &surv, rays);
+                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min, &surv);
                 for c in ord {
-                    self.visit_blas(inst, mesh, c, surv.clone(), &terms, rays, st);
+                    self.visit_blas(inst, mesh, c, surv.clone(), &mut terms, rays, st);
                 }
             }
         }
