@@ -60,42 +60,49 @@ fn pow2_f64(k: i32) -> f64 {
 
 /// `a + b` (binary32) rounded toward -inf and toward +inf, as the generic
 /// `add_down_up` does (a NaN result is some NaN: callers canonicalise).
+/// Branch-free.
 ///
 /// The exact sum is `s + e` with `s = fl64(a + b)` and `e` its error (two-sum;
 /// no overflow in f64). `t = fl32(s)` (nearest even) is an f64 value too, so
 /// when `t != s` the exact sum lies strictly on the same side of `t` as `s`
 /// and strictly before the next binary32 value (it is within half an f64
-/// spacing of `s`); when `t == s` the sign of `e` says which way. An exact
-/// zero sum is -0 down and +0 up, unless both operands are zeros of one sign.
+/// spacing of `s`); when `t == s` the sign of `e` says which way.
+/// Specials: an infinite or NaN operand makes `s` infinite or NaN and `e`
+/// NaN, so no step is taken and both results are `s` (exact). An exact zero
+/// sum is -0 down and +0 up, unless both operands are zeros of one sign
+/// (f64 sums of f32s round to zero only when exact, and then `s` is +0
+/// unless both operands are -0).
 #[inline(always)]
 pub fn add_down_up_f32(a: f32, b: f32) -> (f32, f32) {
-    if !a.is_finite() || !b.is_finite() {
-        // inf + x = inf, inf - inf and NaN = NaN: exact, any mode.
-        let r = a + b;
-        return (r, r);
-    }
     let (x, y) = (a as f64, b as f64);
     let s = x + y;
-    if s == 0.0 {
-        // f64 sums of f32 values round to zero only when exact.
-        if a == 0.0 && b == 0.0 && a.is_sign_negative() == b.is_sign_negative() {
-            return (a, a);
-        }
-        return (-0.0, 0.0);
-    }
     let bv = s - x;
     let e = (x - (s - bv)) + (y - bv);
     let t = s as f32;
     let td = t as f64;
-    // Branch-free: t lies above the exact sum, or below it.
     let above = (td > s) | ((td == s) & (e < 0.0));
     let below = (td < s) | ((td == s) & (e > 0.0));
-    // t is nonzero (|s| >= 2^-149): one step away from zero adds 1 to the
-    // bits, one step toward zero subtracts 1 (also from an infinity).
+    // A stepped t is nonzero (|s| >= 2^-149): a step away from zero adds 1 to
+    // the bits, a step toward zero subtracts 1 (also from an infinity).
     let bits = t.to_bits() as i32;
-    let away = 1 - 2 * (bits < 0) as i32; // +1 for positive t, -1 for negative
-    let down = f32::from_bits(bits.wrapping_sub(above as i32 * away) as u32);
-    let up = f32::from_bits(bits.wrapping_add(below as i32 * away) as u32);
+    let away = (bits >> 31) | 1; // +1 for positive t, -1 for negative
+    let down = bits.wrapping_sub(above as i32 * away) as u32;
+    let up = bits.wrapping_add(below as i32 * away) as u32;
+    // exact zero sum that is not (+0) + (+0): -0 down
+    let neg_zero = (s == 0.0) & ((a.to_bits() | b.to_bits()) != 0);
+    let down = if neg_zero { 0x8000_0000 } else { down };
+    (f32::from_bits(down), f32::from_bits(up))
+}
+
+/// [`add_down_up_f32`] on `N` pairs: `(downs, ups)` (a loop the compiler
+/// may vectorise).
+#[inline(always)]
+pub fn add_down_up_f32_n<const N: usize>(a: [f32; N], b: [f32; N]) -> ([f32; N], [f32; N]) {
+    let mut down = [0f32; N];
+    let mut up = [0f32; N];
+    for k in 0..N {
+        (down[k], up[k]) = add_down_up_f32(a[k], b[k]);
+    }
     (down, up)
 }
 

@@ -15,7 +15,7 @@
 //! against an infinity) is kept.
 
 use super::{BundleIn, Config, OriginMode, Out, Rounding, EDGES};
-use crate::float::native::{add_down_up_f32, to_f32};
+use crate::float::native::{add_down_up_f32, add_down_up_f32_n, to_f32};
 use crate::float::{add, add_down_up_generic, FloatFormat, RoundingMode};
 
 /// The numerators of one axis, as values: AnyHit entry / exit, AllHit entry / exit.
@@ -174,57 +174,83 @@ fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
     let mut num = [Num::default(); 3];
     let mut a = [0f64; 3];
     let mut b = [0f64; 3];
+    let (mut near, mut far, mut m_lo, mut m_hi) = ([0f32; 3], [0f32; 3], [0f32; 3], [0f32; 3]);
+    let (mut near_b, mut far_b, mut m_lo_b, mut m_hi_b) =
+        ([0u64; 3], [0u64; 3], [0u64; 3], [0u64; 3]);
     for i in 0..3 {
-        let (near, far, m_lo, m_hi, near_b, far_b, m_lo_b, m_hi_b);
         if neg[i] {
-            near = -p_max[i];
-            far = -p_min[i];
-            m_lo = o_hi[i];
-            m_hi = o_lo[i];
-            near_b = x.p_max[i] ^ s;
-            far_b = x.p_min[i] ^ s;
-            m_lo_b = o_hi_bits[i];
-            m_hi_b = x.o_lo[i];
+            near[i] = -p_max[i];
+            far[i] = -p_min[i];
+            m_lo[i] = o_hi[i];
+            m_hi[i] = o_lo[i];
+            near_b[i] = x.p_max[i] ^ s;
+            far_b[i] = x.p_min[i] ^ s;
+            m_lo_b[i] = o_hi_bits[i];
+            m_hi_b[i] = x.o_lo[i];
             a[i] = d_hi[i].abs() as f64;
             b[i] = d_lo[i].abs() as f64;
         } else {
-            near = p_min[i];
-            far = p_max[i];
-            m_lo = -o_lo[i];
-            m_hi = -o_hi[i];
-            near_b = x.p_min[i];
-            far_b = x.p_max[i];
-            m_lo_b = x.o_lo[i] ^ s;
-            m_hi_b = o_hi_bits[i] ^ s;
+            near[i] = p_min[i];
+            far[i] = p_max[i];
+            m_lo[i] = -o_lo[i];
+            m_hi[i] = -o_hi[i];
+            near_b[i] = x.p_min[i];
+            far_b[i] = x.p_max[i];
+            m_lo_b[i] = x.o_lo[i] ^ s;
+            m_hi_b[i] = o_hi_bits[i] ^ s;
             a[i] = d_lo[i].abs() as f64;
             b[i] = d_hi[i].abs() as f64;
         }
-        num[i] = match cfg.rounding {
-            Rounding::Conservative => {
-                let n_big = sum_du::<B32>(f, near, m_lo, near_b, m_lo_b);
-                let x_small = sum_du::<B32>(f, far, m_hi, far_b, m_hi_b);
-                let (n_small, x_big) = if bounded {
-                    (
-                        sum_du::<B32>(f, near, m_hi, near_b, m_hi_b),
-                        sum_du::<B32>(f, far, m_lo, far_b, m_lo_b),
-                    )
-                } else {
-                    (n_big, x_small)
-                };
-                Num {
-                    n_any: n_small.0,
-                    x_any: x_big.1,
-                    n_all: n_big.1,
-                    x_all: x_small.0,
-                }
-            }
-            Rounding::Nearest => Num {
-                n_any: sum_rne::<B32>(f, near, m_hi, near_b, m_hi_b),
-                x_any: sum_rne::<B32>(f, far, m_lo, far_b, m_lo_b),
-                n_all: sum_rne::<B32>(f, near, m_lo, near_b, m_lo_b),
-                x_all: sum_rne::<B32>(f, far, m_hi, far_b, m_hi_b),
-            },
+    }
+    if B32 && cfg.rounding == Rounding::Conservative {
+        // The sums of all axes at once: near - ô_lo (largest N) and far - ô_hi
+        // (smallest X); bounded mode also near - ô_hi and far - ô_lo.
+        let cat = |p: [f32; 3], q: [f32; 3]| [p[0], p[1], p[2], q[0], q[1], q[2]];
+        let (d1, u1) = add_down_up_f32_n(cat(near, far), cat(m_lo, m_hi));
+        let (d2, u2) = if bounded {
+            add_down_up_f32_n(cat(near, far), cat(m_hi, m_lo))
+        } else {
+            (d1, u1)
         };
+        for i in 0..3 {
+            num[i] = Num {
+                n_any: d2[i],
+                x_any: u2[3 + i],
+                n_all: u1[i],
+                x_all: d1[3 + i],
+            };
+        }
+    } else {
+        for i in 0..3 {
+            let (near, far, m_lo, m_hi) = (near[i], far[i], m_lo[i], m_hi[i]);
+            let (near_b, far_b, m_lo_b, m_hi_b) = (near_b[i], far_b[i], m_lo_b[i], m_hi_b[i]);
+            num[i] = match cfg.rounding {
+                Rounding::Conservative => {
+                    let n_big = sum_du::<B32>(f, near, m_lo, near_b, m_lo_b);
+                    let x_small = sum_du::<B32>(f, far, m_hi, far_b, m_hi_b);
+                    let (n_small, x_big) = if bounded {
+                        (
+                            sum_du::<B32>(f, near, m_hi, near_b, m_hi_b),
+                            sum_du::<B32>(f, far, m_lo, far_b, m_lo_b),
+                        )
+                    } else {
+                        (n_big, x_small)
+                    };
+                    Num {
+                        n_any: n_small.0,
+                        x_any: x_big.1,
+                        n_all: n_big.1,
+                        x_all: x_small.0,
+                    }
+                }
+                Rounding::Nearest => Num {
+                    n_any: sum_rne::<B32>(f, near, m_hi, near_b, m_hi_b),
+                    x_any: sum_rne::<B32>(f, far, m_lo, far_b, m_lo_b),
+                    n_all: sum_rne::<B32>(f, near, m_lo, near_b, m_lo_b),
+                    x_all: sum_rne::<B32>(f, far, m_hi, far_b, m_hi_b),
+                },
+            };
+        }
     }
 
     // Step 4: products and comparisons.
@@ -233,8 +259,32 @@ fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
     let n_all = num.map(|v| v.n_all as f64);
     let x_all = num.map(|v| v.x_all as f64);
     let (t_min, t_max) = (t_min as f64, t_max as f64);
+    if a == b {
+        // One direction (a single ray): every `pick` gives the same factor,
+        // and the segment products are shared by both tests.
+        let dist = a.map(|d| mulz(t_max, d));
+        let dir = a.map(|d| mulz(t_min, d));
+        return out(
+            pass_ray(&n_all, &x_all, &a, &dist, &dir),
+            pass_ray(&n_any, &x_any, &a, &dist, &dir),
+        );
+    }
     out(
         pass(true, &n_all, &x_all, &a, &b, t_min, t_max),
         pass(false, &n_any, &x_any, &a, &b, t_min, t_max),
     )
+}
+
+/// [`pass`] when both direction bounds are `d` on every axis, with the
+/// segment products `dist = t_max·d`, `dir = t_min·d` (`mulz`).
+#[inline(always)]
+fn pass_ray(n: &[f64; 3], xx: &[f64; 3], d: &[f64; 3], dist: &[f64; 3], dir: &[f64; 3]) -> bool {
+    let mut ok = true;
+    for &(i, j) in EDGES.iter() {
+        ok &= mulz(n[i], d[j]) <= mulz(xx[j], d[i]);
+    }
+    for i in 0..3 {
+        ok &= (n[i] <= dist[i]) & (dir[i] <= xx[i]);
+    }
+    ok
 }
