@@ -426,3 +426,40 @@ fn recip_every_mode() {
     }
     eq.finish();
 }
+
+#[test]
+fn to_f32_every_pattern_of_small_formats() {
+    use golden_model::float::{convert, native::to_f32};
+    let f32f = FloatFormat::BINARY32;
+    let mut eq = Equal::new(
+        "native::to_f32 (every pattern of e5m10, e8m7, e4m3, e2m1, e6m9; e8m18 sampled)",
+    );
+    let mut one = |f: FloatFormat, x: u64| {
+        // the generic widening conversion is exact; NaN compared as NaN
+        let want = convert(f, f32f, x, RoundingMode::NearestEven);
+        let got = to_f32(f, x);
+        let got = if got.is_nan() {
+            f32f.canonical_nan()
+        } else {
+            got.to_bits() as u64
+        };
+        eq.check(got, want, || format!("{f}: {x:#x}"));
+    };
+    for f in [
+        FloatFormat::BINARY16,
+        FloatFormat::BFLOAT16,
+        FloatFormat::new(4, 3).unwrap(),
+        FloatFormat::new(2, 1).unwrap(),
+        FloatFormat::new(6, 9).unwrap(),
+    ] {
+        for x in 0..=f.mask() {
+            one(f, x);
+        }
+    }
+    let e8m18 = FloatFormat::new(8, 18).unwrap();
+    let mut rng = common::Rng::new(90);
+    for _ in 0..cases() {
+        one(e8m18, rng.next() & e8m18.mask());
+    }
+    eq.finish();
+}

@@ -427,7 +427,8 @@ impl<'a> Tracer<'a> {
             return;
         }
         let n = self.accel.tlas.nodes[node];
-        let surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::World, st);
+        let mut surv = idxs;
+        self.test_box(&n.min, &n.max, &mut surv, rays, Space::World, st);
         if surv.is_empty() {
             return;
         }
@@ -535,7 +536,8 @@ impl<'a> Tracer<'a> {
         }
         let blas = &self.accel.blas[mesh];
         let n = blas.bvh.nodes[node];
-        let mut surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::Model, st);
+        let mut surv = idxs;
+        self.test_box(&n.min, &n.max, &mut surv, rays, Space::Model, st);
         if surv.is_empty() {
             return;
         }
@@ -621,16 +623,16 @@ impl<'a> Tracer<'a> {
     }
 
     /// Box test of a set of rays: one bundle test when bundles apply, else one
-    /// test per ray. Returns the rays that may hit.
+    /// test per ray. Keeps in `idxs` the rays that may hit (in order).
     fn test_box(
         &self,
         lo: &[f32; 3],
         hi: &[f32; 3],
-        idxs: &[usize],
+        idxs: &mut Vec<usize>,
         rays: &[TRay],
         space: Space,
         st: &mut KindStats,
-    ) -> Vec<usize> {
+    ) {
         let p_min = lo.map(bits);
         let p_max = hi.map(bits);
         let od = |r: &TRay| match space {
@@ -658,12 +660,13 @@ impl<'a> Tracer<'a> {
                     Verdict::AllHit => {
                         st.all_hit += 1;
                         st.saved_box_tests += n as i64 - 1;
-                        return idxs.to_vec();
+                        return;
                     }
                     Verdict::AllMiss => {
                         st.all_miss += 1;
                         st.saved_box_tests += n as i64 - 1;
-                        return Vec::new();
+                        idxs.clear();
+                        return;
                     }
                     Verdict::Mixed => {
                         st.mixed += 1;
@@ -674,22 +677,19 @@ impl<'a> Tracer<'a> {
                 st.split_by_metric += 1;
             }
         }
-        idxs.iter()
-            .copied()
-            .filter(|&i| {
-                let r = &rays[i];
-                let (o, d) = od(r);
-                st.ray_box_tests += 1;
-                self.tester.ray(&RayBox {
-                    p_min,
-                    p_max,
-                    o,
-                    d,
-                    t_max: r.box_t_max(),
-                    world: space == Space::World,
-                })
+        idxs.retain(|&i| {
+            let r = &rays[i];
+            let (o, d) = od(r);
+            st.ray_box_tests += 1;
+            self.tester.ray(&RayBox {
+                p_min,
+                p_max,
+                o,
+                d,
+                t_max: r.box_t_max(),
+                world: space == Space::World,
             })
-            .collect()
+        })
     }
 }
 

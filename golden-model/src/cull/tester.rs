@@ -334,13 +334,16 @@ fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm])
     let v = |x: u64| f32::from_bits(x as u32);
     let (t_lo, t_hi) = (v(t_lo), v(t_hi));
     let mut invalid = t_lo.is_nan() | t_hi.is_nan();
-    for j in 0..cfg.k {
+    // per plane: w, no_lo, rcp_lo, rcp_hi as values (k <= 8)
+    let mut p = [(0f32, 0f32, 0f32, 0f32, Crossing::Parallel); 8];
+    for (j, pj) in p.iter_mut().enumerate().take(cfg.k) {
         let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
         let tj = terms.get(j).copied().unwrap_or_default();
-        let no_lo = v(tj.no_lo);
+        let (no_lo, rcp_lo, rcp_hi) = (v(tj.no_lo), to_f32(cf, tj.rcp_lo), to_f32(cf, tj.rcp_hi));
         invalid |= !wj.is_finite();
         invalid |= no_lo.is_nan() | (no_lo == f32::INFINITY);
-        invalid |= to_f32(cf, tj.rcp_lo).is_nan() | to_f32(cf, tj.rcp_hi).is_nan();
+        invalid |= rcp_lo.is_nan() | rcp_hi.is_nan();
+        *pj = (wj, no_lo, rcp_lo, rcp_hi, tj.dir);
     }
     if invalid {
         return CullOut {
@@ -351,14 +354,11 @@ fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm])
     let planes_on = !(t_lo < 0.0);
     let (mut lo, mut hi) = (t_lo, t_hi);
     let mut par_cull = false;
-    for j in 0..cfg.k {
-        let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
-        let tj = terms.get(j).copied().unwrap_or_default();
-        let dist = add_down_up_f32(wj, -v(tj.no_lo)).1;
-        let rcp = to_f32(cf, if 0.0 < dist { tj.rcp_hi } else { tj.rcp_lo });
-        let q = mul_f32(dist, rcp, RUP);
-        par_cull |= tj.dir == Crossing::Parallel && dist < 0.0;
-        match tj.dir {
+    for &(wj, no_lo, rcp_lo, rcp_hi, dir) in &p[..cfg.k] {
+        let dist = add_down_up_f32(wj, -no_lo).1;
+        let q = mul_f32(dist, if 0.0 < dist { rcp_hi } else { rcp_lo }, RUP);
+        par_cull |= dir == Crossing::Parallel && dist < 0.0;
+        match dir {
             // a NaN q (inf · 0) compares false: the plane is left out
             Crossing::Exit if q < hi => hi = q,
             Crossing::Entry if lo < -q => lo = -q,

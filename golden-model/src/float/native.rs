@@ -26,29 +26,21 @@ pub fn to_f32(fmt: FloatFormat, bits: u64) -> f32 {
         return f32::from_bits(bits as u32);
     }
     let f = fmt.frac_bits();
-    let neg = bits & fmt.sign_bit() != 0;
-    let biased = (bits >> f) & fmt.exp_all_ones();
-    let frac = bits & fmt.frac_mask();
-    let mag = if biased == fmt.exp_all_ones() {
-        if frac == 0 {
-            f32::INFINITY
-        } else {
-            f32::NAN
-        }
-    } else {
-        let (sig, exp) = if biased == 0 {
-            (frac, fmt.emin() - f as i32)
-        } else {
-            (frac | 1 << f, biased as i32 - fmt.bias() - f as i32)
-        };
-        // sig < 2^24 and 2^exp are exact f64 values; the product is an f32 value.
-        (sig as f64 * pow2_f64(exp)) as f32
-    };
-    if neg {
-        -mag
-    } else {
-        mag
+    let sign = ((bits & fmt.sign_bit() != 0) as u32) << 31;
+    let biased = ((bits >> f) & fmt.exp_all_ones()) as u32;
+    let frac = (bits & fmt.frac_mask()) as u32;
+    if biased == fmt.exp_all_ones() as u32 {
+        // infinity or NaN (a nonzero fraction stays nonzero)
+        return f32::from_bits(sign | 0xff << 23 | frac << (23 - f));
     }
+    if biased != 0 {
+        // normal: the same value with binary32's bias (E <= 8, so in range)
+        let e = biased as i32 - fmt.bias() + 127;
+        return f32::from_bits(sign | (e as u32) << 23 | frac << (23 - f));
+    }
+    // zero or subnormal: frac · 2^(emin − F), exact in f64 and in f32
+    let mag = (frac as f64 * pow2_f64(fmt.emin() - f as i32)) as f32;
+    f32::from_bits(sign | mag.to_bits())
 }
 
 /// `2^k` for `-1022 <= k <= 1023`.
