@@ -215,10 +215,6 @@ pub struct Trace {
     pub out: CullOut,
 }
 
-fn is_zero(f: FloatFormat, v: u64) -> bool {
-    classify(f, v) == Class::Zero
-}
-
 fn negate(f: FloatFormat, v: u64) -> u64 {
     (v ^ f.sign_bit()) & f.mask()
 }
@@ -251,10 +247,16 @@ pub fn ray_terms_parts(
     let f = cfg.ray;
     let cf = cfg.crossing();
     let pf = cfg.plane;
-    let bad = |fmt: FloatFormat, v: u64| matches!(classify(fmt, v), Class::NaN | Class::Inf);
+    // NaN or infinity: the exponent field all ones
+    let bad = |fmt: FloatFormat, v: u64| v & fmt.mask() & !fmt.sign_bit() >= fmt.inf(false);
     let normal = |j: usize| normals.get(j).copied().unwrap_or_default();
-    let invalid = o.iter().chain(d).chain(r).any(|&v| bad(f, v))
-        || (0..cfg.k).any(|j| normal(j).iter().any(|&v| bad(pf, v)));
+    let mut invalid = false;
+    for i in 0..3 {
+        invalid |= bad(f, o[i]) | bad(f, d[i]) | bad(f, r[i]);
+        for j in 0..cfg.k {
+            invalid |= bad(pf, normal(j)[i]);
+        }
+    }
     let u = [0, 1, 2].map(|i| add_down_up(f, o[i], negate(f, r[i])));
     let mut terms = Vec::with_capacity(cfg.k);
     let mut b_los = Vec::with_capacity(cfg.k);
@@ -270,7 +272,7 @@ pub fn ray_terms_parts(
         });
         let no_lo = dot3_floor(pf, f, f, n, u_lo);
         let b_lo = dot3_floor(pf, f, cf, n, *d);
-        let dir = if is_zero(cf, b_lo) {
+        let dir = if b_lo & cf.mask() & !cf.sign_bit() == 0 {
             Crossing::Parallel
         } else if b_lo & cf.sign_bit() == 0 {
             Crossing::Exit

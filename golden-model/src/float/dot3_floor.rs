@@ -10,6 +10,7 @@
 //! product.
 
 use super::format::{FloatFormat, RoundingMode};
+use super::native::{round_exact_f64_to, rounds_natively};
 use super::raw::{Class, RawFloat};
 use super::round::round;
 use super::unpack::unpack;
@@ -41,18 +42,23 @@ pub fn dot3_floor(
     a: [u64; 3],
     b: [u64; 3],
 ) -> u64 {
-    if fa.frac_bits() + fb.frac_bits() <= 58 {
-        if let Some(z) = dot3_floor_narrow(fa, fb, to, a, b) {
-            return z;
-        }
-    }
-    dot3_floor_generic(fa, fb, to, a, b)
+    const B16: FloatFormat = FloatFormat::BINARY16;
+    const B32: FloatFormat = FloatFormat::BINARY32;
+    let narrow = if (fa, fb) == (B16, B32) {
+        // the renderer's planes and rays: the same code with constant formats
+        dot3_floor_narrow(B16, B32, to, a, b)
+    } else if fa.frac_bits() + fb.frac_bits() <= 58 {
+        dot3_floor_narrow(fa, fb, to, a, b)
+    } else {
+        None
+    };
+    narrow.unwrap_or_else(|| dot3_floor_generic(fa, fb, to, a, b))
 }
 
 /// [`dot3_floor`] for `Fa + Fb <= 58` and finite operands (`None` if an
 /// operand is NaN or infinite): each product `M_i < 2^60`, each floored term
 /// below `2^60` in magnitude, so `S` fits an `i64`.
-#[inline]
+#[inline(always)]
 fn dot3_floor_narrow(
     fa: FloatFormat,
     fb: FloatFormat,
@@ -103,6 +109,15 @@ fn dot3_floor_narrow(
             // an arithmetic shift is the floor; |v| < 2^60, so 63 places leave 0 or −1
             sum += v >> (lsb - e[i]).min(63) as u32;
         }
+    }
+    if rounds_natively(to, RoundingMode::Down)
+        && sum.unsigned_abs() <= 1 << 53
+        && (-1022..=960).contains(&lsb)
+    {
+        // S and 2^L are f64 values and so is their product (|S·2^L| < 2^1014,
+        // a multiple of 2^-1022): round the exact value natively.
+        let v = sum as f64 * f64::from_bits(((lsb + 1023) as u64) << 52);
+        return Some(round_exact_f64_to(to, v, RoundingMode::Down));
     }
     let raw = RawFloat::exact(sum < 0, sum.unsigned_abs() as u128, lsb);
     Some(round(to, raw, RoundingMode::Down))

@@ -178,3 +178,42 @@ pub fn f32_bits(v: f32) -> u64 {
         v.to_bits() as u64
     }
 }
+
+/// Whether [`round_exact_f64_to`] handles `to` in `mode`: binary32 in every
+/// mode; other formats with E = 8 (a binary32 subgrid) in directed modes.
+#[inline(always)]
+pub fn rounds_natively(to: FloatFormat, mode: RoundingMode) -> bool {
+    to == FloatFormat::BINARY32
+        || (to.exp_bits() == 8 && to.frac_bits() < 23 && mode != RoundingMode::NearestEven)
+}
+
+/// The exact value `v` rounded once to `to` in `mode`, as bits, when
+/// [`rounds_natively`]: first to binary32 ([`round_exact_f64_to_f32`]);
+/// for a narrower fraction then to `to`'s grid in the same direction (a
+/// subset of binary32's with the same exponent range, so two directed
+/// roundings the same way are one; a carry may reach the infinity, which is
+/// the directed overflow result).
+#[inline(always)]
+pub fn round_exact_f64_to(to: FloatFormat, v: f64, mode: RoundingMode) -> u64 {
+    debug_assert!(rounds_natively(to, mode));
+    let t = round_exact_f64_to_f32(v, mode);
+    if to == FloatFormat::BINARY32 {
+        return f32_bits(t);
+    }
+    if t.is_nan() {
+        return to.canonical_nan();
+    }
+    let sh = 23 - to.frac_bits();
+    let bits = t.to_bits();
+    let neg = bits >> 31 != 0;
+    let mag = bits & 0x7fff_ffff;
+    let low = mag & ((1 << sh) - 1);
+    let away = low != 0
+        && match mode {
+            RoundingMode::Up => !neg,
+            RoundingMode::Down => neg,
+            _ => false,
+        };
+    let mag = (mag - low) + ((away as u32) << sh);
+    to.with_sign(neg, (mag >> sh) as u64)
+}
