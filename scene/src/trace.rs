@@ -16,7 +16,7 @@ use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{
-    self as cull, box_interval, ray_terms_parts, slab_reciprocal, RayTerms,
+    self as cull, box_interval, normal_terms, slab_reciprocal, NormalTerm,
 };
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
@@ -269,23 +269,39 @@ impl Default for TraceOpts {
     }
 }
 
-/// The ray terms of one node's shared normals, per ray, filled in on first
-/// use (a ray that never reaches a cull test below the node costs nothing).
+/// The ray terms of one node's shared normals, per ray, computed when a
+/// child's cull test first asks for them (a ray that never reaches a cull
+/// test below the node costs nothing), without allocation for the first ray.
 struct LazyTerms<'n> {
     normals: &'n [[u64; 3]],
     /// the node's lower corner (binary32 bits)
     r_min: [u64; 3],
-    /// (ray index, its terms once computed), sorted by ray index
-    rays: Vec<(usize, Option<RayTerms>)>,
+    /// planes on and the node has normals
+    on: bool,
+    /// the first ray's terms, then the others' (ray index, terms)
+    first: Option<(usize, [NormalTerm; 8])>,
+    more: Vec<(usize, [NormalTerm; 8])>,
 }
 
 impl LazyTerms<'_> {
-    /// The terms of the ray at position `j` of `rays` (ray `r`).
-    fn get(&mut self, cfg: &cull::Config, j: usize, r: &TRay) -> &RayTerms {
-        let (normals, r_min) = (self.normals, self.r_min);
-        self.rays[j]
-            .1
-            .get_or_insert_with(|| ray_terms_parts(cfg, &r.o, &r.d, &r_min, normals))
+    /// The terms of ray `i` (`r`), the first `k` entries.
+    fn get(&mut self, cfg: &cull::Config, i: usize, r: &TRay) -> &[NormalTerm; 8] {
+        let compute = || normal_terms(cfg, &r.o, &r.d, &self.r_min, self.normals).0;
+        match self.first {
+            None => {
+                let t = compute();
+                &self.first.insert((i, t)).1
+            }
+            Some((j, _)) if j == i => &self.first.as_ref().unwrap().1,
+            Some(_) => match self.more.iter().position(|x| x.0 == i) {
+                Some(p) => &self.more[p].1,
+                None => {
+                    let t = compute();
+                    self.more.push((i, t));
+                    &self.more.last().unwrap().1
+                }
+            },
+        }
     }
 }
 
@@ -490,30 +506,30 @@ impl<'a> Tracer<'a> {
             }
         }
         let blas = &self.accel.blas[x.mesh];
-        let mut root_terms =
-            self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min, &live);
-        self.visit_blas(inst as u32, x.mesh, 0, live, &mut root_terms, rays, st);
+        let mut root_terms = self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min);
+        let mut pool = Vec::new();
+        self.visit_blas(
+            inst as u32,
+            x.mesh,
+            0,
+            live,
+            &mut root_terms,
+            rays,
+            st,
+            &mut pool,
+        );
     }
 
-    /// The ray terms (unit `cull_ray`) of a set of shared normals for the
-    /// rays `idxs` (model space), each computed when a child's cull test
-    /// first asks for it; no rays when the planes are off or there are no
-    /// normals.
-    fn lazy_terms<'n>(
-        &self,
-        normals: &'n [[u64; 3]],
-        r_min: &[f32; 3],
-        idxs: &[usize],
-    ) -> LazyTerms<'n> {
-        let mut rays: Vec<(usize, Option<RayTerms>)> = Vec::new();
-        if self.opts.planes && !normals.is_empty() {
-            rays.extend(idxs.iter().map(|&i| (i, None)));
-            rays.sort_unstable_by_key(|x| x.0);
-        }
+    /// The lazily computed ray terms (unit `cull_ray`) of a node's shared
+    /// normals for its rays (model space); off when the planes are off or
+    /// there are no normals.
+    fn lazy_terms<'n>(&self, normals: &'n [[u64; 3]], r_min: &[f32; 3]) -> LazyTerms<'n> {
         LazyTerms {
             normals,
             r_min: r_min.map(bits),
-            rays,
+            on: self.opts.planes && !normals.is_empty(),
+            first: None,
+            more: Vec::new(),
         }
     }
 
@@ -529,26 +545,43 @@ impl<'a> Tracer<'a> {
         parent_terms: &mut LazyTerms,
         rays: &mut [TRay],
         st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
     ) {
-        let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
+        let mut idxs = idxs;
+        self.visit_blas_in(inst, mesh, node, &mut idxs, parent_terms, rays, st, pool);
+        pool.push(idxs);
+    }
+
+    /// [`Tracer::visit_blas`] on a borrowed ray list (filtered in place);
+    /// the children's lists come from `pool`.
+    #[allow(clippy::too_many_arguments)]
+    fn visit_blas_in(
+        &self,
+        inst: u32,
+        mesh: usize,
+        node: usize,
+        idxs: &mut Vec<usize>,
+        parent_terms: &mut LazyTerms,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
+        idxs.retain(|&i| !rays[i].done);
         if idxs.is_empty() {
             return;
         }
         let blas = &self.accel.blas[mesh];
         let n = blas.bvh.nodes[node];
-        let mut surv = idxs;
-        self.test_box(&n.min, &n.max, &mut surv, rays, Space::Model, st);
+        let surv = idxs;
+        self.test_box(&n.min, &n.max, surv, rays, Space::Model, st);
         if surv.is_empty() {
             return;
         }
         let leaf = matches!(n.kind, NodeKind::Leaf { .. });
-        if self.opts.planes && !parent_terms.rays.is_empty() && (leaf || surv.len() == 1) {
+        if self.opts.planes && parent_terms.on && (leaf || surv.len() == 1) {
             let w = &blas.planes.w[node];
             surv.retain(|&i| {
                 let r = &rays[i];
-                let Ok(j) = parent_terms.rays.binary_search_by_key(&i, |x| x.0) else {
-                    return true;
-                };
                 st.cull_tests += 1;
                 // the conservative slab beside the cull unit gives the box interval
                 let keep = box_interval(
@@ -561,8 +594,9 @@ impl<'a> Tracer<'a> {
                     r.box_t_max(),
                 )
                 .is_some_and(|(t_lo, t_hi)| {
-                    let terms = parent_terms.get(&self.cull_cfg, j, r);
-                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &terms.terms).keep
+                    let k = self.cull_cfg.k;
+                    let terms = parent_terms.get(&self.cull_cfg, i, r);
+                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &terms[..k]).keep
                 });
                 if !keep {
                     st.culled_nodes += 1;
@@ -581,7 +615,7 @@ impl<'a> Tracer<'a> {
             NodeKind::Leaf { .. } => {
                 let m = self.meshes[mesh];
                 let tris = blas.bvh.leaf_tris(node);
-                for &i in &surv {
+                for &i in surv.iter() {
                     let r = &mut rays[i];
                     st.leaf_visits += 1;
                     let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
@@ -614,9 +648,12 @@ impl<'a> Tracer<'a> {
                     &rays[surv[0]],
                     Space::Model,
                 );
-                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min, &surv);
+                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min);
                 for c in ord {
-                    self.visit_blas(inst, mesh, c, surv.clone(), &mut terms, rays, st);
+                    let mut v = pool.pop().unwrap_or_default();
+                    v.clear();
+                    v.extend_from_slice(surv);
+                    self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, pool);
                 }
             }
         }

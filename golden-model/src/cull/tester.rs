@@ -244,6 +244,23 @@ pub fn ray_terms_parts(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> RayTerms {
+    let (terms, b_lo, invalid) = normal_terms(cfg, o, d, r, normals);
+    RayTerms {
+        terms: terms[..cfg.k].to_vec(),
+        b_lo: b_lo[..cfg.k].to_vec(),
+        invalid,
+    }
+}
+
+/// [`ray_terms`] without allocation: the first `cfg.k` entries of the
+/// arrays are the terms and the `b_lo` values, then `invalid`.
+pub fn normal_terms(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> ([NormalTerm; 8], [u64; 8], bool) {
     let f = cfg.ray;
     let cf = cfg.crossing();
     let pf = cfg.plane;
@@ -258,8 +275,8 @@ pub fn ray_terms_parts(
         }
     }
     let u = [0, 1, 2].map(|i| add_down_up(f, o[i], negate(f, r[i])));
-    let mut terms = Vec::with_capacity(cfg.k);
-    let mut b_los = Vec::with_capacity(cfg.k);
+    let mut terms = [NormalTerm::default(); 8];
+    let mut b_los = [0u64; 8];
     for j in 0..cfg.k {
         let n = normal(j);
         let n = n.map(|v| v & pf.mask());
@@ -280,19 +297,15 @@ pub fn ray_terms_parts(
             Crossing::Entry
         };
         let mag = b_lo & !cf.sign_bit() & cf.mask();
-        terms.push(NormalTerm {
+        terms[j] = NormalTerm {
             no_lo: if invalid { f.canonical_nan() } else { no_lo },
             rcp_lo: recip(cf, mag, RDN),
             rcp_hi: recip(cf, mag, RUP),
             dir,
-        });
-        b_los.push(b_lo);
+        };
+        b_los[j] = b_lo;
     }
-    RayTerms {
-        terms,
-        b_lo: b_los,
-        invalid,
-    }
+    (terms, b_los, invalid)
 }
 
 /// Evaluates one child (unit `cull`).
