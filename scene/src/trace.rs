@@ -86,6 +86,10 @@ pub struct TRay {
     pub hit: Hit,
     /// finished (any-hit ray with a hit)
     pub done: bool,
+    /// `slab_reciprocal(d)` of the model-space direction, set with it when
+    /// the ray enters an instance (for the conservative slab beside the
+    /// cull unit)
+    pub(crate) inv_d: [u64; 3],
 }
 
 fn bits(v: f32) -> u64 {
@@ -108,6 +112,8 @@ impl TRay {
                 prim: NONE,
             },
             done: false,
+            // set on entering an instance, the only place it is read below
+            inv_d: [0; 3],
         }
     }
     /// The end of the segment the box tests use (binary32 bits, rounded up).
@@ -305,6 +311,11 @@ impl LazyTerms<'_> {
     }
 }
 
+thread_local! {
+    /// Spare ray lists of the BLAS traversals of this thread.
+    static POOL: std::cell::RefCell<Vec<Vec<usize>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Traces rays through a scene.
 pub struct Tracer<'a> {
     /// the acceleration structure
@@ -404,7 +415,10 @@ impl<'a> Tracer<'a> {
         let ks = &mut st.kinds[kind as usize];
         ks.rays += idxs.len() as u64;
         if !self.accel.tlas.nodes.is_empty() {
-            self.visit_tlas(0, idxs.to_vec(), rays, ks);
+            // ray lists are recycled across the traversals of one thread
+            let mut pool = POOL.with(|p| std::mem::take(&mut *p.borrow_mut()));
+            self.visit_tlas(0, idxs.to_vec(), rays, ks, &mut pool);
+            POOL.with(|p| *p.borrow_mut() = pool);
         }
         ks.hits += idxs.iter().filter(|&&i| rays[i].hit.is_hit()).count() as u64;
     }
@@ -437,7 +451,14 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn visit_tlas(&self, node: usize, idxs: Vec<usize>, rays: &mut [TRay], st: &mut KindStats) {
+    fn visit_tlas(
+        &self,
+        node: usize,
+        idxs: Vec<usize>,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
         let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
         if idxs.is_empty() {
             return;
@@ -451,7 +472,7 @@ impl<'a> Tracer<'a> {
         match n.kind {
             NodeKind::Leaf { .. } => {
                 for &inst in self.accel.tlas.leaf_tris(node) {
-                    self.enter_instance(inst as usize, &surv, rays, st);
+                    self.enter_instance(inst as usize, &surv, rays, st, pool);
                 }
             }
             NodeKind::Inner { left, right } => {
@@ -463,15 +484,24 @@ impl<'a> Tracer<'a> {
                     Space::World,
                 );
                 for c in ord {
-                    self.visit_tlas(c, surv.clone(), rays, st);
+                    self.visit_tlas(c, surv.clone(), rays, st, pool);
                 }
             }
         }
     }
 
-    fn enter_instance(&self, inst: usize, idxs: &[usize], rays: &mut [TRay], st: &mut KindStats) {
+    fn enter_instance(
+        &self,
+        inst: usize,
+        idxs: &[usize],
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
         let x = &self.accel.instances[inst];
-        let live: Vec<usize> = idxs.iter().copied().filter(|&i| !rays[i].done).collect();
+        let mut live = pool.pop().unwrap_or_default();
+        live.clear();
+        live.extend(idxs.iter().copied().filter(|&i| !rays[i].done));
         for &i in &live {
             let r = &mut rays[i];
             st.transforms += 1;
@@ -485,6 +515,7 @@ impl<'a> Tracer<'a> {
                 };
                 r.o = mv(xo).map(bits);
                 r.d = mv(r.d_w).map(bits);
+                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             } else {
                 let m = transform::transform(
                     &self.xf_cfg,
@@ -503,6 +534,7 @@ impl<'a> Tracer<'a> {
                 );
                 r.o = m.origin;
                 r.d = m.dir;
+                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             }
         }
         let blas = &self.accel.blas[x.mesh];
@@ -589,7 +621,7 @@ impl<'a> Tracer<'a> {
                     &n.min.map(bits),
                     &n.max.map(bits),
                     &r.o,
-                    &slab_reciprocal(FloatFormat::BINARY32, &r.d),
+                    &r.inv_d,
                     0,
                     r.box_t_max(),
                 )
