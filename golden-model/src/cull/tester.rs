@@ -345,13 +345,37 @@ pub fn eval_generic(cfg: &Config, x: &ChildIn) -> CullOut {
 /// input returns before any arithmetic (the generic `keep` is forced to 1
 /// then); afterwards no value is NaN, `w` is finite and `no_lo < +inf`.
 fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
+    const B16: FloatFormat = FloatFormat::BINARY16;
+    const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
+        Ok(f) => f,
+        Err(_) => panic!("e8m18"),
+    };
     let (pf, cf) = (cfg.plane, cfg.crossing());
+    if (pf, cf) == (B16, E8M18) {
+        // the renderer's planes: the same code with constant formats
+        eval_f32_in(B16, E8M18, cfg.k, t_lo, t_hi, w, terms)
+    } else {
+        eval_f32_in(pf, cf, cfg.k, t_lo, t_hi, w, terms)
+    }
+}
+
+/// [`eval_f32`] with the plane and crossing formats `pf`, `cf` and `k` planes.
+#[inline(always)]
+fn eval_f32_in(
+    pf: FloatFormat,
+    cf: FloatFormat,
+    k: usize,
+    t_lo: u64,
+    t_hi: u64,
+    w: &[u64],
+    terms: &[NormalTerm],
+) -> CullOut {
     let v = |x: u64| f32::from_bits(x as u32);
     let (t_lo, t_hi) = (v(t_lo), v(t_hi));
     let mut invalid = t_lo.is_nan() | t_hi.is_nan();
     // per plane: w, no_lo, rcp_lo, rcp_hi as values (k <= 8)
     let mut p = [(0f32, 0f32, 0f32, 0f32, Crossing::Parallel); 8];
-    for (j, pj) in p.iter_mut().enumerate().take(cfg.k) {
+    for (j, pj) in p.iter_mut().enumerate().take(k) {
         let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
         let tj = terms.get(j).copied().unwrap_or_default();
         let (no_lo, rcp_lo, rcp_hi) = (v(tj.no_lo), to_f32(cf, tj.rcp_lo), to_f32(cf, tj.rcp_hi));
@@ -369,7 +393,7 @@ fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm])
     let planes_on = !(t_lo < 0.0);
     let (mut lo, mut hi) = (t_lo, t_hi);
     let mut par_cull = false;
-    for &(wj, no_lo, rcp_lo, rcp_hi, dir) in &p[..cfg.k] {
+    for &(wj, no_lo, rcp_lo, rcp_hi, dir) in &p[..k] {
         let dist = add_down_up_f32(wj, -no_lo).1;
         let q = mul_f32(dist, if 0.0 < dist { rcp_hi } else { rcp_lo }, RUP);
         par_cull |= dir == Crossing::Parallel && dist < 0.0;
