@@ -390,6 +390,7 @@ fn eval_f32_in(
             invalid,
         };
     }
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // the generic `!lt` (NaN: true)
     let planes_on = !(t_lo < 0.0);
     let (mut lo, mut hi) = (t_lo, t_hi);
     let mut par_cull = false;

@@ -14,6 +14,9 @@
 //! `le` on `mul_exact` bits. `mulz`'s zero rule (a zero factor gives 0, even
 //! against an infinity) is kept.
 
+// `!(a <= b)` is the generic `!le` (true for NaN): kept in that form.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::{BundleIn, Config, OriginMode, Out, Rounding, EDGES};
 use crate::float::native::{add_down_up_f32, add_down_up_f32_n, to_f32};
 use crate::float::{add, add_down_up_generic, FloatFormat, RoundingMode};
@@ -62,7 +65,7 @@ fn sum_rne<const B32: bool>(f: FloatFormat, a: f32, b: f32, a_bits: u64, b_bits:
 fn mulz(a: f64, b: f64) -> f64 {
     let p = a * b;
     // Branch-free `if p.is_nan() { 0.0 } else { p }`.
-    let keep = ((p == p) as u64).wrapping_neg();
+    let keep = (!p.is_nan() as u64).wrapping_neg();
     f64::from_bits(p.to_bits() & keep)
 }
 
