@@ -25,8 +25,8 @@
 //! ```
 
 use crate::float::{
-    add, add_down_up, classify, convert, le, lt, mul_exact, Class, ExactProductFormat, FloatFormat,
-    FormatError, RoundingMode,
+    add_down_up_generic, add_generic, classify, convert, le, lt, mul_exact, Class,
+    ExactProductFormat, FloatFormat, FormatError, RoundingMode,
 };
 
 /// Whether the rays of a bundle share one origin.
@@ -249,8 +249,23 @@ pub struct Trace {
     pub out: Out,
 }
 
-/// Evaluates one transaction.
+mod fast;
+
+/// Evaluates one transaction: the native fast path for formats whose values
+/// are `f32`s (E <= 8, F <= 23), else [`eval_generic`]; the same outputs
+/// for every input.
+#[inline]
 pub fn eval(cfg: &Config, x: &BundleIn) -> Out {
+    if crate::float::native::fits_f32(cfg.fmt()) {
+        fast::eval(cfg, x)
+    } else {
+        eval_generic(cfg, x)
+    }
+}
+
+/// Evaluates one transaction with the generic float operators (the reference
+/// the fast path of [`eval`] is checked against).
+pub fn eval_generic(cfg: &Config, x: &BundleIn) -> Out {
     eval_trace(cfg, x).out
 }
 
@@ -329,10 +344,10 @@ pub fn eval_trace(cfg: &Config, x: &BundleIn) -> Trace {
             Rounding::Conservative => {
                 // One exact sum each, rounded both ways (shared mode: m_lo == m_hi,
                 // so `n_big`/`n_small` and `x_big`/`x_small` are the same sums).
-                let n_big = add_down_up(f, a_t.near, a_t.m_lo); // near - ô_lo: largest N
-                let n_small = add_down_up(f, a_t.near, a_t.m_hi); // near - ô_hi: smallest N
-                let x_big = add_down_up(f, a_t.far, a_t.m_lo); // far - ô_lo: largest X
-                let x_small = add_down_up(f, a_t.far, a_t.m_hi); // far - ô_hi: smallest X
+                let n_big = add_down_up_generic(f, a_t.near, a_t.m_lo); // near - ô_lo: largest N
+                let n_small = add_down_up_generic(f, a_t.near, a_t.m_hi); // near - ô_hi: smallest N
+                let x_big = add_down_up_generic(f, a_t.far, a_t.m_lo); // far - ô_lo: largest X
+                let x_small = add_down_up_generic(f, a_t.far, a_t.m_hi); // far - ô_hi: smallest X
                 a_t.n_any = n_small.down;
                 a_t.x_any = x_big.up;
                 a_t.n_all = n_big.up;
@@ -340,10 +355,10 @@ pub fn eval_trace(cfg: &Config, x: &BundleIn) -> Trace {
             }
             Rounding::Nearest => {
                 let rne = RoundingMode::NearestEven;
-                a_t.n_any = add(f, a_t.near, a_t.m_hi, rne);
-                a_t.x_any = add(f, a_t.far, a_t.m_lo, rne);
-                a_t.n_all = add(f, a_t.near, a_t.m_lo, rne);
-                a_t.x_all = add(f, a_t.far, a_t.m_hi, rne);
+                a_t.n_any = add_generic(f, a_t.near, a_t.m_hi, rne);
+                a_t.x_any = add_generic(f, a_t.far, a_t.m_lo, rne);
+                a_t.n_all = add_generic(f, a_t.near, a_t.m_lo, rne);
+                a_t.x_all = add_generic(f, a_t.far, a_t.m_hi, rne);
             }
         }
     }

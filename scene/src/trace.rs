@@ -16,7 +16,7 @@ use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{
-    self as cull, box_interval, ray_terms, slab_reciprocal, ChildIn, RayIn, RayTerms,
+    self as cull, box_interval, normal_terms, slab_reciprocal, NormalTerm,
 };
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
@@ -86,6 +86,10 @@ pub struct TRay {
     pub hit: Hit,
     /// finished (any-hit ray with a hit)
     pub done: bool,
+    /// `slab_reciprocal(d)` of the model-space direction, set with it when
+    /// the ray enters an instance (for the conservative slab beside the
+    /// cull unit)
+    pub(crate) inv_d: [u64; 3],
 }
 
 fn bits(v: f32) -> u64 {
@@ -108,6 +112,8 @@ impl TRay {
                 prim: NONE,
             },
             done: false,
+            // set on entering an instance, the only place it is read below
+            inv_d: [0; 3],
         }
     }
     /// The end of the segment the box tests use (binary32 bits, rounded up).
@@ -269,6 +275,47 @@ impl Default for TraceOpts {
     }
 }
 
+/// The ray terms of one node's shared normals, per ray, computed when a
+/// child's cull test first asks for them (a ray that never reaches a cull
+/// test below the node costs nothing), without allocation for the first ray.
+struct LazyTerms<'n> {
+    normals: &'n [[u64; 3]],
+    /// the node's lower corner (binary32 bits)
+    r_min: [u64; 3],
+    /// planes on and the node has normals
+    on: bool,
+    /// the first ray's terms, then the others' (ray index, terms)
+    first: Option<(usize, [NormalTerm; 8])>,
+    more: Vec<(usize, [NormalTerm; 8])>,
+}
+
+impl LazyTerms<'_> {
+    /// The terms of ray `i` (`r`), the first `k` entries.
+    fn get(&mut self, cfg: &cull::Config, i: usize, r: &TRay) -> &[NormalTerm; 8] {
+        let compute = || normal_terms(cfg, &r.o, &r.d, &self.r_min, self.normals).0;
+        match self.first {
+            None => {
+                let t = compute();
+                &self.first.insert((i, t)).1
+            }
+            Some((j, _)) if j == i => &self.first.as_ref().unwrap().1,
+            Some(_) => match self.more.iter().position(|x| x.0 == i) {
+                Some(p) => &self.more[p].1,
+                None => {
+                    let t = compute();
+                    self.more.push((i, t));
+                    &self.more.last().unwrap().1
+                }
+            },
+        }
+    }
+}
+
+thread_local! {
+    /// Spare ray lists of the BLAS traversals of this thread.
+    static POOL: std::cell::RefCell<Vec<Vec<usize>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Traces rays through a scene.
 pub struct Tracer<'a> {
     /// the acceleration structure
@@ -368,7 +415,10 @@ impl<'a> Tracer<'a> {
         let ks = &mut st.kinds[kind as usize];
         ks.rays += idxs.len() as u64;
         if !self.accel.tlas.nodes.is_empty() {
-            self.visit_tlas(0, idxs.to_vec(), rays, ks);
+            // ray lists are recycled across the traversals of one thread
+            let mut pool = POOL.with(|p| std::mem::take(&mut *p.borrow_mut()));
+            self.visit_tlas(0, idxs.to_vec(), rays, ks, &mut pool);
+            POOL.with(|p| *p.borrow_mut() = pool);
         }
         ks.hits += idxs.iter().filter(|&&i| rays[i].hit.is_hit()).count() as u64;
     }
@@ -401,20 +451,28 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    fn visit_tlas(&self, node: usize, idxs: Vec<usize>, rays: &mut [TRay], st: &mut KindStats) {
+    fn visit_tlas(
+        &self,
+        node: usize,
+        idxs: Vec<usize>,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
         let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
         if idxs.is_empty() {
             return;
         }
         let n = self.accel.tlas.nodes[node];
-        let surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::World, st);
+        let mut surv = idxs;
+        self.test_box(&n.min, &n.max, &mut surv, rays, Space::World, st);
         if surv.is_empty() {
             return;
         }
         match n.kind {
             NodeKind::Leaf { .. } => {
                 for &inst in self.accel.tlas.leaf_tris(node) {
-                    self.enter_instance(inst as usize, &surv, rays, st);
+                    self.enter_instance(inst as usize, &surv, rays, st, pool);
                 }
             }
             NodeKind::Inner { left, right } => {
@@ -426,15 +484,24 @@ impl<'a> Tracer<'a> {
                     Space::World,
                 );
                 for c in ord {
-                    self.visit_tlas(c, surv.clone(), rays, st);
+                    self.visit_tlas(c, surv.clone(), rays, st, pool);
                 }
             }
         }
     }
 
-    fn enter_instance(&self, inst: usize, idxs: &[usize], rays: &mut [TRay], st: &mut KindStats) {
+    fn enter_instance(
+        &self,
+        inst: usize,
+        idxs: &[usize],
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
         let x = &self.accel.instances[inst];
-        let live: Vec<usize> = idxs.iter().copied().filter(|&i| !rays[i].done).collect();
+        let mut live = pool.pop().unwrap_or_default();
+        live.clear();
+        live.extend(idxs.iter().copied().filter(|&i| !rays[i].done));
         for &i in &live {
             let r = &mut rays[i];
             st.transforms += 1;
@@ -448,6 +515,7 @@ impl<'a> Tracer<'a> {
                 };
                 r.o = mv(xo).map(bits);
                 r.d = mv(r.d_w).map(bits);
+                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             } else {
                 let m = transform::transform(
                     &self.xf_cfg,
@@ -466,46 +534,35 @@ impl<'a> Tracer<'a> {
                 );
                 r.o = m.origin;
                 r.d = m.dir;
+                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             }
         }
         let blas = &self.accel.blas[x.mesh];
-        let root_terms = self.ray_terms(
-            &blas.planes.root_normals,
-            &blas.bvh.nodes[0].min,
-            &live,
+        let mut root_terms = self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min);
+        let mut pool = Vec::new();
+        self.visit_blas(
+            inst as u32,
+            x.mesh,
+            0,
+            live,
+            &mut root_terms,
             rays,
+            st,
+            &mut pool,
         );
-        self.visit_blas(inst as u32, x.mesh, 0, live, &root_terms, rays, st);
     }
 
-    /// The ray terms (unit `cull_ray`) of a set of shared normals for each
-    /// of the rays `idxs` (model space), sorted by ray index; empty when the
-    /// planes are off or there are no normals.
-    fn ray_terms(
-        &self,
-        normals: &[[u64; 3]],
-        r_min: &[f32; 3],
-        idxs: &[usize],
-        rays: &[TRay],
-    ) -> Vec<(usize, RayTerms)> {
-        if !self.opts.planes || normals.is_empty() {
-            return Vec::new();
+    /// The lazily computed ray terms (unit `cull_ray`) of a node's shared
+    /// normals for its rays (model space); off when the planes are off or
+    /// there are no normals.
+    fn lazy_terms<'n>(&self, normals: &'n [[u64; 3]], r_min: &[f32; 3]) -> LazyTerms<'n> {
+        LazyTerms {
+            normals,
+            r_min: r_min.map(bits),
+            on: self.opts.planes && !normals.is_empty(),
+            first: None,
+            more: Vec::new(),
         }
-        let mut v: Vec<(usize, RayTerms)> = idxs
-            .iter()
-            .map(|&i| {
-                let r = &rays[i];
-                let x = RayIn {
-                    o: r.o,
-                    d: r.d,
-                    r: r_min.map(bits),
-                    normals: normals.to_vec(),
-                };
-                (i, ray_terms(&self.cull_cfg, &x))
-            })
-            .collect();
-        v.sort_by_key(|x| x.0);
-        v
     }
 
     /// `parent_terms`: the ray terms of the normals this node's distances
@@ -517,28 +574,46 @@ impl<'a> Tracer<'a> {
         mesh: usize,
         node: usize,
         idxs: Vec<usize>,
-        parent_terms: &[(usize, RayTerms)],
+        parent_terms: &mut LazyTerms,
         rays: &mut [TRay],
         st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
     ) {
-        let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
+        let mut idxs = idxs;
+        self.visit_blas_in(inst, mesh, node, &mut idxs, parent_terms, rays, st, pool);
+        pool.push(idxs);
+    }
+
+    /// [`Tracer::visit_blas`] on a borrowed ray list (filtered in place);
+    /// the children's lists come from `pool`.
+    #[allow(clippy::too_many_arguments)]
+    fn visit_blas_in(
+        &self,
+        inst: u32,
+        mesh: usize,
+        node: usize,
+        idxs: &mut Vec<usize>,
+        parent_terms: &mut LazyTerms,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        pool: &mut Vec<Vec<usize>>,
+    ) {
+        idxs.retain(|&i| !rays[i].done);
         if idxs.is_empty() {
             return;
         }
         let blas = &self.accel.blas[mesh];
         let n = blas.bvh.nodes[node];
-        let mut surv = self.test_box(&n.min, &n.max, &idxs, rays, Space::Model, st);
+        let surv = idxs;
+        self.test_box(&n.min, &n.max, surv, rays, Space::Model, st);
         if surv.is_empty() {
             return;
         }
         let leaf = matches!(n.kind, NodeKind::Leaf { .. });
-        if self.opts.planes && !parent_terms.is_empty() && (leaf || surv.len() == 1) {
+        if self.opts.planes && parent_terms.on && (leaf || surv.len() == 1) {
             let w = &blas.planes.w[node];
             surv.retain(|&i| {
                 let r = &rays[i];
-                let Ok(j) = parent_terms.binary_search_by_key(&i, |x| x.0) else {
-                    return true;
-                };
                 st.cull_tests += 1;
                 // the conservative slab beside the cull unit gives the box interval
                 let keep = box_interval(
@@ -546,21 +621,14 @@ impl<'a> Tracer<'a> {
                     &n.min.map(bits),
                     &n.max.map(bits),
                     &r.o,
-                    &slab_reciprocal(FloatFormat::BINARY32, &r.d),
+                    &r.inv_d,
                     0,
                     r.box_t_max(),
                 )
                 .is_some_and(|(t_lo, t_hi)| {
-                    cull::eval(
-                        &self.cull_cfg,
-                        &ChildIn {
-                            t_lo,
-                            t_hi,
-                            w: w.clone(),
-                            terms: parent_terms[j].1.terms.clone(),
-                        },
-                    )
-                    .keep
+                    let k = self.cull_cfg.k;
+                    let terms = parent_terms.get(&self.cull_cfg, i, r);
+                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &terms[..k]).keep
                 });
                 if !keep {
                     st.culled_nodes += 1;
@@ -579,7 +647,7 @@ impl<'a> Tracer<'a> {
             NodeKind::Leaf { .. } => {
                 let m = self.meshes[mesh];
                 let tris = blas.bvh.leaf_tris(node);
-                for &i in &surv {
+                for &i in surv.iter() {
                     let r = &mut rays[i];
                     st.leaf_visits += 1;
                     let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
@@ -612,25 +680,28 @@ impl<'a> Tracer<'a> {
                     &rays[surv[0]],
                     Space::Model,
                 );
-                let terms = self.ray_terms(&blas.planes.normals[node], &n.min, &surv, rays);
+                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min);
                 for c in ord {
-                    self.visit_blas(inst, mesh, c, surv.clone(), &terms, rays, st);
+                    let mut v = pool.pop().unwrap_or_default();
+                    v.clear();
+                    v.extend_from_slice(surv);
+                    self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, pool);
                 }
             }
         }
     }
 
     /// Box test of a set of rays: one bundle test when bundles apply, else one
-    /// test per ray. Returns the rays that may hit.
+    /// test per ray. Keeps in `idxs` the rays that may hit (in order).
     fn test_box(
         &self,
         lo: &[f32; 3],
         hi: &[f32; 3],
-        idxs: &[usize],
+        idxs: &mut Vec<usize>,
         rays: &[TRay],
         space: Space,
         st: &mut KindStats,
-    ) -> Vec<usize> {
+    ) {
         let p_min = lo.map(bits);
         let p_max = hi.map(bits);
         let od = |r: &TRay| match space {
@@ -658,12 +729,13 @@ impl<'a> Tracer<'a> {
                     Verdict::AllHit => {
                         st.all_hit += 1;
                         st.saved_box_tests += n as i64 - 1;
-                        return idxs.to_vec();
+                        return;
                     }
                     Verdict::AllMiss => {
                         st.all_miss += 1;
                         st.saved_box_tests += n as i64 - 1;
-                        return Vec::new();
+                        idxs.clear();
+                        return;
                     }
                     Verdict::Mixed => {
                         st.mixed += 1;
@@ -674,22 +746,19 @@ impl<'a> Tracer<'a> {
                 st.split_by_metric += 1;
             }
         }
-        idxs.iter()
-            .copied()
-            .filter(|&i| {
-                let r = &rays[i];
-                let (o, d) = od(r);
-                st.ray_box_tests += 1;
-                self.tester.ray(&RayBox {
-                    p_min,
-                    p_max,
-                    o,
-                    d,
-                    t_max: r.box_t_max(),
-                    world: space == Space::World,
-                })
+        idxs.retain(|&i| {
+            let r = &rays[i];
+            let (o, d) = od(r);
+            st.ray_box_tests += 1;
+            self.tester.ray(&RayBox {
+                p_min,
+                p_max,
+                o,
+                d,
+                t_max: r.box_t_max(),
+                world: space == Space::World,
             })
-            .collect()
+        })
     }
 }
 

@@ -14,4 +14,7 @@ pub mod exact;
 pub mod stats;
 pub mod tester;
 
-pub use tester::{eval, eval_trace, ray_terms, ChildIn, Config, CullOut, RayIn, RayTerms};
+pub use tester::{
+    eval, eval_generic, eval_parts, eval_trace, normal_terms, ray_terms, ray_terms_parts, ChildIn,
+    Config, CullOut, RayIn, RayTerms,
+};

@@ -18,8 +18,10 @@
 //! Every rounded value is rounded the way that only widens the interval,
 //! so `keep = 0` only when the exact segment misses the region.
 
+use crate::float::native::{add_down_up_f32, mul_f32, to_f32};
 use crate::float::{
-    add, add_down_up, classify, convert, dot3_floor, le, lt, mul, Class, FloatFormat, RoundingMode,
+    add_down_up, add_generic, classify, convert, dot3_floor, le, lt, mul_generic, Class,
+    FloatFormat, RoundingMode,
 };
 use crate::transform::recip;
 
@@ -213,10 +215,6 @@ pub struct Trace {
     pub out: CullOut,
 }
 
-fn is_zero(f: FloatFormat, v: u64) -> bool {
-    classify(f, v) == Class::Zero
-}
-
 fn negate(f: FloatFormat, v: u64) -> u64 {
     (v ^ f.sign_bit()) & f.mask()
 }
@@ -235,19 +233,52 @@ fn negate(f: FloatFormat, v: u64) -> u64 {
 ///
 /// An invalid input gives `no_lo = NaN` for every normal (so `eval` keeps).
 pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
+    ray_terms_parts(cfg, &x.o, &x.d, &x.r, &x.normals)
+}
+
+/// [`ray_terms`] on borrowed parts of a [`RayIn`] (the normals not copied).
+pub fn ray_terms_parts(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> RayTerms {
+    let (terms, b_lo, invalid) = normal_terms(cfg, o, d, r, normals);
+    RayTerms {
+        terms: terms[..cfg.k].to_vec(),
+        b_lo: b_lo[..cfg.k].to_vec(),
+        invalid,
+    }
+}
+
+/// [`ray_terms`] without allocation: the first `cfg.k` entries of the
+/// arrays are the terms and the `b_lo` values, then `invalid`.
+pub fn normal_terms(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> ([NormalTerm; 8], [u64; 8], bool) {
     let f = cfg.ray;
     let cf = cfg.crossing();
     let pf = cfg.plane;
-    let bad = |fmt: FloatFormat, v: u64| matches!(classify(fmt, v), Class::NaN | Class::Inf);
-    let normals: Vec<[u64; 3]> = (0..cfg.k)
-        .map(|j| x.normals.get(j).copied().unwrap_or_default())
-        .collect();
-    let invalid = x.o.iter().chain(&x.d).chain(&x.r).any(|&v| bad(f, v))
-        || normals.iter().flatten().any(|&v| bad(pf, v));
-    let u = [0, 1, 2].map(|i| add_down_up(f, x.o[i], negate(f, x.r[i])));
-    let mut terms = Vec::new();
-    let mut b_los = Vec::new();
-    for n in &normals {
+    // NaN or infinity: the exponent field all ones
+    let bad = |fmt: FloatFormat, v: u64| v & fmt.mask() & !fmt.sign_bit() >= fmt.inf(false);
+    let normal = |j: usize| normals.get(j).copied().unwrap_or_default();
+    let mut invalid = false;
+    for i in 0..3 {
+        invalid |= bad(f, o[i]) | bad(f, d[i]) | bad(f, r[i]);
+        for j in 0..cfg.k {
+            invalid |= bad(pf, normal(j)[i]);
+        }
+    }
+    let u = [0, 1, 2].map(|i| add_down_up(f, o[i], negate(f, r[i])));
+    let mut terms = [NormalTerm::default(); 8];
+    let mut b_los = [0u64; 8];
+    for j in 0..cfg.k {
+        let n = normal(j);
         let n = n.map(|v| v & pf.mask());
         let u_lo = [0, 1, 2].map(|i| {
             if n[i] & pf.sign_bit() != 0 {
@@ -257,8 +288,8 @@ pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
             }
         });
         let no_lo = dot3_floor(pf, f, f, n, u_lo);
-        let b_lo = dot3_floor(pf, f, cf, n, x.d);
-        let dir = if is_zero(cf, b_lo) {
+        let b_lo = dot3_floor(pf, f, cf, n, *d);
+        let dir = if b_lo & cf.mask() & !cf.sign_bit() == 0 {
             Crossing::Parallel
         } else if b_lo & cf.sign_bit() == 0 {
             Crossing::Exit
@@ -266,24 +297,123 @@ pub fn ray_terms(cfg: &Config, x: &RayIn) -> RayTerms {
             Crossing::Entry
         };
         let mag = b_lo & !cf.sign_bit() & cf.mask();
-        terms.push(NormalTerm {
+        terms[j] = NormalTerm {
             no_lo: if invalid { f.canonical_nan() } else { no_lo },
             rcp_lo: recip(cf, mag, RDN),
             rcp_hi: recip(cf, mag, RUP),
             dir,
-        });
-        b_los.push(b_lo);
+        };
+        b_los[j] = b_lo;
     }
-    RayTerms {
-        terms,
-        b_lo: b_los,
-        invalid,
-    }
+    (terms, b_los, invalid)
 }
 
 /// Evaluates one child (unit `cull`).
+#[inline]
 pub fn eval(cfg: &Config, x: &ChildIn) -> CullOut {
+    eval_parts(cfg, x.t_lo, x.t_hi, &x.w, &x.terms)
+}
+
+/// [`eval`] on borrowed parts of a [`ChildIn`] (no allocation on the fast
+/// path): binary32 ray formats take the native path, bit-identical to
+/// [`eval_generic`] (`tests/fast_paths.rs`), others [`eval_generic`].
+pub fn eval_parts(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
+    if cfg.ray == FloatFormat::BINARY32 {
+        eval_f32(cfg, t_lo, t_hi, w, terms)
+    } else {
+        eval_generic(
+            cfg,
+            &ChildIn {
+                t_lo,
+                t_hi,
+                w: w.to_vec(),
+                terms: terms.to_vec(),
+            },
+        )
+    }
+}
+
+/// The reference [`eval`]: the generic float operators, step by step.
+pub fn eval_generic(cfg: &Config, x: &ChildIn) -> CullOut {
     eval_trace(cfg, x).out
+}
+
+/// [`eval_trace`]'s outputs for a binary32 ray format (so the plane and the
+/// crossing formats, contained in it, are exact `f32`s), on values:
+/// comparisons are IEEE comparisons; `D = RUP(w - no_lo)` by the two-sum
+/// directed adder; `q = RUP(D · rcp)` from the exact f64 product. An invalid
+/// input returns before any arithmetic (the generic `keep` is forced to 1
+/// then); afterwards no value is NaN, `w` is finite and `no_lo < +inf`.
+fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
+    const B16: FloatFormat = FloatFormat::BINARY16;
+    const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
+        Ok(f) => f,
+        Err(_) => panic!("e8m18"),
+    };
+    let (pf, cf) = (cfg.plane, cfg.crossing());
+    if (pf, cf) == (B16, E8M18) {
+        // the renderer's planes: the same code with constant formats
+        eval_f32_in(B16, E8M18, cfg.k, t_lo, t_hi, w, terms)
+    } else {
+        eval_f32_in(pf, cf, cfg.k, t_lo, t_hi, w, terms)
+    }
+}
+
+/// [`eval_f32`] with the plane and crossing formats `pf`, `cf` and `k` planes.
+#[inline(always)]
+fn eval_f32_in(
+    pf: FloatFormat,
+    cf: FloatFormat,
+    k: usize,
+    t_lo: u64,
+    t_hi: u64,
+    w: &[u64],
+    terms: &[NormalTerm],
+) -> CullOut {
+    let v = |x: u64| f32::from_bits(x as u32);
+    let (t_lo, t_hi) = (v(t_lo), v(t_hi));
+    let mut invalid = t_lo.is_nan() | t_hi.is_nan();
+    // per plane: w, no_lo, rcp_lo, rcp_hi as values (k <= 8)
+    let mut p = [(0f32, 0f32, 0f32, 0f32, Crossing::Parallel); 8];
+    for (j, pj) in p.iter_mut().enumerate().take(k) {
+        let wj = to_f32(pf, w.get(j).copied().unwrap_or_default());
+        let tj = terms.get(j).copied().unwrap_or_default();
+        let (no_lo, rcp_lo, rcp_hi) = (v(tj.no_lo), to_f32(cf, tj.rcp_lo), to_f32(cf, tj.rcp_hi));
+        invalid |= !wj.is_finite();
+        invalid |= no_lo.is_nan() | (no_lo == f32::INFINITY);
+        invalid |= rcp_lo.is_nan() | rcp_hi.is_nan();
+        *pj = (wj, no_lo, rcp_lo, rcp_hi, tj.dir);
+    }
+    if invalid {
+        return CullOut {
+            keep: true,
+            invalid,
+        };
+    }
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // the generic `!lt` (NaN: true)
+    let planes_on = !(t_lo < 0.0);
+    let (mut lo, mut hi) = (t_lo, t_hi);
+    let mut par_cull = false;
+    for &(wj, no_lo, rcp_lo, rcp_hi, dir) in &p[..k] {
+        let dist = add_down_up_f32(wj, -no_lo).1;
+        let q = mul_f32(dist, if 0.0 < dist { rcp_hi } else { rcp_lo }, RUP);
+        par_cull |= dir == Crossing::Parallel && dist < 0.0;
+        match dir {
+            // a NaN q (inf · 0) compares false: the plane is left out
+            Crossing::Exit if q < hi => hi = q,
+            Crossing::Entry if lo < -q => lo = -q,
+            _ => {}
+        }
+    }
+    let keep = if planes_on {
+        !par_cull && lo <= hi
+    } else {
+        t_lo <= t_hi
+    };
+    CullOut {
+        keep,
+        invalid: false,
+    }
 }
 
 /// Evaluates one child and returns every intermediate value.
@@ -321,13 +451,13 @@ pub fn eval_trace(cfg: &Config, x: &ChildIn) -> Trace {
     let mut par_cull = false;
     let mut planes = Vec::new();
     for (wj, tj) in w.iter().zip(&terms) {
-        let dist = add(f, convert(pf, f, *wj, RNE), negate(f, tj.no_lo), RUP);
+        let dist = add_generic(f, convert(pf, f, *wj, RNE), negate(f, tj.no_lo), RUP);
         let rcp = if lt(f, zero, dist) {
             tj.rcp_hi
         } else {
             tj.rcp_lo
         };
-        let q = mul(f, dist, convert(cf, f, rcp, RNE), RUP);
+        let q = mul_generic(f, dist, convert(cf, f, rcp, RNE), RUP);
         let usable = !nan(f, q);
         let pc = tj.dir == Crossing::Parallel && lt(f, dist, zero);
         par_cull |= pc;

@@ -1,12 +1,24 @@
 //! Addition and subtraction, and the exact two-term sum shared with `fma`.
 
 use super::format::{FloatFormat, RoundingMode};
+use super::native::{add_f32, f32_bits};
 use super::raw::{Class, RawFloat};
 use super::round::{exact_zero_sum_sign, round, shift_right_sticky};
 use super::unpack::unpack;
 
-/// `a + b` in `fmt`, rounded once in `mode`.
+/// `a + b` in `fmt`, rounded once in `mode`: binary32 natively
+/// (`native::add_f32`), other formats [`add_generic`].
+#[inline]
 pub fn add(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 {
+    if fmt == FloatFormat::BINARY32 {
+        let (x, y) = (f32::from_bits(a as u32), f32::from_bits(b as u32));
+        return f32_bits(add_f32(x, y, mode));
+    }
+    add_generic(fmt, a, b, mode)
+}
+
+/// The reference [`add`]: exact sum, shared rounder.
+pub fn add_generic(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 {
     round(fmt, add_raw(fmt, a, b, mode), mode)
 }
 

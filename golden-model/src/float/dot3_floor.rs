@@ -10,6 +10,7 @@
 //! product.
 
 use super::format::{FloatFormat, RoundingMode};
+use super::native::{round_exact_f64_to, rounds_natively};
 use super::raw::{Class, RawFloat};
 use super::round::round;
 use super::unpack::unpack;
@@ -29,7 +30,101 @@ use super::unpack::unpack;
 /// 5. `z = RDN(S · 2^L)` in `to`; `S = 0` gives +0.
 ///
 /// Both fraction widths must be at most 52 (the sum fits an `i128`).
+///
+/// When `Fa + Fb <= 58` and no operand is NaN or infinite, steps 2 to 4 run
+/// in `u64` / `i64` without allocation ([`dot3_floor_narrow`]) and step 5 is
+/// the same rounder on the same value; otherwise [`dot3_floor_generic`].
+#[inline]
 pub fn dot3_floor(
+    fa: FloatFormat,
+    fb: FloatFormat,
+    to: FloatFormat,
+    a: [u64; 3],
+    b: [u64; 3],
+) -> u64 {
+    const B16: FloatFormat = FloatFormat::BINARY16;
+    const B32: FloatFormat = FloatFormat::BINARY32;
+    let narrow = if (fa, fb) == (B16, B32) {
+        // the renderer's planes and rays: the same code with constant formats
+        dot3_floor_narrow(B16, B32, to, a, b)
+    } else if fa.frac_bits() + fb.frac_bits() <= 58 {
+        dot3_floor_narrow(fa, fb, to, a, b)
+    } else {
+        None
+    };
+    narrow.unwrap_or_else(|| dot3_floor_generic(fa, fb, to, a, b))
+}
+
+/// [`dot3_floor`] for `Fa + Fb <= 58` and finite operands (`None` if an
+/// operand is NaN or infinite): each product `M_i < 2^60`, each floored term
+/// below `2^60` in magnitude, so `S` fits an `i64`.
+#[inline(always)]
+fn dot3_floor_narrow(
+    fa: FloatFormat,
+    fb: FloatFormat,
+    to: FloatFormat,
+    a: [u64; 3],
+    b: [u64; 3],
+) -> Option<u64> {
+    // (sign, significand, lsb exponent) of a finite value; None for inf / NaN
+    let parts = |f: FloatFormat, v: u64| -> Option<(bool, u64, i32)> {
+        let frac_bits = f.frac_bits();
+        let biased = (v >> frac_bits) & f.exp_all_ones();
+        if biased == f.exp_all_ones() {
+            return None;
+        }
+        let frac = v & f.frac_mask();
+        let sign = v & f.sign_bit() != 0;
+        Some(if biased == 0 {
+            (sign, frac, f.emin() - frac_bits as i32)
+        } else {
+            (
+                sign,
+                frac | 1 << frac_bits,
+                biased as i32 - f.bias() - frac_bits as i32,
+            )
+        })
+    };
+    let mut m = [0u64; 3];
+    let mut e = [0i32; 3];
+    let mut neg = [false; 3];
+    let mut lsb = i32::MIN;
+    for i in 0..3 {
+        let (sx, mx, ex) = parts(fa, a[i])?;
+        let (sy, my, ey) = parts(fb, b[i])?;
+        m[i] = mx * my;
+        e[i] = ex + ey;
+        neg[i] = sx != sy;
+        if m[i] != 0 {
+            lsb = lsb.max(e[i]);
+        }
+    }
+    if lsb == i32::MIN {
+        return Some(to.zero(false));
+    }
+    let mut sum = 0i64;
+    for i in 0..3 {
+        if m[i] != 0 {
+            let v = if neg[i] { -(m[i] as i64) } else { m[i] as i64 };
+            // an arithmetic shift is the floor; |v| < 2^60, so 63 places leave 0 or −1
+            sum += v >> (lsb - e[i]).min(63) as u32;
+        }
+    }
+    if rounds_natively(to, RoundingMode::Down)
+        && sum.unsigned_abs() <= 1 << 53
+        && (-1022..=960).contains(&lsb)
+    {
+        // S and 2^L are f64 values and so is their product (|S·2^L| < 2^1014,
+        // a multiple of 2^-1022): round the exact value natively.
+        let v = sum as f64 * f64::from_bits(((lsb + 1023) as u64) << 52);
+        return Some(round_exact_f64_to(to, v, RoundingMode::Down));
+    }
+    let raw = RawFloat::exact(sum < 0, sum.unsigned_abs() as u128, lsb);
+    Some(round(to, raw, RoundingMode::Down))
+}
+
+/// The reference [`dot3_floor`], for every format and operand.
+pub fn dot3_floor_generic(
     fa: FloatFormat,
     fb: FloatFormat,
     to: FloatFormat,

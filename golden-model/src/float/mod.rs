@@ -25,20 +25,21 @@ mod format;
 mod min_max;
 mod mul;
 mod mul_exact;
+pub mod native;
 mod raw;
 mod round;
 mod unpack;
 
-pub use add::{add, sub};
-pub use add_down_up::{add_down_up, DownUp};
+pub use add::{add, add_generic, sub};
+pub use add_down_up::{add_down_up, add_down_up_generic, DownUp};
 pub use compare::{eq, le, lt};
 pub use convert::convert;
 pub use dot3::{dot3, dot3_accumulator_bits};
-pub use dot3_floor::dot3_floor;
-pub use fma::fma;
+pub use dot3_floor::{dot3_floor, dot3_floor_generic};
+pub use fma::{fma, fma_generic};
 pub use format::{FloatFormat, FormatError, RoundingMode};
 pub use min_max::{max, min};
-pub use mul::mul;
+pub use mul::{mul, mul_generic};
 pub use mul_exact::{mul_exact, ExactProductFormat};
 pub use raw::{
     Class, RawFloat, RAW_CLASS_BITS, RAW_EXP_BITS, RAW_SIGN_BITS, RAW_SIG_BITS, RAW_STICKY_BITS,

@@ -1,12 +1,24 @@
 //! Multiplication, rounded once.
 
 use super::format::{FloatFormat, RoundingMode};
+use super::native::{f32_bits, mul_f32};
 use super::raw::{Class, RawFloat};
 use super::round::round;
 use super::unpack::unpack;
 
-/// `a · b` in `fmt`, rounded once in `mode`.
+/// `a · b` in `fmt`, rounded once in `mode`: binary32 natively
+/// (`native::mul_f32`), other formats [`mul_generic`].
+#[inline]
 pub fn mul(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 {
+    if fmt == FloatFormat::BINARY32 {
+        let (x, y) = (f32::from_bits(a as u32), f32::from_bits(b as u32));
+        return f32_bits(mul_f32(x, y, mode));
+    }
+    mul_generic(fmt, a, b, mode)
+}
+
+/// The reference [`mul`]: exact product, shared rounder.
+pub fn mul_generic(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 {
     round(fmt, mul_raw(fmt, a, b), mode)
 }
 

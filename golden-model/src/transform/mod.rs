@@ -44,7 +44,7 @@ pub mod accuracy;
 pub mod exact;
 mod recip;
 
-pub use recip::recip;
+pub use recip::{recip, recip_generic};
 
 use crate::float::{add, classify, dot3, fma, mul, sub, Class, FloatFormat, RoundingMode};
 

@@ -3,6 +3,7 @@
 //! (`docs/float.md`): exact quotient with a sticky bit, then the shared
 //! rounder.
 
+use crate::float::native::{round_exact_f64_to, rounds_natively};
 use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
 
 /// `1 / x` rounded once in `mode`.
@@ -13,7 +14,43 @@ use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
 /// sticky bit, and the rounder rounds `q · 2^(−exp − k)` (subnormal and
 /// overflowing results included: the reciprocal of a tiny subnormal is ∞ in
 /// RNE).
+///
+/// When `k < 64` (F <= 29) the quotient and remainder are formed in `u64`
+/// (the same values, so the same bits); [`recip_generic`] is the `u128`
+/// reference.
+#[inline]
 pub fn recip(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
+    let r = unpack(fmt, x);
+    if r.class == Class::Finite {
+        let k = fmt.frac_bits() + 3 + (128 - r.sig.leading_zeros());
+        if k < 64 {
+            let (num, sig) = (1u64 << k, r.sig as u64);
+            let (q, sticky) = (num / sig, num % sig != 0);
+            let exp = -r.exp - k as i32;
+            if rounds_natively(fmt, mode) && (-1000..=1000).contains(&exp) {
+                // (q + s)·2^exp with 0 < s < 1 iff sticky, and q >= 2^(F+2):
+                // (2q + sticky)·2^(exp-1) is exact in f64 and lies in the same
+                // open interval between two neighbours of q·2^exp, which holds
+                // no point of the result grid nor a midpoint: it rounds alike.
+                let w = (2 * q + sticky as u64) as f64
+                    * f64::from_bits(((exp - 1 + 1023) as u64) << 52);
+                return round_exact_f64_to(fmt, if r.sign { -w } else { w }, mode);
+            }
+            let raw = RawFloat {
+                sign: r.sign,
+                class: Class::Finite,
+                exp,
+                sig: q as u128,
+                sticky,
+            };
+            return round(fmt, raw, mode);
+        }
+    }
+    recip_generic(fmt, x, mode)
+}
+
+/// The reference [`recip`] (`u128` quotient).
+pub fn recip_generic(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
     let r = unpack(fmt, x);
     let raw = match r.class {
         Class::NaN => RawFloat::NAN,

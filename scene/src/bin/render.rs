@@ -109,7 +109,8 @@ enum Cmd {
         #[arg(long)]
         work: Option<PathBuf>,
     },
-    /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same run.
+    /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same
+    /// run; the last line is `golden/slab rays/s ratio: R` (golden with bundles).
     Bench {
         #[command(flatten)]
         c: Common,
@@ -386,10 +387,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 );
             }
             println!(
-                "\nslab / golden speed ratio: {:.0}x; primary hits differing from the golden image: {diff} of {} pixels",
+                "\nslab / golden speed ratio: {:.1}x; primary hits differing from the golden image: {diff} of {} pixels",
                 rate(&f) / rate(&g),
                 g.ids.len()
             );
+            // the golden-model renderer as `render` runs it (bundles) against the slab renderer
+            println!("golden/slab rays/s ratio: {:.2}", rate(&g) / rate(&f));
         }
     }
     Ok(())
