@@ -458,31 +458,41 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     )?;
     // stages and device
     writeln!(r, "## Pipeline stages and device\n")?;
-    let budget_cells = (1000.0 / o.target_mhz / NS_PER_CELL).floor() as u64;
-    writeln!(
-        r,
-        "Estimate, not a routed figure: {:.1} ns per stage at {} MHz ≈ {budget_cells} cells of {NS_PER_CELL} ns (calibration: slab e8m7 s4 routed on an HX8K).\n",
-        1000.0 / o.target_mhz,
-        o.target_mhz
-    )?;
+    let ecp5 = device.0.starts_with("ecp5");
+    // on ECP5 the unit is routed, with its registers placed by the delay model
+    let balanced = o.synth && ecp5;
     let params = |s: u32| {
-        vec![
+        let mut p = vec![
             format!("exp_bits={}", format.exp_bits()),
             format!("frac_bits={}", format.frac_bits()),
             "mode=bundle".to_string(),
             "origin=bounded".to_string(),
             "rounding=conservative".to_string(),
             format!("stages={s}"),
-        ]
+        ];
+        if balanced {
+            p.push("pipeline=balanced".to_string());
+        }
+        p
     };
     let mut stages = 4u32;
     let mut ice40_luts = None;
     let mut device_luts = None;
-    if o.synth {
-        let ecp5 = device.0.starts_with("ecp5");
+    if balanced {
+        let (s, luts) = routed_ecp5_stages(&mut r, &params, o.target_mhz)?;
+        stages = s;
+        device_luts = luts;
+    } else if o.synth {
+        let budget_cells = (1000.0 / o.target_mhz / NS_PER_CELL).floor() as u64;
+        writeln!(
+            r,
+            "Estimate, not a routed figure: {:.1} ns per stage at {} MHz ≈ {budget_cells} cells of {NS_PER_CELL} ns (calibration: slab e8m7 s4 routed on an HX8K).\n",
+            1000.0 / o.target_mhz,
+            o.target_mhz
+        )?;
         let so = SynthOptions {
             generic: false,
-            ecp5,
+            ecp5: false,
             xilinx: false,
             pnr: false,
             pnr_ecp5: false,
@@ -508,11 +518,7 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             if ok || s >= 16 || tries >= 4 {
                 stages = s;
                 ice40_luts = Some(ice.luts);
-                device_luts = if ecp5 {
-                    rep.ecp5.as_ref().map(|e| e.luts)
-                } else {
-                    Some(ice.luts)
-                };
+                device_luts = Some(ice.luts);
                 break;
             }
             // the path shrinks roughly as 1/(stages + 1): jump there, then step
@@ -537,11 +543,16 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     if let Some(l) = device_luts {
         writeln!(
             r,
-            "Device {}: {l} LUT4 needed ({} mapping) of {} → {} (LUT4 count only, not placed: routing may need more room).\n",
+            "Device {}: {l} LUT4 needed ({} mapping) of {} → {} ({}).\n",
             device.0,
-            if device.0.starts_with("ecp5") { "synth_ecp5" } else { "synth_ice40" },
+            if ecp5 { "synth_ecp5" } else { "synth_ice40" },
             device.1,
-            if l <= device.1 { "fits" } else { "does NOT fit" }
+            if l <= device.1 { "fits" } else { "does NOT fit" },
+            if balanced {
+                "the unit alone placed and routed on the LFE5U-85F-6 above"
+            } else {
+                "LUT4 count only, not placed: routing may need more room"
+            }
         )?;
     }
     let p = params(stages);
@@ -562,6 +573,69 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
         seconds,
         report: r,
     })
+}
+
+/// ECP5 nanoseconds per level of the delay model (`rtl_gen::retime`), from
+/// routed units (docs/cost.md): the first guess of the stages to route.
+const NS_PER_LEVEL_ECP5: f64 = 1.9;
+
+/// Stages of the balanced unit that meet `target_mhz` routed on the
+/// LFE5U-85F-6: first the delay model's guess, then two more at a time until
+/// nextpnr-ecp5 meets the clock (at most four routes, at most 32 stages).
+/// Writes the table into `r`; returns the stages and the ECP5 LUT4.
+fn routed_ecp5_stages(
+    r: &mut String,
+    params: &dyn Fn(u32) -> Vec<String>,
+    target_mhz: f64,
+) -> Result<(u32, Option<u64>), Box<dyn std::error::Error>> {
+    let budget = 1000.0 / target_mhz / NS_PER_LEVEL_ECP5;
+    let mut s = 32;
+    for k in 0..=32 {
+        let g = rtl_gen::flow::generate("silhouette", &params(k))?;
+        if g.modelled_period()? <= budget {
+            s = k;
+            break;
+        }
+    }
+    writeln!(
+        r,
+        "Routed, not estimated: the unit with `pipeline=balanced` in the timing shell, `synth_ecp5` and `nextpnr-ecp5` on the LFE5U-85F-6 (speed grade 6, the slower of the two ECP5 boards) at {target_mhz} MHz; first guess from the delay model at {NS_PER_LEVEL_ECP5} ns a level.\n"
+    )?;
+    writeln!(r, "| stages | modelled period (LUT levels) | ECP5 LUT4 | FF | MULT18X18D | routed Fmax MHz | verdict |\n|---|---|---|---|---|---|---|")?;
+    let so = SynthOptions {
+        generic: false,
+        ice40: false,
+        ecp5: true,
+        xilinx: false,
+        pnr: false,
+        pnr_ecp5: true,
+        ecp5_target_mhz: target_mhz,
+        ..Default::default()
+    };
+    let mut tries = 0;
+    loop {
+        let g = rtl_gen::flow::generate("silhouette", &params(s))?;
+        let rep = synth::run(&g, &so)?;
+        let e = rep.ecp5.clone().unwrap_or_default();
+        let fmax = rep.pnr_ecp5.as_ref().and_then(|p| p.fmax_mhz);
+        let ok = fmax.is_some_and(|f| f >= target_mhz);
+        writeln!(
+            r,
+            "| {s} | {:.1} | {} | {} | {} | {} | {} |",
+            g.modelled_period()?,
+            e.luts,
+            e.ffs,
+            e.dsps,
+            fmax.map_or("not routed".to_string(), |f| format!("{f:.1}")),
+            if ok { "meets the target" } else { "too slow" }
+        )?;
+        tries += 1;
+        if ok || s >= 32 || tries >= 4 {
+            writeln!(r, "\nstages = {s}{}.\n", if ok { "" } else { " (the clock is NOT met)" })?;
+            return Ok((s, Some(e.luts)));
+        }
+        s = (s + 2).min(32);
+    }
 }
 
 #[cfg(test)]
