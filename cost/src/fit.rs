@@ -547,7 +547,11 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
             device.0,
             if ecp5 { "synth_ecp5" } else { "synth_ice40" },
             device.1,
-            if l <= device.1 { "fits" } else { "does NOT fit" },
+            if l <= device.1 {
+                "fits"
+            } else {
+                "does NOT fit"
+            },
             if balanced {
                 "the unit alone placed and routed on the LFE5U-85F-6 above"
             } else {
@@ -631,7 +635,11 @@ fn routed_ecp5_stages(
         )?;
         tries += 1;
         if ok || s >= 32 || tries >= 4 {
-            writeln!(r, "\nstages = {s}{}.\n", if ok { "" } else { " (the clock is NOT met)" })?;
+            writeln!(
+                r,
+                "\nstages = {s}{}.\n",
+                if ok { "" } else { " (the clock is NOT met)" }
+            )?;
             return Ok((s, Some(e.luts)));
         }
         s = (s + 2).min(32);
