@@ -391,12 +391,82 @@ const RESERVED_WORDS: &[&str] = &[
     "xor",
 ];
 
-/// True if `name` is a plain Verilog identifier that is not a keyword.
+/// Words of C++ (and of the C library) that `verilator --lint-only -Wall`
+/// rejects as names (SYMRSVDWORD) because its model is C++; those that are
+/// also Verilog keywords are in [`RESERVED_WORDS`].
+const CPP_WORDS: &[&str] = &[
+    "NULL",
+    "abort",
+    "alignas",
+    "alignof",
+    "and_eq",
+    "asm",
+    "auto",
+    "bitand",
+    "bitor",
+    "bool",
+    "catch",
+    "char",
+    "char16_t",
+    "char32_t",
+    "compl",
+    "const_cast",
+    "constexpr",
+    "decltype",
+    "delete",
+    "double",
+    "dynamic_cast",
+    "errno",
+    "exit",
+    "explicit",
+    "false",
+    "far",
+    "friend",
+    "goto",
+    "inline",
+    "main",
+    "mutable",
+    "namespace",
+    "near",
+    "noexcept",
+    "not",
+    "not_eq",
+    "nullptr",
+    "operator",
+    "or_eq",
+    "private",
+    "public",
+    "register",
+    "reinterpret_cast",
+    "sizeof",
+    "static_assert",
+    "static_cast",
+    "stderr",
+    "stdin",
+    "stdout",
+    "switch",
+    "template",
+    "thread_local",
+    "throw",
+    "true",
+    "try",
+    "typeid",
+    "typename",
+    "unsigned",
+    "using",
+    "volatile",
+    "wchar_t",
+    "xor_eq",
+];
+
+/// True if `name` is a plain Verilog identifier that is neither a keyword
+/// nor a word Verilator's C++ model reserves.
 pub fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
     matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
         && !RESERVED_WORDS.contains(&name)
+        && !CPP_WORDS.contains(&name)
 }
 
 /// Longest derived name before it is cut (names stay readable, not exhaustive).

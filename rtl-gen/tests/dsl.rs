@@ -268,6 +268,22 @@ fn systemverilog_keywords_are_not_names() {
     );
 }
 
+/// Words Verilator's C++ model reserves (SYMRSVDWORD under `-Wall`) are not
+/// names either: `near`/`far` were ports of the slab's axis block once.
+#[test]
+fn cpp_words_verilator_reserves_are_not_names() {
+    let mut m = ModuleBuilder::new("cpp");
+    let a = m.input("near", Ty::Bool);
+    m.output("far", a);
+    let text = m.finish().unwrap_err().to_string();
+    for port in ["near", "far"] {
+        assert!(
+            text.contains(&format!("`{port}`: port name is not a Verilog identifier")),
+            "{text}"
+        );
+    }
+}
+
 #[test]
 fn bits_left_unread_through_a_cast_get_the_narrow_waiver() {
     let mut m = ModuleBuilder::new("cast_slice");

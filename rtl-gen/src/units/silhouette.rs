@@ -357,9 +357,9 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     let p_max_n = m.xor(p_max, sb);
     let p_min_n = m.xor(p_min, sb);
     let near = m.mux(neg, p_max_n, p_min);
-    let near = m.name(near, "near");
+    let near = m.name(near, "plane_near");
     let far = m.mux(neg, p_min_n, p_max);
-    let far = m.name(far, "far");
+    let far = m.name(far, "plane_far");
     let o_lo_n = m.xor(o_lo, sb);
     let o_hi_n = m.xor(o_hi, sb);
     // m = -ô: the negated origin bounds in mirrored coordinates

@@ -170,8 +170,8 @@ pub fn slab_axis_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
         m.stage();
     }
     let (near, far) = min_max(&mut m, fmt, t0, t1);
-    m.output("near", near);
-    m.output("far", far);
+    m.output("t_near", near);
+    m.output("t_far", far);
     Arc::new(
         m.finish()
             .expect("slab axis generator is type-correct for every format"),
@@ -276,8 +276,8 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
     let open_far = m.mux(inside, pos_inf, neg_inf);
     let near = m.mux(parallel, open_near, t0);
     let far = m.mux(parallel, open_far, t1);
-    m.output("near", near);
-    m.output("far", far);
+    m.output("t_near", near);
+    m.output("t_far", far);
     Arc::new(
         m.finish()
             .expect("conservative slab axis generator is type-correct for every format"),
@@ -350,8 +350,8 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
                 ("inv_d", inv_d[i]),
             ],
         );
-        near.push(out.get("near").expect("axis block has output near"));
-        far.push(out.get("far").expect("axis block has output far"));
+        near.push(out.get("t_near").expect("axis block has output t_near"));
+        far.push(out.get("t_far").expect("axis block has output t_far"));
     }
     for _ in 0..plan.diff + plan.product + plan.min_max {
         m.stage();
