@@ -27,16 +27,7 @@ pub fn sweep(
     pipelines: &[String],
     target_mhz: f64,
 ) -> Result<Vec<DepthRow>, Box<dyn std::error::Error>> {
-    let o = SynthOptions {
-        generic: false,
-        ice40: false,
-        xilinx: false,
-        pnr: false,
-        ecp5: true,
-        pnr_ecp5: true,
-        ecp5_target_mhz: target_mhz,
-        ..Default::default()
-    };
+    let o = SynthOptions::ecp5_routed(target_mhz);
     let mut rows = Vec::new();
     for &s in stages {
         for pipeline in pipelines {

@@ -606,16 +606,7 @@ fn routed_ecp5_stages(
         "Routed, not estimated: the unit with `pipeline=balanced` in the timing shell, `synth_ecp5` and `nextpnr-ecp5` on the LFE5U-85F-6 (speed grade 6, the slower of the two ECP5 boards) at {target_mhz} MHz; first guess from the delay model at {NS_PER_LEVEL_ECP5} ns a level.\n"
     )?;
     writeln!(r, "| stages | modelled period (LUT levels) | ECP5 LUT4 | FF | MULT18X18D | routed Fmax MHz | verdict |\n|---|---|---|---|---|---|---|")?;
-    let so = SynthOptions {
-        generic: false,
-        ice40: false,
-        ecp5: true,
-        xilinx: false,
-        pnr: false,
-        pnr_ecp5: true,
-        ecp5_target_mhz: target_mhz,
-        ..Default::default()
-    };
+    let so = SynthOptions::ecp5_routed(target_mhz);
     let mut tries = 0;
     loop {
         let g = rtl_gen::flow::generate("silhouette", &params(s))?;

@@ -160,6 +160,23 @@ impl Default for SynthOptions {
     }
 }
 
+impl SynthOptions {
+    /// `synth_ecp5` and `nextpnr-ecp5` at `target_mhz` only: the routed ECP5
+    /// figures of `rtl-cost depth` and of `fit --device ecp5-*`.
+    pub fn ecp5_routed(target_mhz: f64) -> Self {
+        SynthOptions {
+            generic: false,
+            ice40: false,
+            xilinx: false,
+            pnr: false,
+            ecp5: true,
+            pnr_ecp5: true,
+            ecp5_target_mhz: target_mhz,
+            ..Default::default()
+        }
+    }
+}
+
 /// `$CARGO_TARGET_DIR/cost-cache` or `target/cost-cache` of the workspace.
 pub fn default_cache() -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR")

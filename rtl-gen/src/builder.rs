@@ -741,7 +741,7 @@ impl ModuleBuilder {
             return self.constant_unchecked(ty, v);
         }
         let stage = self.current_stage;
-        let op = remap(op, |id| self.at_stage(id, stage));
+        let op = op.map_operands(|id| self.at_stage(id, stage));
         let name = derived_name(&op, |id| self.name_of(id).to_string());
         self.push(op, ty, name, Some(stage))
     }
@@ -1272,10 +1272,6 @@ impl ModuleBuilder {
         })?;
         Ok(module)
     }
-}
-
-fn remap(op: Op, f: impl FnMut(NodeId) -> NodeId) -> Op {
-    op.map_operands(f)
 }
 
 /// A readable name made from the operation and its operands' names, cut to

@@ -105,7 +105,9 @@ fn inline(
                     .map(|(_, s)| s)
                     .max()
                     .unwrap_or(0);
-                let op = remap(op.clone(), |id| NodeId(map[id.0 as usize].0 as u32));
+                let op = op
+                    .clone()
+                    .map_operands(|id| NodeId(map[id.0 as usize].0 as u32));
                 let first = nodes.len();
                 let id = match op {
                     Op::Const(_) => push(nodes, op, node.ty, node.name.clone()),
@@ -489,8 +491,6 @@ fn register_bits(g: &Graph, s: &Schedule, last: u32) -> u64 {
 pub struct Balance {
     /// longest register-to-register chain of the delay model, LUT levels
     pub period: f64,
-    /// pipeline register bits (the valid chain not counted)
-    pub register_bits: u64,
 }
 
 /// The longest in-stage chain of `flat` under the stages of `s`.
@@ -633,17 +633,9 @@ pub fn balance(m: &Module, latency: u32) -> Result<(Module, Balance), String> {
             best = Some((achieved, schedule));
         }
     }
-    let (_, best) = best.expect("without forced registers every latency fits");
-    let bits = register_bits(&g, &best, last);
-    let period = period_of(&g, &best);
+    let (period, best) = best.expect("without forced registers every latency fits");
     let module = replay(m, &g, &best, last).map_err(|e| e.to_string())?;
-    Ok((
-        module,
-        Balance {
-            period,
-            register_bits: bits,
-        },
-    ))
+    Ok((module, Balance { period }))
 }
 
 fn has_handshake_below(m: &Module) -> bool {
@@ -675,9 +667,9 @@ fn replay(m: &Module, g: &Graph, s: &Schedule, last: u32) -> Result<Module, Buil
             Op::Input(_) if Some(i) == flat.in_valid => b.in_valid().expect("handshake"),
             Op::Input(_) => b.input(&node.name, node.ty),
             op => {
-                let op = remap(op.clone(), |id| {
-                    sig[id.0 as usize].expect("operands precede users").id()
-                });
+                let op = op
+                    .clone()
+                    .map_operands(|id| sig[id.0 as usize].expect("operands precede users").id());
                 b.replay(op, node.ty, &node.name)
             }
         };
@@ -690,8 +682,4 @@ fn replay(m: &Module, g: &Graph, s: &Schedule, last: u32) -> Result<Module, Buil
         b.output(&port.name, sig[*o].expect("outputs are live"));
     }
     b.finish()
-}
-
-fn remap(op: Op, f: impl FnMut(NodeId) -> NodeId) -> Op {
-    op.map_operands(f)
 }
