@@ -6,28 +6,50 @@ mod evaluate;
 
 use rtl_gen::retime;
 
-/// (unit, parameters without `pipeline`, latency, required period ratio after/before)
-const CASES: &[(&str, &[&str], u32, f64)] = &[
-    ("mulcmp", &["stages=3"], 3, 1.0),
-    ("fadd", &["exp_bits=8", "frac_bits=23", "stages=3"], 3, 0.8),
-    ("fmul", &["exp_bits=5", "frac_bits=10", "stages=2"], 2, 0.9),
-    ("ffma", &["exp_bits=8", "frac_bits=7", "stages=4"], 4, 0.8),
+/// (unit, parameters without `pipeline`, latency, required period ratio
+/// after/before, register bits allowed against the plan's)
+const CASES: &[(&str, &[&str], u32, f64, f64)] = &[
+    ("mulcmp", &["stages=3"], 3, 1.0, 0.9),
+    (
+        "fadd",
+        &["exp_bits=8", "frac_bits=23", "stages=3"],
+        3,
+        0.8,
+        1.5,
+    ),
+    (
+        "fmul",
+        &["exp_bits=5", "frac_bits=10", "stages=2"],
+        2,
+        0.9,
+        1.6,
+    ),
+    (
+        "ffma",
+        &["exp_bits=8", "frac_bits=7", "stages=4"],
+        4,
+        0.8,
+        1.55,
+    ),
     (
         "silhouette",
         &["exp_bits=8", "frac_bits=7", "mode=ray", "stages=6"],
         6,
         0.75,
+        1.3,
     ),
     (
         "silhouette",
         &["exp_bits=5", "frac_bits=4", "stages=3"],
         3,
         0.9,
+        1.1,
     ),
     (
         "silhouette",
         &["exp_bits=5", "frac_bits=6", "origin=bounded", "stages=0"],
         0,
+        1.0,
         1.0,
     ),
     (
@@ -40,20 +62,22 @@ const CASES: &[(&str, &[&str], u32, f64)] = &[
         ],
         5,
         0.9,
+        1.5,
     ),
     (
         "transform",
         &["exp_bits=8", "frac_bits=7", "stages=6"],
         6,
         0.8,
+        1.5,
     ),
-    ("cull", &["k=2", "stages=4"], 4, 0.9),
-    ("cull_ray", &["k=2", "stages=4"], 4, 0.9),
+    ("cull", &["k=2", "stages=4"], 4, 0.9, 1.65),
+    ("cull_ray", &["k=2", "stages=4"], 4, 0.9, 2.0),
 ];
 
 #[test]
 fn balanced_pipelines_match_the_golden_model_with_the_same_latency() {
-    for (unit, params, stages, _) in CASES {
+    for (unit, params, stages, _, _) in CASES {
         let mut p: Vec<&str> = params.to_vec();
         p.push("pipeline=balanced");
         evaluate::check(unit, &p, *stages, 400, 1_600);
@@ -68,7 +92,7 @@ fn balanced_pipelines_match_the_golden_model_with_the_same_latency() {
 
 #[test]
 fn balancing_shortens_the_modelled_period() {
-    for (unit, params, _, ratio) in CASES {
+    for (unit, params, _, ratio, _) in CASES {
         let plan = evaluate::gen(unit, params);
         let mut p: Vec<&str> = params.to_vec();
         p.push("pipeline=balanced");
@@ -90,6 +114,27 @@ fn balancing_shortens_the_modelled_period() {
 
 /// Products wider than a DSP block are split into 18x18 blocks (evaluated
 /// against the golden model above at binary32 too).
+/// Registers go where values are narrow: a balanced pipeline carries at most
+/// a set multiple of the plan's flip-flops (placing them at the delay
+/// alone, before the boundaries were moved by minimum cuts, carried 1.8 to
+/// 3.9 times the plan's on these cases).
+#[test]
+fn balanced_registers_stay_near_the_plans() {
+    for (unit, params, _, _, allowed) in CASES {
+        let plan = evaluate::gen(unit, params);
+        let mut p: Vec<&str> = params.to_vec();
+        p.push("pipeline=balanced");
+        let balanced = evaluate::gen(unit, &p);
+        let (before, after) = (register_bits(&plan.module), register_bits(&balanced.module));
+        eprintln!("{}: register bits {before} -> {after}", plan.module.name);
+        assert!(
+            after as f64 <= before as f64 * allowed,
+            "{}: {after} register bits against the plan's {before}, at most {allowed}x allowed",
+            plan.module.name
+        );
+    }
+}
+
 #[test]
 fn wide_products_are_split_into_dsp_blocks() {
     let g = evaluate::gen(
@@ -126,6 +171,16 @@ fn wide_products_are_split_into_dsp_blocks() {
         400,
         4_000,
     );
+}
+
+/// Flip-flops of a module and everything it instantiates.
+fn register_bits(m: &rtl_gen::ir::Module) -> u64 {
+    let own: u64 = m.registers.iter().map(|r| u64::from(r.ty.width())).sum();
+    own + m
+        .instances
+        .iter()
+        .map(|i| register_bits(&i.module))
+        .sum::<u64>()
 }
 
 #[test]

@@ -17,14 +17,17 @@
 //!    4-input LUTs, carry chains and 18x18 multipliers (one LUT level = 1.0);
 //! 3. the smallest period `P` whose as-soon-as-possible schedule fits in
 //!    the requested latency is found by bisection (no stage longer than `P`
-//!    except where one operation alone is longer); the as-late-as-possible
-//!    schedule of the same `P` is built too and the one that carries fewer
-//!    register bits is kept;
+//!    except where one operation alone is longer); in it and in the
+//!    as-late-as-possible schedule of the same `P`, each stage boundary is
+//!    moved by a minimum cut to where the values crossing it are narrowest
+//!    ([`registers`]), and the one that carries fewer register bits is kept;
 //! 4. the graph is replayed through a [`ModuleBuilder`] stage by stage, so the
 //!    registers that carry values, and the valid chain, are the builder's own.
 //!
 //! Only feed-forward pipelines are re-timed: a module with a register that has
 //! an enable or reads a later value (state) is refused.
+
+mod registers;
 
 use crate::builder::{BuildErrors, ModuleBuilder, Sig};
 use crate::ir::{Module, NodeId, Op, Port, Ty};
@@ -621,13 +624,19 @@ pub fn balance(m: &Module, latency: u32) -> Result<(Module, Balance), String> {
             }
         }
         let period = hi;
-        let mut schedule = asap(period);
-        let bits = register_bits(&g, &schedule, last);
-        if let Some(alap) = as_late_as_possible(&g, period, last, force) {
-            if register_bits(&g, &alap, last) < bits {
-                schedule = alap;
+        // from both ends of the schedules of this period, the boundaries moved
+        // to narrow values; the one with fewer register bits is kept
+        let mut schedule: Option<(u64, Schedule)> = None;
+        let alap = as_late_as_possible(&g, period, last, force);
+        for mut s in std::iter::once(asap(period)).chain(alap) {
+            let within = period.max(period_of(&g, &s));
+            registers::minimise(&g, &mut s, last, within, force);
+            let bits = register_bits(&g, &s, last);
+            if schedule.as_ref().is_none_or(|(b, _)| bits < *b) {
+                schedule = Some((bits, s));
             }
         }
+        let (_, schedule) = schedule.expect("the ASAP schedule");
         let achieved = period_of(&g, &schedule);
         if best.as_ref().is_none_or(|(p, _)| achieved < *p - 1e-6) {
             best = Some((achieved, schedule));
