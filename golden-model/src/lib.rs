@@ -12,3 +12,4 @@ pub mod mulcmp;
 pub mod silhouette;
 pub mod slab;
 pub mod transform;
+pub mod triangle;

@@ -27,6 +27,7 @@ pub mod slab;
 pub mod stimulus;
 pub mod testfloat;
 pub mod transform;
+pub mod triangle;
 
 use crate::emit::{emit, VerilogFile};
 use crate::ir::{control, Module, Ty};
@@ -72,6 +73,10 @@ pub fn catalog() -> Vec<Entry> {
         Entry {
             unit: &crate::units::transform::Transform,
             testbench: |p| Box::new(transform::TransformBench::new(p)),
+        },
+        Entry {
+            unit: &crate::units::triangle::Triangle,
+            testbench: |p| Box::new(triangle::TriangleBench::new(p)),
         },
         Entry {
             unit: &crate::units::fadd::FAdd,

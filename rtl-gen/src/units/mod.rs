@@ -18,6 +18,7 @@ pub mod mulcmp;
 pub mod silhouette;
 pub mod slab;
 pub mod transform;
+pub mod triangle;
 
 use crate::ir::Module;
 use crate::params::{ParamError, ParamSpec, Params};

@@ -1,0 +1,300 @@
+//! Golden model of `triangle`: a watertight ray/triangle test in the manner
+//! of Woop, Benthin and Wald (2013, "Watertight ray/triangle
+//! intersection"), every operation rounded to nearest even in one format;
+//! and an exact rational reference ([`exact`]).
+//!
+//! Per ray (software, [`shear`]): `kz` is the axis of the largest `|d|`
+//! (the first on ties), `kx = kz + 1`, `ky = kz + 2` (mod 3), and
+//! `s = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz)` each correctly rounded.
+//! Per triangle (the unit, [`eval`]):
+//!
+//! 1. each vertex relative to the origin, `p = P − o` (three subtractions);
+//! 2. sheared into ray space, `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz`
+//!    (one fused multiply-add each), `Z = s_z·p_kz`;
+//! 3. the edge functions as two-term fused dot products, rounded once:
+//!    `U = C_X·B_Y − C_Y·B_X`, `V = A_X·C_Y − A_Y·C_X`,
+//!    `W = B_X·A_Y − B_Y·A_X`;
+//! 4. inside unless some of `U, V, W` is negative and some positive;
+//!    `det = U + V + W` and `T = U·A_Z + V·B_Z + W·C_Z` as fused dot
+//!    products; `det = 0` is a miss (a triangle seen edge-on, or with a
+//!    repeated vertex);
+//! 5. `r = 1/det`, `t = T·r`, barycentrics `u = V·r` (of B), `v = W·r` (of
+//!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`.
+//!
+//! **Why it is watertight.** A vertex's sheared coordinates depend only on
+//! the vertex and the ray, so two triangles sharing it compute the same
+//! `X, Y`. Each edge function depends only on its directed edge
+//! (`P → Q` gives `Q_X·P_Y − Q_Y·P_X`), and the neighbour across an edge
+//! walks it the other way: its value is the exact negation, and a correctly
+//! rounded result of the negation is the negated result. So a ray that
+//! leaves one triangle across an edge (its edge function negative there)
+//! finds the neighbour's positive, and zero counts as inside for both: no
+//! ray falls between the two. (Woop et al. need a double-precision fallback
+//! because their edge functions round each product; here the difference is
+//! fused.)
+//!
+//! Outputs when there is no hit: `t = u = v = +0`. `invalid` (with a miss)
+//! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
+//! `t_max`, or `kz = 3`.
+
+use crate::float::{
+    classify, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
+};
+use crate::transform::recip;
+
+const RNE: RoundingMode = RoundingMode::NearestEven;
+
+/// One transaction of the unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TriIn {
+    /// ray origin
+    pub o: [u64; 3],
+    /// the axis of the largest direction component (0, 1, 2; 3 is invalid)
+    pub kz: u32,
+    /// the ray's shear constants `d_kx/d_kz`, `d_ky/d_kz`, `1/d_kz`
+    pub s: [u64; 3],
+    /// vertices
+    pub a: [u64; 3],
+    /// vertices
+    pub b: [u64; 3],
+    /// vertices
+    pub c: [u64; 3],
+    /// segment start
+    pub t_min: u64,
+    /// segment end
+    pub t_max: u64,
+}
+
+/// What the unit answers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TriOut {
+    /// the segment meets the triangle
+    pub hit: bool,
+    /// a non-finite input or `kz = 3` (then `hit` is false)
+    pub invalid: bool,
+    /// distance along the ray (+0 without a hit)
+    pub t: u64,
+    /// barycentric weight of B (+0 without a hit)
+    pub u: u64,
+    /// barycentric weight of C (+0 without a hit)
+    pub v: u64,
+}
+
+/// `(kx, ky)` for `kz`.
+pub fn other_axes(kz: u32) -> (usize, usize) {
+    let kz = kz as usize % 3;
+    ((kz + 1) % 3, (kz + 2) % 3)
+}
+
+/// The per-ray precomputation: `kz` and the shear constants, each the
+/// correctly rounded quotient. A zero direction gives `kz = 0` and NaN or
+/// infinite constants (the unit then flags `invalid`).
+pub fn shear(fmt: FloatFormat, d: [u64; 3]) -> (u32, [u64; 3]) {
+    let mag = |x: u64| x & !fmt.sign_bit();
+    let mut kz = 0;
+    for k in 1..3 {
+        // larger magnitude, compared on the bits of finite values
+        if classify(fmt, d[k]) != Class::NaN && mag(d[k]) > mag(d[kz]) {
+            kz = k;
+        }
+    }
+    let (kx, ky) = other_axes(kz as u32);
+    let one = fmt.with_sign(false, (fmt.bias() as u64) << fmt.frac_bits());
+    let ratio = |num: u64| quotient(fmt, num, d[kz]);
+    (kz as u32, [ratio(d[kx]), ratio(d[ky]), ratio(one)])
+}
+
+/// `n / d` correctly rounded to nearest even; NaN unless both are finite
+/// and `d ≠ 0`.
+fn quotient(fmt: FloatFormat, n: u64, d: u64) -> u64 {
+    use crate::transform::exact::{decode, round_ratio};
+    match (decode(fmt, n), decode(fmt, d)) {
+        (Some((mn, en)), Some((md, ed))) if md != dashu::integer::IBig::ZERO => {
+            round_ratio(fmt, RNE, &mn, &md, en - ed)
+        }
+        _ => fmt.canonical_nan(),
+    }
+}
+
+fn finite(fmt: FloatFormat, x: u64) -> bool {
+    matches!(classify(fmt, x), Class::Zero | Class::Finite)
+}
+
+fn neg(fmt: FloatFormat, x: u64) -> u64 {
+    x ^ fmt.sign_bit()
+}
+
+/// The unit's answer for `x`, bit for bit.
+pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
+    let zero = fmt.zero(false);
+    let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
+    let invalid = all.clone().any(|&v| !finite(fmt, v))
+        || fmt.is_nan(x.t_min)
+        || fmt.is_nan(x.t_max)
+        || x.kz > 2;
+    let (kx, ky) = other_axes(x.kz);
+    let kz = x.kz as usize % 3;
+    // steps 1-2: each vertex in ray space
+    let sheared = |p: &[u64; 3]| {
+        let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], RNE));
+        let (px, py, pz) = (r[kx], r[ky], r[kz]);
+        [
+            fma(fmt, neg(fmt, x.s[0]), pz, px, RNE),
+            fma(fmt, neg(fmt, x.s[1]), pz, py, RNE),
+            mul(fmt, x.s[2], pz, RNE),
+        ]
+    };
+    let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
+    // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
+    let edge = |p: &[u64; 3], q: &[u64; 3]| {
+        dot3(fmt, [q[0], neg(fmt, q[1]), zero], [p[1], p[0], zero], RNE)
+    };
+    let (u, v, w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
+    // step 4
+    let edges = [u, v, w];
+    let negative = edges.iter().any(|&e| lt(fmt, e, zero));
+    let positive = edges.iter().any(|&e| lt(fmt, zero, e));
+    let numbers = edges.iter().all(|&e| !fmt.is_nan(e));
+    let inside = numbers && !(negative && positive);
+    let one = fmt.with_sign(false, (fmt.bias() as u64) << fmt.frac_bits());
+    let det = dot3(fmt, edges, [one, one, one], RNE);
+    let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], RNE);
+    let det_zero = classify(fmt, det) == Class::Zero;
+    // step 5
+    let r = recip(fmt, det, RNE);
+    let t = mul(fmt, t_num, r, RNE);
+    let hit = !invalid && inside && !det_zero && le(fmt, x.t_min, t) && le(fmt, t, x.t_max);
+    if !hit {
+        return TriOut {
+            invalid,
+            ..TriOut::default()
+        };
+    }
+    TriOut {
+        hit,
+        invalid,
+        t,
+        u: mul(fmt, v, r, RNE),
+        v: mul(fmt, w, r, RNE),
+    }
+}
+
+/// Exact reference: the closed triangle against the closed segment, in
+/// rational arithmetic (Cramer's rule on `o + t·d = A + β(B − A) + γ(C − A)`).
+pub mod exact {
+    use crate::float::FloatFormat;
+    use crate::transform::exact::decode;
+    use dashu::integer::IBig;
+
+    /// The exact answer: `Some(t)` as the fraction `t_num / t_den`
+    /// (`t_den > 0`) when the segment meets the triangle's interior or
+    /// boundary at one point, `None` otherwise (a miss, a degenerate triangle
+    /// or a ray in its plane, a non-finite input).
+    #[derive(Debug, Clone, PartialEq, Eq)]
+    pub struct Hit {
+        /// numerator of t
+        pub t_num: IBig,
+        /// denominator of t (> 0)
+        pub t_den: IBig,
+        /// exponent: t = t_num / t_den · 2^exp
+        pub exp: i64,
+    }
+
+    impl Hit {
+        /// `t` as an `f64` (for error measurements).
+        pub fn t_f64(&self) -> f64 {
+            super::ratio_f64(&self.t_num, &self.t_den) * (self.exp as f64).exp2()
+        }
+    }
+
+    /// Exact intersection of `{o + t·d : t_min ≤ t ≤ t_max}` with the closed
+    /// triangle `abc`; `None` for a miss or anything not a single point.
+    pub fn intersect(
+        fmt: FloatFormat,
+        o: [u64; 3],
+        d: [u64; 3],
+        tri: [[u64; 3]; 3],
+        t_min: u64,
+        t_max: u64,
+    ) -> Option<Hit> {
+        // every coordinate on one scale 2^e0
+        let mut vals = Vec::new();
+        for v in o.iter().chain(&d).chain(tri.iter().flatten()) {
+            vals.push(decode(fmt, *v)?);
+        }
+        let e0 = vals.iter().map(|v| v.1).min().unwrap_or(0);
+        let int: Vec<IBig> = vals
+            .iter()
+            .map(|(m, e)| m.clone() << ((e - e0) as usize))
+            .collect();
+        let p = |k: usize| [int[k].clone(), int[k + 1].clone(), int[k + 2].clone()];
+        let (o, d, a, b, c) = (p(0), p(3), p(6), p(9), p(12));
+        let diff = |x: &[IBig; 3], y: &[IBig; 3]| [0, 1, 2].map(|i| &x[i] - &y[i]);
+        let (e1, e2, s) = (diff(&b, &a), diff(&c, &a), diff(&o, &a));
+        let cross = |x: &[IBig; 3], y: &[IBig; 3]| {
+            [
+                &x[1] * &y[2] - &x[2] * &y[1],
+                &x[2] * &y[0] - &x[0] * &y[2],
+                &x[0] * &y[1] - &x[1] * &y[0],
+            ]
+        };
+        let dotp = |x: &[IBig; 3], y: &[IBig; 3]| &x[0] * &y[0] + &x[1] * &y[1] + &x[2] * &y[2];
+        // o + t d = a + β e1 + γ e2  ⇔  [−d e1 e2] (t β γ) = s
+        let pv = cross(&d, &e2);
+        let det = dotp(&e1, &pv);
+        if det == IBig::ZERO {
+            return None;
+        }
+        let qv = cross(&s, &e1);
+        let beta = dotp(&s, &pv);
+        let gamma = dotp(&d, &qv);
+        let t = dotp(&e2, &qv);
+        // normalise the sign so the denominator is positive
+        let (det, beta, gamma, t) = if det < IBig::ZERO {
+            (-det, -beta, -gamma, -t)
+        } else {
+            (det, beta, gamma, t)
+        };
+        let inside = beta >= IBig::ZERO && gamma >= IBig::ZERO && &beta + &gamma <= det;
+        if !inside {
+            return None;
+        }
+        // t = t / det (the coordinates' scale cancels); compare with the bounds
+        let within = |bound: u64, below: bool| -> bool {
+            match crate::exact::ray_box::decode(fmt, bound) {
+                crate::exact::ray_box::Exact::NaN => false,
+                crate::exact::ray_box::Exact::PosInf => below,
+                crate::exact::ray_box::Exact::NegInf => !below,
+                crate::exact::ray_box::Exact::Fin { m, e } => {
+                    // t/det <=> m·2^e
+                    let (lhs, rhs) = if e >= 0 {
+                        (t.clone(), IBig::from(m) * &det << (e as usize))
+                    } else {
+                        (t.clone() << ((-e) as usize), IBig::from(m) * &det)
+                    };
+                    if below {
+                        lhs <= rhs
+                    } else {
+                        lhs >= rhs
+                    }
+                }
+            }
+        };
+        (within(t_max, true) && within(t_min, false)).then_some(Hit {
+            t_num: t,
+            t_den: det,
+            exp: 0,
+        })
+    }
+}
+
+/// `n / d` in `f64` for big integers (a few ulps; for error measurements).
+fn ratio_f64(n: &dashu::integer::IBig, d: &dashu::integer::IBig) -> f64 {
+    use dashu::base::BitTest;
+    let top = |x: &dashu::integer::IBig| {
+        let shift = x.bit_len().saturating_sub(60);
+        let head = i64::try_from(&(x >> shift)).expect("60 bits fit");
+        head as f64 * (shift as f64).exp2()
+    };
+    top(n) / top(d)
+}

@@ -1,0 +1,287 @@
+//! `triangle`: a watertight ray/triangle test in the manner of Woop, Benthin
+//! and Wald (2013), every operation rounded to nearest even in one format
+//! (issue #16; golden twin `golden_model::triangle`, docs/triangle.md).
+//!
+//! Inputs per ray: the origin `o`, the axis `kz` of the direction's largest
+//! component and the shear constants `s = (d_kx/d_kz, d_ky/d_kz, 1/d_kz)`,
+//! precomputed once per ray as the slab's reciprocal direction is; per
+//! triangle its vertices `a`, `b`, `c`; the segment `t_min..t_max`.
+//!
+//! 1. `p = P − o` per vertex; `kx = kz + 1`, `ky = kz + 2` (mod 3) select
+//!    components;
+//! 2. ray space: `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz` (fused
+//!    multiply-add), `Z = s_z·p_kz`;
+//! 3. edge functions, each a two-term fused dot product rounded once:
+//!    `U = C_X·B_Y − C_Y·B_X`, `V = A_X·C_Y − A_Y·C_X`, `W = B_X·A_Y − B_Y·A_X`
+//!    (a directed edge `P → Q` gives `Q_X·P_Y − Q_Y·P_X`; the neighbour
+//!    across it gets the exact negation, which is what makes the test
+//!    watertight);
+//! 4. inside unless some edge function is negative and another positive;
+//!    `det = U + V + W`, `T = U·A_Z + V·B_Z + W·C_Z` (fused dot products);
+//! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r`; `hit` iff inside,
+//!    `det ≠ 0`, no NaN edge function and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
+//!    are +0 without a hit; `invalid` (and no hit) for a non-finite `o`,
+//!    `s` or vertex, a NaN bound or `kz = 3`.
+//!
+//! `outputs=hit` drops `u`, `v` and their multipliers (`t` is still formed
+//! for the range test). The unit is built as one datapath; `stages`
+//! registers are placed by the delay model ([`crate::retime::balance`]), so
+//! `pipeline=plan` and `pipeline=balanced` give the same registers.
+
+use super::Unit;
+use crate::arith::float::add::add_module;
+use crate::arith::float::compare::compare;
+use crate::arith::float::dot3::dot3_module;
+use crate::arith::float::fma::fma_module;
+use crate::arith::float::mul::mul_module;
+use crate::arith::float::unpack::unpack;
+use crate::arith::float::{Format, Rounding};
+use crate::arith::recip::recip_module;
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+
+/// The `triangle` unit.
+pub struct Triangle;
+
+const PARAMS: &[ParamSpec] = &[
+    ParamSpec {
+        name: "exp_bits",
+        doc: "exponent bits E of the format",
+        kind: ParamKind::Int { min: 2, max: 11 },
+        default: "8",
+    },
+    ParamSpec {
+        name: "frac_bits",
+        doc: "fraction bits F of the format (1 + E + F <= 64)",
+        kind: ParamKind::Int { min: 1, max: 52 },
+        default: "23",
+    },
+    ParamSpec {
+        name: "outputs",
+        doc: "hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)",
+        kind: ParamKind::Choice(&["hit", "full"]),
+        default: "full",
+    },
+    ParamSpec {
+        name: "stages",
+        doc: "pipeline stages (latency in cycles), placed by the delay model",
+        kind: ParamKind::Int { min: 0, max: 48 },
+        default: "6",
+    },
+];
+
+/// Resolved parameters.
+#[derive(Debug, Clone, Copy)]
+pub struct Config {
+    /// the one format of every value
+    pub fmt: Format,
+    /// `t`, `u`, `v` outputs too
+    pub full: bool,
+    /// pipeline registers
+    pub stages: u32,
+}
+
+/// The configuration of `p`.
+pub fn config(p: &Params) -> Result<Config, ParamError> {
+    let fmt = super::fcommon::format(p, "triangle")?;
+    let full = match p.word("outputs") {
+        "full" => true,
+        "hit" => false,
+        other => unreachable!("outputs={other} passed the choice check"),
+    };
+    Ok(Config {
+        fmt,
+        full,
+        stages: p.u32("stages"),
+    })
+}
+
+/// Module name.
+pub fn triangle_name(cfg: &Config) -> String {
+    let out = if cfg.full { "full" } else { "hit" };
+    format!("triangle_{}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// `x` with its sign bit flipped (exact negation; a NaN stays a NaN).
+fn neg(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
+    let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
+    m.xor(x, sign)
+}
+
+/// Output `z` of an operator instance.
+fn call(m: &mut ModuleBuilder, module: &std::sync::Arc<Module>, inst: &str, ins: &[(&str, Sig)]) -> Sig {
+    m.instance(inst, module, ins)
+        .get("z")
+        .expect("float operators have output z")
+}
+
+/// Builds the unit for `cfg`.
+pub fn build(cfg: &Config) -> Module {
+    let fmt = cfg.fmt;
+    let ty = Ty::UInt(fmt.width());
+    let rne = Rounding::Rne;
+    let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
+    m.describe(
+        "Watertight ray/triangle test (Woop, Benthin, Wald 2013), RNE: vertices minus o, sheared \
+         into ray space by (kz, s), edge functions as fused two-term dot products (a shared edge \
+         gives exactly negated values), det and T as fused dot products, t = T * (1/det); hit iff \
+         the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
+         v (weight of c) are 0 without a hit; invalid for non-finite input or kz = 3.",
+    );
+    m.param("exp_bits", fmt.exp_bits)
+        .param("frac_bits", fmt.frac_bits)
+        .param("outputs", if cfg.full { "full" } else { "hit" })
+        .param("stages", cfg.stages);
+    let o = AXES.map(|a| m.input(&format!("o_{a}"), ty));
+    let kz = m.input("kz", Ty::UInt(2));
+    let s = AXES.map(|a| m.input(&format!("s_{a}"), ty));
+    let verts = ["a", "b", "c"].map(|v| AXES.map(|a| m.input(&format!("{v}_{a}"), ty)));
+    let t_min = m.input("t_min", ty);
+    let t_max = m.input("t_max", ty);
+
+    // invalid: a non-finite o, s or vertex, a NaN bound, kz = 3
+    let mut invalid = m.all_ones(kz);
+    for x in o.iter().chain(&s).chain(verts.iter().flatten()) {
+        let u = unpack(&mut m, fmt, *x);
+        let bad = m.or(u.nan, u.inf);
+        invalid = m.or(invalid, bad);
+    }
+    for x in [t_min, t_max] {
+        let u = unpack(&mut m, fmt, x);
+        invalid = m.or(invalid, u.nan);
+    }
+    let invalid = m.name(invalid, "invalid_input");
+
+    // steps 1-2: each vertex in ray space
+    let one_2 = m.uint(2, 1);
+    let two_2 = m.uint(2, 2);
+    let kz1 = m.eq(kz, one_2);
+    let kz2 = m.eq(kz, two_2);
+    // component (kz + k) mod 3 of p (kz = 3 reads as 0, as in the golden model)
+    let pick = |m: &mut ModuleBuilder, p: &[Sig; 3], k: usize| {
+        let x = m.mux(kz1, p[(1 + k) % 3], p[k % 3]);
+        m.mux(kz2, p[(2 + k) % 3], x)
+    };
+    let sub = add_module(fmt, rne, true, 0);
+    let fma = fma_module(fmt, rne, 0);
+    let mul = mul_module(fmt, rne, 0);
+    let neg_sx = neg(&mut m, fmt, s[0]);
+    let neg_sy = neg(&mut m, fmt, s[1]);
+    let mut ray_space = Vec::new();
+    for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
+        let rel = [0, 1, 2].map(|i| {
+            call(
+                &mut m,
+                &sub,
+                &format!("u_{v}_minus_o_{}", AXES[i]),
+                &[("a", p[i]), ("b", o[i])],
+            )
+        });
+        let pz = pick(&mut m, &rel, 0);
+        let px = pick(&mut m, &rel, 1);
+        let py = pick(&mut m, &rel, 2);
+        let pz = m.name(pz, &format!("{v}_along_z"));
+        let sx = call(&mut m, &fma, &format!("u_{v}_shear_x"), &[("a", neg_sx), ("b", pz), ("c", px)]);
+        let sy = call(&mut m, &fma, &format!("u_{v}_shear_y"), &[("a", neg_sy), ("b", pz), ("c", py)]);
+        let sz = call(&mut m, &mul, &format!("u_{v}_scale_z"), &[("a", s[2]), ("b", pz)]);
+        ray_space.push([sx, sy, sz]);
+    }
+    let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
+
+    // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
+    let dot = dot3_module(fmt, rne, 0);
+    let zero = m.uint(fmt.width(), 0);
+    let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
+        let nqy = neg(m, fmt, q[1]);
+        call(
+            m,
+            &dot,
+            &format!("u_edge_{name}"),
+            &[("a0", q[0]), ("b0", p[1]), ("a1", nqy), ("b1", p[0]), ("a2", zero), ("b2", zero)],
+        )
+    };
+    let e_u = edge(&mut m, "bc", b, c);
+    let e_v = edge(&mut m, "ca", c, a);
+    let e_w = edge(&mut m, "ab", a, b);
+
+    // step 4: signs, det, T
+    let mut negative = m.bool(false);
+    let mut positive = m.bool(false);
+    let mut nan_edge = m.bool(false);
+    for e in [e_u, e_v, e_w] {
+        let (lt0, _, _) = compare(&mut m, fmt, e, zero);
+        let (gt0, _, _) = compare(&mut m, fmt, zero, e);
+        negative = m.or(negative, lt0);
+        positive = m.or(positive, gt0);
+        let u = unpack(&mut m, fmt, e);
+        nan_edge = m.or(nan_edge, u.nan);
+    }
+    let mixed = m.and(negative, positive);
+    let outside = m.or(mixed, nan_edge);
+    let inside = m.not(outside);
+    let inside = m.name(inside, "inside_edges");
+    let one = m.uint(fmt.width(), (fmt.bias() as u128) << fmt.frac_bits);
+    let det = call(
+        &mut m,
+        &dot,
+        "u_det",
+        &[("a0", e_u), ("b0", one), ("a1", e_v), ("b1", one), ("a2", e_w), ("b2", one)],
+    );
+    let t_num = call(
+        &mut m,
+        &dot,
+        "u_t_num",
+        &[("a0", e_u), ("b0", a[2]), ("a1", e_v), ("b1", b[2]), ("a2", e_w), ("b2", c[2])],
+    );
+    let det_zero = unpack(&mut m, fmt, det).zero;
+
+    // step 5
+    let recip = recip_module(fmt, rne, 0);
+    let r = call(&mut m, &recip, "u_recip_det", &[("x", det)]);
+    let t = call(&mut m, &mul, "u_t", &[("a", t_num), ("b", r)]);
+    let (_, after_min, _) = compare(&mut m, fmt, t_min, t);
+    let (_, before_max, _) = compare(&mut m, fmt, t, t_max);
+    let valid = m.not(invalid);
+    let det_ok = m.not(det_zero);
+    let mut hit = m.and(valid, inside);
+    hit = m.and(hit, det_ok);
+    hit = m.and(hit, after_min);
+    hit = m.and(hit, before_max);
+    let hit = m.name(hit, "hit_found");
+    m.output("hit", hit);
+    m.output("invalid", invalid);
+    if cfg.full {
+        let u = call(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
+        let v = call(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
+        for (name, x) in [("t", t), ("u", u), ("v", v)] {
+            let shown = m.mux(hit, x, zero);
+            m.output(name, shown);
+        }
+    }
+    let datapath = m.finish().expect("triangle datapath is well formed");
+    if cfg.stages == 0 {
+        return datapath;
+    }
+    let (mut module, _) = crate::retime::balance(&datapath, cfg.stages)
+        .expect("the triangle datapath is feed-forward");
+    module.name = datapath.name.clone();
+    module
+}
+
+impl Unit for Triangle {
+    fn name(&self) -> &'static str {
+        "triangle"
+    }
+    fn summary(&self) -> &'static str {
+        "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, RNE, fused edge functions"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+    fn build(&self, p: &Params) -> Result<Module, ParamError> {
+        Ok(build(&config(p)?))
+    }
+}
