@@ -37,9 +37,7 @@
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
 //! `t_max`, or `kz = 3`.
 
-use crate::float::{
-    classify, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
-};
+use crate::float::{classify, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
 use crate::transform::recip;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;

@@ -130,7 +130,10 @@ fn side(p: [f32; 3], q: [f32; 3], d: [f32; 3], x: [f32; 3]) -> std::cmp::Orderin
         .map(|&v| decode(F32, bits(v)).expect("finite"))
         .collect();
     let e0 = all.iter().map(|v| v.1).min().unwrap_or(0);
-    let int: Vec<IBig> = all.iter().map(|(m, e)| m.clone() << ((e - e0) as usize)).collect();
+    let int: Vec<IBig> = all
+        .iter()
+        .map(|(m, e)| m.clone() << ((e - e0) as usize))
+        .collect();
     let at = |k: usize| [int[k].clone(), int[k + 1].clone(), int[k + 2].clone()];
     let (p, q, d, x) = (at(0), at(3), at(6), at(9));
     let e = [0, 1, 2].map(|i| &q[i] - &p[i]);
@@ -148,8 +151,12 @@ fn load(name: &str) -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../scenes/meshes")
         .join(name);
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (a mesh shipped with the repository)", path.display()));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (a mesh shipped with the repository)",
+            path.display()
+        )
+    });
     parse_obj(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -238,7 +245,10 @@ fn shared_edges_are_watertight() {
     }
     eprintln!("{rays} rays at shared edges, {counted} through the two triangles exactly, {leaks} through neither in the unit");
     assert_eq!(leaks, 0);
-    assert!(counted > rays / 3, "too few rays counted: {counted} of {rays}");
+    assert!(
+        counted > rays / 3,
+        "too few rays counted: {counted} of {rays}"
+    );
 }
 
 /// Degenerate and non-finite triangles: a defined miss, `invalid` for

@@ -1,7 +1,7 @@
 //! Stimulus and golden-model adapter for `triangle` (golden
 //! `golden_model::triangle::eval`). Rays come with their shear constants
 //! from the golden `shear`; kinds of vector: rays aimed at a random point
-//! of the triangle's plane around it (about half hit), rays aimed at an
+//! of the triangle (two in three) or of its plane around it, rays aimed at an
 //! edge's midpoint and a few ulps beside it, vertices and edge ends, segment
 //! bounds around the hit, degenerate triangles (a repeated vertex, three
 //! collinear vertices), special values (NaN, ±∞, ±0, subnormals, raw bits)
@@ -50,8 +50,7 @@ impl TriangleBench {
         let span = (fmt.bias() as i32 / 4).clamp(1, 20);
         let scale = (2f64).powi((r.below(2 * span as u64 + 1) as i32) - span);
         let rnd = |r: &mut VectorRng, lo: f64, hi: f64| lo + (hi - lo) * Self::unit(r);
-        let tri: [[u64; 3]; 3] =
-            [0; 3].map(|_| [0; 3].map(|_| q(rnd(&mut r, -1.0, 1.0) * scale)));
+        let tri: [[u64; 3]; 3] = [0; 3].map(|_| [0; 3].map(|_| q(rnd(&mut r, -1.0, 1.0) * scale)));
         let v = |k: usize, i: usize| to_f64(fmt, tri[k][i]);
         let o_f: [f64; 3] = {
             let dist = rnd(&mut r, 1.5, 6.0) * scale;
@@ -73,7 +72,14 @@ impl TriangleBench {
                 [0, 1, 2].map(|i| v(k, i))
             }
             _ => {
-                let (b1, b2) = (rnd(&mut r, -0.3, 1.3), rnd(&mut r, -0.3, 1.3));
+                let (mut b1, mut b2) = (rnd(&mut r, -0.3, 1.3), rnd(&mut r, -0.3, 1.3));
+                if r.below(3) != 0 {
+                    // inside: a uniform point of the triangle
+                    (b1, b2) = (Self::unit(&mut r), Self::unit(&mut r));
+                    if b1 + b2 > 1.0 {
+                        (b1, b2) = (1.0 - b1, 1.0 - b2);
+                    }
+                }
                 [0, 1, 2].map(|i| v(0, i) + b1 * (v(1, i) - v(0, i)) + b2 * (v(2, i) - v(0, i)))
             }
         };
@@ -140,7 +146,11 @@ impl TriangleBench {
             4 if r.below(8) == 0 => {
                 let mut flat = [0u64; INPUTS];
                 for (k, f) in flat.iter_mut().enumerate() {
-                    *f = if k == 3 { r.below(4) } else { r.bits(fmt.width()) };
+                    *f = if k == 3 {
+                        r.below(4)
+                    } else {
+                        r.bits(fmt.width())
+                    };
                 }
                 x = from_vector(&flat);
             }

@@ -112,7 +112,12 @@ fn neg(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
 }
 
 /// Output `z` of an operator instance.
-fn call(m: &mut ModuleBuilder, module: &std::sync::Arc<Module>, inst: &str, ins: &[(&str, Sig)]) -> Sig {
+fn call(
+    m: &mut ModuleBuilder,
+    module: &std::sync::Arc<Module>,
+    inst: &str,
+    ins: &[(&str, Sig)],
+) -> Sig {
     m.instance(inst, module, ins)
         .get("z")
         .expect("float operators have output z")
@@ -184,9 +189,24 @@ pub fn build(cfg: &Config) -> Module {
         let px = pick(&mut m, &rel, 1);
         let py = pick(&mut m, &rel, 2);
         let pz = m.name(pz, &format!("{v}_along_z"));
-        let sx = call(&mut m, &fma, &format!("u_{v}_shear_x"), &[("a", neg_sx), ("b", pz), ("c", px)]);
-        let sy = call(&mut m, &fma, &format!("u_{v}_shear_y"), &[("a", neg_sy), ("b", pz), ("c", py)]);
-        let sz = call(&mut m, &mul, &format!("u_{v}_scale_z"), &[("a", s[2]), ("b", pz)]);
+        let sx = call(
+            &mut m,
+            &fma,
+            &format!("u_{v}_shear_x"),
+            &[("a", neg_sx), ("b", pz), ("c", px)],
+        );
+        let sy = call(
+            &mut m,
+            &fma,
+            &format!("u_{v}_shear_y"),
+            &[("a", neg_sy), ("b", pz), ("c", py)],
+        );
+        let sz = call(
+            &mut m,
+            &mul,
+            &format!("u_{v}_scale_z"),
+            &[("a", s[2]), ("b", pz)],
+        );
         ray_space.push([sx, sy, sz]);
     }
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
@@ -200,7 +220,14 @@ pub fn build(cfg: &Config) -> Module {
             m,
             &dot,
             &format!("u_edge_{name}"),
-            &[("a0", q[0]), ("b0", p[1]), ("a1", nqy), ("b1", p[0]), ("a2", zero), ("b2", zero)],
+            &[
+                ("a0", q[0]),
+                ("b0", p[1]),
+                ("a1", nqy),
+                ("b1", p[0]),
+                ("a2", zero),
+                ("b2", zero),
+            ],
         )
     };
     let e_u = edge(&mut m, "bc", b, c);
@@ -228,13 +255,27 @@ pub fn build(cfg: &Config) -> Module {
         &mut m,
         &dot,
         "u_det",
-        &[("a0", e_u), ("b0", one), ("a1", e_v), ("b1", one), ("a2", e_w), ("b2", one)],
+        &[
+            ("a0", e_u),
+            ("b0", one),
+            ("a1", e_v),
+            ("b1", one),
+            ("a2", e_w),
+            ("b2", one),
+        ],
     );
     let t_num = call(
         &mut m,
         &dot,
         "u_t_num",
-        &[("a0", e_u), ("b0", a[2]), ("a1", e_v), ("b1", b[2]), ("a2", e_w), ("b2", c[2])],
+        &[
+            ("a0", e_u),
+            ("b0", a[2]),
+            ("a1", e_v),
+            ("b1", b[2]),
+            ("a2", e_w),
+            ("b2", c[2]),
+        ],
     );
     let det_zero = unpack(&mut m, fmt, det).zero;
 
