@@ -131,6 +131,7 @@ pub fn scene_loads(scenes: &[&Path], width: u32) -> Result<Vec<SceneLoad>, Strin
                 ..BundleOpts::default()
             },
             f32_transform: true,
+            ..TraceOpts::default()
         };
         let acc = Accel::build(&s, false);
         let f = render(&s, &acc, &scene::tester::Slab, opts, width, h, false);

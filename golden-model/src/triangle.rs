@@ -106,6 +106,14 @@ pub fn shear(fmt: FloatFormat, d: [u64; 3]) -> (u32, [u64; 3]) {
 /// and `d ≠ 0`.
 fn quotient(fmt: FloatFormat, n: u64, d: u64) -> u64 {
     use crate::transform::exact::{decode, round_ratio};
+    if fmt == FloatFormat::BINARY32 {
+        // an f64 quotient rounded again to binary32 is the correctly rounded
+        // one (53 >= 2·24 + 2 bits: double rounding is innocuous for ÷)
+        let (x, y) = (f32::from_bits(n as u32), f32::from_bits(d as u32));
+        if x.is_finite() && y.is_finite() && y != 0.0 {
+            return ((x as f64 / y as f64) as f32).to_bits() as u64;
+        }
+    }
     match (decode(fmt, n), decode(fmt, d)) {
         (Some((mn, en)), Some((md, ed))) if md != dashu::integer::IBig::ZERO => {
             round_ratio(fmt, RNE, &mn, &md, en - ed)

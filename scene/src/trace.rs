@@ -21,6 +21,7 @@ use golden_model::cull::tester::{
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{self, DotStyle, InstanceTransform, InverseSource, WorldRay};
+use golden_model::triangle as golden_triangle;
 
 /// Ray types, for statistics.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -90,6 +91,9 @@ pub struct TRay {
     /// the ray enters an instance (for the conservative slab beside the
     /// cull unit)
     pub(crate) inv_d: [u64; 3],
+    /// `golden_model::triangle::shear(d)` of the model-space direction, set
+    /// with it when the ray enters an instance (`--tri golden`)
+    pub(crate) shear: (u32, [u64; 3]),
 }
 
 fn bits(v: f32) -> u64 {
@@ -112,8 +116,9 @@ impl TRay {
                 prim: NONE,
             },
             done: false,
-            // set on entering an instance, the only place it is read below
+            // set on entering an instance, the only place they are read below
             inv_d: [0; 3],
+            shear: (0, [0; 3]),
         }
     }
     /// The end of the segment the box tests use (binary32 bits, rounded up).
@@ -253,6 +258,18 @@ impl Default for BundleOpts {
     }
 }
 
+/// The ray/triangle test the leaves run (`render --tri`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TriTest {
+    /// the software watertight test in f64 on the binary32 data ([`intersect`])
+    #[default]
+    F64,
+    /// the `triangle` unit's golden model at binary32 (`golden_model::triangle`)
+    Golden,
+    /// the exact rational test (`golden_model::triangle::exact`)
+    Exact,
+}
+
 /// How rays are traced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TraceOpts {
@@ -263,6 +280,8 @@ pub struct TraceOpts {
     /// transform rays with plain f32 arithmetic instead of the golden model
     /// (the f32 slab baseline renderer)
     pub f32_transform: bool,
+    /// the ray/triangle test
+    pub tri: TriTest,
 }
 
 impl Default for TraceOpts {
@@ -271,6 +290,7 @@ impl Default for TraceOpts {
             planes: true,
             bundles: BundleOpts::default(),
             f32_transform: false,
+            tri: TriTest::F64,
         }
     }
 }
@@ -381,6 +401,47 @@ pub fn intersect(o: &[f64; 3], d: &[f64; 3], v: &[[f32; 3]; 3], t_max: f64) -> O
     let tt = u * (sz * a[kz]) + vv * (sz * b[kz]) + w * (sz * c[kz]);
     let t = tt / det;
     (t >= 0.0 && t <= t_max).then_some(t)
+}
+
+/// The segment end of a triangle test: the best hit so far, rounded up to
+/// binary32.
+fn tri_t_max(r: &TRay) -> u64 {
+    if r.hit.t.is_infinite() {
+        bits(f32::INFINITY)
+    } else {
+        bits(f32_up(r.hit.t))
+    }
+}
+
+/// The `triangle` unit's golden model on the model-space ray: `t` of a hit
+/// in `[0, best so far]`.
+fn unit_triangle(r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
+    let x = golden_triangle::TriIn {
+        o: r.o,
+        kz: r.shear.0,
+        s: r.shear.1,
+        a: v[0].map(bits),
+        b: v[1].map(bits),
+        c: v[2].map(bits),
+        t_min: bits(0.0),
+        t_max: tri_t_max(r),
+    };
+    let out = golden_triangle::eval(FloatFormat::BINARY32, &x);
+    out.hit.then(|| f32::from_bits(out.t as u32) as f64)
+}
+
+/// The exact rational test on the model-space ray: `t` (rounded to f64)
+/// of a hit in `[0, best so far]`.
+fn exact_triangle(r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
+    golden_triangle::exact::intersect(
+        FloatFormat::BINARY32,
+        r.o,
+        r.d,
+        v.map(|p| p.map(bits)),
+        bits(0.0),
+        tri_t_max(r),
+    )
+    .map(|h| h.t_f64())
 }
 
 impl<'a> Tracer<'a> {
@@ -536,6 +597,9 @@ impl<'a> Tracer<'a> {
                 r.d = m.dir;
                 r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             }
+            if self.opts.tri == TriTest::Golden {
+                r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);
+            }
         }
         let blas = &self.accel.blas[x.mesh];
         let mut root_terms = self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min);
@@ -655,7 +719,12 @@ impl<'a> Tracer<'a> {
                     for &t in tris {
                         st.tri_tests += 1;
                         let v = m.corners(t);
-                        if let Some(th) = intersect(&o, &d, &v, r.hit.t) {
+                        let found = match self.opts.tri {
+                            TriTest::F64 => intersect(&o, &d, &v, r.hit.t),
+                            TriTest::Golden => unit_triangle(r, &v),
+                            TriTest::Exact => exact_triangle(r, &v),
+                        };
+                        if let Some(th) = found {
                             let better = (th, inst, t) < (r.hit.t, r.hit.inst, r.hit.prim);
                             if better {
                                 r.hit = Hit {

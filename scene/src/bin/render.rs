@@ -10,7 +10,7 @@ use scene::render::render;
 use scene::scene::Scene;
 use scene::stats::{bundle_savings, plane_savings, table};
 use scene::tester::{BoxTester, Exact, Golden, Reduced, Slab};
-use scene::trace::{BundleOpts, TraceOpts};
+use scene::trace::{BundleOpts, TraceOpts, TriTest};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -50,6 +50,19 @@ struct Common {
     /// AO rays per pixel (default: the scene's)
     #[arg(long)]
     ao: Option<u32>,
+    /// ray/triangle test
+    #[arg(long, value_enum, default_value = "f64")]
+    tri: TriKind,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TriKind {
+    /// software watertight test, f64 arithmetic on the binary32 data
+    F64,
+    /// the `triangle` unit's golden model at binary32 (bit for bit what the RTL computes)
+    Golden,
+    /// exact rational test (slow)
+    Exact,
 }
 
 #[derive(Subcommand)]
@@ -135,6 +148,11 @@ fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
             ..BundleOpts::default()
         },
         f32_transform: false,
+        tri: match c.tri {
+            TriKind::F64 => TriTest::F64,
+            TriKind::Golden => TriTest::Golden,
+            TriKind::Exact => TriTest::Exact,
+        },
     };
     Ok((s, w, h, opts))
 }
@@ -362,6 +380,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 planes: false,
                 bundles: singles.bundles,
                 f32_transform: true,
+                tri: TriTest::F64,
             };
             let f = render(&s, &acc, &Slab, slab_opts, w, h, true);
             let rate = |f: &scene::render::Frame| f.rays() as f64 / f.time.as_secs_f64();
