@@ -3,7 +3,7 @@
 //! cases first, then seeded random vectors), after `verilator --lint-only
 //! -Wall` and 2,000 vectors through the IR evaluator.
 //!
-//! Six configurations (each harness build takes two to four minutes on two
+//! Seven configurations (each harness build takes two to four minutes on two
 //! cores, then it is cached): both sources of `R⁻¹` with every dot style,
 //! both throughputs, all four rounding modes, binary32 and binary16,
 //! combinational and pipelined.
@@ -12,8 +12,8 @@ mod common;
 
 use common::generate;
 
-/// The six configurations: test name, parameters.
-const CONFIGS: [(&str, &[&str]); 6] = [
+/// The seven configurations: test name, parameters.
+const CONFIGS: [(&str, &[&str]); 7] = [
     (
         "xf_fma",
         &["dot=fma", "throughput=full", "round=rne", "stages=8"],
@@ -61,6 +61,10 @@ const CONFIGS: [(&str, &[&str]); 6] = [
             "stages=6",
             "id_bits=9",
         ],
+    ),
+    (
+        "xf_wide",
+        &["dot=wide", "throughput=half", "round=rne", "stages=4"],
     ),
 ];
 
@@ -113,6 +117,11 @@ fn hw_inverse_binary16_fma_half_rtz_combinational() {
 #[test]
 fn hw_inverse_binary16_separate_full_rdn_6_stages() {
     check(5);
+}
+
+#[test]
+fn binary32_wide_half_rne_4_stages() {
+    check(6);
 }
 
 #[test]

@@ -152,6 +152,37 @@ pub fn reference_origin(
     Some(s.map(|x| round_ratio(fmt, mode, &x, &inv.det, e1 - inv.e0)))
 }
 
+/// `M·(O_w − T)` for the stored (rounded) matrix `m`, computed exactly and
+/// given as `f64` (relative error below 1e-15): what a correctly rounded
+/// unit would round, to measure an output's error against the real value.
+/// `None` if an input is not finite.
+pub fn stored_product(
+    fmt: FloatFormat,
+    m: &[u64; 9],
+    t: [u64; 3],
+    o: [u64; 3],
+) -> Option<[f64; 3]> {
+    let vals: Option<Vec<_>> = o
+        .iter()
+        .chain(t.iter())
+        .chain(m.iter())
+        .map(|&x| decode(fmt, x))
+        .collect();
+    let vals = vals?;
+    let (v, e_vec) = align(&vals[..6]);
+    let (a, e_mat) = align(&vals[6..]);
+    let d = [0, 1, 2].map(|k| &v[k] - &v[k + 3]);
+    let to_f64 = |x: &IBig| {
+        let shift = x.bit_len().saturating_sub(60);
+        let head = i64::try_from(&(x >> shift)).expect("60 bits fit");
+        head as f64 * (shift as f64 + (e_vec + e_mat) as f64).exp2()
+    };
+    Some([0, 1, 2].map(|i| {
+        let s = &a[3 * i] * &d[0] + &a[3 * i + 1] * &d[1] + &a[3 * i + 2] * &d[2];
+        to_f64(&s)
+    }))
+}
+
 /// The reference model-space direction `R⁻¹·D_w`, exact, rounded once.
 pub fn reference_dir(
     fmt: FloatFormat,

@@ -46,7 +46,7 @@ mod recip;
 
 pub use recip::{recip, recip_generic};
 
-use crate::float::{add, classify, dot3, fma, mul, sub, Class, FloatFormat, RoundingMode};
+use crate::float::{add, classify, convert, dot3, fma, mul, sub, Class, FloatFormat, RoundingMode};
 
 /// How a three-term dot product `a0·b0 + a1·b1 + a2·b2` is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -58,18 +58,32 @@ pub enum DotStyle {
     Fma,
     /// Fused three-term dot product, one rounding ([`crate::float::dot3`]).
     Dot3,
+    /// Every matrix-vector product in the [`wide_format`] `(E + 1, 2F + 2)`:
+    /// operands widened (exactly), the origin's `O − T` subtracted there
+    /// (exact unless the exponents differ by more than `F + 2`, then within
+    /// `2^-(2F+3)` relative), a fused dot product rounded once in the wide
+    /// format, then rounded to the format. Within one ulp of the correctly
+    /// rounded `R⁻¹·(O − T)` (two roundings, the first `F + 2` bits finer);
+    /// the inversion (`inverse=hw`) as [`DotStyle::Dot3`].
+    Wide,
 }
 
 impl DotStyle {
     /// Every style, in parameter order.
-    pub const ALL: [DotStyle; 3] = [DotStyle::Separate, DotStyle::Fma, DotStyle::Dot3];
+    pub const ALL: [DotStyle; 4] = [
+        DotStyle::Separate,
+        DotStyle::Fma,
+        DotStyle::Dot3,
+        DotStyle::Wide,
+    ];
 
-    /// The parameter word: `separate`, `fma`, `dot3`.
+    /// The parameter word: `separate`, `fma`, `dot3`, `wide`.
     pub fn word(self) -> &'static str {
         match self {
             DotStyle::Separate => "separate",
             DotStyle::Fma => "fma",
             DotStyle::Dot3 => "dot3",
+            DotStyle::Wide => "wide",
         }
     }
 
@@ -166,9 +180,33 @@ fn neg(fmt: FloatFormat, x: u64) -> u64 {
     (x ^ fmt.sign_bit()) & fmt.mask()
 }
 
+/// The format [`DotStyle::Wide`] computes in: `(E + 1, 2F + 2)`; `None`
+/// when that exceeds 64 bits.
+pub fn wide_format(fmt: FloatFormat) -> Option<FloatFormat> {
+    FloatFormat::new(fmt.exp_bits() + 1, 2 * fmt.frac_bits() + 2).ok()
+}
+
+fn wide(fmt: FloatFormat) -> FloatFormat {
+    wide_format(fmt).expect("dot=wide is refused for formats whose wide format exceeds 64 bits")
+}
+
+/// `x` of `fmt` in the wide format (exact).
+fn widen(fmt: FloatFormat, mode: RoundingMode, x: u64) -> u64 {
+    convert(fmt, wide(fmt), x, mode)
+}
+
+/// `a · b` with `a` of `fmt` and `b` already in the wide format, fused and
+/// rounded there, then rounded to `fmt` ([`DotStyle::Wide`]).
+fn wide_dot(fmt: FloatFormat, mode: RoundingMode, a: [u64; 3], b_wide: [u64; 3]) -> u64 {
+    let w = wide(fmt);
+    let y = dot3(w, a.map(|x| widen(fmt, mode, x)), b_wide, mode);
+    convert(w, fmt, y, mode)
+}
+
 /// `a0·b0 + a1·b1 + a2·b2` in `style` (see [`DotStyle`] for the exact order).
 pub fn dot(fmt: FloatFormat, mode: RoundingMode, style: DotStyle, a: [u64; 3], b: [u64; 3]) -> u64 {
     match style {
+        DotStyle::Wide => wide_dot(fmt, mode, a, b.map(|x| widen(fmt, mode, x))),
         DotStyle::Separate => {
             let p = [0, 1, 2].map(|i| mul(fmt, a[i], b[i], mode));
             add(fmt, add(fmt, p[0], p[1], mode), p[2], mode)
@@ -208,7 +246,7 @@ pub fn det2(
     match style {
         DotStyle::Separate => sub(fmt, mul(fmt, p, q, mode), mul(fmt, r, s, mode), mode),
         DotStyle::Fma => fma(fmt, p, q, neg(fmt, mul(fmt, r, s, mode)), mode),
-        DotStyle::Dot3 => dot3(fmt, [p, r, 0], [q, neg(fmt, s), 0], mode),
+        DotStyle::Dot3 | DotStyle::Wide => dot3(fmt, [p, r, 0], [q, neg(fmt, s), 0], mode),
     }
 }
 
@@ -246,6 +284,11 @@ pub fn invert_hw(
     rotation_hint: bool,
 ) -> HwInverse {
     let inputs_finite = r.iter().all(|&x| finite(fmt, x));
+    // the wide style widens only the matrix-vector products
+    let style = match style {
+        DotStyle::Wide => DotStyle::Dot3,
+        other => other,
+    };
     let at = |i: usize, j: usize| r[3 * (i % 3) + (j % 3)];
     if rotation_hint {
         let inv = std::array::from_fn(|k| at(k % 3, k / 3));
@@ -305,12 +348,11 @@ pub fn transform(cfg: &Config, ray: &WorldRay, inst: &InstanceTransform) -> Mode
         }
     };
     let singular = singular || !t_ok;
-    let x = [0, 1, 2].map(|k| sub(fmt, ray.origin[k], inst.translation[k], mode));
     let (origin, dir) = if singular {
         ([fmt.canonical_nan(); 3], [fmt.canonical_nan(); 3])
     } else {
         (
-            mat_vec(fmt, mode, cfg.dot, &inv, x),
+            two_step_origin(fmt, mode, cfg.dot, &inv, inst.translation, ray.origin),
             mat_vec(fmt, mode, cfg.dot, &inv, ray.dir),
         )
     };
@@ -342,7 +384,8 @@ pub fn conventional_origin(
     })
 }
 
-/// The two-step origin alone: `R⁻¹ · fl(O_w − T)` (no flag, no NaN forcing).
+/// The two-step origin alone: `R⁻¹ · fl(O_w − T)` (no flag, no NaN
+/// forcing); with [`DotStyle::Wide`] `O_w − T` is formed in the wide format.
 pub fn two_step_origin(
     fmt: FloatFormat,
     mode: RoundingMode,
@@ -351,6 +394,12 @@ pub fn two_step_origin(
     t: [u64; 3],
     o: [u64; 3],
 ) -> [u64; 3] {
+    if style == DotStyle::Wide {
+        let w = wide(fmt);
+        let x = [0, 1, 2].map(|k| sub(w, widen(fmt, mode, o[k]), widen(fmt, mode, t[k]), mode));
+        return [0, 1, 2]
+            .map(|i| wide_dot(fmt, mode, [inv[3 * i], inv[3 * i + 1], inv[3 * i + 2]], x));
+    }
     let x = [0, 1, 2].map(|k| sub(fmt, o[k], t[k], mode));
     mat_vec(fmt, mode, style, inv, x)
 }

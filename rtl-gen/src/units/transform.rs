@@ -25,6 +25,7 @@
 
 use super::Unit;
 use crate::arith::float::add::add_module;
+use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
@@ -39,7 +40,7 @@ use std::sync::Arc;
 pub struct Transform;
 
 /// Dot-product styles, in parameter order.
-pub const DOT_WORDS: &[&str] = &["separate", "fma", "dot3"];
+pub const DOT_WORDS: &[&str] = &["separate", "fma", "dot3", "wide"];
 /// Sources of `R⁻¹`, in parameter order.
 pub const INVERSE_WORDS: &[&str] = &["pre", "hw"];
 /// Throughput choices, in parameter order.
@@ -66,7 +67,7 @@ const PARAMS: &[ParamSpec] = &[
     },
     ParamSpec {
         name: "dot",
-        doc: "dot-product style: separate mul/add, chained fma, fused dot3",
+        doc: "dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and the fused dot product in (E+1, 2F+2), then one rounding: within one ulp of the correctly rounded result; needs 2E + 2F <= 60 bits... see docs/transform.md)",
         kind: ParamKind::Choice(DOT_WORDS),
         default: "fma",
     },
@@ -105,6 +106,11 @@ pub enum Dot {
     Fma,
     /// fused three-term dot product
     Dot3,
+    /// every matrix-vector product in the wide format `(E + 1, 2F + 2)`:
+    /// operands widened exactly, `O − T` subtracted there, a fused dot
+    /// product rounded there, then rounded to the format
+    /// (`golden_model::transform::DotStyle::Wide`); the inversion as `Dot3`
+    Wide,
 }
 
 impl Dot {
@@ -112,23 +118,45 @@ impl Dot {
         match w {
             "separate" => Dot::Separate,
             "fma" => Dot::Fma,
-            _ => Dot::Dot3,
+            "dot3" => Dot::Dot3,
+            "wide" => Dot::Wide,
+            other => unreachable!("dot={other} passed the choice check"),
         }
     }
-    /// Operators on the longest path of one dot product.
+    /// Operators on the longest path of one dot product (the wide one: the
+    /// fused product, then the rounding to the format).
     fn depth(self) -> u32 {
         match self {
             Dot::Separate | Dot::Fma => 3,
             Dot::Dot3 => 1,
+            Dot::Wide => 2,
+        }
+    }
+    /// The style of the inversion's determinants and dot product.
+    fn inversion(self) -> Dot {
+        match self {
+            Dot::Wide => Dot::Dot3,
+            other => other,
         }
     }
     /// Operators on the longest path of one 2×2 determinant.
     fn det2_depth(self) -> u32 {
-        match self {
+        match self.inversion() {
             Dot::Separate | Dot::Fma => 2,
-            Dot::Dot3 => 1,
+            Dot::Dot3 | Dot::Wide => 1,
         }
     }
+}
+
+/// The format `dot=wide` computes in: `(E + 1, 2F + 2)`.
+pub fn wide_format(fmt: Format) -> Result<Format, String> {
+    Format::new(fmt.exp_bits + 1, 2 * fmt.frac_bits + 2).map_err(|e| {
+        format!(
+            "dot=wide computes in e{}m{}: {e}",
+            fmt.exp_bits + 1,
+            2 * fmt.frac_bits + 2
+        )
+    })
 }
 
 /// Resolved configuration of the unit.
@@ -155,10 +183,14 @@ impl Config {
     pub fn from_params(p: &Params) -> Result<Config, ParamError> {
         let fmt = Format::new(p.u32("exp_bits"), p.u32("frac_bits"))
             .map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
+        let dot = Dot::parse(p.word("dot"));
+        if dot == Dot::Wide {
+            wide_format(fmt).map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
+        }
         Ok(Config {
             fmt,
             mode: Rounding::parse(p.word("round")).expect("declared choice"),
-            dot: Dot::parse(p.word("dot")),
+            dot,
             hw: p.word("inverse") == "hw",
             full: p.word("throughput") == "full",
             id_bits: p.u32("id_bits"),
@@ -172,6 +204,7 @@ impl Config {
             Dot::Separate => "sep",
             Dot::Fma => "fma",
             Dot::Dot3 => "dot3",
+            Dot::Wide => "wide",
         };
         format!(
             "xform_{}_{}_{dot}_{}_{}_id{}_s{}",
@@ -189,7 +222,7 @@ impl Config {
     /// subtraction runs beside the first of them.
     fn chain(&self) -> u32 {
         let inversion = if self.hw {
-            self.dot.det2_depth() + self.dot.depth() + 2
+            self.dot.det2_depth() + self.dot.inversion().depth() + 2
         } else {
             1 // the subtraction alone
         };
@@ -281,6 +314,43 @@ fn dots(
             close(m, plan[2]);
             out
         }
+        Dot::Wide => {
+            // operands already in the wide format; one rounding there, one to the format
+            let w = wide_format(fmt).expect("checked with the parameters");
+            let d = dot3_module(w, mode, plan[0]);
+            let sums: Vec<Sig> = items
+                .iter()
+                .map(|(tag, a, b)| {
+                    m.instance(
+                        &format!("u_{tag}_dot_wide"),
+                        &d,
+                        &[
+                            ("a0", a[0]),
+                            ("a1", a[1]),
+                            ("a2", a[2]),
+                            ("b0", b[0]),
+                            ("b1", b[1]),
+                            ("b2", b[2]),
+                        ],
+                    )
+                    .get("z")
+                    .expect("dot3 has output z")
+                })
+                .collect();
+            close(m, plan[0]);
+            let narrow = convert_module(w, fmt, mode, plan[1]);
+            let out = items
+                .iter()
+                .zip(&sums)
+                .map(|((tag, _, _), s)| {
+                    m.instance(&format!("u_{tag}_round"), &narrow, &[("a", *s)])
+                        .get("z")
+                        .expect("fcvt has output z")
+                })
+                .collect();
+            close(m, plan[1]);
+            out
+        }
         Dot::Dot3 => {
             let d = dot3_module(fmt, mode, plan[0]);
             let out = items
@@ -359,6 +429,7 @@ fn det2s(
             close(m, plan[1]);
             out
         }
+        Dot::Wide => unreachable!("the inversion runs in the dot3 style (Dot::inversion)"),
         Dot::Dot3 => {
             let zero = m.uint(fmt.width(), 0);
             let list: Vec<(String, [Sig; 3], [Sig; 3])> = items
@@ -396,6 +467,10 @@ fn invert(
     hint: Sig,
     plan: &[u32],
 ) -> ([Sig; 9], Sig) {
+    let cfg = &Config {
+        dot: cfg.dot.inversion(),
+        ..*cfg
+    };
     let (fmt, mode) = (cfg.fmt, cfg.mode);
     let at = |i: usize, j: usize| r[3 * (i % 3) + (j % 3)];
     let items: Vec<(String, [Sig; 4])> = (0..9)
@@ -512,9 +587,29 @@ pub fn build(cfg: &Config) -> Module {
     }
     let plan = spread(cfg.stages, cfg.chain());
 
+    // the engines' format: the format, or the wide one (operands widened exactly)
+    let (ef, widen) = match cfg.dot {
+        Dot::Wide => {
+            let w = wide_format(fmt).expect("checked with the parameters");
+            (w, Some(convert_module(fmt, w, cfg.mode, 0)))
+        }
+        _ => (fmt, None),
+    };
+    let up = |m: &mut ModuleBuilder, name: String, x: Sig| match &widen {
+        Some(c) => m
+            .instance(&name, c, &[("a", x)])
+            .get("z")
+            .expect("fcvt has output z"),
+        None => x,
+    };
+
     // step 1: reverse translation, beside the first operator of the inversion if any
-    let sub = add_module(fmt, cfg.mode, true, plan[0]);
-    let x = [0, 1, 2].map(|k| op2(&mut m, &sub, &format!("u_sub_{}", axes[k]), vw[k], t[k]));
+    let sub = add_module(ef, cfg.mode, true, plan[0]);
+    let x = [0, 1, 2].map(|k| {
+        let a = up(&mut m, format!("u_widen_v_{}", axes[k]), vw[k]);
+        let b = up(&mut m, format!("u_widen_t_{}", axes[k]), t[k]);
+        op2(&mut m, &sub, &format!("u_sub_{}", axes[k]), a, b)
+    });
     let (r, singular, dot_plan) = match hint {
         Some(hint) => {
             let n = (cfg.chain() - cfg.dot.depth()) as usize;
@@ -530,10 +625,13 @@ pub fn build(cfg: &Config) -> Module {
     let singular = m.name(singular, "singular_flag");
 
     // step 2: inverse linear map, NaN forced into the x component when singular
-    let nan = m.uint(w, fmt.nan_bits());
+    let nan = m.uint(ef.width(), ef.nan_bits());
+    let r: [Sig; 9] =
+        std::array::from_fn(|k| up(&mut m, format!("u_widen_r{}{}", k / 3, k % 3), r[k]));
     let row = |i: usize| [r[3 * i], r[3 * i + 1], r[3 * i + 2]];
     match (dw, is_origin) {
         (Some(dw), _) => {
+            let dw = [0, 1, 2].map(|k| up(&mut m, format!("u_widen_d_{}", axes[k]), dw[k]));
             let x0 = m.mux(singular, nan, x[0]);
             let x = [x0, x[1], x[2]];
             let d0 = m.mux(singular, nan, dw[0]);
@@ -553,6 +651,7 @@ pub fn build(cfg: &Config) -> Module {
             }
         }
         (None, Some(is_origin)) => {
+            let vw = [0, 1, 2].map(|k| up(&mut m, format!("u_widen_d_{}", axes[k]), vw[k]));
             let sel = [0, 1, 2].map(|k| m.mux(is_origin, x[k], vw[k]));
             let s0 = m.mux(singular, nan, sel[0]);
             let sel = [s0, sel[1], sel[2]];
