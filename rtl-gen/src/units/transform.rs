@@ -67,7 +67,7 @@ const PARAMS: &[ParamSpec] = &[
     },
     ParamSpec {
         name: "dot",
-        doc: "dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and the fused dot product in (E+1, 2F+2), then one rounding: within one ulp of the correctly rounded result; needs 2E + 2F <= 60 bits... see docs/transform.md)",
+        doc: "dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and a fused dot product in e(E+1)m(2F+2), then rounded to the format: within one ulp of the correctly rounded result; needs E <= 10 and E + 2F <= 60)",
         kind: ParamKind::Choice(DOT_WORDS),
         default: "fma",
     },
