@@ -243,6 +243,26 @@ fn fma3(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig,
         .expect("fma has output z")
 }
 
+fn dot3_call(
+    m: &mut ModuleBuilder,
+    module: &Arc<Module>,
+    inst: &str,
+    a: &[Sig; 3],
+    b: &[Sig; 3],
+) -> Sig {
+    let ports = [
+        ("a0", a[0]),
+        ("a1", a[1]),
+        ("a2", a[2]),
+        ("b0", b[0]),
+        ("b1", b[1]),
+        ("b2", b[2]),
+    ];
+    m.instance(inst, module, &ports)
+        .get("z")
+        .expect("dot3 has output z")
+}
+
 fn close(m: &mut ModuleBuilder, n: u32) {
     for _ in 0..n {
         m.stage();
@@ -320,22 +340,7 @@ fn dots(
             let d = dot3_module(w, mode, plan[0]);
             let sums: Vec<Sig> = items
                 .iter()
-                .map(|(tag, a, b)| {
-                    m.instance(
-                        &format!("u_{tag}_dot_wide"),
-                        &d,
-                        &[
-                            ("a0", a[0]),
-                            ("a1", a[1]),
-                            ("a2", a[2]),
-                            ("b0", b[0]),
-                            ("b1", b[1]),
-                            ("b2", b[2]),
-                        ],
-                    )
-                    .get("z")
-                    .expect("dot3 has output z")
-                })
+                .map(|(tag, a, b)| dot3_call(m, &d, &format!("u_{tag}_dot_wide"), a, b))
                 .collect();
             close(m, plan[0]);
             let narrow = convert_module(w, fmt, mode, plan[1]);
@@ -355,22 +360,7 @@ fn dots(
             let d = dot3_module(fmt, mode, plan[0]);
             let out = items
                 .iter()
-                .map(|(tag, a, b)| {
-                    m.instance(
-                        &format!("u_{tag}_dot"),
-                        &d,
-                        &[
-                            ("a0", a[0]),
-                            ("a1", a[1]),
-                            ("a2", a[2]),
-                            ("b0", b[0]),
-                            ("b1", b[1]),
-                            ("b2", b[2]),
-                        ],
-                    )
-                    .get("z")
-                    .expect("dot3 has output z")
-                })
+                .map(|(tag, a, b)| dot3_call(m, &d, &format!("u_{tag}_dot"), a, b))
                 .collect();
             close(m, plan[0]);
             out

@@ -45,18 +45,8 @@ use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 pub struct Triangle;
 
 const PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        name: "exp_bits",
-        doc: "exponent bits E of the format",
-        kind: ParamKind::Int { min: 2, max: 11 },
-        default: "8",
-    },
-    ParamSpec {
-        name: "frac_bits",
-        doc: "fraction bits F of the format (1 + E + F <= 64)",
-        kind: ParamKind::Int { min: 1, max: 52 },
-        default: "23",
-    },
+    super::fcommon::EXP_BITS,
+    super::fcommon::FRAC_BITS,
     ParamSpec {
         name: "outputs",
         doc: "hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)",
