@@ -166,6 +166,9 @@ pub struct KindStats {
     pub tri_tests: u64,
     /// cull-plane tests
     pub cull_tests: u64,
+    /// per-ray terms of a node's shared normals computed (unit `cull_ray`,
+    /// once per ray and inner node whose children are cull-tested)
+    pub cull_ray_terms: u64,
     /// nodes culled by their planes (per ray)
     pub culled_nodes: u64,
     /// of which leaves
@@ -192,6 +195,7 @@ impl KindStats {
         self.leaf_visits += o.leaf_visits;
         self.tri_tests += o.tri_tests;
         self.cull_tests += o.cull_tests;
+        self.cull_ray_terms += o.cull_ray_terms;
         self.culled_nodes += o.culled_nodes;
         self.culled_leaves += o.culled_leaves;
         self.culled_leaf_tris += o.culled_leaf_tris;
@@ -310,6 +314,11 @@ struct LazyTerms<'n> {
 }
 
 impl LazyTerms<'_> {
+    /// How many rays' terms were computed (`cull_ray` transactions).
+    fn computed(&self) -> u64 {
+        self.first.is_some() as u64 + self.more.len() as u64
+    }
+
     /// The terms of ray `i` (`r`), the first `k` entries.
     fn get(&mut self, cfg: &cull::Config, i: usize, r: &TRay) -> &[NormalTerm; 8] {
         let compute = || normal_terms(cfg, &r.o, &r.d, &self.r_min, self.normals).0;
@@ -614,6 +623,7 @@ impl<'a> Tracer<'a> {
             st,
             &mut pool,
         );
+        st.cull_ray_terms += root_terms.computed();
     }
 
     /// The lazily computed ray terms (unit `cull_ray`) of a node's shared
@@ -756,6 +766,7 @@ impl<'a> Tracer<'a> {
                     v.extend_from_slice(surv);
                     self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, pool);
                 }
+                st.cull_ray_terms += terms.computed();
             }
         }
     }

@@ -144,6 +144,24 @@ enum Cmd {
         #[arg(long)]
         chart_dir: Option<PathBuf>,
     },
+    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and bar chart
+    PerRay {
+        /// scene files (TOML)
+        #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
+        scenes: Vec<PathBuf>,
+        /// image width of each render
+        #[arg(long, default_value_t = 64)]
+        width: u32,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// also write the table here
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// also draw the chart as <DIR>/cost_per_ray.png and .svg
+        #[arg(long)]
+        chart_dir: Option<PathBuf>,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -230,6 +248,29 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             match json {
                 Some(path) => std::fs::write(path, text + "\n")?,
                 None => {}
+            }
+        }
+        Cmd::PerRay {
+            scenes,
+            width,
+            cached_only,
+            out,
+            chart_dir,
+        } => {
+            let mut loads = Vec::new();
+            for s in &scenes {
+                loads.extend(cost::per_ray::workloads(s, width)?);
+            }
+            let luts = cost::per_ray::unit_luts(cached_only)?;
+            let t = cost::per_ray::markdown(&luts, &loads);
+            print!("{t}");
+            if let Some(path) = out {
+                std::fs::write(path, &t)?;
+            }
+            if let Some(dir) = chart_dir {
+                for p in cost::per_ray::chart(&luts, &loads, &dir)? {
+                    println!("wrote {}", p.display());
+                }
             }
         }
         Cmd::Depth {

@@ -1,0 +1,275 @@
+//! Hardware cost per ray on the shipped scenes (issue #16 §3): each unit's
+//! area (Xilinx 7-series LUT, `synth_xilinx -flatten` synthesis estimate)
+//! times the transactions it handles per ray in a golden render, summed over
+//! the units, with and without cull planes and bundles. Every unit takes one
+//! transaction per clock, so the sum is the area-time product of a ray in
+//! LUT-cycles: what a design spends per ray, and where planes and bundles
+//! pay for themselves.
+
+use crate::synth::{self, SynthOptions};
+use scene::bvh::Accel;
+use scene::render::render;
+use scene::scene::Scene;
+use scene::tester::Golden;
+use scene::trace::{BundleOpts, KindStats, TraceOpts};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A unit in the per-ray sum: its role, unit name and parameters (binary32).
+pub struct Role {
+    /// what it does for a ray
+    pub role: &'static str,
+    /// unit name
+    pub unit: &'static str,
+    /// parameters besides the defaults
+    pub params: &'static [&'static str],
+}
+
+/// The units of a ray's traversal, in the order of the table.
+pub const ROLES: [Role; 6] = [
+    Role {
+        role: "box test, single ray",
+        unit: "silhouette",
+        params: &["mode=ray", "stages=4"],
+    },
+    Role {
+        role: "box test, bundle",
+        unit: "silhouette",
+        params: &["mode=bundle", "origin=shared", "stages=4"],
+    },
+    Role {
+        role: "cull test (per child)",
+        unit: "cull",
+        params: &["k=4", "plane_exp_bits=5", "plane_frac_bits=10", "stages=4"],
+    },
+    Role {
+        role: "cull terms (per ray and parent)",
+        unit: "cull_ray",
+        params: &["k=4", "plane_exp_bits=5", "plane_frac_bits=10", "stages=4"],
+    },
+    Role {
+        role: "instance transform",
+        unit: "transform",
+        params: &["stages=8"],
+    },
+    Role {
+        role: "triangle test",
+        unit: "triangle",
+        params: &["stages=8"],
+    },
+];
+
+/// The Xilinx LUT estimate of each role's unit, from the synthesis cache of
+/// `rtl-cost cull` when it holds it (same options), else by `synth_xilinx`
+/// alone (`cached_only`: never run Yosys).
+pub fn unit_luts(cached_only: bool) -> Result<Vec<u64>, String> {
+    // the options of `rtl-cost cull`, so its cull and cull_ray runs are reused
+    let shared = SynthOptions {
+        generic: false,
+        pnr: false,
+        pnr_ecp5: false,
+        cached_only: true,
+        ..SynthOptions::default()
+    };
+    let xilinx_only = SynthOptions {
+        generic: false,
+        ice40: false,
+        ecp5: false,
+        pnr: false,
+        pnr_ecp5: false,
+        cached_only,
+        ..SynthOptions::default()
+    };
+    ROLES
+        .iter()
+        .map(|r| {
+            let p: Vec<String> = r.params.iter().map(|s| s.to_string()).collect();
+            let g = rtl_gen::flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
+            let report = match synth::run(&g, &shared) {
+                Ok(rep) if rep.xilinx.is_some() => rep,
+                _ => {
+                    eprintln!("synthesising {} (synth_xilinx) ...", g.module.name);
+                    synth::run(&g, &xilinx_only).map_err(|e| format!("{}: {e}", g.module.name))?
+                }
+            };
+            report
+                .xilinx
+                .map(|x| x.luts)
+                .ok_or_else(|| format!("{}: no synth_xilinx figures", g.module.name))
+        })
+        .collect()
+}
+
+/// Transactions per role (in [`ROLES`] order) and rays of one render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Workload {
+    /// scene file name
+    pub scene: String,
+    /// cull planes on
+    pub planes: bool,
+    /// bundles on
+    pub bundles: bool,
+    /// rays traced
+    pub rays: u64,
+    /// transactions per role
+    pub tests: [u64; 6],
+}
+
+/// Renders `scene` (golden models) at `width` pixels with and without planes
+/// and bundles; one [`Workload`] each.
+pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
+    let s = Scene::load(scene).map_err(|e| e.to_string())?;
+    let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+    let with_planes = Accel::build(&s, true);
+    let name = scene
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut out = Vec::new();
+    for planes in [true, false] {
+        for bundles in [true, false] {
+            let opts = TraceOpts {
+                planes,
+                bundles: BundleOpts {
+                    enabled: bundles,
+                    ..BundleOpts::default()
+                },
+                ..TraceOpts::default()
+            };
+            let f = render(&s, &with_planes, &Golden::default(), opts, width, h, false);
+            let mut t = KindStats::default();
+            for k in &f.stats.kinds {
+                t.add(k);
+            }
+            out.push(Workload {
+                scene: name.clone(),
+                planes,
+                bundles,
+                rays: t.rays,
+                tests: [
+                    t.ray_box_tests,
+                    t.bundle_tests,
+                    t.cull_tests,
+                    t.cull_ray_terms,
+                    t.transforms,
+                    t.tri_tests,
+                ],
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// LUT-cycles per ray of `w` with the units' `luts`.
+pub fn cost_per_ray(w: &Workload, luts: &[u64]) -> f64 {
+    let total: f64 = w
+        .tests
+        .iter()
+        .zip(luts)
+        .map(|(&n, &l)| n as f64 * l as f64)
+        .sum();
+    total / w.rays.max(1) as f64
+}
+
+/// The report: the units' areas, then per scene and configuration the
+/// transactions per ray and the LUT-cycles per ray.
+pub fn markdown(luts: &[u64], loads: &[Workload]) -> String {
+    let mut s = String::from(
+        "Units (binary32; Xilinx 7-series LUT, `synth_xilinx -flatten` synthesis estimates):\n\n\
+         | role | unit | parameters | xc7 LUT |\n|---|---|---|---|\n",
+    );
+    for (r, l) in ROLES.iter().zip(luts) {
+        let _ = writeln!(
+            s,
+            "| {} | `{}` | {} | {l} |",
+            r.role,
+            r.unit,
+            r.params.join(" ")
+        );
+    }
+    s += "\nPer ray (golden render; every unit one transaction per clock, so LUT x transactions = \
+          LUT-cycles):\n\n| scene | planes | bundles | rays |";
+    for r in &ROLES {
+        let _ = write!(s, " {} / ray |", r.role);
+    }
+    s += " LUT-cycles / ray |\n|---|---|---|---|";
+    for _ in &ROLES {
+        s += "---|";
+    }
+    s += "---|\n";
+    for w in loads {
+        let _ = write!(
+            s,
+            "| {} | {} | {} | {} |",
+            w.scene,
+            if w.planes { "on" } else { "off" },
+            if w.bundles { "on" } else { "off" },
+            w.rays
+        );
+        for &n in &w.tests {
+            let _ = write!(s, " {:.2} |", n as f64 / w.rays.max(1) as f64);
+        }
+        let _ = writeln!(s, " {:.0} |", cost_per_ray(w, luts));
+    }
+    s
+}
+
+/// Bars of LUT-cycles per ray, one series per configuration, one group per
+/// scene: `<dir>/cost_per_ray.png` and `.svg`.
+pub fn chart(
+    luts: &[u64],
+    loads: &[Workload],
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
+    use crate::charts::{write_chart, Chart, Point, Series};
+    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    let mut scenes: Vec<&str> = Vec::new();
+    for w in loads {
+        if !scenes.contains(&w.scene.as_str()) {
+            scenes.push(&w.scene);
+        }
+    }
+    let configs = [(true, true), (true, false), (false, true), (false, false)];
+    let colors = [
+        RGBColor(31, 119, 180),
+        RGBColor(44, 160, 44),
+        RGBColor(230, 110, 14),
+        RGBColor(120, 120, 120),
+    ];
+    let series = configs
+        .iter()
+        .zip(colors)
+        .map(|(&(p, b), color)| Series {
+            name: format!(
+                "planes {}, bundles {}",
+                if p { "on" } else { "off" },
+                if b { "on" } else { "off" }
+            ),
+            color,
+            points: loads
+                .iter()
+                .filter(|w| w.planes == p && w.bundles == b)
+                .map(|w| {
+                    let x = scenes.iter().position(|s| *s == w.scene).unwrap_or(0) as f64;
+                    Point::new(x + 1.0, cost_per_ray(w, luts), w.scene.clone())
+                })
+                .collect(),
+            hollow: false,
+            line: false,
+        })
+        .collect();
+    let c = Chart {
+        stem: "cost_per_ray".into(),
+        title: "Hardware per ray: sum over units of xc7 LUT x transactions".into(),
+        x_label: format!("scene ({})", scenes.join(", ")),
+        y_label: "LUT-cycles per ray".into(),
+        x_log: false,
+        y_floor: 1.0,
+        series,
+        pareto: false,
+        legend: SeriesLabelPosition::UpperLeft,
+        refs: Vec::new(),
+        refs_name: String::new(),
+    };
+    write_chart(&c, dir)
+}

@@ -1,0 +1,31 @@
+//! `rtl-cost per-ray`'s workload side: the transactions per unit of a
+//! golden render follow the switches (no cull tests without planes, no
+//! bundle tests without bundles) and every unit of the sum is exercised.
+
+use cost::per_ray::{cost_per_ray, markdown, workloads, ROLES};
+use std::path::Path;
+
+#[test]
+fn workloads_follow_planes_and_bundles_and_exercise_every_unit() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
+    let loads = workloads(&scene, 24).expect("cornell renders");
+    assert_eq!(loads.len(), 4);
+    for w in &loads {
+        assert!(w.rays > 0);
+        let [single, bundle, cull, cull_ray, transforms, tris] = w.tests;
+        assert!(single > 0 && transforms > 0 && tris > 0, "{w:?}");
+        assert_eq!(cull > 0, w.planes, "{w:?}");
+        assert_eq!(cull_ray > 0, w.planes, "{w:?}");
+        assert!(cull_ray <= cull, "terms once per ray and parent: {w:?}");
+        assert_eq!(bundle > 0, w.bundles, "{w:?}");
+    }
+    // the planes remove triangle tests; their own tests cost area: both show
+    let on = &loads[0];
+    let off = &loads[2];
+    assert!(on.tests[5] < off.tests[5], "planes remove triangle tests");
+    let luts = [1000u64; 6];
+    assert!(cost_per_ray(on, &luts) > 0.0);
+    let t = markdown(&luts, &loads);
+    assert_eq!(t.lines().filter(|l| l.starts_with("| cornell")).count(), 4);
+    assert_eq!(ROLES.len(), 6);
+}
