@@ -274,7 +274,7 @@ pub mod exact {
                 crate::exact::ray_box::Exact::Fin { m, e } => {
                     // t/det <=> m·2^e
                     let (lhs, rhs) = if e >= 0 {
-                        (t.clone(), IBig::from(m) * &det << (e as usize))
+                        (t.clone(), (IBig::from(m) * &det) << (e as usize))
                     } else {
                         (t.clone() << ((-e) as usize), IBig::from(m) * &det)
                     };

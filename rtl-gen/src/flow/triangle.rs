@@ -47,7 +47,7 @@ impl TriangleBench {
         let mut r = VectorRng::new(seed, index);
         let q = |v: f64| from_f64(fmt, v);
         // a scale the format can hold: small formats stay near 1
-        let span = (fmt.bias() as i32 / 4).clamp(1, 20);
+        let span = (fmt.bias() / 4).clamp(1, 20);
         let scale = (2f64).powi((r.below(2 * span as u64 + 1) as i32) - span);
         let rnd = |r: &mut VectorRng, lo: f64, hi: f64| lo + (hi - lo) * Self::unit(r);
         let tri: [[u64; 3]; 3] = [0; 3].map(|_| [0; 3].map(|_| q(rnd(&mut r, -1.0, 1.0) * scale)));
