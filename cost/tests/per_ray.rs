@@ -25,7 +25,8 @@ fn workloads_follow_planes_and_bundles_and_exercise_every_unit() {
     assert!(on.tests[5] < off.tests[5], "planes remove triangle tests");
     let luts = [1000u64; 6];
     assert!(cost_per_ray(on, &luts) > 0.0);
-    let t = markdown(&luts, &loads);
+    let t = markdown(Some(&luts), &loads);
     assert_eq!(t.lines().filter(|l| l.starts_with("| cornell")).count(), 4);
+    assert!(!markdown(None, &loads).contains("LUT-cycles / ray |"));
     assert_eq!(ROLES.len(), 6);
 }

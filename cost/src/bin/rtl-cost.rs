@@ -155,6 +155,9 @@ enum Cmd {
         /// use only synthesis results already in the cache (no Yosys run)
         #[arg(long)]
         cached_only: bool,
+        /// transactions per ray only: no synthesis, no LUT-cycles, no chart
+        #[arg(long)]
+        no_synth: bool,
         /// also write the table here
         #[arg(long)]
         out: Option<PathBuf>,
@@ -254,6 +257,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             scenes,
             width,
             cached_only,
+            no_synth,
             out,
             chart_dir,
         } => {
@@ -261,14 +265,17 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             for s in &scenes {
                 loads.extend(cost::per_ray::workloads(s, width)?);
             }
-            let luts = cost::per_ray::unit_luts(cached_only)?;
-            let t = cost::per_ray::markdown(&luts, &loads);
+            let luts = match no_synth {
+                true => None,
+                false => Some(cost::per_ray::unit_luts(cached_only)?),
+            };
+            let t = cost::per_ray::markdown(luts.as_deref(), &loads);
             print!("{t}");
             if let Some(path) = out {
                 std::fs::write(path, &t)?;
             }
-            if let Some(dir) = chart_dir {
-                for p in cost::per_ray::chart(&luts, &loads, &dir)? {
+            if let (Some(dir), Some(luts)) = (chart_dir, &luts) {
+                for p in cost::per_ray::chart(luts, &loads, &dir)? {
                     println!("wrote {}", p.display());
                 }
             }
