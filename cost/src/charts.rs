@@ -359,6 +359,7 @@ where
 /// Writes `<stem>.png` and `<stem>.svg` into `dir`.
 pub fn write_chart(c: &Chart, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
     let _ = register_font("sans-serif", FontStyle::Normal, FONT);
+    std::fs::create_dir_all(dir)?;
     let png = dir.join(format!("{}.png", c.stem));
     let svg = dir.join(format!("{}.svg", c.stem));
     let (w, h) = (900u32, 600u32);
