@@ -341,6 +341,58 @@ fn cull_eval_binary32_rays() {
 }
 
 #[test]
+fn cull_ray_terms_binary32_rays() {
+    let f = FloatFormat::BINARY32;
+    let planes = [
+        FloatFormat::BINARY16,
+        FloatFormat::BFLOAT16,
+        FloatFormat::new(5, 5).unwrap(),
+        FloatFormat::new(8, 15).unwrap(),
+        FloatFormat::BINARY32,
+    ];
+    let sf = specials(f);
+    let mut rng = common::Rng::new(65);
+    let mut eq = Equal::new(
+        "cull ray terms, binary32 rays (planes e5m10, e8m7, e5m5, e8m15, e8m23; K 1..8)",
+    );
+    let mut valid = 0u64;
+    for i in 0..cases() {
+        let pf = planes[(i % planes.len() as u64) as usize];
+        let k = 1 + (i / planes.len() as u64 % 8) as usize;
+        let cfg = cull::Config::new(f, pf, k).unwrap();
+        let sp = specials(pf);
+        let mut v = |fmt, s: &[u64]| operand(&mut rng, fmt, s);
+        let o = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let mut r = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let d = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let normals: Vec<[u64; 3]> = (0..k)
+            .map(|_| [v(pf, &sp), v(pf, &sp), v(pf, &sp)])
+            .collect();
+        match rng.below(4) {
+            // the corner near the origin: cancellation in o − r
+            0 => r = o.map(|x| operand_near(&mut rng, f, x, 2)),
+            1 => r = o,
+            _ => {}
+        }
+        // fewer normals than k: the missing ones read as 0
+        let n = if rng.below(8) == 0 {
+            rng.below(k as u64 + 1) as usize
+        } else {
+            k
+        };
+        let fast = cull::normal_terms(&cfg, &o, &d, &r, &normals[..n]);
+        valid += !fast.2 as u64;
+        eq.check(
+            fast,
+            cull::normal_terms_generic(&cfg, &o, &d, &r, &normals[..n]),
+            || format!("{cfg:?}\no = {o:#x?}, d = {d:#x?}, r = {r:#x?}\nnormals = {normals:#x?}"),
+        );
+    }
+    println!("cull ray terms: {valid} valid inputs");
+    eq.finish();
+}
+
+#[test]
 fn dot3_floor_narrow_formats() {
     // (a format, b format, result format): the cull_ray products n·u and n·d
     let f32f = FloatFormat::BINARY32;

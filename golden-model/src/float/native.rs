@@ -26,6 +26,13 @@ pub fn to_f32(fmt: FloatFormat, bits: u64) -> f32 {
         return f32::from_bits(bits as u32);
     }
     let f = fmt.frac_bits();
+    if fmt.exp_bits() == 8 {
+        // binary32's exponent field and bias, a shorter fraction: every
+        // pattern (subnormals, infinities and NaNs included) is the binary32
+        // pattern with the fraction's low bits zero
+        let sign = ((bits & fmt.sign_bit() != 0) as u32) << 31;
+        return f32::from_bits(sign | ((bits & fmt.mask() & !fmt.sign_bit()) as u32) << (23 - f));
+    }
     let sign = ((bits & fmt.sign_bit() != 0) as u32) << 31;
     let biased = ((bits >> f) & fmt.exp_all_ones()) as u32;
     let frac = (bits & fmt.frac_mask()) as u32;
@@ -74,16 +81,34 @@ pub fn add_down_up_f32(a: f32, b: f32) -> (f32, f32) {
     let td = t as f64;
     let above = (td > s) | ((td == s) & (e < 0.0));
     let below = (td < s) | ((td == s) & (e > 0.0));
-    // A stepped t is nonzero (|s| >= 2^-149): a step away from zero adds 1 to
-    // the bits, a step toward zero subtracts 1 (also from an infinity).
-    let bits = t.to_bits() as i32;
-    let away = (bits >> 31) | 1; // +1 for positive t, -1 for negative
-    let down = bits.wrapping_sub(above as i32 * away) as u32;
-    let up = bits.wrapping_add(below as i32 * away) as u32;
+    let down = step_down(t, above);
+    let up = step_up(t, below);
     // exact zero sum that is not (+0) + (+0): -0 down
     let neg_zero = (s == 0.0) & ((a.to_bits() | b.to_bits()) != 0);
-    let down = if neg_zero { 0x8000_0000 } else { down };
-    (f32::from_bits(down), f32::from_bits(up))
+    let down = if neg_zero { -0.0 } else { down };
+    (down, up)
+}
+
+/// `t` one binary32 step toward −∞ if `step`, branch-free: a step away from
+/// zero adds 1 to the bits, a step toward zero subtracts 1 (also from +∞,
+/// giving the largest finite value; from −0 it gives the smallest negative
+/// subnormal). Callers step only a value that lies above the exact one (so
+/// never −∞ or a NaN).
+#[inline(always)]
+fn step_down(t: f32, step: bool) -> f32 {
+    let bits = t.to_bits() as i32;
+    let away = (bits >> 31) | 1; // +1 for positive t, -1 for negative
+    f32::from_bits(bits.wrapping_sub(step as i32 * away) as u32)
+}
+
+/// `t` one binary32 step toward +∞ if `step`, the mirror of [`step_down`]
+/// (from −∞ the most negative finite value, from +0 the smallest positive
+/// subnormal); `t` lies below the exact value, so it is never +∞, −0 or a NaN.
+#[inline(always)]
+fn step_up(t: f32, step: bool) -> f32 {
+    let bits = t.to_bits() as i32;
+    let away = (bits >> 31) | 1;
+    f32::from_bits(bits.wrapping_add(step as i32 * away) as u32)
 }
 
 /// [`add_down_up_f32`] on `N` pairs: `(downs, ups)` (a loop the compiler
@@ -136,20 +161,8 @@ pub fn round_exact_f64_to_f32(p: f64, mode: RoundingMode) -> f32 {
     let td = t as f64;
     match mode {
         RoundingMode::NearestEven => t,
-        RoundingMode::Up => {
-            if td < p {
-                t.next_up()
-            } else {
-                t
-            }
-        }
-        RoundingMode::Down => {
-            if td > p {
-                t.next_down()
-            } else {
-                t
-            }
-        }
+        RoundingMode::Up => step_up(t, td < p),
+        RoundingMode::Down => step_down(t, td > p),
         RoundingMode::TowardZero => {
             if td.abs() > p.abs() {
                 // one step toward zero (keeps the sign; max from an infinity)
