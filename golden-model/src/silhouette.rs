@@ -74,6 +74,7 @@ impl Config {
         })
     }
     /// The input format.
+    #[inline]
     pub fn fmt(&self) -> FloatFormat {
         self.prod.narrow()
     }

@@ -65,7 +65,12 @@ fn pow2_f64(k: i32) -> f64 {
 /// no overflow in f64). `t = fl32(s)` (nearest even) is an f64 value too, so
 /// when `t != s` the exact sum lies strictly on the same side of `t` as `s`
 /// and strictly before the next binary32 value (it is within half an f64
-/// spacing of `s`); when `t == s` the sign of `e` says which way.
+/// spacing of `s`); when `t == s` the sign of `e` says which way. Both at
+/// once: the sign of `r = (s − t) + e`. `s − t` is exact (Sterbenz, or `t =
+/// 0`); when nonzero it is at least half an f64 spacing of `s`, which bounds
+/// `|e|`, with equality only if the exact sum were `t` (then `s = t`): so `r`
+/// has the sign of `s − t`, and of `e` when `s = t`. `t = ±∞` from a finite
+/// `s` gives `r = ∓∞`.
 /// Specials: an infinite or NaN operand makes `s` infinite or NaN and `e`
 /// NaN, so no step is taken and both results are `s` (exact). An exact zero
 /// sum is -0 down and +0 up, unless both operands are zeros of one sign
@@ -79,8 +84,8 @@ pub fn add_down_up_f32(a: f32, b: f32) -> (f32, f32) {
     let e = (x - (s - bv)) + (y - bv);
     let t = s as f32;
     let td = t as f64;
-    let above = (td > s) | ((td == s) & (e < 0.0));
-    let below = (td < s) | ((td == s) & (e > 0.0));
+    let r = (s - td) + e;
+    let (above, below) = (r < 0.0, r > 0.0);
     let down = step_down(t, above);
     let up = step_up(t, below);
     // exact zero sum that is not (+0) + (+0): -0 down

@@ -106,15 +106,18 @@ fn pass(
 /// [`super::eval`] for a format with `fits_f32`.
 #[inline]
 pub(super) fn eval(cfg: &Config, x: &BundleIn) -> Out {
-    if cfg.fmt() == FloatFormat::BINARY32 {
-        eval_as::<true>(cfg, x)
-    } else {
-        eval_as::<false>(cfg, x)
+    let bounded = cfg.origin == OriginMode::Bounded;
+    match (cfg.fmt() == FloatFormat::BINARY32, bounded) {
+        (true, false) => eval_as::<true, false>(cfg, x),
+        (true, true) => eval_as::<true, true>(cfg, x),
+        (false, false) => eval_as::<false, false>(cfg, x),
+        (false, true) => eval_as::<false, true>(cfg, x),
     }
 }
 
-/// The fast path; `B32`: the format is binary32 (native sums).
-fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
+/// The fast path; `B32`: the format is binary32 (native sums); `BOUNDED`:
+/// the origin mode is bounded (a shared origin then costs no `o_hi` work).
+fn eval_as<const B32: bool, const BOUNDED: bool>(cfg: &Config, x: &BundleIn) -> Out {
     let f = cfg.fmt();
     let v = |b: u64| {
         if B32 {
@@ -123,7 +126,7 @@ fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
             to_f32(f, b)
         }
     };
-    let bounded = cfg.origin == OriginMode::Bounded;
+    let bounded = BOUNDED;
     let o_hi_bits = if bounded { x.o_hi } else { x.o_lo };
     let p_min = x.p_min.map(v);
     let p_max = x.p_max.map(v);
