@@ -247,20 +247,18 @@ pub fn ray_terms_parts(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> RayTerms {
-    let (terms, b_lo, invalid) = normal_terms(cfg, o, d, r, normals);
+    let mut terms = vec![NormalTerm::default(); cfg.k];
+    let mut b_lo = vec![0; cfg.k];
+    let invalid = normal_terms_into(cfg, o, d, r, normals, &mut terms, &mut b_lo);
     RayTerms {
-        terms: terms[..cfg.k].to_vec(),
-        b_lo: b_lo[..cfg.k].to_vec(),
+        terms,
+        b_lo,
         invalid,
     }
 }
 
 /// [`ray_terms`] without allocation: the first `cfg.k` entries of the
 /// arrays are the terms and the `b_lo` values, then `invalid`.
-///
-/// Binary32 rays with valid inputs take [`normal_terms_f32`], bit-identical
-/// to [`normal_terms_generic`] (`tests/fast_paths.rs`); other inputs the
-/// same steps with the dispatching operators.
 #[inline]
 pub fn normal_terms(
     cfg: &Config,
@@ -269,13 +267,32 @@ pub fn normal_terms(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> ([NormalTerm; 8], [u64; 8], bool) {
-    let mut fast = ([NormalTerm::default(); 8], [0u64; 8], false);
-    if cfg.ray == FloatFormat::BINARY32
-        && normal_terms_f32(cfg, o, d, r, normals, &mut fast.0, &mut fast.1)
-    {
-        return fast;
+    let mut t = ([NormalTerm::default(); 8], [0u64; 8], false);
+    t.2 = normal_terms_into(cfg, o, d, r, normals, &mut t.0, &mut t.1);
+    t
+}
+
+/// [`ray_terms`] into the first `cfg.k` entries of `terms` and `b_lo`
+/// (callers that keep the terms write them in place); returns `invalid`.
+///
+/// Binary32 rays with valid inputs take [`normal_terms_f32`], bit-identical
+/// to [`normal_terms_generic`] (`tests/fast_paths.rs`); other inputs the
+/// same steps with the dispatching operators.
+#[inline]
+pub fn normal_terms_into(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+    terms: &mut [NormalTerm],
+    b_lo: &mut [u64],
+) -> bool {
+    let (terms, b_lo) = (&mut terms[..cfg.k], &mut b_lo[..cfg.k]);
+    if cfg.ray == FloatFormat::BINARY32 && normal_terms_f32(cfg, o, d, r, normals, terms, b_lo) {
+        return false;
     }
-    normal_terms_steps(cfg, o, d, r, normals, false)
+    normal_terms_steps(cfg, o, d, r, normals, false, terms, b_lo)
 }
 
 /// The reference [`normal_terms`]: the generic float operators, step by step.
@@ -286,7 +303,10 @@ pub fn normal_terms_generic(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> ([NormalTerm; 8], [u64; 8], bool) {
-    normal_terms_steps(cfg, o, d, r, normals, true)
+    let mut t = ([NormalTerm::default(); 8], [0u64; 8], false);
+    let k = cfg.k;
+    t.2 = normal_terms_steps(cfg, o, d, r, normals, true, &mut t.0[..k], &mut t.1[..k]);
+    t
 }
 
 /// Normal `j` of `normals` (missing ones read as 0).
@@ -328,7 +348,9 @@ fn crossing_of(cf: FloatFormat, b_lo: u64) -> Crossing {
 }
 
 /// The steps of [`ray_terms`] with the generic operators (`generic`) or the
-/// dispatching ones (their fast paths where they have one).
+/// dispatching ones (their fast paths where they have one), into `terms`
+/// and `b_los` (`cfg.k` entries each); returns `invalid`.
+#[allow(clippy::too_many_arguments)]
 fn normal_terms_steps(
     cfg: &Config,
     o: &[u64; 3],
@@ -336,7 +358,9 @@ fn normal_terms_steps(
     r: &[u64; 3],
     normals: &[[u64; 3]],
     generic: bool,
-) -> ([NormalTerm; 8], [u64; 8], bool) {
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
+) -> bool {
     let (f, cf, pf) = (cfg.ray, cfg.crossing(), cfg.plane);
     let (add_du, dot, rcp): (
         fn(FloatFormat, u64, u64) -> DownUp,
@@ -349,8 +373,6 @@ fn normal_terms_steps(
     };
     let invalid = inputs_invalid((f, pf, cfg.k), o, d, r, normals);
     let u = [0, 1, 2].map(|i| add_du(f, o[i], negate(f, r[i])));
-    let mut terms = [NormalTerm::default(); 8];
-    let mut b_los = [0u64; 8];
     for j in 0..cfg.k {
         let n = normal(normals, j).map(|v| v & pf.mask());
         let u_lo = [0, 1, 2].map(|i| {
@@ -371,12 +393,12 @@ fn normal_terms_steps(
         };
         b_los[j] = b_lo;
     }
-    (terms, b_los, invalid)
+    invalid
 }
 
-/// [`normal_terms`] for binary32 rays (so the plane and the crossing
+/// [`normal_terms_into`] for binary32 rays (so the plane and the crossing
 /// formats, contained in the ray format, are binary32 subgrids with E <= 8)
-/// into `terms` and `b_los`; false (take the steps) for an invalid input or
+/// into `terms` and `b_los` (`k` entries each); false (take the steps) for an invalid input or
 /// an infinite `o − r` bound. The ray's operands are decoded once for all
 /// normals and both dot products ([`dot3_floor_operands`], the narrow path
 /// of [`dot3_floor`]); `1/|b_lo|` is one `f64` division rounded both ways
@@ -387,8 +409,8 @@ fn normal_terms_f32(
     d: &[u64; 3],
     r: &[u64; 3],
     normals: &[[u64; 3]],
-    terms: &mut [NormalTerm; 8],
-    b_los: &mut [u64; 8],
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
 ) -> bool {
     const B16: FloatFormat = FloatFormat::BINARY16;
     const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
@@ -418,15 +440,15 @@ fn normal_terms_f32_in(
     d: &[u64; 3],
     r: &[u64; 3],
     normals: &[[u64; 3]],
-    terms: &mut [NormalTerm; 8],
-    b_los: &mut [u64; 8],
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
 ) -> Option<()> {
     const B32: FloatFormat = FloatFormat::BINARY32;
     if inputs_invalid((B32, pf, k), o, d, r, normals) {
         return None;
     }
     let v = |x: u64| f32::from_bits(x as u32);
-    let (down, up) = add_down_up_f32_n(o.map(v), r.map(|x| -v(x)));
+    let (down, up) = add_down_up_f32_n([v(o[0]), v(o[1]), v(o[2])], [-v(r[0]), -v(r[1]), -v(r[2])]);
     let op = |x: f32| Dot3Operand::of(B32, x.to_bits() as u64);
     let mut u_down = [Dot3Operand::default(); 3];
     let mut u_up = [Dot3Operand::default(); 3];

@@ -118,8 +118,17 @@ impl Operand {
 /// term is below `2^60` in magnitude, so `S` fits an `i64`.
 #[inline(always)]
 pub(crate) fn dot3_floor_operands(to: FloatFormat, a: &[Operand; 3], b: &[Operand; 3]) -> u64 {
-    let m = [0, 1, 2].map(|i| a[i].sig * b[i].sig);
-    let e = [0, 1, 2].map(|i| a[i].lsb + b[i].lsb);
+    // (array literals, not `map`: this must inline into the callers' loops)
+    let m = [
+        a[0].sig * b[0].sig,
+        a[1].sig * b[1].sig,
+        a[2].sig * b[2].sig,
+    ];
+    let e = [
+        a[0].lsb + b[0].lsb,
+        a[1].lsb + b[1].lsb,
+        a[2].lsb + b[2].lsb,
+    ];
     let lsb = e[0].max(e[1]).max(e[2]);
     if lsb < ZERO_LSB / 2 {
         // every product has a zero factor
