@@ -19,7 +19,7 @@
 //! so `keep = 0` only when the exact segment misses the region.
 
 use crate::float::native::{
-    add_down_up_f32, add_down_up_f32_n, mul_f32, round_exact_f64_to, to_f32,
+    add_down_up_f32, add_down_up_f32_n, mul_f32, round_exact_f64_down_up, to_f32,
 };
 use crate::float::{
     add_down_up, add_down_up_generic, add_generic, classify, convert, dot3_floor,
@@ -398,11 +398,12 @@ fn normal_terms_steps(
 
 /// [`normal_terms_into`] for binary32 rays (so the plane and the crossing
 /// formats, contained in the ray format, are binary32 subgrids with E <= 8)
-/// into `terms` and `b_los` (`k` entries each); false (take the steps) for an invalid input or
-/// an infinite `o − r` bound. The ray's operands are decoded once for all
-/// normals and both dot products ([`dot3_floor_operands`], the narrow path
-/// of [`dot3_floor`]); `1/|b_lo|` is one `f64` division rounded both ways
-/// ([`recip_f64`]).
+/// into `terms` and `b_los` (`k` entries each); false (take the steps) for an
+/// invalid input or an infinite `o − r` bound. The ray's operands are
+/// decoded once for all normals and both dot products
+/// ([`dot3_floor_operands`], the narrow path of [`dot3_floor`]); `1/|b_lo|`
+/// is one `f64` division ([`recip_f64`]) rounded both ways
+/// ([`round_exact_f64_down_up`]).
 fn normal_terms_f32(
     cfg: &Config,
     o: &[u64; 3],
@@ -444,9 +445,8 @@ fn normal_terms_f32_in(
     b_los: &mut [u64],
 ) -> Option<()> {
     const B32: FloatFormat = FloatFormat::BINARY32;
-    if inputs_invalid((B32, pf, k), o, d, r, normals) {
-        return None;
-    }
+    // An invalid input shows as an operand that does not decode: a NaN or
+    // infinite d or normal, or an o or r that makes o − r NaN or infinite.
     let v = |x: u64| f32::from_bits(x as u32);
     let (down, up) = add_down_up_f32_n([v(o[0]), v(o[1]), v(o[2])], [-v(r[0]), -v(r[1]), -v(r[2])]);
     let op = |x: f32| Dot3Operand::of(B32, x.to_bits() as u64);
@@ -470,10 +470,11 @@ fn normal_terms_f32_in(
         }
         let b_lo = dot3_floor_operands(cf, &n, &dd);
         let q = recip_f64(cf, b_lo & !cf.sign_bit());
+        let (rcp_lo, rcp_hi) = round_exact_f64_down_up(cf, q);
         terms[j] = NormalTerm {
             no_lo: dot3_floor_operands(B32, &n, &u_lo),
-            rcp_lo: round_exact_f64_to(cf, q, RDN),
-            rcp_hi: round_exact_f64_to(cf, q, RUP),
+            rcp_lo,
+            rcp_hi,
             dir: crossing_of(cf, b_lo),
         };
         b_los[j] = b_lo;

@@ -235,3 +235,23 @@ pub fn round_exact_f64_to(to: FloatFormat, v: f64, mode: RoundingMode) -> u64 {
     let mag = (mag - low) + ((away as u32) << sh);
     to.with_sign(neg, (mag >> sh) as u64)
 }
+
+/// `v` rounded to `to` both toward −∞ and toward +∞, as bits, when
+/// [`rounds_natively`] in the directed modes: the upward result is the
+/// downward one, or the next value of `to` above it when `v` is not a value
+/// of `to` (one rounding instead of two; an overflowing `v` gives the
+/// largest finite value down and the infinity up, as the step from it).
+#[inline(always)]
+pub fn round_exact_f64_down_up(to: FloatFormat, v: f64) -> (u64, u64) {
+    let down = round_exact_f64_to(to, v, RoundingMode::Down);
+    // a NaN is not stepped (no value equals it)
+    let inexact = (to_f32(to, down) as f64 != v) & !v.is_nan();
+    // one step toward +inf: away from zero for a positive `down`, toward zero
+    // for a negative one (never -0: that is only the exact result of -0)
+    let step = if down & to.sign_bit() == 0 {
+        1
+    } else {
+        u64::MAX
+    };
+    (down, down.wrapping_add(step * inexact as u64) & to.mask())
+}
