@@ -264,6 +264,17 @@ pub fn eval(cfg: &Config, x: &BundleIn) -> Out {
     }
 }
 
+/// `eval(cfg, x).any_hit` (a single ray's hit bit) without the AllHit test:
+/// the fast path skips it; the same bit for every input.
+#[inline]
+pub fn any_hit(cfg: &Config, x: &BundleIn) -> bool {
+    if crate::float::native::fits_f32(cfg.fmt()) {
+        fast::any_hit(cfg, x)
+    } else {
+        eval_generic(cfg, x).any_hit
+    }
+}
+
 /// Evaluates one transaction with the generic float operators (the reference
 /// the fast path of [`eval`] is checked against).
 pub fn eval_generic(cfg: &Config, x: &BundleIn) -> Out {

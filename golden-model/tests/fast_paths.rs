@@ -14,7 +14,9 @@ use golden_model::float::{
     add, add_down_up, add_down_up_generic, add_generic, dot3_floor, dot3_floor_generic, fma,
     fma_generic, mul, mul_generic, FloatFormat, RoundingMode,
 };
-use golden_model::silhouette::{eval, eval_generic, BundleIn, Config, OriginMode, Rounding};
+use golden_model::silhouette::{
+    any_hit, eval, eval_generic, BundleIn, Config, OriginMode, Rounding,
+};
 use golden_model::transform::{recip, recip_generic};
 use silhouette_gen::{gen_bundle, realistic_scene_case, Rng, KINDS};
 
@@ -99,7 +101,8 @@ fn raw_bundle(rng: &mut common::Rng, f: FloatFormat, sp: &[u64]) -> BundleIn {
     }
 }
 
-/// `n` silhouette vectors per configuration class of `fmts`: adversarial
+/// `n` silhouette vectors per configuration class of `fmts` (`eval` and
+/// `any_hit` against `eval_generic`): adversarial
 /// bundles and rays of `silhouette_gen` (grazing, along a face, origin on
 /// the box, specials, ...), realistic binary32 scene rays, and raw operands.
 fn silhouette_class(what: &str, fmts: &[FloatFormat], seed: u64) {
@@ -135,9 +138,12 @@ fn silhouette_class(what: &str, fmts: &[FloatFormat], seed: u64) {
                 gen_bundle(f, &mut rng, kind, bounded, mixed).1
             }
         };
-        eq.check(eval(&cfg, &x), eval_generic(&cfg, &x), || {
-            format!("{cfg:?}\n{x:x?}")
-        });
+        let generic = eval_generic(&cfg, &x);
+        eq.check(
+            (eval(&cfg, &x), any_hit(&cfg, &x)),
+            (generic, generic.any_hit),
+            || format!("{cfg:?}\n{x:x?}"),
+        );
     }
     eq.finish();
 }
