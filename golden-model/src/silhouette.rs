@@ -74,6 +74,7 @@ impl Config {
         })
     }
     /// The input format.
+    #[inline]
     pub fn fmt(&self) -> FloatFormat {
         self.prod.narrow()
     }
@@ -260,6 +261,17 @@ pub fn eval(cfg: &Config, x: &BundleIn) -> Out {
         fast::eval(cfg, x)
     } else {
         eval_generic(cfg, x)
+    }
+}
+
+/// `eval(cfg, x).any_hit` (a single ray's hit bit) without the AllHit test:
+/// the fast path skips it; the same bit for every input.
+#[inline]
+pub fn any_hit(cfg: &Config, x: &BundleIn) -> bool {
+    if crate::float::native::fits_f32(cfg.fmt()) {
+        fast::any_hit(cfg, x)
+    } else {
+        eval_generic(cfg, x).any_hit
     }
 }
 

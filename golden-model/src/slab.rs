@@ -98,6 +98,18 @@ pub fn eval(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
 /// then `t_enter`, `t_exit` and `hit` as in [`eval`] (IEEE 754-2019 maximum /
 /// minimum, NaN propagates, `hit = t_enter <= t_exit`).
 pub fn eval_conservative(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
+    if fmt == FloatFormat::BINARY32 {
+        // the cull unit's slab: the same code with a constant format (the
+        // float operators then take their binary32 paths without dispatch)
+        eval_conservative_in(FloatFormat::BINARY32, x)
+    } else {
+        eval_conservative_in(fmt, x)
+    }
+}
+
+/// [`eval_conservative`] in `fmt`.
+#[inline(always)]
+fn eval_conservative_in(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
     let (down, up) = (RoundingMode::Down, RoundingMode::Up);
     let sign = fmt.sign_bit();
     let zero = fmt.zero(false);

@@ -14,7 +14,9 @@ use golden_model::float::{
     add, add_down_up, add_down_up_generic, add_generic, dot3_floor, dot3_floor_generic, fma,
     fma_generic, mul, mul_generic, FloatFormat, RoundingMode,
 };
-use golden_model::silhouette::{eval, eval_generic, BundleIn, Config, OriginMode, Rounding};
+use golden_model::silhouette::{
+    any_hit, eval, eval_generic, BundleIn, Config, OriginMode, Rounding,
+};
 use golden_model::transform::{recip, recip_generic};
 use silhouette_gen::{gen_bundle, realistic_scene_case, Rng, KINDS};
 
@@ -99,7 +101,8 @@ fn raw_bundle(rng: &mut common::Rng, f: FloatFormat, sp: &[u64]) -> BundleIn {
     }
 }
 
-/// `n` silhouette vectors per configuration class of `fmts`: adversarial
+/// `n` silhouette vectors per configuration class of `fmts` (`eval` and
+/// `any_hit` against `eval_generic`): adversarial
 /// bundles and rays of `silhouette_gen` (grazing, along a face, origin on
 /// the box, specials, ...), realistic binary32 scene rays, and raw operands.
 fn silhouette_class(what: &str, fmts: &[FloatFormat], seed: u64) {
@@ -135,9 +138,12 @@ fn silhouette_class(what: &str, fmts: &[FloatFormat], seed: u64) {
                 gen_bundle(f, &mut rng, kind, bounded, mixed).1
             }
         };
-        eq.check(eval(&cfg, &x), eval_generic(&cfg, &x), || {
-            format!("{cfg:?}\n{x:x?}")
-        });
+        let generic = eval_generic(&cfg, &x);
+        eq.check(
+            (eval(&cfg, &x), any_hit(&cfg, &x)),
+            (generic, generic.any_hit),
+            || format!("{cfg:?}\n{x:x?}"),
+        );
     }
     eq.finish();
 }
@@ -337,6 +343,58 @@ fn cull_eval_binary32_rays() {
         eq.check(cull::eval(&cfg, &x), out, || format!("{cfg:?}\n{x:x?}"));
     }
     println!("cull eval: {valid} valid inputs, {culled} culled");
+    eq.finish();
+}
+
+#[test]
+fn cull_ray_terms_binary32_rays() {
+    let f = FloatFormat::BINARY32;
+    let planes = [
+        FloatFormat::BINARY16,
+        FloatFormat::BFLOAT16,
+        FloatFormat::new(5, 5).unwrap(),
+        FloatFormat::new(8, 15).unwrap(),
+        FloatFormat::BINARY32,
+    ];
+    let sf = specials(f);
+    let mut rng = common::Rng::new(65);
+    let mut eq = Equal::new(
+        "cull ray terms, binary32 rays (planes e5m10, e8m7, e5m5, e8m15, e8m23; K 1..8)",
+    );
+    let mut valid = 0u64;
+    for i in 0..cases() {
+        let pf = planes[(i % planes.len() as u64) as usize];
+        let k = 1 + (i / planes.len() as u64 % 8) as usize;
+        let cfg = cull::Config::new(f, pf, k).unwrap();
+        let sp = specials(pf);
+        let mut v = |fmt, s: &[u64]| operand(&mut rng, fmt, s);
+        let o = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let mut r = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let d = [v(f, &sf), v(f, &sf), v(f, &sf)];
+        let normals: Vec<[u64; 3]> = (0..k)
+            .map(|_| [v(pf, &sp), v(pf, &sp), v(pf, &sp)])
+            .collect();
+        match rng.below(4) {
+            // the corner near the origin: cancellation in o − r
+            0 => r = o.map(|x| operand_near(&mut rng, f, x, 2)),
+            1 => r = o,
+            _ => {}
+        }
+        // fewer normals than k: the missing ones read as 0
+        let n = if rng.below(8) == 0 {
+            rng.below(k as u64 + 1) as usize
+        } else {
+            k
+        };
+        let fast = cull::normal_terms(&cfg, &o, &d, &r, &normals[..n]);
+        valid += !fast.2 as u64;
+        eq.check(
+            fast,
+            cull::normal_terms_generic(&cfg, &o, &d, &r, &normals[..n]),
+            || format!("{cfg:?}\no = {o:#x?}, d = {d:#x?}, r = {r:#x?}\nnormals = {normals:#x?}"),
+        );
+    }
+    println!("cull ray terms: {valid} valid inputs");
     eq.finish();
 }
 

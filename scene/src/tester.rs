@@ -12,7 +12,7 @@
 
 use golden_model::exact::ray_box::{ray_hits_box, BoxIn, RayIn};
 use golden_model::float::{convert, sub, FloatFormat, RoundingMode};
-use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding, Verdict};
+use golden_model::silhouette::{any_hit, eval, BundleIn, Config, OriginMode, Rounding, Verdict};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// One box test of a single ray: box, origin, direction (binary32 bits), segment `[0, t_max]`.
@@ -82,7 +82,7 @@ pub fn ray_input(x: &RayBox) -> BundleIn {
 
 impl BoxTester for Golden {
     fn ray(&self, x: &RayBox) -> bool {
-        eval(&self.shared, &ray_input(x)).any_hit
+        any_hit(&self.shared, &ray_input(x))
     }
     fn bundle(&self, x: &BundleBox) -> Verdict {
         let cfg = if x.shared {

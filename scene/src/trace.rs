@@ -16,7 +16,7 @@ use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{
-    self as cull, box_interval, normal_terms, slab_reciprocal, NormalTerm,
+    self as cull, box_interval, normal_terms_into, slab_reciprocal, NormalTerm,
 };
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::silhouette::{BundleIn, Verdict};
@@ -321,19 +321,25 @@ impl LazyTerms<'_> {
 
     /// The terms of ray `i` (`r`), the first `k` entries.
     fn get(&mut self, cfg: &cull::Config, i: usize, r: &TRay) -> &[NormalTerm; 8] {
-        let compute = || normal_terms(cfg, &r.o, &r.d, &self.r_min, self.normals).0;
+        // computed in place (no copy of the terms)
+        let (normals, r_min) = (self.normals, self.r_min);
+        let compute = |t: &mut [NormalTerm; 8]| {
+            normal_terms_into(cfg, &r.o, &r.d, &r_min, normals, t, &mut [0; 8]);
+        };
         match self.first {
             None => {
-                let t = compute();
-                &self.first.insert((i, t)).1
+                let t = &mut self.first.insert((i, [NormalTerm::default(); 8])).1;
+                compute(t);
+                t
             }
             Some((j, _)) if j == i => &self.first.as_ref().unwrap().1,
             Some(_) => match self.more.iter().position(|x| x.0 == i) {
                 Some(p) => &self.more[p].1,
                 None => {
-                    let t = compute();
-                    self.more.push((i, t));
-                    &self.more.last().unwrap().1
+                    self.more.push((i, [NormalTerm::default(); 8]));
+                    let t = &mut self.more.last_mut().unwrap().1;
+                    compute(t);
+                    t
                 }
             },
         }
@@ -612,7 +618,7 @@ impl<'a> Tracer<'a> {
         }
         let blas = &self.accel.blas[x.mesh];
         let mut root_terms = self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min);
-        let mut pool = Vec::new();
+        // the thread's pool: the BLAS lists outlive this instance entry
         self.visit_blas(
             inst as u32,
             x.mesh,
@@ -621,7 +627,7 @@ impl<'a> Tracer<'a> {
             &mut root_terms,
             rays,
             st,
-            &mut pool,
+            pool,
         );
         st.cull_ray_terms += root_terms.computed();
     }

@@ -15,6 +15,6 @@ pub mod stats;
 pub mod tester;
 
 pub use tester::{
-    eval, eval_generic, eval_parts, eval_trace, normal_terms, ray_terms, ray_terms_parts, ChildIn,
-    Config, CullOut, RayIn, RayTerms,
+    eval, eval_generic, eval_parts, eval_trace, normal_terms, normal_terms_generic,
+    normal_terms_into, ray_terms, ray_terms_parts, ChildIn, Config, CullOut, RayIn, RayTerms,
 };

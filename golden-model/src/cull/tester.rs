@@ -18,12 +18,15 @@
 //! Every rounded value is rounded the way that only widens the interval,
 //! so `keep = 0` only when the exact segment misses the region.
 
-use crate::float::native::{add_down_up_f32, mul_f32, to_f32};
+use crate::float::native::{
+    add_down_up_f32, add_down_up_f32_n, mul_f32, round_exact_f64_down_up, to_f32,
+};
 use crate::float::{
-    add_down_up, add_generic, classify, convert, dot3_floor, le, lt, mul_generic, Class,
+    add_down_up, add_down_up_generic, add_generic, classify, convert, dot3_floor,
+    dot3_floor_generic, dot3_floor_operands, le, lt, mul_generic, Class, Dot3Operand, DownUp,
     FloatFormat, RoundingMode,
 };
-use crate::transform::recip;
+use crate::transform::{recip, recip_f64, recip_generic};
 
 const RDN: RoundingMode = RoundingMode::Down;
 const RUP: RoundingMode = RoundingMode::Up;
@@ -244,16 +247,19 @@ pub fn ray_terms_parts(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> RayTerms {
-    let (terms, b_lo, invalid) = normal_terms(cfg, o, d, r, normals);
+    let mut terms = vec![NormalTerm::default(); cfg.k];
+    let mut b_lo = vec![0; cfg.k];
+    let invalid = normal_terms_into(cfg, o, d, r, normals, &mut terms, &mut b_lo);
     RayTerms {
-        terms: terms[..cfg.k].to_vec(),
-        b_lo: b_lo[..cfg.k].to_vec(),
+        terms,
+        b_lo,
         invalid,
     }
 }
 
 /// [`ray_terms`] without allocation: the first `cfg.k` entries of the
 /// arrays are the terms and the `b_lo` values, then `invalid`.
+#[inline]
 pub fn normal_terms(
     cfg: &Config,
     o: &[u64; 3],
@@ -261,25 +267,114 @@ pub fn normal_terms(
     r: &[u64; 3],
     normals: &[[u64; 3]],
 ) -> ([NormalTerm; 8], [u64; 8], bool) {
-    let f = cfg.ray;
-    let cf = cfg.crossing();
-    let pf = cfg.plane;
+    let mut t = ([NormalTerm::default(); 8], [0u64; 8], false);
+    t.2 = normal_terms_into(cfg, o, d, r, normals, &mut t.0, &mut t.1);
+    t
+}
+
+/// [`ray_terms`] into the first `cfg.k` entries of `terms` and `b_lo`
+/// (callers that keep the terms write them in place); returns `invalid`.
+///
+/// Binary32 rays with valid inputs take [`normal_terms_f32`], bit-identical
+/// to [`normal_terms_generic`] (`tests/fast_paths.rs`); other inputs the
+/// same steps with the dispatching operators.
+#[inline]
+pub fn normal_terms_into(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+    terms: &mut [NormalTerm],
+    b_lo: &mut [u64],
+) -> bool {
+    let (terms, b_lo) = (&mut terms[..cfg.k], &mut b_lo[..cfg.k]);
+    if cfg.ray == FloatFormat::BINARY32 && normal_terms_f32(cfg, o, d, r, normals, terms, b_lo) {
+        return false;
+    }
+    normal_terms_steps(cfg, o, d, r, normals, false, terms, b_lo)
+}
+
+/// The reference [`normal_terms`]: the generic float operators, step by step.
+pub fn normal_terms_generic(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> ([NormalTerm; 8], [u64; 8], bool) {
+    let mut t = ([NormalTerm::default(); 8], [0u64; 8], false);
+    let k = cfg.k;
+    t.2 = normal_terms_steps(cfg, o, d, r, normals, true, &mut t.0[..k], &mut t.1[..k]);
+    t
+}
+
+/// Normal `j` of `normals` (missing ones read as 0).
+fn normal(normals: &[[u64; 3]], j: usize) -> [u64; 3] {
+    normals.get(j).copied().unwrap_or_default()
+}
+
+/// A NaN or infinity in `o`, `d`, `r` or one of the `k` normals (missing
+/// normals read as 0).
+#[inline(always)]
+fn inputs_invalid(
+    (f, pf, k): (FloatFormat, FloatFormat, usize),
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+) -> bool {
     // NaN or infinity: the exponent field all ones
     let bad = |fmt: FloatFormat, v: u64| v & fmt.mask() & !fmt.sign_bit() >= fmt.inf(false);
-    let normal = |j: usize| normals.get(j).copied().unwrap_or_default();
     let mut invalid = false;
     for i in 0..3 {
         invalid |= bad(f, o[i]) | bad(f, d[i]) | bad(f, r[i]);
-        for j in 0..cfg.k {
-            invalid |= bad(pf, normal(j)[i]);
-        }
     }
-    let u = [0, 1, 2].map(|i| add_down_up(f, o[i], negate(f, r[i])));
-    let mut terms = [NormalTerm::default(); 8];
-    let mut b_los = [0u64; 8];
+    for n in &normals[..k.min(normals.len())] {
+        invalid |= bad(pf, n[0]) | bad(pf, n[1]) | bad(pf, n[2]);
+    }
+    invalid
+}
+
+/// The crossing direction of `b_lo` (crossing format `cf`).
+fn crossing_of(cf: FloatFormat, b_lo: u64) -> Crossing {
+    if b_lo & cf.mask() & !cf.sign_bit() == 0 {
+        Crossing::Parallel
+    } else if b_lo & cf.sign_bit() == 0 {
+        Crossing::Exit
+    } else {
+        Crossing::Entry
+    }
+}
+
+/// The steps of [`ray_terms`] with the generic operators (`generic`) or the
+/// dispatching ones (their fast paths where they have one), into `terms`
+/// and `b_los` (`cfg.k` entries each); returns `invalid`.
+#[allow(clippy::too_many_arguments)]
+fn normal_terms_steps(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+    generic: bool,
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
+) -> bool {
+    let (f, cf, pf) = (cfg.ray, cfg.crossing(), cfg.plane);
+    let (add_du, dot, rcp): (
+        fn(FloatFormat, u64, u64) -> DownUp,
+        fn(FloatFormat, FloatFormat, FloatFormat, [u64; 3], [u64; 3]) -> u64,
+        fn(FloatFormat, u64, RoundingMode) -> u64,
+    ) = if generic {
+        (add_down_up_generic, dot3_floor_generic, recip_generic)
+    } else {
+        (add_down_up, dot3_floor, recip)
+    };
+    let invalid = inputs_invalid((f, pf, cfg.k), o, d, r, normals);
+    let u = [0, 1, 2].map(|i| add_du(f, o[i], negate(f, r[i])));
     for j in 0..cfg.k {
-        let n = normal(j);
-        let n = n.map(|v| v & pf.mask());
+        let n = normal(normals, j).map(|v| v & pf.mask());
         let u_lo = [0, 1, 2].map(|i| {
             if n[i] & pf.sign_bit() != 0 {
                 u[i].up
@@ -287,25 +382,104 @@ pub fn normal_terms(
                 u[i].down
             }
         });
-        let no_lo = dot3_floor(pf, f, f, n, u_lo);
-        let b_lo = dot3_floor(pf, f, cf, n, *d);
-        let dir = if b_lo & cf.mask() & !cf.sign_bit() == 0 {
-            Crossing::Parallel
-        } else if b_lo & cf.sign_bit() == 0 {
-            Crossing::Exit
-        } else {
-            Crossing::Entry
-        };
+        let no_lo = dot(pf, f, f, n, u_lo);
+        let b_lo = dot(pf, f, cf, n, *d);
         let mag = b_lo & !cf.sign_bit() & cf.mask();
         terms[j] = NormalTerm {
             no_lo: if invalid { f.canonical_nan() } else { no_lo },
-            rcp_lo: recip(cf, mag, RDN),
-            rcp_hi: recip(cf, mag, RUP),
-            dir,
+            rcp_lo: rcp(cf, mag, RDN),
+            rcp_hi: rcp(cf, mag, RUP),
+            dir: crossing_of(cf, b_lo),
         };
         b_los[j] = b_lo;
     }
-    (terms, b_los, invalid)
+    invalid
+}
+
+/// [`normal_terms_into`] for binary32 rays (so the plane and the crossing
+/// formats, contained in the ray format, are binary32 subgrids with E <= 8)
+/// into `terms` and `b_los` (`k` entries each); false (take the steps) for an
+/// invalid input or an infinite `o − r` bound. The ray's operands are
+/// decoded once for all normals and both dot products
+/// ([`dot3_floor_operands`], the narrow path of [`dot3_floor`]); `1/|b_lo|`
+/// is one `f64` division ([`recip_f64`]) rounded both ways
+/// ([`round_exact_f64_down_up`]).
+fn normal_terms_f32(
+    cfg: &Config,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
+) -> bool {
+    const B16: FloatFormat = FloatFormat::BINARY16;
+    const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
+        Ok(f) => f,
+        Err(_) => panic!("e8m18"),
+    };
+    let (pf, cf) = (cfg.plane, cfg.crossing());
+    let k = cfg.k;
+    if (pf, cf) == (B16, E8M18) {
+        // the renderer's planes: the same code with constant formats
+        normal_terms_f32_in(B16, E8M18, k, o, d, r, normals, terms, b_los)
+    } else {
+        normal_terms_f32_in(pf, cf, k, o, d, r, normals, terms, b_los)
+    }
+    .is_some()
+}
+
+/// [`normal_terms_f32`] with the plane and crossing formats `pf`, `cf` and
+/// `k` planes.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn normal_terms_f32_in(
+    pf: FloatFormat,
+    cf: FloatFormat,
+    k: usize,
+    o: &[u64; 3],
+    d: &[u64; 3],
+    r: &[u64; 3],
+    normals: &[[u64; 3]],
+    terms: &mut [NormalTerm],
+    b_los: &mut [u64],
+) -> Option<()> {
+    const B32: FloatFormat = FloatFormat::BINARY32;
+    // An invalid input shows as an operand that does not decode: a NaN or
+    // infinite d or normal, or an o or r that makes o − r NaN or infinite.
+    let v = |x: u64| f32::from_bits(x as u32);
+    let (down, up) = add_down_up_f32_n([v(o[0]), v(o[1]), v(o[2])], [-v(r[0]), -v(r[1]), -v(r[2])]);
+    let op = |x: f32| Dot3Operand::of(B32, x.to_bits() as u64);
+    let mut u_down = [Dot3Operand::default(); 3];
+    let mut u_up = [Dot3Operand::default(); 3];
+    let mut dd = [Dot3Operand::default(); 3];
+    for i in 0..3 {
+        u_down[i] = op(down[i])?;
+        u_up[i] = op(up[i])?;
+        dd[i] = Dot3Operand::of(B32, d[i])?;
+    }
+    for j in 0..k {
+        let nj = normal(normals, j);
+        let mut n = [Dot3Operand::default(); 3];
+        let mut u_lo = u_down;
+        for i in 0..3 {
+            n[i] = Dot3Operand::of(pf, nj[i])?;
+            if n[i].sig < 0 {
+                u_lo[i] = u_up[i];
+            }
+        }
+        let b_lo = dot3_floor_operands(cf, &n, &dd);
+        let q = recip_f64(cf, b_lo & !cf.sign_bit());
+        let (rcp_lo, rcp_hi) = round_exact_f64_down_up(cf, q);
+        terms[j] = NormalTerm {
+            no_lo: dot3_floor_operands(B32, &n, &u_lo),
+            rcp_lo,
+            rcp_hi,
+            dir: crossing_of(cf, b_lo),
+        };
+        b_los[j] = b_lo;
+    }
+    Some(())
 }
 
 /// Evaluates one child (unit `cull`).

@@ -23,6 +23,7 @@ pub fn add_generic(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 
 }
 
 /// `a - b` in `fmt`, rounded once in `mode` (= `a + (-b)`, also for NaN `b`).
+#[inline]
 pub fn sub(fmt: FloatFormat, a: u64, b: u64, mode: RoundingMode) -> u64 {
     add(fmt, a, b ^ fmt.sign_bit(), mode)
 }

@@ -5,11 +5,13 @@
 use super::format::FloatFormat;
 
 /// `a < b`; false if either is NaN.
+#[inline]
 pub fn lt(fmt: FloatFormat, a: u64, b: u64) -> bool {
     ordered(fmt, a, b) && order_key(fmt, a) < order_key(fmt, b)
 }
 
 /// `a <= b`; false if either is NaN.
+#[inline]
 pub fn le(fmt: FloatFormat, a: u64, b: u64) -> bool {
     ordered(fmt, a, b) && order_key(fmt, a) <= order_key(fmt, b)
 }

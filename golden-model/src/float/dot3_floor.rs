@@ -56,8 +56,7 @@ pub fn dot3_floor(
 }
 
 /// [`dot3_floor`] for `Fa + Fb <= 58` and finite operands (`None` if an
-/// operand is NaN or infinite): each product `M_i < 2^60`, each floored term
-/// below `2^60` in magnitude, so `S` fits an `i64`.
+/// operand is NaN or infinite): steps 2 to 5 on [`Operand`]s.
 #[inline(always)]
 fn dot3_floor_narrow(
     fa: FloatFormat,
@@ -66,49 +65,80 @@ fn dot3_floor_narrow(
     a: [u64; 3],
     b: [u64; 3],
 ) -> Option<u64> {
-    // (sign, significand, lsb exponent) of a finite value; None for inf / NaN
-    let parts = |f: FloatFormat, v: u64| -> Option<(bool, u64, i32)> {
+    let mut x = [Operand::default(); 3];
+    let mut y = [Operand::default(); 3];
+    for i in 0..3 {
+        x[i] = Operand::of(fa, a[i])?;
+        y[i] = Operand::of(fb, b[i])?;
+    }
+    Some(dot3_floor_operands(to, &x, &y))
+}
+
+/// A finite operand of [`dot3_floor`] as its step 2 reads it: the value
+/// `sig · 2^lsb`, `sig` the signed significand with its hidden bit and `lsb`
+/// the operand's lsb exponent (`max(biased, 1) − bias − F`); a zero has
+/// `lsb = ZERO_LSB`, far below every real one, so that products with a zero
+/// factor drop out of step 3 without a test. Callers that reuse an operand
+/// in several dot products decode it once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct Operand {
+    pub sig: i64,
+    pub lsb: i32,
+}
+
+/// The lsb exponent of a zero [`Operand`]: a sum with it stays below
+/// `ZERO_LSB / 2`, every real lsb exponent (at least −2 · 1074 − 52) above.
+const ZERO_LSB: i32 = -(1 << 29);
+
+impl Operand {
+    /// `v` in `f` decoded; `None` for an infinity or NaN.
+    #[inline(always)]
+    pub fn of(f: FloatFormat, v: u64) -> Option<Operand> {
         let frac_bits = f.frac_bits();
         let biased = (v >> frac_bits) & f.exp_all_ones();
         if biased == f.exp_all_ones() {
             return None;
         }
         let frac = v & f.frac_mask();
-        let sign = v & f.sign_bit() != 0;
-        Some(if biased == 0 {
-            (sign, frac, f.emin() - frac_bits as i32)
+        let sig = if biased == 0 {
+            frac
         } else {
-            (
-                sign,
-                frac | 1 << frac_bits,
-                biased as i32 - f.bias() - frac_bits as i32,
-            )
+            frac | 1 << frac_bits
+        } as i64;
+        let lsb = biased.max(1) as i32 - f.bias() - frac_bits as i32;
+        Some(Operand {
+            sig: if v & f.sign_bit() != 0 { -sig } else { sig },
+            lsb: if sig == 0 { ZERO_LSB } else { lsb },
         })
-    };
-    let mut m = [0u64; 3];
-    let mut e = [0i32; 3];
-    let mut neg = [false; 3];
-    let mut lsb = i32::MIN;
-    for i in 0..3 {
-        let (sx, mx, ex) = parts(fa, a[i])?;
-        let (sy, my, ey) = parts(fb, b[i])?;
-        m[i] = mx * my;
-        e[i] = ex + ey;
-        neg[i] = sx != sy;
-        if m[i] != 0 {
-            lsb = lsb.max(e[i]);
-        }
     }
-    if lsb == i32::MIN {
-        return Some(to.zero(false));
+}
+
+/// Steps 2 to 5 of [`dot3_floor`] on decoded finite operands whose
+/// significand products are below `2^60` (`Fa + Fb <= 58`): each floored
+/// term is below `2^60` in magnitude, so `S` fits an `i64`.
+#[inline(always)]
+pub(crate) fn dot3_floor_operands(to: FloatFormat, a: &[Operand; 3], b: &[Operand; 3]) -> u64 {
+    // (array literals, not `map`: this must inline into the callers' loops)
+    let m = [
+        a[0].sig * b[0].sig,
+        a[1].sig * b[1].sig,
+        a[2].sig * b[2].sig,
+    ];
+    let e = [
+        a[0].lsb + b[0].lsb,
+        a[1].lsb + b[1].lsb,
+        a[2].lsb + b[2].lsb,
+    ];
+    let lsb = e[0].max(e[1]).max(e[2]);
+    if lsb < ZERO_LSB / 2 {
+        // every product has a zero factor
+        return to.zero(false);
     }
     let mut sum = 0i64;
     for i in 0..3 {
-        if m[i] != 0 {
-            let v = if neg[i] { -(m[i] as i64) } else { m[i] as i64 };
-            // an arithmetic shift is the floor; |v| < 2^60, so 63 places leave 0 or −1
-            sum += v >> (lsb - e[i]).min(63) as u32;
-        }
+        // an arithmetic shift is the floor; |m| < 2^60, so 63 places leave 0
+        // or −1 (a zero product, far below L, stays 0)
+        sum += m[i] >> (lsb - e[i]).min(63) as u32;
     }
     if rounds_natively(to, RoundingMode::Down)
         && sum.unsigned_abs() <= 1 << 53
@@ -117,10 +147,10 @@ fn dot3_floor_narrow(
         // S and 2^L are f64 values and so is their product (|S·2^L| < 2^1014,
         // a multiple of 2^-1022): round the exact value natively.
         let v = sum as f64 * f64::from_bits(((lsb + 1023) as u64) << 52);
-        return Some(round_exact_f64_to(to, v, RoundingMode::Down));
+        return round_exact_f64_to(to, v, RoundingMode::Down);
     }
     let raw = RawFloat::exact(sum < 0, sum.unsigned_abs() as u128, lsb);
-    Some(round(to, raw, RoundingMode::Down))
+    round(to, raw, RoundingMode::Down)
 }
 
 /// The reference [`dot3_floor`], for every format and operand.

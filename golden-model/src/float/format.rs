@@ -125,75 +125,93 @@ impl FloatFormat {
     }
 
     /// Exponent field width E.
+    #[inline]
     pub const fn exp_bits(self) -> u32 {
         self.exp_bits
     }
     /// Fraction field width F (the significand has F + 1 bits with the hidden one).
+    #[inline]
     pub const fn frac_bits(self) -> u32 {
         self.frac_bits
     }
     /// Total width 1 + E + F.
+    #[inline]
     pub const fn width(self) -> u32 {
         1 + self.exp_bits + self.frac_bits
     }
     /// Exponent bias 2^(E-1) - 1.
+    #[inline]
     pub const fn bias(self) -> i32 {
         (1 << (self.exp_bits - 1)) - 1
     }
     /// Unbiased exponent of the smallest normal number, 1 - bias.
+    #[inline]
     pub const fn emin(self) -> i32 {
         1 - self.bias()
     }
     /// Unbiased exponent of the largest finite number, = bias.
+    #[inline]
     pub const fn emax(self) -> i32 {
         self.bias()
     }
     /// Mask of the low `width()` bits: the bits that hold a value.
+    #[inline]
     pub const fn mask(self) -> u64 {
         u64::MAX >> (64 - self.width())
     }
     /// The sign bit.
+    #[inline]
     pub const fn sign_bit(self) -> u64 {
         1 << (self.exp_bits + self.frac_bits)
     }
     /// The all-ones biased exponent (infinities and NaNs).
+    #[inline]
     pub const fn exp_all_ones(self) -> u64 {
         (1 << self.exp_bits) - 1
     }
     /// Mask of the fraction field.
+    #[inline]
     pub const fn frac_mask(self) -> u64 {
         (1 << self.frac_bits) - 1
     }
     /// The one NaN this model ever returns: sign 0, exponent all ones,
     /// fraction MSB 1, other fraction bits 0.
+    #[inline]
     pub const fn canonical_nan(self) -> u64 {
         (self.exp_all_ones() << self.frac_bits) | (1 << (self.frac_bits - 1))
     }
     /// Infinity with the given sign (`true` = negative).
+    #[inline]
     pub const fn inf(self, negative: bool) -> u64 {
         self.with_sign(negative, self.exp_all_ones() << self.frac_bits)
     }
     /// Zero with the given sign.
+    #[inline]
     pub const fn zero(self, negative: bool) -> u64 {
         self.with_sign(negative, 0)
     }
     /// Largest finite magnitude with the given sign.
+    #[inline]
     pub const fn max_finite(self, negative: bool) -> u64 {
         self.with_sign(negative, (self.inf(false)) - 1)
     }
     /// Smallest normal magnitude with the given sign.
+    #[inline]
     pub const fn min_normal(self, negative: bool) -> u64 {
         self.with_sign(negative, 1 << self.frac_bits)
     }
     /// Smallest subnormal magnitude with the given sign.
+    #[inline]
     pub const fn min_subnormal(self, negative: bool) -> u64 {
         self.with_sign(negative, 1)
     }
     /// Largest subnormal magnitude with the given sign.
+    #[inline]
     pub const fn max_subnormal(self, negative: bool) -> u64 {
         self.with_sign(negative, self.frac_mask())
     }
     /// `magnitude` with the sign bit set if `negative`.
+    #[inline]
     pub const fn with_sign(self, negative: bool, magnitude: u64) -> u64 {
         if negative {
             magnitude | self.sign_bit()
@@ -202,6 +220,7 @@ impl FloatFormat {
         }
     }
     /// Whether `bits` (masked to the format) is a NaN.
+    #[inline]
     pub const fn is_nan(self, bits: u64) -> bool {
         (bits & self.mask() & !self.sign_bit()) > self.inf(false)
     }

@@ -4,11 +4,13 @@
 use super::format::FloatFormat;
 
 /// The smaller of `a` and `b` (-0 < +0); the canonical NaN if either is NaN.
+#[inline]
 pub fn min(fmt: FloatFormat, a: u64, b: u64) -> u64 {
     pick(fmt, a, b, true)
 }
 
 /// The larger of `a` and `b` (-0 < +0); the canonical NaN if either is NaN.
+#[inline]
 pub fn max(fmt: FloatFormat, a: u64, b: u64) -> u64 {
     pick(fmt, a, b, false)
 }

@@ -36,6 +36,7 @@ pub use compare::{eq, le, lt};
 pub use convert::convert;
 pub use dot3::{dot3, dot3_accumulator_bits};
 pub use dot3_floor::{dot3_floor, dot3_floor_generic};
+pub(crate) use dot3_floor::{dot3_floor_operands, Operand as Dot3Operand};
 pub use fma::{fma, fma_generic};
 pub use format::{FloatFormat, FormatError, RoundingMode};
 pub use min_max::{max, min};

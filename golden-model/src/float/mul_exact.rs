@@ -22,10 +22,12 @@ impl ExactProductFormat {
         }
     }
     /// The operand format (E, F).
+    #[inline]
     pub const fn narrow(self) -> FloatFormat {
         self.narrow
     }
     /// The product format (E + 2, 2F + 1).
+    #[inline]
     pub const fn wide(self) -> FloatFormat {
         self.wide
     }

@@ -26,6 +26,13 @@ pub fn to_f32(fmt: FloatFormat, bits: u64) -> f32 {
         return f32::from_bits(bits as u32);
     }
     let f = fmt.frac_bits();
+    if fmt.exp_bits() == 8 {
+        // binary32's exponent field and bias, a shorter fraction: every
+        // pattern (subnormals, infinities and NaNs included) is the binary32
+        // pattern with the fraction's low bits zero
+        let sign = ((bits & fmt.sign_bit() != 0) as u32) << 31;
+        return f32::from_bits(sign | ((bits & fmt.mask() & !fmt.sign_bit()) as u32) << (23 - f));
+    }
     let sign = ((bits & fmt.sign_bit() != 0) as u32) << 31;
     let biased = ((bits >> f) & fmt.exp_all_ones()) as u32;
     let frac = (bits & fmt.frac_mask()) as u32;
@@ -58,7 +65,12 @@ fn pow2_f64(k: i32) -> f64 {
 /// no overflow in f64). `t = fl32(s)` (nearest even) is an f64 value too, so
 /// when `t != s` the exact sum lies strictly on the same side of `t` as `s`
 /// and strictly before the next binary32 value (it is within half an f64
-/// spacing of `s`); when `t == s` the sign of `e` says which way.
+/// spacing of `s`); when `t == s` the sign of `e` says which way. Both at
+/// once: the sign of `r = (s − t) + e`. `s − t` is exact (Sterbenz, or `t =
+/// 0`); when nonzero it is at least half an f64 spacing of `s`, which bounds
+/// `|e|`, with equality only if the exact sum were `t` (then `s = t`): so `r`
+/// has the sign of `s − t`, and of `e` when `s = t`. `t = ±∞` from a finite
+/// `s` gives `r = ∓∞`.
 /// Specials: an infinite or NaN operand makes `s` infinite or NaN and `e`
 /// NaN, so no step is taken and both results are `s` (exact). An exact zero
 /// sum is -0 down and +0 up, unless both operands are zeros of one sign
@@ -72,18 +84,36 @@ pub fn add_down_up_f32(a: f32, b: f32) -> (f32, f32) {
     let e = (x - (s - bv)) + (y - bv);
     let t = s as f32;
     let td = t as f64;
-    let above = (td > s) | ((td == s) & (e < 0.0));
-    let below = (td < s) | ((td == s) & (e > 0.0));
-    // A stepped t is nonzero (|s| >= 2^-149): a step away from zero adds 1 to
-    // the bits, a step toward zero subtracts 1 (also from an infinity).
-    let bits = t.to_bits() as i32;
-    let away = (bits >> 31) | 1; // +1 for positive t, -1 for negative
-    let down = bits.wrapping_sub(above as i32 * away) as u32;
-    let up = bits.wrapping_add(below as i32 * away) as u32;
+    let r = (s - td) + e;
+    let (above, below) = (r < 0.0, r > 0.0);
+    let down = step_down(t, above);
+    let up = step_up(t, below);
     // exact zero sum that is not (+0) + (+0): -0 down
     let neg_zero = (s == 0.0) & ((a.to_bits() | b.to_bits()) != 0);
-    let down = if neg_zero { 0x8000_0000 } else { down };
-    (f32::from_bits(down), f32::from_bits(up))
+    let down = if neg_zero { -0.0 } else { down };
+    (down, up)
+}
+
+/// `t` one binary32 step toward −∞ if `step`, branch-free: a step away from
+/// zero adds 1 to the bits, a step toward zero subtracts 1 (also from +∞,
+/// giving the largest finite value; from −0 it gives the smallest negative
+/// subnormal). Callers step only a value that lies above the exact one (so
+/// never −∞ or a NaN).
+#[inline(always)]
+fn step_down(t: f32, step: bool) -> f32 {
+    let bits = t.to_bits() as i32;
+    let away = (bits >> 31) | 1; // +1 for positive t, -1 for negative
+    f32::from_bits(bits.wrapping_sub(step as i32 * away) as u32)
+}
+
+/// `t` one binary32 step toward +∞ if `step`, the mirror of [`step_down`]
+/// (from −∞ the most negative finite value, from +0 the smallest positive
+/// subnormal); `t` lies below the exact value, so it is never +∞, −0 or a NaN.
+#[inline(always)]
+fn step_up(t: f32, step: bool) -> f32 {
+    let bits = t.to_bits() as i32;
+    let away = (bits >> 31) | 1;
+    f32::from_bits(bits.wrapping_add(step as i32 * away) as u32)
 }
 
 /// [`add_down_up_f32`] on `N` pairs: `(downs, ups)` (a loop the compiler
@@ -136,20 +166,8 @@ pub fn round_exact_f64_to_f32(p: f64, mode: RoundingMode) -> f32 {
     let td = t as f64;
     match mode {
         RoundingMode::NearestEven => t,
-        RoundingMode::Up => {
-            if td < p {
-                t.next_up()
-            } else {
-                t
-            }
-        }
-        RoundingMode::Down => {
-            if td > p {
-                t.next_down()
-            } else {
-                t
-            }
-        }
+        RoundingMode::Up => step_up(t, td < p),
+        RoundingMode::Down => step_down(t, td > p),
         RoundingMode::TowardZero => {
             if td.abs() > p.abs() {
                 // one step toward zero (keeps the sign; max from an infinity)
@@ -216,4 +234,24 @@ pub fn round_exact_f64_to(to: FloatFormat, v: f64, mode: RoundingMode) -> u64 {
         };
     let mag = (mag - low) + ((away as u32) << sh);
     to.with_sign(neg, (mag >> sh) as u64)
+}
+
+/// `v` rounded to `to` both toward −∞ and toward +∞, as bits, when
+/// [`rounds_natively`] in the directed modes: the upward result is the
+/// downward one, or the next value of `to` above it when `v` is not a value
+/// of `to` (one rounding instead of two; an overflowing `v` gives the
+/// largest finite value down and the infinity up, as the step from it).
+#[inline(always)]
+pub fn round_exact_f64_down_up(to: FloatFormat, v: f64) -> (u64, u64) {
+    let down = round_exact_f64_to(to, v, RoundingMode::Down);
+    // a NaN is not stepped (no value equals it)
+    let inexact = (to_f32(to, down) as f64 != v) & !v.is_nan();
+    // one step toward +inf: away from zero for a positive `down`, toward zero
+    // for a negative one (never -0: that is only the exact result of -0)
+    let step = if down & to.sign_bit() == 0 {
+        1
+    } else {
+        u64::MAX
+    };
+    (down, down.wrapping_add(step * inexact as u64) & to.mask())
 }

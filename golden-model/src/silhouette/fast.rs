@@ -106,15 +106,39 @@ fn pass(
 /// [`super::eval`] for a format with `fits_f32`.
 #[inline]
 pub(super) fn eval(cfg: &Config, x: &BundleIn) -> Out {
-    if cfg.fmt() == FloatFormat::BINARY32 {
-        eval_as::<true>(cfg, x)
-    } else {
-        eval_as::<false>(cfg, x)
+    match (
+        cfg.fmt() == FloatFormat::BINARY32,
+        cfg.origin == OriginMode::Bounded,
+    ) {
+        (true, false) => eval_as::<true, false, true>(cfg, x),
+        (true, true) => eval_as::<true, true, true>(cfg, x),
+        (false, false) => eval_as::<false, false, true>(cfg, x),
+        (false, true) => eval_as::<false, true, true>(cfg, x),
     }
 }
 
-/// The fast path; `B32`: the format is binary32 (native sums).
-fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
+/// [`super::any_hit`] for a format with `fits_f32`.
+#[inline]
+pub(super) fn any_hit(cfg: &Config, x: &BundleIn) -> bool {
+    match (
+        cfg.fmt() == FloatFormat::BINARY32,
+        cfg.origin == OriginMode::Bounded,
+    ) {
+        (true, false) => eval_as::<true, false, false>(cfg, x),
+        (true, true) => eval_as::<true, true, false>(cfg, x),
+        (false, false) => eval_as::<false, false, false>(cfg, x),
+        (false, true) => eval_as::<false, true, false>(cfg, x),
+    }
+    .any_hit
+}
+
+/// The fast path; `B32`: the format is binary32 (native sums); `BOUNDED`:
+/// the origin mode is bounded (a shared origin then costs no `o_hi` work);
+/// `ALL`: the AllHit test is made (else `all_hit` is false, not computed).
+fn eval_as<const B32: bool, const BOUNDED: bool, const ALL: bool>(
+    cfg: &Config,
+    x: &BundleIn,
+) -> Out {
     let f = cfg.fmt();
     let v = |b: u64| {
         if B32 {
@@ -123,7 +147,7 @@ fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
             to_f32(f, b)
         }
     };
-    let bounded = cfg.origin == OriginMode::Bounded;
+    let bounded = BOUNDED;
     let o_hi_bits = if bounded { x.o_hi } else { x.o_lo };
     let p_min = x.p_min.map(v);
     let p_max = x.p_max.map(v);
@@ -268,12 +292,12 @@ fn eval_as<const B32: bool>(cfg: &Config, x: &BundleIn) -> Out {
         let dist = a.map(|d| mulz(t_max, d));
         let dir = a.map(|d| mulz(t_min, d));
         return out(
-            pass_ray(&n_all, &x_all, &a, &dist, &dir),
+            ALL && pass_ray(&n_all, &x_all, &a, &dist, &dir),
             pass_ray(&n_any, &x_any, &a, &dist, &dir),
         );
     }
     out(
-        pass(true, &n_all, &x_all, &a, &b, t_min, t_max),
+        ALL && pass(true, &n_all, &x_all, &a, &b, t_min, t_max),
         pass(false, &n_any, &x_any, &a, &b, t_min, t_max),
     )
 }

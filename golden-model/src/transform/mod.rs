@@ -44,6 +44,7 @@ pub mod accuracy;
 pub mod exact;
 mod recip;
 
+pub(crate) use recip::recip_f64;
 pub use recip::{recip, recip_generic};
 
 use crate::float::{add, classify, convert, dot3, fma, mul, sub, Class, FloatFormat, RoundingMode};

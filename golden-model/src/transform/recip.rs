@@ -3,7 +3,7 @@
 //! (`docs/float.md`): exact quotient with a sticky bit, then the shared
 //! rounder.
 
-use crate::float::native::{round_exact_f64_to, rounds_natively};
+use crate::float::native::{round_exact_f64_to, rounds_natively, to_f32};
 use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
 
 /// `1 / x` rounded once in `mode`.
@@ -15,31 +15,25 @@ use crate::float::{round, unpack, Class, FloatFormat, RawFloat, RoundingMode};
 /// overflowing results included: the reciprocal of a tiny subnormal is ∞ in
 /// RNE).
 ///
-/// When `k < 64` (F <= 29) the quotient and remainder are formed in `u64`
-/// (the same values, so the same bits); [`recip_generic`] is the `u128`
-/// reference.
+/// Formats that [`rounds_natively`] in `mode` (values of them are `f32`s)
+/// take [`recip_f64`]; otherwise, when `k < 64` (F <= 29), the quotient and
+/// remainder are formed in `u64` (the same values, so the same bits);
+/// [`recip_generic`] is the `u128` reference.
 #[inline]
 pub fn recip(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
+    if rounds_natively(fmt, mode) {
+        return round_exact_f64_to(fmt, recip_f64(fmt, x), mode);
+    }
     let r = unpack(fmt, x);
     if r.class == Class::Finite {
         let k = fmt.frac_bits() + 3 + (128 - r.sig.leading_zeros());
         if k < 64 {
             let (num, sig) = (1u64 << k, r.sig as u64);
             let (q, sticky) = (num / sig, num % sig != 0);
-            let exp = -r.exp - k as i32;
-            if rounds_natively(fmt, mode) && (-1000..=1000).contains(&exp) {
-                // (q + s)·2^exp with 0 < s < 1 iff sticky, and q >= 2^(F+2):
-                // (2q + sticky)·2^(exp-1) is exact in f64 and lies in the same
-                // open interval between two neighbours of q·2^exp, which holds
-                // no point of the result grid nor a midpoint: it rounds alike.
-                let w = (2 * q + sticky as u64) as f64
-                    * f64::from_bits(((exp - 1 + 1023) as u64) << 52);
-                return round_exact_f64_to(fmt, if r.sign { -w } else { w }, mode);
-            }
             let raw = RawFloat {
                 sign: r.sign,
                 class: Class::Finite,
-                exp,
+                exp: -r.exp - k as i32,
                 sig: q as u128,
                 sticky,
             };
@@ -47,6 +41,25 @@ pub fn recip(fmt: FloatFormat, x: u64, mode: RoundingMode) -> u64 {
         }
     }
     recip_generic(fmt, x, mode)
+}
+
+/// `1/x` for `x` of a format whose values are `f32`s
+/// ([`fits_f32`](crate::float::native::fits_f32)), as the
+/// `f64` quotient `q`, which every rounding to binary32 or to a binary32
+/// subgrid rounds as the exact quotient (specials included: `1/±0 = ±∞`,
+/// `1/±∞ = ±0`, NaN).
+///
+/// Why: for `x = X·2^a` and a grid point `g = G·2^c` (`X`, `G` integers of
+/// at most 24 and 25 bits, midpoints included) near `1/x`, `1 − g·x` is a
+/// multiple of `2^(a+c)` with `X·G < 2^49` and `g·x ≈ 1`, so it is 0 or at
+/// least `2^-50` in magnitude: `1/x` is a grid point or lies at a relative
+/// distance of at least `2^-50` from every one, while `|q − 1/x| ≤ 2^-53 |1/x|`.
+/// So no grid point or midpoint lies between `q` and `1/x`, and `q` is one
+/// only when `1/x` is; quotients beyond the binary32 range (tiny `x`) are
+/// `f64` values too.
+#[inline(always)]
+pub(crate) fn recip_f64(fmt: FloatFormat, x: u64) -> f64 {
+    1.0 / to_f32(fmt, x) as f64
 }
 
 /// The reference [`recip`] (`u128` quotient).
