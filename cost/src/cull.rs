@@ -154,6 +154,99 @@ pub fn markdown(rows: &[CullRow], stages: u32) -> String {
     s
 }
 
+/// Two charts of the report, Xilinx LUT of `cull`, `cull_ray` and the per
+/// child test: against the plane format's bits at K = 4
+/// (`<dir>/cull_luts_vs_plane_bits`) and against K at e5m10
+/// (`<dir>/cull_luts_vs_k`), PNG and SVG; designs that did not synthesise
+/// are left out.
+pub fn charts(
+    rows: &[CullRow],
+    dir: &std::path::Path,
+) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
+    use crate::charts::{write_chart, Chart, Point, Series};
+    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    let colors = [
+        RGBColor(31, 119, 180),
+        RGBColor(230, 110, 14),
+        RGBColor(44, 160, 44),
+    ];
+    // (x, label) of a design, or None when it is not on this chart
+    let chart = |stem: &str,
+                 title: &str,
+                 x_label: &str,
+                 on: &dyn Fn(&CullRow) -> Option<(f64, String)>|
+     -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
+        let ok = |u: &'static str| {
+            rows.iter()
+                .filter(move |r| r.unit == u && r.failed.is_none())
+        };
+        let of_unit = |u: &'static str| -> Vec<Point> {
+            ok(u)
+                .filter_map(|r| on(r).map(|(x, l)| Point::new(x, r.xilinx_luts() as f64, l)))
+                .collect()
+        };
+        let per_child: Vec<Point> = ok("cull")
+            .filter_map(|c| {
+                let t = find(rows, "cull_ray", c.plane, c.k)?;
+                let (x, l) = on(c)?;
+                let y = c.xilinx_luts() as f64 + t.xilinx_luts() as f64 / 2.0;
+                Some(Point::new(x, y, l))
+            })
+            .collect();
+        let series = [
+            ("cull (per child)", of_unit("cull")),
+            ("cull_ray (per ray and parent)", of_unit("cull_ray")),
+            ("per child test: cull + cull_ray / 2", per_child),
+        ]
+        .into_iter()
+        .zip(colors)
+        .map(|((name, points), color)| Series {
+            name: name.into(),
+            color,
+            points,
+            hollow: false,
+            line: true,
+        })
+        .collect();
+        write_chart(
+            &Chart {
+                stem: stem.into(),
+                title: title.into(),
+                x_label: x_label.into(),
+                y_label: "Xilinx LUT (synth_xilinx -flatten estimate)".into(),
+                x_log: false,
+                y_floor: 1.0,
+                series,
+                pareto: false,
+                legend: SeriesLabelPosition::UpperLeft,
+                refs: Vec::new(),
+                refs_name: String::new(),
+            },
+            dir,
+        )
+    };
+    let mut out = chart(
+        "cull_luts_vs_plane_bits",
+        "Cull-plane units, binary32 rays, K = 4: cost against the plane format",
+        "plane format bits (1 + Ep + Fp)",
+        &|r| {
+            (r.k == 4).then(|| {
+                (
+                    (1 + r.plane.0 + r.plane.1) as f64,
+                    format!("e{}m{}", r.plane.0, r.plane.1),
+                )
+            })
+        },
+    )?;
+    out.extend(chart(
+        "cull_luts_vs_k",
+        "Cull-plane units, binary32 rays, e5m10 planes: cost against K",
+        "planes per node K",
+        &|r| (r.plane == (5, 10)).then(|| (r.k as f64, format!("K={}", r.k))),
+    )?);
+    Ok(out)
+}
+
 /// The targets of issue #13, checked against the figures: `cull` K = 4,
 /// e5m10 planes at most 7,700 Xilinx LUT and 12 DSP48, its longest path no
 /// longer than the silhouette tester's (`silhouette_depth`, same stages).

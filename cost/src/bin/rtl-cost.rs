@@ -120,6 +120,9 @@ enum Cmd {
         /// also write the report here
         #[arg(long)]
         out: Option<PathBuf>,
+        /// also draw the charts as <DIR>/cull_luts_vs_plane_bits and cull_luts_vs_k (.png, .svg)
+        #[arg(long)]
+        chart_dir: Option<PathBuf>,
     },
     /// Routed Fmax against pipeline depth on the ECP5-85F-6: synth_ecp5 and nextpnr-ecp5 of the timing shell for each `stages` and register placement (pipeline=plan|balanced); one table of LUT4, FF, MULT18X18D and MHz
     Depth {
@@ -386,8 +389,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             stages,
             cached_only,
             out,
+            chart_dir,
         } => {
             let rows = cost::cull::synthesise(&cost::cull::sweep_designs(), stages, cached_only)?;
+            if let Some(dir) = chart_dir {
+                for p in cost::cull::charts(&rows, &dir)? {
+                    println!("wrote {}", p.display());
+                }
+            }
             let mut text = cost::cull::markdown(&rows, stages);
             text += &cost::cull::targets(&rows, None);
             println!("{text}");
