@@ -77,6 +77,32 @@ pub struct Chart {
     pub refs_name: String,
 }
 
+impl Chart {
+    /// A chart on linear x and log y with the usual settings (legend upper
+    /// left, no Pareto front, no reference lines): what the sweep tools draw.
+    pub fn plain(
+        stem: &str,
+        title: &str,
+        x_label: &str,
+        y_label: &str,
+        series: Vec<Series>,
+    ) -> Chart {
+        Chart {
+            stem: stem.to_string(),
+            title: title.to_string(),
+            x_label: x_label.to_string(),
+            y_label: y_label.to_string(),
+            x_log: false,
+            y_floor: 1.0,
+            series,
+            pareto: false,
+            legend: SeriesLabelPosition::UpperLeft,
+            refs: Vec::new(),
+            refs_name: String::new(),
+        }
+    }
+}
+
 /// The points no other point beats in both coordinates, sorted by x.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let mut p: Vec<(f64, f64)> = points.to_vec();

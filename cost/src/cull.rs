@@ -164,7 +164,7 @@ pub fn charts(
     dir: &std::path::Path,
 ) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
     use crate::charts::{write_chart, Chart, Point, Series};
-    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    use plotters::prelude::RGBColor;
     let colors = [
         RGBColor(31, 119, 180),
         RGBColor(230, 110, 14),
@@ -209,19 +209,13 @@ pub fn charts(
         })
         .collect();
         write_chart(
-            &Chart {
-                stem: stem.into(),
-                title: title.into(),
-                x_label: x_label.into(),
-                y_label: "Xilinx LUT (synth_xilinx -flatten estimate)".into(),
-                x_log: false,
-                y_floor: 1.0,
+            &Chart::plain(
+                stem,
+                title,
+                x_label,
+                "Xilinx LUT (synth_xilinx -flatten estimate)",
                 series,
-                pareto: false,
-                legend: SeriesLabelPosition::UpperLeft,
-                refs: Vec::new(),
-                refs_name: String::new(),
-            },
+            ),
             dir,
         )
     };

@@ -92,7 +92,7 @@ pub fn chart(
     dir: &std::path::Path,
 ) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
     use crate::charts::{write_chart, Chart, Point, Series};
-    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    use plotters::prelude::RGBColor;
     let colors = [RGBColor(230, 110, 14), RGBColor(31, 119, 180)];
     let mut placements: Vec<&str> = Vec::new();
     for r in rows {
@@ -127,18 +127,12 @@ pub fn chart(
             line: true,
         })
         .collect();
-    let c = Chart {
-        stem: stem.to_string(),
-        title: format!("{unit} {}: routed Fmax, ECP5-85F-6", params.join(" ")),
-        x_label: "pipeline stages (latency, cycles)".into(),
-        y_label: "routed Fmax, MHz".into(),
-        x_log: false,
-        y_floor: 1.0,
+    let c = Chart::plain(
+        stem,
+        &format!("{unit} {}: routed Fmax, ECP5-85F-6", params.join(" ")),
+        "pipeline stages (latency, cycles)",
+        "routed Fmax, MHz",
         series,
-        pareto: false,
-        legend: SeriesLabelPosition::UpperLeft,
-        refs: Vec::new(),
-        refs_name: String::new(),
-    };
+    );
     write_chart(&c, dir)
 }

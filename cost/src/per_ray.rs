@@ -228,7 +228,7 @@ pub fn chart(
     dir: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
     use crate::charts::{write_chart, Chart, Point, Series};
-    use plotters::prelude::{RGBColor, SeriesLabelPosition};
+    use plotters::prelude::RGBColor;
     let mut scenes: Vec<&str> = Vec::new();
     for w in loads {
         if !scenes.contains(&w.scene.as_str()) {
@@ -264,18 +264,12 @@ pub fn chart(
             line: false,
         })
         .collect();
-    let c = Chart {
-        stem: "cost_per_ray".into(),
-        title: "Hardware per ray: sum over units of xc7 LUT x transactions".into(),
-        x_label: format!("scene ({})", scenes.join(", ")),
-        y_label: "LUT-cycles per ray".into(),
-        x_log: false,
-        y_floor: 1.0,
+    let c = Chart::plain(
+        "cost_per_ray",
+        "Hardware per ray: sum over units of xc7 LUT x transactions",
+        &format!("scene ({})", scenes.join(", ")),
+        "LUT-cycles per ray",
         series,
-        pareto: false,
-        legend: SeriesLabelPosition::UpperLeft,
-        refs: Vec::new(),
-        refs_name: String::new(),
-    };
+    );
     write_chart(&c, dir)
 }
