@@ -97,9 +97,8 @@ pub fn shear(fmt: FloatFormat, d: [u64; 3]) -> (u32, [u64; 3]) {
         }
     }
     let (kx, ky) = other_axes(kz as u32);
-    let one = fmt.with_sign(false, (fmt.bias() as u64) << fmt.frac_bits());
     let ratio = |num: u64| quotient(fmt, num, d[kz]);
-    (kz as u32, [ratio(d[kx]), ratio(d[ky]), ratio(one)])
+    (kz as u32, [ratio(d[kx]), ratio(d[ky]), ratio(one(fmt))])
 }
 
 /// `n / d` correctly rounded to nearest even; NaN unless both are finite
@@ -122,19 +121,16 @@ fn quotient(fmt: FloatFormat, n: u64, d: u64) -> u64 {
     }
 }
 
-fn finite(fmt: FloatFormat, x: u64) -> bool {
-    matches!(classify(fmt, x), Class::Zero | Class::Finite)
-}
-
-fn neg(fmt: FloatFormat, x: u64) -> u64 {
-    x ^ fmt.sign_bit()
+/// 1.0 in `fmt`.
+fn one(fmt: FloatFormat) -> u64 {
+    (fmt.bias() as u64) << fmt.frac_bits()
 }
 
 /// The unit's answer for `x`, bit for bit.
 pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     let zero = fmt.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
-    let invalid = all.clone().any(|&v| !finite(fmt, v))
+    let invalid = all.clone().any(|&v| !fmt.is_finite(v))
         || fmt.is_nan(x.t_min)
         || fmt.is_nan(x.t_max)
         || x.kz > 2;
@@ -145,15 +141,15 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
         let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], RNE));
         let (px, py, pz) = (r[kx], r[ky], r[kz]);
         [
-            fma(fmt, neg(fmt, x.s[0]), pz, px, RNE),
-            fma(fmt, neg(fmt, x.s[1]), pz, py, RNE),
+            fma(fmt, fmt.negate(x.s[0]), pz, px, RNE),
+            fma(fmt, fmt.negate(x.s[1]), pz, py, RNE),
             mul(fmt, x.s[2], pz, RNE),
         ]
     };
     let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
     let edge = |p: &[u64; 3], q: &[u64; 3]| {
-        dot3(fmt, [q[0], neg(fmt, q[1]), zero], [p[1], p[0], zero], RNE)
+        dot3(fmt, [q[0], fmt.negate(q[1]), zero], [p[1], p[0], zero], RNE)
     };
     let (u, v, w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
     // step 4
@@ -162,8 +158,7 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     let positive = edges.iter().any(|&e| lt(fmt, zero, e));
     let numbers = edges.iter().all(|&e| !fmt.is_nan(e));
     let inside = numbers && !(negative && positive);
-    let one = fmt.with_sign(false, (fmt.bias() as u64) << fmt.frac_bits());
-    let det = dot3(fmt, edges, [one, one, one], RNE);
+    let det = dot3(fmt, edges, [one(fmt); 3], RNE);
     let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], RNE);
     let det_zero = classify(fmt, det) == Class::Zero;
     // step 5

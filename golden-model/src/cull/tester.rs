@@ -218,10 +218,6 @@ pub struct Trace {
     pub out: CullOut,
 }
 
-fn negate(f: FloatFormat, v: u64) -> u64 {
-    (v ^ f.sign_bit()) & f.mask()
-}
-
 /// The ray terms of one parent's normals (unit `cull_ray`).
 ///
 /// 1. `u = o − r` per axis, rounded down and up (`add_down_up`);
@@ -372,7 +368,7 @@ fn normal_terms_steps(
         (add_down_up, dot3_floor, recip)
     };
     let invalid = inputs_invalid((f, pf, cfg.k), o, d, r, normals);
-    let u = [0, 1, 2].map(|i| add_du(f, o[i], negate(f, r[i])));
+    let u = [0, 1, 2].map(|i| add_du(f, o[i], f.negate(r[i])));
     for j in 0..cfg.k {
         let n = normal(normals, j).map(|v| v & pf.mask());
         let u_lo = [0, 1, 2].map(|i| {
@@ -625,7 +621,7 @@ pub fn eval_trace(cfg: &Config, x: &ChildIn) -> Trace {
     let mut par_cull = false;
     let mut planes = Vec::new();
     for (wj, tj) in w.iter().zip(&terms) {
-        let dist = add_generic(f, convert(pf, f, *wj, RNE), negate(f, tj.no_lo), RUP);
+        let dist = add_generic(f, convert(pf, f, *wj, RNE), f.negate(tj.no_lo), RUP);
         let rcp = if lt(f, zero, dist) {
             tj.rcp_hi
         } else {
@@ -637,7 +633,7 @@ pub fn eval_trace(cfg: &Config, x: &ChildIn) -> Trace {
         par_cull |= pc;
         match tj.dir {
             Crossing::Exit if usable && lt(f, q, hi) => hi = q,
-            Crossing::Entry if usable && lt(f, lo, negate(f, q)) => lo = negate(f, q),
+            Crossing::Entry if usable && lt(f, lo, f.negate(q)) => lo = f.negate(q),
             _ => {}
         }
         planes.push(PlaneTrace {

@@ -225,6 +225,18 @@ impl FloatFormat {
         (bits & self.mask() & !self.sign_bit()) > self.inf(false)
     }
 
+    /// True if `bits` is ±0, a subnormal or a normal value (not an infinity
+    /// or a NaN).
+    pub const fn is_finite(self, bits: u64) -> bool {
+        (bits & self.mask() & !self.sign_bit()) < self.inf(false)
+    }
+
+    /// `bits` with its sign flipped (exact negation; a NaN stays a NaN),
+    /// bits above the width cleared.
+    pub const fn negate(self, bits: u64) -> u64 {
+        (bits ^ self.sign_bit()) & self.mask()
+    }
+
     /// The format (E + 2, 2F + 1) in which every product of two values of
     /// this format is exactly representable, if it is a supported format
     /// (it is not for binary64, whose exact products need 119 bits).

@@ -173,14 +173,6 @@ pub struct ModelRay {
     pub singular: bool,
 }
 
-fn finite(fmt: FloatFormat, x: u64) -> bool {
-    matches!(classify(fmt, x), Class::Zero | Class::Finite)
-}
-
-fn neg(fmt: FloatFormat, x: u64) -> u64 {
-    (x ^ fmt.sign_bit()) & fmt.mask()
-}
-
 /// The format [`DotStyle::Wide`] computes in: `(E + 1, 2F + 2)`; `None`
 /// when that exceeds 64 bits.
 pub fn wide_format(fmt: FloatFormat) -> Option<FloatFormat> {
@@ -246,8 +238,8 @@ pub fn det2(
 ) -> u64 {
     match style {
         DotStyle::Separate => sub(fmt, mul(fmt, p, q, mode), mul(fmt, r, s, mode), mode),
-        DotStyle::Fma => fma(fmt, p, q, neg(fmt, mul(fmt, r, s, mode)), mode),
-        DotStyle::Dot3 | DotStyle::Wide => dot3(fmt, [p, r, 0], [q, neg(fmt, s), 0], mode),
+        DotStyle::Fma => fma(fmt, p, q, fmt.negate(mul(fmt, r, s, mode)), mode),
+        DotStyle::Dot3 | DotStyle::Wide => dot3(fmt, [p, r, 0], [q, fmt.negate(s), 0], mode),
     }
 }
 
@@ -284,7 +276,7 @@ pub fn invert_hw(
     r: &[u64; 9],
     rotation_hint: bool,
 ) -> HwInverse {
-    let inputs_finite = r.iter().all(|&x| finite(fmt, x));
+    let inputs_finite = r.iter().all(|&x| fmt.is_finite(x));
     // the wide style widens only the matrix-vector products
     let style = match style {
         DotStyle::Wide => DotStyle::Dot3,
@@ -323,7 +315,7 @@ pub fn invert_hw(
     let rc = recip(fmt, det, mode);
     let inv = adj.map(|a| mul(fmt, a, rc, mode));
     let det_ok = classify(fmt, det) == Class::Finite;
-    let singular = !inputs_finite || !det_ok || !inv.iter().all(|&x| finite(fmt, x));
+    let singular = !inputs_finite || !det_ok || !inv.iter().all(|&x| fmt.is_finite(x));
     HwInverse {
         inv,
         adj,
@@ -337,10 +329,10 @@ pub fn invert_hw(
 /// inverse linear map), see the module documentation and `docs/transform.md`.
 pub fn transform(cfg: &Config, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
     let (fmt, mode) = (cfg.fmt, cfg.mode);
-    let t_ok = inst.translation.iter().all(|&x| finite(fmt, x));
+    let t_ok = inst.translation.iter().all(|&x| fmt.is_finite(x));
     let (inv, singular) = match cfg.source {
         InverseSource::PreInverted => {
-            let ok = inst.linear.iter().all(|&x| finite(fmt, x));
+            let ok = inst.linear.iter().all(|&x| fmt.is_finite(x));
             (inst.linear, !ok)
         }
         InverseSource::Hardware => {

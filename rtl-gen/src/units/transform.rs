@@ -29,7 +29,7 @@ use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
-use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::float::{negate, operator_result, spread, Format, Rounding};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -232,15 +232,11 @@ impl Config {
 
 /// Instantiates a two-input operator module, returns its `z`.
 fn op2(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig) -> Sig {
-    m.instance(inst, module, &[("a", a), ("b", b)])
-        .get("z")
-        .expect("float operator has output z")
+    operator_result(m, module, inst, &[("a", a), ("b", b)])
 }
 
 fn fma3(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig, c: Sig) -> Sig {
-    m.instance(inst, module, &[("a", a), ("b", b), ("c", c)])
-        .get("z")
-        .expect("fma has output z")
+    operator_result(m, module, inst, &[("a", a), ("b", b), ("c", c)])
 }
 
 fn dot3_call(
@@ -258,21 +254,13 @@ fn dot3_call(
         ("b1", b[1]),
         ("b2", b[2]),
     ];
-    m.instance(inst, module, &ports)
-        .get("z")
-        .expect("dot3 has output z")
+    operator_result(m, module, inst, &ports)
 }
 
 fn close(m: &mut ModuleBuilder, n: u32) {
     for _ in 0..n {
         m.stage();
     }
-}
-
-/// `x` with its sign bit flipped (exact negation; a NaN stays a NaN).
-fn neg(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
-    let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
-    m.xor(x, sign)
 }
 
 /// Dot products `a · b` for each `(tag, a, b)`, built side by side from the
@@ -348,9 +336,7 @@ fn dots(
                 .iter()
                 .zip(&sums)
                 .map(|((tag, _, _), s)| {
-                    m.instance(&format!("u_{tag}_round"), &narrow, &[("a", *s)])
-                        .get("z")
-                        .expect("fcvt has output z")
+                    operator_result(m, &narrow, &format!("u_{tag}_round"), &[("a", *s)])
                 })
                 .collect();
             close(m, plan[1]);
@@ -404,7 +390,7 @@ fn det2s(
                 .iter()
                 .map(|(tag, [_, _, r, s])| {
                     let rs = op2(m, &mul, &format!("u_{tag}_mul_rs"), *r, *s);
-                    neg(m, fmt, rs)
+                    negate(m, fmt, rs)
                 })
                 .collect();
             close(m, plan[0]);
@@ -425,7 +411,7 @@ fn det2s(
             let list: Vec<(String, [Sig; 3], [Sig; 3])> = items
                 .iter()
                 .map(|(tag, [p, q, r, s])| {
-                    let ns = neg(m, fmt, *s);
+                    let ns = negate(m, fmt, *s);
                     (tag.clone(), [*p, *r, zero], [*q, ns, zero])
                 })
                 .collect();
@@ -493,10 +479,7 @@ fn invert(
     let det = m.name(det, "det");
     let k = n2 + nd;
     let recip = recip_module(fmt, mode, plan[k]);
-    let rc = m
-        .instance("u_recip", &recip, &[("x", det)])
-        .get("z")
-        .expect("recip has output z");
+    let rc = operator_result(m, &recip, "u_recip", &[("x", det)]);
     close(m, plan[k]);
     let mul = mul_module(fmt, mode, plan[k + 1]);
     let inv: Vec<Sig> = (0..9)
@@ -586,10 +569,7 @@ pub fn build(cfg: &Config) -> Module {
         _ => (fmt, None),
     };
     let up = |m: &mut ModuleBuilder, name: String, x: Sig| match &widen {
-        Some(c) => m
-            .instance(&name, c, &[("a", x)])
-            .get("z")
-            .expect("fcvt has output z"),
+        Some(c) => operator_result(m, c, &name, &[("a", x)]),
         None => x,
     };
 

@@ -35,7 +35,7 @@ use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
 use crate::arith::float::unpack::unpack;
-use crate::arith::float::{Format, Rounding};
+use crate::arith::float::{negate, operator_result, Format, Rounding};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -95,24 +95,6 @@ pub fn triangle_name(cfg: &Config) -> String {
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-/// `x` with its sign bit flipped (exact negation; a NaN stays a NaN).
-fn neg(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
-    let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
-    m.xor(x, sign)
-}
-
-/// Output `z` of an operator instance.
-fn call(
-    m: &mut ModuleBuilder,
-    module: &std::sync::Arc<Module>,
-    inst: &str,
-    ins: &[(&str, Sig)],
-) -> Sig {
-    m.instance(inst, module, ins)
-        .get("z")
-        .expect("float operators have output z")
-}
-
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
@@ -163,12 +145,12 @@ pub fn build(cfg: &Config) -> Module {
     let sub = add_module(fmt, rne, true, 0);
     let fma = fma_module(fmt, rne, 0);
     let mul = mul_module(fmt, rne, 0);
-    let neg_sx = neg(&mut m, fmt, s[0]);
-    let neg_sy = neg(&mut m, fmt, s[1]);
+    let neg_sx = negate(&mut m, fmt, s[0]);
+    let neg_sy = negate(&mut m, fmt, s[1]);
     let mut ray_space = Vec::new();
     for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
         let rel = [0, 1, 2].map(|i| {
-            call(
+            operator_result(
                 &mut m,
                 &sub,
                 &format!("u_{v}_minus_o_{}", AXES[i]),
@@ -179,19 +161,19 @@ pub fn build(cfg: &Config) -> Module {
         let px = pick(&mut m, &rel, 1);
         let py = pick(&mut m, &rel, 2);
         let pz = m.name(pz, &format!("{v}_along_z"));
-        let sx = call(
+        let sx = operator_result(
             &mut m,
             &fma,
             &format!("u_{v}_shear_x"),
             &[("a", neg_sx), ("b", pz), ("c", px)],
         );
-        let sy = call(
+        let sy = operator_result(
             &mut m,
             &fma,
             &format!("u_{v}_shear_y"),
             &[("a", neg_sy), ("b", pz), ("c", py)],
         );
-        let sz = call(
+        let sz = operator_result(
             &mut m,
             &mul,
             &format!("u_{v}_scale_z"),
@@ -205,8 +187,8 @@ pub fn build(cfg: &Config) -> Module {
     let dot = dot3_module(fmt, rne, 0);
     let zero = m.uint(fmt.width(), 0);
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
-        let nqy = neg(m, fmt, q[1]);
-        call(
+        let nqy = negate(m, fmt, q[1]);
+        operator_result(
             m,
             &dot,
             &format!("u_edge_{name}"),
@@ -241,7 +223,7 @@ pub fn build(cfg: &Config) -> Module {
     let inside = m.not(outside);
     let inside = m.name(inside, "inside_edges");
     let one = m.uint(fmt.width(), (fmt.bias() as u128) << fmt.frac_bits);
-    let det = call(
+    let det = operator_result(
         &mut m,
         &dot,
         "u_det",
@@ -254,7 +236,7 @@ pub fn build(cfg: &Config) -> Module {
             ("b2", one),
         ],
     );
-    let t_num = call(
+    let t_num = operator_result(
         &mut m,
         &dot,
         "u_t_num",
@@ -271,8 +253,8 @@ pub fn build(cfg: &Config) -> Module {
 
     // step 5
     let recip = recip_module(fmt, rne, 0);
-    let r = call(&mut m, &recip, "u_recip_det", &[("x", det)]);
-    let t = call(&mut m, &mul, "u_t", &[("a", t_num), ("b", r)]);
+    let r = operator_result(&mut m, &recip, "u_recip_det", &[("x", det)]);
+    let t = operator_result(&mut m, &mul, "u_t", &[("a", t_num), ("b", r)]);
     let (_, after_min, _) = compare(&mut m, fmt, t_min, t);
     let (_, before_max, _) = compare(&mut m, fmt, t, t_max);
     let valid = m.not(invalid);
@@ -285,8 +267,8 @@ pub fn build(cfg: &Config) -> Module {
     m.output("hit", hit);
     m.output("invalid", invalid);
     if cfg.full {
-        let u = call(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
-        let v = call(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
+        let u = operator_result(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
+        let v = operator_result(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
         for (name, x) in [("t", t), ("u", u), ("v", v)] {
             let shown = m.mux(hit, x, zero);
             m.output(name, shown);

@@ -306,6 +306,27 @@ pub fn spread(stages: u32, steps: u32) -> Vec<u32> {
     after
 }
 
+/// `x` (an encoding of `fmt`) with its sign bit flipped: exact negation, a
+/// NaN stays a NaN.
+pub fn negate(m: &mut ModuleBuilder, fmt: Format, x: crate::builder::Sig) -> crate::builder::Sig {
+    let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
+    m.xor(x, sign)
+}
+
+/// Instantiates operator `module` as `inst` with `inputs` and returns its
+/// result, the output `z` every operator of this module has.
+#[track_caller]
+pub fn operator_result(
+    m: &mut ModuleBuilder,
+    module: &std::sync::Arc<crate::ir::Module>,
+    inst: &str,
+    inputs: &[(&str, crate::builder::Sig)],
+) -> crate::builder::Sig {
+    m.instance(inst, module, inputs)
+        .get("z")
+        .expect("float operators have output z")
+}
+
 /// Smallest width of a two's complement value holding every integer in `lo..=hi`.
 pub fn sint_width(lo: i64, hi: i64) -> u32 {
     let mut w = 1;
