@@ -184,7 +184,7 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
 /// rational arithmetic (Cramer's rule on `o + t·d = A + β(B − A) + γ(C − A)`).
 pub mod exact {
     use crate::float::FloatFormat;
-    use crate::transform::exact::decode;
+    use crate::transform::exact::{align, decode};
     use dashu::integer::IBig;
 
     /// The exact answer: `Some(t)` as the fraction `t_num / t_den`
@@ -208,6 +208,40 @@ pub mod exact {
         }
     }
 
+    /// Points of `fmt` coordinates as integer vectors on one common scale
+    /// (`value = integer · 2^E`, `E` the smallest exponent among them, so
+    /// differences, cross and dot products compare exactly); `None` if a
+    /// coordinate is not finite.
+    pub fn points(fmt: FloatFormat, pts: &[[u64; 3]]) -> Option<Vec<[IBig; 3]>> {
+        let vals: Option<Vec<(IBig, i64)>> =
+            pts.iter().flatten().map(|&v| decode(fmt, v)).collect();
+        let (int, _) = align(&vals?);
+        Some(
+            int.chunks(3)
+                .map(|c| [c[0].clone(), c[1].clone(), c[2].clone()])
+                .collect(),
+        )
+    }
+
+    /// `x − y`.
+    pub fn sub(x: &[IBig; 3], y: &[IBig; 3]) -> [IBig; 3] {
+        [0, 1, 2].map(|i| &x[i] - &y[i])
+    }
+
+    /// `x × y`.
+    pub fn cross(x: &[IBig; 3], y: &[IBig; 3]) -> [IBig; 3] {
+        [
+            &x[1] * &y[2] - &x[2] * &y[1],
+            &x[2] * &y[0] - &x[0] * &y[2],
+            &x[0] * &y[1] - &x[1] * &y[0],
+        ]
+    }
+
+    /// `x · y`.
+    pub fn dot(x: &[IBig; 3], y: &[IBig; 3]) -> IBig {
+        &x[0] * &y[0] + &x[1] * &y[1] + &x[2] * &y[2]
+    }
+
     /// Exact intersection of `{o + t·d : t_min ≤ t ≤ t_max}` with the closed
     /// triangle `abc`; `None` for a miss or anything not a single point.
     pub fn intersect(
@@ -218,38 +252,19 @@ pub mod exact {
         t_min: u64,
         t_max: u64,
     ) -> Option<Hit> {
-        // every coordinate on one scale 2^e0
-        let mut vals = Vec::new();
-        for v in o.iter().chain(&d).chain(tri.iter().flatten()) {
-            vals.push(decode(fmt, *v)?);
-        }
-        let e0 = vals.iter().map(|v| v.1).min().unwrap_or(0);
-        let int: Vec<IBig> = vals
-            .iter()
-            .map(|(m, e)| m.clone() << ((e - e0) as usize))
-            .collect();
-        let p = |k: usize| [int[k].clone(), int[k + 1].clone(), int[k + 2].clone()];
-        let (o, d, a, b, c) = (p(0), p(3), p(6), p(9), p(12));
-        let diff = |x: &[IBig; 3], y: &[IBig; 3]| [0, 1, 2].map(|i| &x[i] - &y[i]);
-        let (e1, e2, s) = (diff(&b, &a), diff(&c, &a), diff(&o, &a));
-        let cross = |x: &[IBig; 3], y: &[IBig; 3]| {
-            [
-                &x[1] * &y[2] - &x[2] * &y[1],
-                &x[2] * &y[0] - &x[0] * &y[2],
-                &x[0] * &y[1] - &x[1] * &y[0],
-            ]
-        };
-        let dotp = |x: &[IBig; 3], y: &[IBig; 3]| &x[0] * &y[0] + &x[1] * &y[1] + &x[2] * &y[2];
+        let pts = points(fmt, &[o, d, tri[0], tri[1], tri[2]])?;
+        let [o, d, a, b, c] = [0, 1, 2, 3, 4].map(|k| pts[k].clone());
+        let (e1, e2, s) = (sub(&b, &a), sub(&c, &a), sub(&o, &a));
         // o + t d = a + β e1 + γ e2  ⇔  [−d e1 e2] (t β γ) = s
         let pv = cross(&d, &e2);
-        let det = dotp(&e1, &pv);
+        let det = dot(&e1, &pv);
         if det == IBig::ZERO {
             return None;
         }
         let qv = cross(&s, &e1);
-        let beta = dotp(&s, &pv);
-        let gamma = dotp(&d, &qv);
-        let t = dotp(&e2, &qv);
+        let beta = dot(&s, &pv);
+        let gamma = dot(&d, &qv);
+        let t = dot(&e2, &qv);
         // normalise the sign so the denominator is positive
         let (det, beta, gamma, t) = if det < IBig::ZERO {
             (-det, -beta, -gamma, -t)

@@ -122,29 +122,10 @@ fn random_rays_agree_with_the_exact_test() {
 /// `((Q − P) × d) · (X − P)` in exact arithmetic: which side of the plane
 /// through the edge `P Q` and the ray direction `X` lies on.
 fn side(p: [f32; 3], q: [f32; 3], d: [f32; 3], x: [f32; 3]) -> std::cmp::Ordering {
-    use dashu::integer::IBig;
-    use golden_model::transform::exact::decode;
-    let all: Vec<(IBig, i64)> = [p, q, d, x]
-        .iter()
-        .flatten()
-        .map(|&v| decode(F32, bits(v)).expect("finite"))
-        .collect();
-    let e0 = all.iter().map(|v| v.1).min().unwrap_or(0);
-    let int: Vec<IBig> = all
-        .iter()
-        .map(|(m, e)| m.clone() << ((e - e0) as usize))
-        .collect();
-    let at = |k: usize| [int[k].clone(), int[k + 1].clone(), int[k + 2].clone()];
-    let (p, q, d, x) = (at(0), at(3), at(6), at(9));
-    let e = [0, 1, 2].map(|i| &q[i] - &p[i]);
-    let w = [0, 1, 2].map(|i| &x[i] - &p[i]);
-    let n = [
-        &e[1] * &d[2] - &e[2] * &d[1],
-        &e[2] * &d[0] - &e[0] * &d[2],
-        &e[0] * &d[1] - &e[1] * &d[0],
-    ];
-    let dot = &n[0] * &w[0] + &n[1] * &w[1] + &n[2] * &w[2];
-    dot.cmp(&IBig::ZERO)
+    use golden_model::triangle::exact::{cross, dot, points, sub};
+    let pts = points(F32, &[p, q, d, x].map(|v| v.map(bits))).expect("finite");
+    let (p, q, d, x) = (&pts[0], &pts[1], &pts[2], &pts[3]);
+    dot(&cross(&sub(q, p), d), &sub(x, p)).cmp(&dashu::integer::IBig::ZERO)
 }
 
 fn load(name: &str) -> Mesh {

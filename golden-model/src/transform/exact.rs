@@ -24,7 +24,7 @@ pub fn decode(fmt: FloatFormat, bits: u64) -> Option<(IBig, i64)> {
 
 /// Brings `m_k · 2^(e_k)` to the smallest exponent: integers `a_k` and `E`
 /// with `value_k = a_k · 2^E`.
-fn align(vals: &[(IBig, i64)]) -> (Vec<IBig>, i64) {
+pub fn align(vals: &[(IBig, i64)]) -> (Vec<IBig>, i64) {
     let e0 = vals.iter().map(|v| v.1).min().unwrap_or(0);
     let ints = vals
         .iter()
