@@ -16,3 +16,4 @@ pub mod scene;
 pub mod stats;
 pub mod tester;
 pub mod trace;
+pub mod units;

@@ -1,35 +1,52 @@
-//! RTL in the loop: every box test of a render answered by the Verilated
-//! `silhouette` unit instead of its golden model.
+//! RTL in the loop: every box, transform, cull and triangle test of a render
+//! answered by the Verilated units instead of their golden models.
 //!
-//! 1. **Record**: the golden render runs with a [`Recorder`], which answers
-//!    from the golden model ([`Golden`]) and keeps every box-test input (the
-//!    unit's [`BundleIn`] record, binary32 bits), split by unit: single rays
-//!    and shared-origin bundles go to the shared-origin unit, the other
-//!    bundles to the bounded-origin unit (the same split as [`Golden`]).
-//! 2. **Run**: the recorded inputs of each unit, duplicates included, in
-//!    recording order, are written as one `rtlvec` stream and run through
-//!    the unit's Verilated harness ([`sim::Harness::run`], back to back, one
-//!    transaction per clock). Configurations: binary32, conservative
-//!    rounding, `origin=shared stages=4` and `origin=bounded stages=2`, the
-//!    parameters of `tests/silhouette_rtl.rs`, so the harness builds are
-//!    shared through the cache (`target/rtl-cache`).
-//! 3. **Replay**: the render runs again with an [`RtlTester`], which answers
-//!    every box test from the RTL outputs, looked up by the exact input bits
-//!    (tiles run in parallel, so the order is not replayed). A box test whose
-//!    input was not recorded is counted as missing (and answered
-//!    conservatively: hit / Mixed); the loop fails if any is missing.
-//! 4. **Check**: the replayed image is compared with the golden one (primary
-//!    hit ids, `t` bits, colour bits of every pixel), the replay must make
-//!    exactly as many box tests as were recorded, and the RTL outputs are also
-//!    compared with the golden model vector by vector (all five output bits).
+//! 1. **Generate**: the six units of the loop ([`Stream`]) in the
+//!    configurations of their own Verilator tests (`tests/*_rtl.rs`), so the
+//!    harness builds are shared through the cache (`target/rtl-cache`); the
+//!    loop checks that these are the renderer's configurations
+//!    ([`GoldenUnits`]).
+//! 2. **Record**: the golden render runs with a [`Recorder`], which answers
+//!    from the golden models and keeps every unit call as the unit's input
+//!    port values (the port packing of the unit's own testbench), one
+//!    stream per unit. Box tests: single rays and shared-origin bundles go
+//!    to the shared-origin `silhouette`, other bundles to the bounded-origin
+//!    one (the split of [`Golden`]).
+//! 3. **Run**: each stream, duplicates included, in recording order, is
+//!    written as one `rtlvec` file and run through the unit's Verilated
+//!    harness ([`sim::Harness::run`], back to back, one transaction per
+//!    clock); every output vector is also compared with the unit's golden
+//!    model (all output ports).
+//! 4. **Replay**: the render runs again with an [`RtlTester`], which answers
+//!    every call from the RTL outputs, looked up by the exact input port
+//!    values (tiles run in parallel, so the order is not replayed). A call
+//!    whose input was not recorded is counted as missing (a box test then
+//!    answers conservatively, the others from the golden model) and fails
+//!    the loop.
+//! 5. **Check**: the replayed image equals the golden one (primary hit ids,
+//!    `t` bits, colour bits of every pixel) and every unit answered exactly as
+//!    many calls as went through its RTL.
+//!
+//! Not through RTL: the ray set-up beside the units (the triangle test's
+//! shear `kz, s` per ray, the conservative slab interval `[t_lo, t_hi]` the
+//! cull unit reads, the reciprocal of the model-space direction), bundle
+//! formation and traversal order.
 
 use crate::bvh::Accel;
 use crate::render::{render, Frame};
 use crate::scene::Scene;
 use crate::tester::{ray_input, BoxTester, BundleBox, Golden, RayBox};
-use crate::trace::TraceOpts;
-use golden_model::silhouette::{eval, BundleIn, Verdict};
+use crate::trace::{TraceOpts, TriTest};
+use crate::units::{GoldenUnits, Units};
+use golden_model::cull::tester::NormalTerm;
+use golden_model::silhouette::{BundleIn, Verdict};
+use golden_model::transform::{InstanceTransform, ModelRay, WorldRay};
+use golden_model::triangle::{TriIn, TriOut};
+use rtl_gen::flow::cull::CullBench;
+use rtl_gen::flow::cull_ray::CullRayBench;
 use rtl_gen::flow::silhouette::SilhouetteBench;
+use rtl_gen::flow::transform::TransformBench;
+use rtl_gen::flow::triangle::{self as tri_flow, TriangleBench};
 use rtl_gen::flow::{self, Generated};
 use sim::{BinReader, BinWriter, Harness};
 use std::collections::HashMap;
@@ -38,69 +55,301 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// Unit parameters of the shared-origin unit (single rays, shared-origin
-/// bundles): those of `tests/silhouette_rtl.rs`.
-pub const SHARED_PARAMS: [&str; 4] = ["exp_bits=8", "frac_bits=23", "origin=shared", "stages=4"];
-/// Unit parameters of the bounded-origin unit (other bundles): those of
-/// `tests/silhouette_rtl.rs`.
-pub const BOUNDED_PARAMS: [&str; 4] = ["exp_bits=8", "frac_bits=23", "origin=bounded", "stages=2"];
-
-/// The unit's output ports, in the bit order of `Out::to_bits`.
-pub const OUTPUTS: [&str; 5] = ["all_hit", "any_hit", "nan", "invalid", "mixed_sign"];
-
-/// Which silhouette unit a box test goes to.
+/// The Verilated units of the loop, one input stream each.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Unit {
-    /// shared origin: single rays and shared-origin bundles
-    Shared,
-    /// bounded origin: bundles with different origins
-    Bounded,
+pub enum Stream {
+    /// `silhouette`, shared origin: single rays and shared-origin bundles
+    BoxShared,
+    /// `silhouette`, bounded origin: bundles whose rays have different origins
+    BoxBounded,
+    /// `transform`: world rays into an instance's model space
+    Transform,
+    /// `cull_ray`: the ray terms of a node's shared normals
+    CullRay,
+    /// `cull`: one child's cull-plane test
+    Cull,
+    /// `triangle`: the watertight ray/triangle test
+    Triangle,
 }
 
-/// All the inputs of a record as one hashable key.
-fn key(b: &BundleIn) -> [u64; 20] {
-    let mut k = [0u64; 20];
-    k[0..3].copy_from_slice(&b.p_min);
-    k[3..6].copy_from_slice(&b.p_max);
-    k[6..9].copy_from_slice(&b.o_lo);
-    k[9..12].copy_from_slice(&b.o_hi);
-    k[12..15].copy_from_slice(&b.d_lo);
-    k[15..18].copy_from_slice(&b.d_hi);
-    k[18] = b.t_min;
-    k[19] = b.t_max;
-    k
-}
+impl Stream {
+    /// Every stream, in report order.
+    pub const ALL: [Stream; 6] = [
+        Stream::BoxShared,
+        Stream::BoxBounded,
+        Stream::Transform,
+        Stream::CullRay,
+        Stream::Cull,
+        Stream::Triangle,
+    ];
 
-/// Answers from the golden model and records every box-test input.
-#[derive(Default)]
-pub struct Recorder {
-    golden: Golden,
-    shared: Mutex<Vec<BundleIn>>,
-    bounded: Mutex<Vec<BundleIn>>,
-}
+    /// The generator's unit.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Stream::BoxShared | Stream::BoxBounded => "silhouette",
+            Stream::Transform => "transform",
+            Stream::CullRay => "cull_ray",
+            Stream::Cull => "cull",
+            Stream::Triangle => "triangle",
+        }
+    }
 
-impl Recorder {
-    /// The recorded inputs of each unit (recording order).
-    pub fn into_inputs(self) -> (Vec<BundleIn>, Vec<BundleIn>) {
-        (
-            self.shared.into_inner().unwrap(),
-            self.bounded.into_inner().unwrap(),
-        )
+    /// The unit's parameters: those of its Verilator test in CI
+    /// (`tests/silhouette_rtl.rs`, `transform_rtl.rs` `xf_fma`,
+    /// `cull_rtl.rs` K = 4, `triangle_rtl.rs` binary32), same order.
+    pub fn params(self) -> &'static [&'static str] {
+        const CULL: &[&str] = &[
+            "exp_bits=8",
+            "frac_bits=23",
+            "plane_exp_bits=5",
+            "plane_frac_bits=10",
+            "k=4",
+            "stages=4",
+        ];
+        match self {
+            Stream::BoxShared => &["exp_bits=8", "frac_bits=23", "origin=shared", "stages=4"],
+            Stream::BoxBounded => &["exp_bits=8", "frac_bits=23", "origin=bounded", "stages=2"],
+            Stream::Transform => &["dot=fma", "throughput=full", "round=rne", "stages=8"],
+            Stream::CullRay | Stream::Cull => CULL,
+            Stream::Triangle => &[
+                "exp_bits=8",
+                "frac_bits=23",
+                "outputs=full",
+                "stages=8",
+                "pipeline=plan",
+            ],
+        }
+    }
+
+    /// Report name.
+    pub fn label(self) -> &'static str {
+        match self {
+            Stream::BoxShared => "silhouette (shared origin)",
+            Stream::BoxBounded => "silhouette (bounded origin)",
+            Stream::Transform => "transform",
+            Stream::CullRay => "cull_ray",
+            Stream::Cull => "cull",
+            Stream::Triangle => "triangle",
+        }
+    }
+
+    /// Whether a render with `opts` calls this unit at all (bounded-origin
+    /// bundles need bundles, the cull units need planes).
+    pub fn used(self, opts: &TraceOpts) -> bool {
+        match self {
+            Stream::BoxBounded => opts.bundles.enabled,
+            Stream::CullRay | Stream::Cull => opts.planes,
+            _ => true,
+        }
     }
 }
 
-impl BoxTester for Recorder {
+/// The silhouette unit's output ports, in the bit order of `Out::to_bits`.
+pub const BOX_OUTPUTS: [&str; 5] = ["all_hit", "any_hit", "nan", "invalid", "mixed_sign"];
+
+/// The most input ports of a loop unit (a packing buffer's size).
+const MAX_PORTS: usize = 64;
+
+/// The loop's units generated, with the port packing of their testbenches.
+pub struct LoopUnits {
+    generated: Vec<Generated>,
+    shared: SilhouetteBench,
+    bounded: SilhouetteBench,
+    transform: TransformBench,
+    cull_ray: CullRayBench,
+    cull: CullBench,
+    triangle: TriangleBench,
+}
+
+impl LoopUnits {
+    /// Generates every unit of [`Stream::ALL`] and checks its configuration
+    /// is the renderer's ([`GoldenUnits`]) and its ports fit the loop.
+    pub fn generate() -> Result<LoopUnits, String> {
+        let mut generated = Vec::new();
+        for s in Stream::ALL {
+            let given: Vec<String> = s.params().iter().map(|p| p.to_string()).collect();
+            let g = flow::generate(s.unit(), &given).map_err(|e| format!("{}: {e}", s.label()))?;
+            if g.ports.inputs.len() > MAX_PORTS {
+                return Err(format!("{}: more than {MAX_PORTS} input ports", s.label()));
+            }
+            generated.push(g);
+        }
+        let p = |s: Stream| &generated[s as usize].params;
+        let units = LoopUnits {
+            shared: SilhouetteBench::new(p(Stream::BoxShared)),
+            bounded: SilhouetteBench::new(p(Stream::BoxBounded)),
+            transform: TransformBench::new(p(Stream::Transform)),
+            cull_ray: CullRayBench::new(p(Stream::CullRay)),
+            cull: CullBench::new(p(Stream::Cull)),
+            triangle: TriangleBench::new(p(Stream::Triangle)),
+            generated,
+        };
+        units.check()?;
+        Ok(units)
+    }
+
+    /// The RTL computes what the renderer's golden units compute.
+    fn check(&self) -> Result<(), String> {
+        let golden = GoldenUnits::get();
+        let box_cfg = Golden::default();
+        let mismatch = |s: Stream, what: String| Err(format!("{}: {what}", s.label()));
+        if *self.shared.config() != box_cfg.shared() {
+            return mismatch(Stream::BoxShared, "not the renderer's box test".into());
+        }
+        if *self.bounded.config() != box_cfg.bounded() {
+            return mismatch(Stream::BoxBounded, "not the renderer's box test".into());
+        }
+        if *self.transform.config() != golden.transform {
+            return mismatch(Stream::Transform, "not the renderer's transform".into());
+        }
+        if *self.cull_ray.config() != golden.cull || *self.cull.config() != golden.cull {
+            return mismatch(
+                Stream::Cull,
+                "not the renderer's plane configuration".into(),
+            );
+        }
+        if self.triangle.format() != golden.triangle || !self.triangle.full() {
+            return mismatch(
+                Stream::Triangle,
+                "binary32 with outputs=full expected".into(),
+            );
+        }
+        for s in [Stream::BoxShared, Stream::BoxBounded] {
+            let outs: Vec<&str> = self.generated[s as usize]
+                .ports
+                .outputs
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect();
+            if outs != BOX_OUTPUTS {
+                return mismatch(
+                    s,
+                    format!("output ports {outs:?}, expected {BOX_OUTPUTS:?} (Out::to_bits)"),
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The generated unit of a stream.
+    pub fn generated(&self, s: Stream) -> &Generated {
+        &self.generated[s as usize]
+    }
+
+    fn inputs(&self, s: Stream) -> usize {
+        self.generated(s).ports.inputs.len()
+    }
+
+    /// The input port values of a box test.
+    fn box_ports(&self, x: &BundleIn, shared: bool, v: &mut [u64]) {
+        if shared { &self.shared } else { &self.bounded }.to_ports(x, v)
+    }
+}
+
+/// A unit call packed into port values: the stream and its values.
+struct Packed {
+    stream: Stream,
+    len: usize,
+    v: [u64; MAX_PORTS],
+}
+
+impl Packed {
+    fn new(units: &LoopUnits, stream: Stream, pack: impl FnOnce(&mut [u64])) -> Packed {
+        let len = units.inputs(stream);
+        let mut v = [0; MAX_PORTS];
+        pack(&mut v[..len]);
+        Packed { stream, len, v }
+    }
+    fn values(&self) -> &[u64] {
+        &self.v[..self.len]
+    }
+}
+
+/// How the loop's testers pack each call (shared by [`Recorder`] and
+/// [`RtlTester`], so both see the same port values).
+trait Packs {
+    fn loop_units(&self) -> &LoopUnits;
+
+    fn pack_box(&self, x: &BundleIn, shared: bool) -> Packed {
+        let s = if shared {
+            Stream::BoxShared
+        } else {
+            Stream::BoxBounded
+        };
+        Packed::new(self.loop_units(), s, |v| {
+            self.loop_units().box_ports(x, shared, v)
+        })
+    }
+    fn pack_transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> Packed {
+        Packed::new(self.loop_units(), Stream::Transform, |v| {
+            self.loop_units().transform.to_ports(ray, inst, v)
+        })
+    }
+    fn pack_cull_ray(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r_min: &[u64; 3],
+        normals: &[[u64; 3]],
+    ) -> Packed {
+        Packed::new(self.loop_units(), Stream::CullRay, |v| {
+            self.loop_units().cull_ray.to_ports(o, d, r_min, normals, v)
+        })
+    }
+    fn pack_cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> Packed {
+        Packed::new(self.loop_units(), Stream::Cull, |v| {
+            self.loop_units().cull.to_ports(t_lo, t_hi, w, terms, v)
+        })
+    }
+    fn pack_triangle(&self, x: &TriIn) -> Packed {
+        Packed::new(self.loop_units(), Stream::Triangle, |v| {
+            v.copy_from_slice(&tri_flow::to_vector(x))
+        })
+    }
+}
+
+/// Answers from the golden models and records every unit call as port
+/// values, one stream per unit (recording order, duplicates included).
+pub struct Recorder<'u> {
+    units: &'u LoopUnits,
+    golden: Golden,
+    streams: [Mutex<Vec<u64>>; 6],
+}
+
+impl<'u> Recorder<'u> {
+    /// A recorder for the loop's units.
+    pub fn new(units: &'u LoopUnits) -> Recorder<'u> {
+        Recorder {
+            units,
+            golden: Golden::default(),
+            streams: Default::default(),
+        }
+    }
+    fn record(&self, p: Packed) {
+        self.streams[p.stream as usize]
+            .lock()
+            .unwrap()
+            .extend_from_slice(p.values());
+    }
+    /// The recorded port values of each stream (flat, [`Stream::ALL`] order).
+    pub fn into_streams(self) -> [Vec<u64>; 6] {
+        self.streams.map(|m| m.into_inner().unwrap())
+    }
+}
+
+impl Packs for Recorder<'_> {
+    fn loop_units(&self) -> &LoopUnits {
+        self.units
+    }
+}
+
+impl BoxTester for Recorder<'_> {
     fn ray(&self, x: &RayBox) -> bool {
-        self.shared.lock().unwrap().push(ray_input(x));
+        self.record(self.pack_box(&ray_input(x), true));
         self.golden.ray(x)
     }
     fn bundle(&self, x: &BundleBox) -> Verdict {
-        let list = if x.shared {
-            &self.shared
-        } else {
-            &self.bounded
-        };
-        list.lock().unwrap().push(x.input);
+        self.record(self.pack_box(&x.input, x.shared));
         self.golden.bundle(x)
     }
     fn supports_bundles(&self) -> bool {
@@ -109,68 +358,100 @@ impl BoxTester for Recorder {
     fn name(&self) -> &'static str {
         "golden (recording)"
     }
+    fn units(&self) -> &dyn Units {
+        self
+    }
 }
 
-/// Answers every box test from the RTL outputs (packed as
-/// `golden_model::silhouette::Out::to_bits`: bit 0 all_hit, 1 any_hit).
-pub struct RtlTester {
-    shared: HashMap<[u64; 20], u8>,
-    bounded: HashMap<[u64; 20], u8>,
-    answered: AtomicU64,
-    missing: AtomicU64,
+impl Units for Recorder<'_> {
+    fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
+        self.record(self.pack_transform(ray, inst));
+        GoldenUnits::get().transform(ray, inst)
+    }
+    fn cull_ray(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r_min: &[u64; 3],
+        normals: &[[u64; 3]],
+        terms: &mut [NormalTerm],
+    ) {
+        self.record(self.pack_cull_ray(o, d, r_min, normals));
+        GoldenUnits::get().cull_ray(o, d, r_min, normals, terms)
+    }
+    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
+        self.record(self.pack_cull(t_lo, t_hi, w, terms));
+        GoldenUnits::get().cull(t_lo, t_hi, w, terms)
+    }
+    fn triangle(&self, x: &TriIn) -> TriOut {
+        self.record(self.pack_triangle(x));
+        GoldenUnits::get().triangle(x)
+    }
 }
 
-impl RtlTester {
-    /// A tester answering from the given outputs.
-    pub fn new(shared: HashMap<[u64; 20], u8>, bounded: HashMap<[u64; 20], u8>) -> RtlTester {
+/// RTL outputs by input port values, one table per unit.
+pub type Answers = HashMap<Vec<u64>, Vec<u64>>;
+
+/// Answers every unit call from the RTL outputs.
+pub struct RtlTester<'u> {
+    units: &'u LoopUnits,
+    answers: [Answers; 6],
+    answered: [AtomicU64; 6],
+    missing: [AtomicU64; 6],
+}
+
+impl<'u> RtlTester<'u> {
+    /// A tester answering from `answers` ([`Stream::ALL`] order).
+    pub fn new(units: &'u LoopUnits, answers: [Answers; 6]) -> RtlTester<'u> {
         RtlTester {
-            shared,
-            bounded,
-            answered: AtomicU64::new(0),
-            missing: AtomicU64::new(0),
+            units,
+            answers,
+            answered: Default::default(),
+            missing: Default::default(),
         }
     }
-    /// Box tests answered from the RTL outputs.
-    pub fn answered(&self) -> u64 {
-        self.answered.load(Ordering::Relaxed)
+    /// Calls of a unit answered from the RTL outputs.
+    pub fn answered(&self, s: Stream) -> u64 {
+        self.answered[s as usize].load(Ordering::Relaxed)
     }
-    /// Box tests whose input had not been run through the RTL.
-    pub fn missing(&self) -> u64 {
-        self.missing.load(Ordering::Relaxed)
+    /// Calls of a unit whose input had not been run through the RTL.
+    pub fn missing(&self, s: Stream) -> u64 {
+        self.missing[s as usize].load(Ordering::Relaxed)
     }
-    fn lookup(&self, unit: Unit, b: &BundleIn) -> Option<u8> {
-        let map = match unit {
-            Unit::Shared => &self.shared,
-            Unit::Bounded => &self.bounded,
+    fn lookup(&self, p: &Packed) -> Option<&[u64]> {
+        let i = p.stream as usize;
+        let found = self.answers[i].get(p.values()).map(Vec::as_slice);
+        let count = if found.is_some() {
+            &self.answered[i]
+        } else {
+            &self.missing[i]
         };
-        match map.get(&key(b)) {
-            Some(&bits) => {
-                self.answered.fetch_add(1, Ordering::Relaxed);
-                Some(bits)
-            }
-            None => {
-                self.missing.fetch_add(1, Ordering::Relaxed);
-                None
-            }
-        }
+        count.fetch_add(1, Ordering::Relaxed);
+        found
     }
 }
 
-impl BoxTester for RtlTester {
+impl Packs for RtlTester<'_> {
+    fn loop_units(&self) -> &LoopUnits {
+        self.units
+    }
+}
+
+/// The silhouette unit's outputs: bit 0 all_hit, bit 1 any_hit ([`BOX_OUTPUTS`]).
+fn all_any(out: &[u64]) -> (bool, bool) {
+    (out[0] & 1 != 0, out[1] & 1 != 0)
+}
+
+impl BoxTester for RtlTester<'_> {
     fn ray(&self, x: &RayBox) -> bool {
-        self.lookup(Unit::Shared, &ray_input(x))
-            .is_none_or(|bits| bits & 2 != 0)
+        self.lookup(&self.pack_box(&ray_input(x), true))
+            .is_none_or(|out| all_any(out).1)
     }
     fn bundle(&self, x: &BundleBox) -> Verdict {
-        let unit = if x.shared {
-            Unit::Shared
-        } else {
-            Unit::Bounded
-        };
-        match self.lookup(unit, &x.input) {
+        match self.lookup(&self.pack_box(&x.input, x.shared)).map(all_any) {
             None => Verdict::Mixed,
-            Some(bits) if bits & 1 != 0 => Verdict::AllHit,
-            Some(bits) if bits & 2 == 0 => Verdict::AllMiss,
+            Some((true, _)) => Verdict::AllHit,
+            Some((false, false)) => Verdict::AllMiss,
             Some(_) => Verdict::Mixed,
         }
     }
@@ -180,105 +461,98 @@ impl BoxTester for RtlTester {
     fn name(&self) -> &'static str {
         "rtl"
     }
-}
-
-/// One silhouette unit generated and its harness built (or found in the cache).
-pub struct UnitHarness {
-    /// the generated unit
-    pub generated: Generated,
-    /// its testbench (port mapping)
-    pub bench: SilhouetteBench,
-    /// the Verilated harness
-    pub harness: Harness,
-}
-
-impl UnitHarness {
-    /// Generates `silhouette` with `params` into `dir` and builds its harness
-    /// under [`sim::default_cache_root`].
-    pub fn build(params: &[&str], dir: &Path) -> Result<UnitHarness, String> {
-        let given: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-        let g = flow::generate("silhouette", &given).map_err(|e| e.to_string())?;
-        let dir = dir.join(&g.module.name);
-        g.write(&dir, 10.0).map_err(|e| e.to_string())?;
-        let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root())
-            .map_err(|e| e.to_string())?;
-        let outs: Vec<&str> = g.ports.outputs.iter().map(|p| p.name.as_str()).collect();
-        if outs != OUTPUTS {
-            return Err(format!(
-                "{}: output ports {outs:?}, expected {OUTPUTS:?} (the packing of Out::to_bits)",
-                g.module.name
-            ));
-        }
-        let bench = SilhouetteBench::new(&g.params);
-        Ok(UnitHarness {
-            generated: g,
-            bench,
-            harness,
-        })
+    fn units(&self) -> &dyn Units {
+        self
     }
+}
 
-    /// Runs `inputs` as one stream through the RTL; returns the outputs
-    /// packed as `Out::to_bits`, one per input, and the cycles simulated.
-    pub fn run(&self, inputs: &[BundleIn], dir: &Path) -> Result<(Vec<u8>, u64), String> {
-        let ports = &self.generated.ports;
-        let name = &self.generated.module.name;
-        let (fin, fout) = (
-            dir.join(format!("{name}.in.rtlvec")),
-            dir.join(format!("{name}.out.rtlvec")),
-        );
-        let e = |e: sim::SimError| e.to_string();
-        let mut w = BinWriter::create(&fin, &ports.inputs).map_err(e)?;
-        let mut v = vec![0u64; ports.inputs.len()];
-        for b in inputs {
-            self.bench.to_ports(b, &mut v);
-            w.write_record(&v).map_err(e)?;
+impl Units for RtlTester<'_> {
+    fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
+        match self.lookup(&self.pack_transform(ray, inst)) {
+            Some(out) => self.units.transform.model_ray_from_ports(out),
+            None => GoldenUnits::get().transform(ray, inst),
         }
-        w.finish().map_err(e)?;
-        let stats = self
-            .harness
-            .run(&fin, &fout, &sim::RunOptions::default())
-            .map_err(e)?;
-        let mut r = BinReader::open(&fout).map_err(e)?;
-        r.expect_ports(&ports.outputs).map_err(e)?;
-        let mut o = vec![0u64; ports.outputs.len()];
-        let mut out = Vec::with_capacity(inputs.len());
-        while r.read_record(&mut o).map_err(e)? {
-            out.push(
-                o.iter()
-                    .enumerate()
-                    .fold(0u8, |a, (i, &b)| a | ((b as u8 & 1) << i)),
-            );
+    }
+    fn cull_ray(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r_min: &[u64; 3],
+        normals: &[[u64; 3]],
+        terms: &mut [NormalTerm],
+    ) {
+        match self.lookup(&self.pack_cull_ray(o, d, r_min, normals)) {
+            Some(out) => self.units.cull_ray.terms_from_ports(out, terms),
+            None => GoldenUnits::get().cull_ray(o, d, r_min, normals, terms),
         }
-        if out.len() != inputs.len() {
-            return Err(format!(
-                "{name}: {} inputs, {} outputs from the harness",
-                inputs.len(),
-                out.len()
-            ));
+    }
+    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
+        // a missing answer keeps the child (never a wrongful cull)
+        self.lookup(&self.pack_cull(t_lo, t_hi, w, terms))
+            .is_none_or(CullBench::keep_from_ports)
+    }
+    fn triangle(&self, x: &TriIn) -> TriOut {
+        match self.lookup(&self.pack_triangle(x)) {
+            Some(out) => tri_flow::from_outputs(out),
+            None => GoldenUnits::get().triangle(x),
         }
-        let _ = std::fs::remove_file(&fin);
-        let _ = std::fs::remove_file(&fout);
-        Ok((out, stats.cycles))
     }
 }
 
 /// Per unit: what went through the RTL.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct UnitReport {
+    /// the stream
+    pub stream: Stream,
+    /// the render calls this unit (see [`Stream::used`])
+    pub used: bool,
     /// harness top module
     pub top: String,
-    /// box tests run through the RTL (the stream's length, duplicates included)
+    /// calls run through the RTL (the stream's length, duplicates included)
     pub vectors: u64,
     /// distinct inputs among them
     pub distinct: u64,
     /// clock cycles the harness simulated (reset and drain included)
     pub cycles: u64,
-    /// RTL outputs (all five bits) differing from the golden model
+    /// RTL output vectors differing from the golden model (any output port)
     pub mismatches: u64,
+    /// calls the replay answered from the RTL outputs
+    pub answered: u64,
+    /// calls of the replay whose input had not been run (should be 0)
+    pub missing: u64,
     /// harness build time (cache lookup included) and whether it was cached
     pub build: (Duration, bool),
     /// time of the harness run
     pub run: Duration,
+}
+
+impl UnitReport {
+    /// The unit agreed everywhere: no RTL/golden mismatch, nothing missing,
+    /// as many calls replayed as recorded, and exercised if the render uses it.
+    pub fn ok(&self) -> bool {
+        self.mismatches == 0
+            && self.missing == 0
+            && self.answered == self.vectors
+            && (self.vectors > 0 || !self.used)
+    }
+    /// `<unit>: N tests through RTL, identical` (or `DIFFERENT`, or
+    /// `not exercised`).
+    pub fn line(&self) -> String {
+        let verdict = if !self.used {
+            "not used by this render"
+        } else if self.vectors == 0 {
+            "NOT EXERCISED"
+        } else if self.ok() {
+            "identical"
+        } else {
+            "DIFFERENT"
+        };
+        format!(
+            "{}: {} tests through RTL, {verdict}",
+            self.stream.label(),
+            self.vectors
+        )
+    }
 }
 
 /// The outcome of an RTL-in-the-loop render.
@@ -287,31 +561,24 @@ pub struct LoopReport {
     pub golden: Frame,
     /// the render answered by the RTL
     pub rtl: Frame,
-    /// shared-origin unit
-    pub shared: UnitReport,
-    /// bounded-origin unit
-    pub bounded: UnitReport,
-    /// box tests the replay answered from the RTL outputs
-    pub answered: u64,
-    /// box tests of the replay whose input had not been run (should be 0)
-    pub missing: u64,
+    /// per unit, [`Stream::ALL`] order
+    pub units: Vec<UnitReport>,
     /// pixels whose hit id, `t` bits or colour bits differ
     pub differing_pixels: u64,
 }
 
 impl LoopReport {
-    /// Box tests that went through the RTL (both units).
-    pub fn box_tests(&self) -> u64 {
-        self.shared.vectors + self.bounded.vectors
+    /// The report of one unit.
+    pub fn unit(&self, s: Stream) -> &UnitReport {
+        &self.units[s as usize]
     }
-    /// Everything agrees: no RTL/golden mismatch, nothing missing, as many
-    /// box tests replayed as recorded, identical images.
+    /// Box tests that went through the RTL (both silhouette units).
+    pub fn box_tests(&self) -> u64 {
+        self.unit(Stream::BoxShared).vectors + self.unit(Stream::BoxBounded).vectors
+    }
+    /// Every unit agreed and the images are identical.
     pub fn ok(&self) -> bool {
-        self.shared.mismatches == 0
-            && self.bounded.mismatches == 0
-            && self.missing == 0
-            && self.answered == self.box_tests()
-            && self.differing_pixels == 0
+        self.units.iter().all(UnitReport::ok) && self.differing_pixels == 0
     }
 }
 
@@ -319,29 +586,32 @@ impl std::fmt::Display for LoopReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "| unit | box tests through the RTL | distinct | cycles | RTL ≠ golden | harness build | run |\n|---|---|---|---|---|---|---|"
+            "| unit | harness top | tests through the RTL | distinct | cycles | RTL ≠ golden | replay answered (missing) | harness build | run |\n|---|---|---|---|---|---|---|---|---|"
         )?;
-        for u in [&self.shared, &self.bounded] {
+        for u in &self.units {
             writeln!(
                 f,
-                "| {} | {} | {} | {} | {} | {:.1} s{} | {:.2} s |",
+                "| {} | {} | {} | {} | {} | {} | {} ({}) | {:.1} s{} | {:.2} s |",
+                u.stream.label(),
                 u.top,
                 u.vectors,
                 u.distinct,
                 u.cycles,
                 u.mismatches,
+                u.answered,
+                u.missing,
                 u.build.0.as_secs_f64(),
                 if u.build.1 { " (cached)" } else { "" },
                 u.run.as_secs_f64()
             )?;
         }
+        writeln!(f)?;
+        for u in &self.units {
+            writeln!(f, "{}", u.line())?;
+        }
         writeln!(
             f,
-            "\n{} box tests through the RTL; replay answered {} from the RTL outputs ({} missing); \
-             {} of {} pixels differ from the golden image: {}",
-            self.box_tests(),
-            self.answered,
-            self.missing,
+            "image: {} of {} pixels differ from the golden render: {}",
             self.differing_pixels,
             self.golden.ids.len(),
             if self.ok() { "IDENTICAL" } else { "FAILED" }
@@ -360,80 +630,143 @@ pub fn differing_pixels(a: &Frame, b: &Frame) -> u64 {
         .count() as u64
 }
 
-fn run_unit(
-    params: &[&str],
-    inputs: &[BundleIn],
-    dir: &Path,
-) -> Result<(UnitReport, HashMap<[u64; 20], u8>), String> {
+/// One stream run through its unit's RTL.
+struct StreamRun {
+    report: UnitReport,
+    answers: Answers,
+}
+
+/// Builds the harness of `g` (or finds it in the cache), runs the flat
+/// port values `inputs` through it as one stream and compares every output
+/// vector with the unit's golden model.
+fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<StreamRun, String> {
+    let e = |e: sim::SimError| format!("{}: {e}", s.label());
+    let name = &g.module.name;
+    let dir = dir.join(name);
+    let (n_in, n_out) = (g.ports.inputs.len(), g.ports.outputs.len());
     let started = Instant::now();
-    let u = UnitHarness::build(params, dir)?;
-    let build = (started.elapsed(), u.harness.was_cached());
-    let started = Instant::now();
-    let (outs, cycles) = u.run(inputs, dir)?;
-    let run = started.elapsed();
-    let cfg = u.bench.config();
-    let mut map = HashMap::with_capacity(inputs.len());
+    let (build, cycles, outputs, run) = if inputs.is_empty() {
+        ((Duration::ZERO, false), 0, Vec::new(), Duration::ZERO)
+    } else {
+        g.write(&dir, 10.0).map_err(|e| e.to_string())?;
+        let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root()).map_err(e)?;
+        let build = (started.elapsed(), harness.was_cached());
+        let started = Instant::now();
+        let (fin, fout) = (
+            dir.join(format!("{name}.in.rtlvec")),
+            dir.join(format!("{name}.out.rtlvec")),
+        );
+        let mut w = BinWriter::create(&fin, &g.ports.inputs).map_err(e)?;
+        for v in inputs.chunks(n_in) {
+            w.write_record(v).map_err(e)?;
+        }
+        w.finish().map_err(e)?;
+        let stats = harness
+            .run(&fin, &fout, &sim::RunOptions::default())
+            .map_err(e)?;
+        let mut r = BinReader::open(&fout).map_err(e)?;
+        r.expect_ports(&g.ports.outputs).map_err(e)?;
+        let mut o = vec![0u64; n_out];
+        let mut outputs = Vec::with_capacity(inputs.len() / n_in * n_out);
+        while r.read_record(&mut o).map_err(e)? {
+            outputs.extend_from_slice(&o);
+        }
+        let _ = std::fs::remove_file(&fin);
+        let _ = std::fs::remove_file(&fout);
+        (build, stats.cycles, outputs, started.elapsed())
+    };
+    let vectors = inputs.len() / n_in;
+    if outputs.len() != vectors * n_out {
+        return Err(format!(
+            "{name}: {vectors} inputs, {} outputs from the harness",
+            outputs.len() / n_out
+        ));
+    }
+    let bench = g.testbench();
+    let mut golden = vec![0u64; n_out];
+    let mut answers = Answers::with_capacity(vectors);
     let mut mismatches = 0;
-    for (b, &bits) in inputs.iter().zip(&outs) {
-        if eval(cfg, b).to_bits() != bits {
+    for (v, out) in inputs.chunks(n_in).zip(outputs.chunks(n_out)) {
+        bench.eval(v, &mut golden);
+        if golden != out {
             mismatches += 1;
         }
-        if let Some(prev) = map.insert(key(b), bits) {
-            if prev != bits {
+        if let Some(prev) = answers.insert(v.to_vec(), out.to_vec()) {
+            if prev != out {
                 return Err(format!(
-                    "{}: the RTL answered the same input twice differently",
-                    u.generated.module.name
+                    "{name}: the RTL answered the same input twice differently"
                 ));
             }
         }
     }
-    Ok((
-        UnitReport {
-            top: u.generated.module.name.clone(),
-            vectors: inputs.len() as u64,
-            distinct: map.len() as u64,
+    Ok(StreamRun {
+        report: UnitReport {
+            stream: s,
+            used: true,
+            top: name.clone(),
+            vectors: vectors as u64,
+            distinct: answers.len() as u64,
             cycles,
             mismatches,
+            answered: 0,
+            missing: 0,
             build,
             run,
         },
-        map,
-    ))
+        answers,
+    })
 }
 
-/// Renders `w`×`h` with the golden model (recording every box test), runs
-/// the box tests through the Verilated shared- and bounded-origin units (one
-/// stream each; `work` holds the generated Verilog and the vector files),
-/// renders again answering from the RTL outputs and compares.
+/// Renders `w`×`h` with the golden models (recording every unit call),
+/// runs the calls through the Verilated units (one stream each; `work`
+/// holds the generated Verilog and the vector files), renders again
+/// answering from the RTL outputs and compares. The triangle test is the
+/// `triangle` unit's (`opts.tri` is set to [`TriTest::Golden`]) and rays are
+/// transformed by the `transform` unit.
 pub fn rtl_loop(
     scene: &Scene,
     accel: &Accel,
-    opts: TraceOpts,
+    mut opts: TraceOpts,
     w: u32,
     h: u32,
     work: &Path,
     progress: bool,
 ) -> Result<LoopReport, String> {
-    let rec = Recorder::default();
+    opts.tri = TriTest::Golden;
+    opts.f32_transform = false;
+    let units = LoopUnits::generate()?;
+    let rec = Recorder::new(&units);
     let golden = render(scene, accel, &rec, opts, w, h, progress);
-    let (shared_in, bounded_in) = rec.into_inputs();
+    let streams = rec.into_streams();
     std::fs::create_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
-    // the two Verilator builds/runs are independent
-    let (a, b) = rayon::join(
-        || run_unit(&SHARED_PARAMS, &shared_in, work),
-        || run_unit(&BOUNDED_PARAMS, &bounded_in, work),
-    );
-    let ((shared, shared_map), (bounded, bounded_map)) = (a?, b?);
-    let tester = RtlTester::new(shared_map, bounded_map);
+    // the Verilator builds and runs are independent: two at a time (the
+    // machines this runs on have two cores)
+    let runs: Vec<Result<StreamRun, String>> = {
+        use rayon::prelude::*;
+        Stream::ALL
+            .par_iter()
+            .map(|&s| run_stream(s, units.generated(s), &streams[s as usize], work))
+            .collect()
+    };
+    let mut reports = Vec::new();
+    let mut answers: [Answers; 6] = Default::default();
+    for (s, r) in Stream::ALL.into_iter().zip(runs) {
+        let r = r?;
+        reports.push(r.report);
+        answers[s as usize] = r.answers;
+    }
+    let tester = RtlTester::new(&units, answers);
     let rtl = render(scene, accel, &tester, opts, w, h, progress);
+    for r in &mut reports {
+        r.used = r.stream.used(&opts);
+        r.answered = tester.answered(r.stream);
+        r.missing = tester.missing(r.stream);
+    }
     let differing = differing_pixels(&golden, &rtl);
     Ok(LoopReport {
         golden,
         rtl,
-        shared,
-        bounded,
-        answered: tester.answered(),
-        missing: tester.missing(),
+        units: reports,
         differing_pixels: differing,
     })
 }

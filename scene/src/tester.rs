@@ -10,6 +10,7 @@
 //! | [`Checked`] | wraps a tester; every single-ray miss is checked against [`Exact`] on the unrounded binary32 ray | the wrapped tester |
 //! | `rtl::RtlTester` | the Verilated silhouette unit | the same unit |
 
+use crate::units::{GoldenUnits, Units};
 use golden_model::exact::ray_box::{ray_hits_box, BoxIn, RayIn};
 use golden_model::float::{convert, sub, FloatFormat, RoundingMode};
 use golden_model::silhouette::{any_hit, eval, BundleIn, Config, OriginMode, Rounding, Verdict};
@@ -56,6 +57,12 @@ pub trait BoxTester: Sync {
     fn supports_bundles(&self) -> bool;
     /// Short name for reports.
     fn name(&self) -> &'static str;
+    /// The transform, cull and triangle units the traversal uses beside
+    /// this tester: their golden models unless the tester brings its own
+    /// (the RTL in the loop).
+    fn units(&self) -> &dyn Units {
+        GoldenUnits::get()
+    }
 }
 
 /// The silhouette unit's golden model, binary32, conservative rounding.
@@ -72,6 +79,17 @@ impl Default for Golden {
             shared: Config::new(f, OriginMode::Shared, Rounding::Conservative).unwrap(),
             bounded: Config::new(f, OriginMode::Bounded, Rounding::Conservative).unwrap(),
         }
+    }
+}
+
+impl Golden {
+    /// The shared-origin unit's configuration (single rays, shared-origin bundles).
+    pub fn shared(&self) -> Config {
+        self.shared
+    }
+    /// The bounded-origin unit's configuration (other bundles).
+    pub fn bounded(&self) -> Config {
+        self.bounded
     }
 }
 
@@ -405,5 +423,8 @@ impl<T: BoxTester> BoxTester for Checked<T> {
     }
     fn name(&self) -> &'static str {
         self.inner.name()
+    }
+    fn units(&self) -> &dyn Units {
+        self.inner.units()
     }
 }

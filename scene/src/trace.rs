@@ -1,8 +1,9 @@
 //! Two-level traversal of rays and ray bundles through the [`Accel`], with
 //! every box test through a [`BoxTester`] (golden silhouette unit by default),
-//! every cull test through the cull-plane unit's golden model and every
-//! instance transform through the two-step transform unit's golden model.
-//! Triangles are tested in software (watertight test, f64, see [`intersect`]).
+//! and every instance transform, cull test and (with `--tri golden`) triangle
+//! test through the tester's [`Units`] (their golden models unless the
+//! tester brings its own, as the RTL in the loop does). The default triangle
+//! test is the watertight test in f64 ([`intersect`]).
 //!
 //! A traversal is depth first, nearer child first (ordered by the distance of
 //! the child box centre along the first active ray: a heuristic, not a test).
@@ -14,13 +15,12 @@
 use crate::bvh::{f32_up, Accel, PLANES_K};
 use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
+use crate::units::Units;
 use golden_model::cull::bvh::{Mesh, NodeKind};
-use golden_model::cull::tester::{
-    self as cull, box_interval, normal_terms_into, slab_reciprocal, NormalTerm,
-};
-use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::cull::tester::{box_interval, slab_reciprocal, NormalTerm};
+use golden_model::float::FloatFormat;
 use golden_model::silhouette::{BundleIn, Verdict};
-use golden_model::transform::{self, DotStyle, InstanceTransform, InverseSource, WorldRay};
+use golden_model::transform::{InstanceTransform, WorldRay};
 use golden_model::triangle as golden_triangle;
 
 /// Ray types, for statistics.
@@ -320,12 +320,10 @@ impl LazyTerms<'_> {
     }
 
     /// The terms of ray `i` (`r`), the first `k` entries.
-    fn get(&mut self, cfg: &cull::Config, i: usize, r: &TRay) -> &[NormalTerm; 8] {
+    fn get(&mut self, units: &dyn Units, i: usize, r: &TRay) -> &[NormalTerm; 8] {
         // computed in place (no copy of the terms)
         let (normals, r_min) = (self.normals, self.r_min);
-        let compute = |t: &mut [NormalTerm; 8]| {
-            normal_terms_into(cfg, &r.o, &r.d, &r_min, normals, t, &mut [0; 8]);
-        };
+        let compute = |t: &mut [NormalTerm; 8]| units.cull_ray(&r.o, &r.d, &r_min, normals, t);
         match self.first {
             None => {
                 let t = &mut self.first.insert((i, [NormalTerm::default(); 8])).1;
@@ -361,8 +359,8 @@ pub struct Tracer<'a> {
     pub tester: &'a dyn BoxTester,
     /// options
     pub opts: TraceOpts,
-    cull_cfg: cull::Config,
-    xf_cfg: transform::Config,
+    /// the transform, cull and triangle units (the box tester's)
+    units: &'a dyn Units,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -428,9 +426,9 @@ fn tri_t_max(r: &TRay) -> u64 {
     }
 }
 
-/// The `triangle` unit's golden model on the model-space ray: `t` of a hit
-/// in `[0, best so far]`.
-fn unit_triangle(r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
+/// The `triangle` unit on the model-space ray: `t` of a hit in `[0, best so
+/// far]`.
+fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
     let x = golden_triangle::TriIn {
         o: r.o,
         kz: r.shear.0,
@@ -441,7 +439,7 @@ fn unit_triangle(r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
         t_min: bits(0.0),
         t_max: tri_t_max(r),
     };
-    let out = golden_triangle::eval(FloatFormat::BINARY32, &x);
+    let out = units.triangle(&x);
     out.hit.then(|| f32::from_bits(out.t as u32) as f64)
 }
 
@@ -475,14 +473,7 @@ impl<'a> Tracer<'a> {
             meshes: scene.meshes.iter().map(|(_, m)| m).collect(),
             tester,
             opts,
-            cull_cfg: cull::Config::new(FloatFormat::BINARY32, crate::bvh::PLANE_FMT, PLANES_K)
-                .unwrap(),
-            xf_cfg: transform::Config {
-                fmt: FloatFormat::BINARY32,
-                mode: RoundingMode::NearestEven,
-                dot: DotStyle::Fma,
-                source: InverseSource::PreInverted,
-            },
+            units: tester.units(),
         }
     }
 
@@ -593,8 +584,7 @@ impl<'a> Tracer<'a> {
                 r.d = mv(r.d_w).map(bits);
                 r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             } else {
-                let m = transform::transform(
-                    &self.xf_cfg,
+                let m = self.units.transform(
                     &WorldRay {
                         origin: r.o_w.map(bits),
                         dir: r.d_w.map(bits),
@@ -706,9 +696,8 @@ impl<'a> Tracer<'a> {
                     r.box_t_max(),
                 )
                 .is_some_and(|(t_lo, t_hi)| {
-                    let k = self.cull_cfg.k;
-                    let terms = parent_terms.get(&self.cull_cfg, i, r);
-                    cull::eval_parts(&self.cull_cfg, t_lo, t_hi, w, &terms[..k]).keep
+                    let terms = parent_terms.get(self.units, i, r);
+                    self.units.cull(t_lo, t_hi, w, &terms[..PLANES_K])
                 });
                 if !keep {
                     st.culled_nodes += 1;
@@ -737,7 +726,7 @@ impl<'a> Tracer<'a> {
                         let v = m.corners(t);
                         let found = match self.opts.tri {
                             TriTest::F64 => intersect(&o, &d, &v, r.hit.t),
-                            TriTest::Golden => unit_triangle(r, &v),
+                            TriTest::Golden => unit_triangle(self.units, r, &v),
                             TriTest::Exact => exact_triangle(r, &v),
                         };
                         if let Some(th) = found {

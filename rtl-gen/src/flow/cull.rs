@@ -96,20 +96,42 @@ impl CullBench {
         }
     }
 
-    fn pack(&self, x: &ChildIn, dir_codes: &[u64], v: &mut [u64]) {
+    /// The input ports of one child test (the renderer's call of
+    /// `eval_parts`), each value masked to its port; distances and terms
+    /// beyond the slices' lengths read as 0, as in the golden model.
+    pub fn to_ports(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm], v: &mut [u64]) {
         let u = &self.unit;
         let fm = self.cfg.ray.mask();
         let pm = self.cfg.plane.mask();
         let cm = self.cfg.crossing().mask();
-        v[u.child_t_lo()] = x.t_lo & fm;
-        v[u.child_t_hi()] = x.t_hi & fm;
+        v[u.child_t_lo()] = t_lo & fm;
+        v[u.child_t_hi()] = t_hi & fm;
         for j in 0..self.cfg.k {
-            v[u.child_w(j)] = x.w[j] & pm;
-            let t = x.terms[j];
+            v[u.child_w(j)] = w.get(j).copied().unwrap_or(0) & pm;
+            let t = terms.get(j).copied().unwrap_or_default();
             v[u.child_term(j, TermField::NoLo)] = t.no_lo & fm;
             v[u.child_term(j, TermField::RcpLo)] = t.rcp_lo & cm;
             v[u.child_term(j, TermField::RcpHi)] = t.rcp_hi & cm;
-            v[u.child_term(j, TermField::Dir)] = dir_codes[j] & 3;
+            v[u.child_term(j, TermField::Dir)] = t.dir.code();
+        }
+    }
+
+    /// `keep` of the output ports.
+    pub fn keep_from_ports(out: &[u64]) -> bool {
+        out[0] & 1 != 0
+    }
+
+    /// The golden configuration.
+    pub fn config(&self) -> &Config {
+        &self.cfg
+    }
+
+    /// [`CullBench::to_ports`] with the direction codes given (code 3 is
+    /// no [`Crossing`]: the stimulus drives it too).
+    fn pack(&self, x: &ChildIn, dir_codes: &[u64], v: &mut [u64]) {
+        self.to_ports(x.t_lo, x.t_hi, &x.w, &x.terms, v);
+        for (j, code) in dir_codes.iter().enumerate().take(self.cfg.k) {
+            v[self.unit.child_term(j, TermField::Dir)] = code & 3;
         }
     }
 

@@ -20,7 +20,7 @@ use super::stimulus::{mask, VectorRng};
 use super::Testbench;
 use crate::params::Params;
 use crate::units::cull::{Config as UnitConfig, TermField};
-use golden_model::cull::tester::{ray_terms, Config, RayIn};
+use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, FloatFormat, RoundingMode};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -319,16 +319,48 @@ impl CullRayBench {
     }
 
     fn pack(&self, x: &RayIn, v: &mut [u64]) {
+        self.to_ports(&x.o, &x.d, &x.r, &x.normals, v);
+    }
+
+    /// The input ports of one transaction (the renderer's call of
+    /// `normal_terms_into`), each value masked to its port; normals beyond
+    /// `normals.len()` read as 0, as in the golden model.
+    pub fn to_ports(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r: &[u64; 3],
+        normals: &[[u64; 3]],
+        v: &mut [u64],
+    ) {
         let u = &self.unit;
         let (fm, pm) = (self.cfg.ray.mask(), self.cfg.plane.mask());
         for i in 0..3 {
-            v[u.ray_o(i)] = x.o[i] & fm;
-            v[u.ray_d(i)] = x.d[i] & fm;
-            v[u.ray_r(i)] = x.r[i] & fm;
+            v[u.ray_o(i)] = o[i] & fm;
+            v[u.ray_d(i)] = d[i] & fm;
+            v[u.ray_r(i)] = r[i] & fm;
             for j in 0..self.cfg.k {
-                v[u.ray_n(j, i)] = x.normals[j][i] & pm;
+                v[u.ray_n(j, i)] = normals.get(j).map_or(0, |n| n[i]) & pm;
             }
         }
+    }
+
+    /// The per-normal terms of the output ports (the first `k` of `terms`).
+    pub fn terms_from_ports(&self, out: &[u64], terms: &mut [NormalTerm]) {
+        let u = &self.unit;
+        for (j, t) in terms.iter_mut().enumerate().take(self.cfg.k) {
+            *t = NormalTerm {
+                no_lo: out[u.ray_term(j, TermField::NoLo)],
+                rcp_lo: out[u.ray_term(j, TermField::RcpLo)],
+                rcp_hi: out[u.ray_term(j, TermField::RcpHi)],
+                dir: Crossing::from_code(out[u.ray_term(j, TermField::Dir)]),
+            };
+        }
+    }
+
+    /// The golden configuration.
+    pub fn config(&self) -> &Config {
+        &self.cfg
     }
 }
 

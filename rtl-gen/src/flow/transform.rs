@@ -22,7 +22,7 @@ use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::transform::accuracy::{forward, from_f64, rotation, Placement, SEED_MATRICES};
 use golden_model::transform::exact::scene_builder_inverse;
 use golden_model::transform::{
-    transform, Config, DotStyle, InstanceTransform, InverseSource, WorldRay,
+    transform, Config, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
 
 /// One transaction before packing into ports.
@@ -425,25 +425,62 @@ impl TransformBench {
     }
 }
 
+impl TransformBench {
+    /// The input ports of one transaction of a full-throughput unit (origin
+    /// and direction together: the renderer's call of `transform`).
+    pub fn to_ports(&self, ray: &WorldRay, inst: &InstanceTransform, v: &mut [u64]) {
+        assert!(self.full, "one transaction per ray needs throughput=full");
+        self.pack(
+            &Case {
+                ray: *ray,
+                inst: *inst,
+                is_origin: true,
+            },
+            v,
+        );
+    }
+
+    /// The output ports of `m` (of the origin or the direction alone at
+    /// half throughput).
+    fn outputs_of(&self, m: &ModelRay, is_origin: bool, outputs: &mut [u64]) {
+        let vectors: &[[u64; 3]] = match (self.full, is_origin) {
+            (true, _) => &[m.origin, m.dir],
+            (false, true) => &[m.origin],
+            (false, false) => &[m.dir],
+        };
+        let flat = vectors.iter().flatten().copied();
+        let tail = [m.t_min, m.t_max, m.id, m.singular as u64];
+        for (o, x) in outputs.iter_mut().zip(flat.chain(tail)) {
+            *o = x;
+        }
+    }
+
+    /// The model ray of a full-throughput unit's output ports (the inverse
+    /// of the golden side's packing).
+    pub fn model_ray_from_ports(&self, out: &[u64]) -> ModelRay {
+        assert!(self.full, "one transaction per ray needs throughput=full");
+        let three = |k: usize| [out[k], out[k + 1], out[k + 2]];
+        ModelRay {
+            origin: three(0),
+            dir: three(3),
+            t_min: out[6],
+            t_max: out[7],
+            id: out[8],
+            singular: out[9] != 0,
+        }
+    }
+
+    /// The golden configuration.
+    pub fn config(&self) -> &Config {
+        &self.cfg
+    }
+}
+
 impl sim::Golden for TransformBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let c = self.unpack(inputs);
         let m = transform(&self.cfg, &c.ray, &c.inst);
-        let mut k = 0;
-        let mut put = |x: u64| {
-            outputs[k] = x;
-            k += 1;
-        };
-        if self.full {
-            m.origin.iter().chain(&m.dir).for_each(|&x| put(x));
-        } else {
-            let vec = if c.is_origin { m.origin } else { m.dir };
-            vec.iter().for_each(|&x| put(x));
-        }
-        put(m.t_min);
-        put(m.t_max);
-        put(m.id);
-        put(m.singular as u64);
+        self.outputs_of(&m, c.is_origin, outputs);
     }
 }
 

@@ -15,7 +15,7 @@ use super::Testbench;
 use crate::params::Params;
 use crate::units::triangle::config;
 use golden_model::float::FloatFormat;
-use golden_model::triangle::{eval, shear, TriIn};
+use golden_model::triangle::{eval, shear, TriIn, TriOut};
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
@@ -186,6 +186,28 @@ pub fn from_vector(v: &[u64]) -> TriIn {
         c: three(13),
         t_min: v[16],
         t_max: v[17],
+    }
+}
+
+/// The result of a full-output unit's output ports.
+pub fn from_outputs(out: &[u64]) -> TriOut {
+    TriOut {
+        hit: out[0] & 1 != 0,
+        invalid: out[1] & 1 != 0,
+        t: out[2],
+        u: out[3],
+        v: out[4],
+    }
+}
+
+impl TriangleBench {
+    /// The format.
+    pub fn format(&self) -> FloatFormat {
+        self.fmt
+    }
+    /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
+    pub fn full(&self) -> bool {
+        self.full
     }
 }
 

@@ -107,10 +107,12 @@ enum Cmd {
         #[arg(long, default_value_t = 0)]
         result_latency: usize,
     },
-    /// RTL in the loop: record every box test of a (small) golden render, run
-    /// them through the Verilated binary32 silhouette units (shared- and
-    /// bounded-origin, one stream each), render again answering every box test
-    /// from the RTL outputs and check the image is bit-identical.
+    /// RTL in the loop: record every box, transform, cull and triangle test of
+    /// a (small) golden render, run them through the Verilated binary32 units
+    /// (one stream per unit), render again answering every test from the RTL
+    /// outputs and check the image is bit-identical. Prints one line per unit;
+    /// exit 1 when a unit or the image differs (or a unit the render uses got
+    /// no test).
     RtlLoop {
         #[command(flatten)]
         c: Common,
@@ -170,7 +172,8 @@ fn build(s: &Scene, planes: bool) -> Accel {
     acc
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+/// Runs a command; `Ok` carries the exit code (1: the RTL in the loop differs).
+fn run(cli: Cli) -> Result<ExitCode, String> {
     match cli.cmd {
         Cmd::Render {
             c,
@@ -336,7 +339,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let acc = build(&s, opts.planes);
             let work = work.unwrap_or_else(scene::rtl::default_work_dir);
             eprintln!(
-                "building (or finding in {}) the Verilated silhouette harnesses; a first build takes minutes",
+                "building (or finding in {}) the Verilated harnesses of six units; a first build takes minutes",
                 sim::default_cache_root().display()
             );
             let r = scene::rtl::rtl_loop(&s, &acc, opts, w, h, &work, true)?;
@@ -361,7 +364,7 @@ fn run(cli: Cli) -> Result<(), String> {
             );
             println!("{r}");
             if !r.ok() {
-                return Err("RTL in the loop: the RTL-answered render differs".into());
+                return Ok(ExitCode::from(1));
             }
         }
         Cmd::Bench { c } => {
@@ -414,12 +417,12 @@ fn run(cli: Cli) -> Result<(), String> {
             println!("golden/slab rays/s ratio: {:.2}", rate(&g) / rate(&f));
         }
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
 }
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)

@@ -1,0 +1,94 @@
+//! The datapath units the traversal calls besides the box tester: the
+//! two-step instance transform, the cull-plane unit's per-ray terms
+//! (`cull_ray`) and per-child test (`cull`), and the ray/triangle test.
+//! [`GoldenUnits`] answers from the golden models (the renderer's default,
+//! through [`crate::tester::BoxTester::units`]); `rtl::Recorder` and
+//! `rtl::RtlTester` record the same calls and answer them from the RTL.
+//!
+//! The configurations are the renderer's: binary32 rays, round to nearest
+//! even, `dot=fma`, `inverse=pre` (the scene builder stores `R⁻¹`); planes in
+//! [`PLANE_FMT`] with [`PLANES_K`] shared normals; the triangle test at
+//! binary32.
+
+use crate::bvh::{PLANES_K, PLANE_FMT};
+use golden_model::cull::tester::{self as cull, normal_terms_into, NormalTerm};
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::transform::{
+    self, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
+};
+use golden_model::triangle::{self, TriIn, TriOut};
+use std::sync::LazyLock;
+
+/// What the traversal asks of the units other than the box tester.
+pub trait Units: Sync {
+    /// The world ray in the instance's model space (`transform` unit).
+    fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay;
+    /// The ray terms of a node's shared normals (`cull_ray` unit): the
+    /// first [`PLANES_K`] entries of `terms`; normals beyond `normals.len()`
+    /// read as 0.
+    fn cull_ray(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r_min: &[u64; 3],
+        normals: &[[u64; 3]],
+        terms: &mut [NormalTerm],
+    );
+    /// May the segment `[t_lo, t_hi]` inside a child's box meet the child's
+    /// geometry (`cull` unit; [`PLANES_K`] distances and terms)?
+    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool;
+    /// The watertight ray/triangle test (`triangle` unit, `outputs=full`).
+    fn triangle(&self, x: &TriIn) -> TriOut;
+}
+
+/// The golden models in the renderer's configurations.
+#[derive(Debug, Clone, Copy)]
+pub struct GoldenUnits {
+    /// the two-step transform
+    pub transform: transform::Config,
+    /// both cull units
+    pub cull: cull::Config,
+    /// the triangle test's format
+    pub triangle: FloatFormat,
+}
+
+static GOLDEN: LazyLock<GoldenUnits> = LazyLock::new(|| GoldenUnits {
+    transform: transform::Config {
+        fmt: FloatFormat::BINARY32,
+        mode: RoundingMode::NearestEven,
+        dot: DotStyle::Fma,
+        source: InverseSource::PreInverted,
+    },
+    cull: cull::Config::new(FloatFormat::BINARY32, PLANE_FMT, PLANES_K)
+        .expect("the renderer's plane configuration is valid"),
+    triangle: FloatFormat::BINARY32,
+});
+
+impl GoldenUnits {
+    /// The renderer's units.
+    pub fn get() -> &'static GoldenUnits {
+        &GOLDEN
+    }
+}
+
+impl Units for GoldenUnits {
+    fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
+        transform::transform(&self.transform, ray, inst)
+    }
+    fn cull_ray(
+        &self,
+        o: &[u64; 3],
+        d: &[u64; 3],
+        r_min: &[u64; 3],
+        normals: &[[u64; 3]],
+        terms: &mut [NormalTerm],
+    ) {
+        normal_terms_into(&self.cull, o, d, r_min, normals, terms, &mut [0; 8]);
+    }
+    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
+        cull::eval_parts(&self.cull, t_lo, t_hi, w, terms).keep
+    }
+    fn triangle(&self, x: &TriIn) -> TriOut {
+        triangle::eval(self.triangle, x)
+    }
+}
