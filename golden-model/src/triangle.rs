@@ -1,7 +1,8 @@
 //! Golden model of `triangle`: a watertight ray/triangle test in the manner
 //! of Woop, Benthin and Wald (2013, "Watertight ray/triangle
-//! intersection"), every operation rounded to nearest even in one format;
-//! and an exact rational reference ([`exact`]).
+//! intersection"), every operation rounded once in one format, to nearest
+//! even ([`eval`]) or in any rounding mode ([`eval_with`]); and an exact
+//! rational reference ([`exact`]).
 //!
 //! Per ray (software, [`shear`]): `kz` is the axis of the largest `|d|`
 //! (the first on ties), `kx = kz + 1`, `ky = kz + 2` (mod 3), and
@@ -25,8 +26,9 @@
 //! the vertex and the ray, so two triangles sharing it compute the same
 //! `X, Y`. Each edge function depends only on its directed edge
 //! (`P → Q` gives `Q_X·P_Y − Q_Y·P_X`), and the neighbour across an edge
-//! walks it the other way: its value is the exact negation, and a correctly
-//! rounded result of the negation is the negated result. So a ray that
+//! walks it the other way: its value is the exact negation. Rounded once,
+//! in any mode, each keeps the sign of its exact value or underflows to a
+//! zero, so the two see opposite signs or a zero. So a ray that
 //! leaves one triangle across an edge (its edge function negative there)
 //! finds the neighbour's positive, and zero counts as inside for both: no
 //! ray falls between the two. (Woop et al. need a double-precision fallback
@@ -126,8 +128,16 @@ fn one(fmt: FloatFormat) -> u64 {
     (fmt.bias() as u64) << fmt.frac_bits()
 }
 
-/// The unit's answer for `x`, bit for bit.
+/// The unit's answer for `x`, bit for bit, every operation rounded to
+/// nearest even (the renderer's unit).
 pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
+    eval_with(fmt, RNE, x)
+}
+
+/// The unit's answer for `x` with every operation rounded in `mode`
+/// (watertight in every mode; the shear constants are inputs, rounded to
+/// nearest by [`shear`]).
+pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
     let zero = fmt.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
     let invalid = all.clone().any(|&v| !fmt.is_finite(v))
@@ -138,18 +148,23 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     let kz = x.kz as usize % 3;
     // steps 1-2: each vertex in ray space
     let sheared = |p: &[u64; 3]| {
-        let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], RNE));
+        let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], mode));
         let (px, py, pz) = (r[kx], r[ky], r[kz]);
         [
-            fma(fmt, fmt.negate(x.s[0]), pz, px, RNE),
-            fma(fmt, fmt.negate(x.s[1]), pz, py, RNE),
-            mul(fmt, x.s[2], pz, RNE),
+            fma(fmt, fmt.negate(x.s[0]), pz, px, mode),
+            fma(fmt, fmt.negate(x.s[1]), pz, py, mode),
+            mul(fmt, x.s[2], pz, mode),
         ]
     };
     let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
     let edge = |p: &[u64; 3], q: &[u64; 3]| {
-        dot3(fmt, [q[0], fmt.negate(q[1]), zero], [p[1], p[0], zero], RNE)
+        dot3(
+            fmt,
+            [q[0], fmt.negate(q[1]), zero],
+            [p[1], p[0], zero],
+            mode,
+        )
     };
     let (u, v, w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
     // step 4
@@ -158,12 +173,12 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     let positive = edges.iter().any(|&e| lt(fmt, zero, e));
     let numbers = edges.iter().all(|&e| !fmt.is_nan(e));
     let inside = numbers && !(negative && positive);
-    let det = dot3(fmt, edges, [one(fmt); 3], RNE);
-    let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], RNE);
+    let det = dot3(fmt, edges, [one(fmt); 3], mode);
+    let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], mode);
     let det_zero = classify(fmt, det) == Class::Zero;
     // step 5
-    let r = recip(fmt, det, RNE);
-    let t = mul(fmt, t_num, r, RNE);
+    let r = recip(fmt, det, mode);
+    let t = mul(fmt, t_num, r, mode);
     let hit = !invalid && inside && !det_zero && le(fmt, x.t_min, t) && le(fmt, t, x.t_max);
     if !hit {
         return TriOut {
@@ -175,8 +190,8 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
         hit,
         invalid,
         t,
-        u: mul(fmt, v, r, RNE),
-        v: mul(fmt, w, r, RNE),
+        u: mul(fmt, v, r, mode),
+        v: mul(fmt, w, r, mode),
     }
 }
 

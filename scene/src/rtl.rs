@@ -39,6 +39,7 @@ use crate::tester::{ray_input, BoxTester, BundleBox, Golden, RayBox};
 use crate::trace::{TraceOpts, TriTest};
 use crate::units::{GoldenUnits, Units};
 use golden_model::cull::tester::NormalTerm;
+use golden_model::float::RoundingMode;
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{InstanceTransform, ModelRay, WorldRay};
 use golden_model::triangle::{TriIn, TriOut};
@@ -208,10 +209,13 @@ impl LoopUnits {
                 "not the renderer's plane configuration".into(),
             );
         }
-        if self.triangle.format() != golden.triangle || !self.triangle.full() {
+        if self.triangle.format() != golden.triangle
+            || self.triangle.mode() != RoundingMode::NearestEven
+            || !self.triangle.full()
+        {
             return mismatch(
                 Stream::Triangle,
-                "binary32 with outputs=full expected".into(),
+                "binary32, RNE, outputs=full expected".into(),
             );
         }
         for s in [Stream::BoxShared, Stream::BoxBounded] {

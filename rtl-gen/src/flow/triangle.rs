@@ -1,5 +1,5 @@
 //! Stimulus and golden-model adapter for `triangle` (golden
-//! `golden_model::triangle::eval`). Rays come with their shear constants
+//! `golden_model::triangle::eval_with`). Rays come with their shear constants
 //! from the golden `shear`; kinds of vector: rays aimed at a random point
 //! of the triangle (two in three) or of its plane around it, rays aimed at an
 //! edge's midpoint and a few ulps beside it, vertices and edge ends, segment
@@ -14,12 +14,13 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
 use crate::units::triangle::config;
-use golden_model::float::FloatFormat;
-use golden_model::triangle::{eval, shear, TriIn, TriOut};
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
     fmt: FloatFormat,
+    mode: RoundingMode,
     full: bool,
 }
 
@@ -33,6 +34,7 @@ impl TriangleBench {
         TriangleBench {
             fmt: FloatFormat::new(cfg.fmt.exp_bits, cfg.fmt.frac_bits)
                 .expect("format checked by the unit"),
+            mode: super::fstim::golden_mode(cfg.round),
             full: cfg.full,
         }
     }
@@ -205,6 +207,10 @@ impl TriangleBench {
     pub fn format(&self) -> FloatFormat {
         self.fmt
     }
+    /// The rounding of every operation.
+    pub fn mode(&self) -> RoundingMode {
+        self.mode
+    }
     /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
     pub fn full(&self) -> bool {
         self.full
@@ -213,7 +219,7 @@ impl TriangleBench {
 
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let out = eval(self.fmt, &from_vector(v));
+        let out = eval_with(self.fmt, self.mode, &from_vector(v));
         outputs[0] = out.hit as u64;
         outputs[1] = out.invalid as u64;
         if self.full {

@@ -1,6 +1,9 @@
 //! `triangle`: a watertight ray/triangle test in the manner of Woop, Benthin
-//! and Wald (2013), every operation rounded to nearest even in one format
-//! (issue #16; golden twin `golden_model::triangle`, docs/triangle.md).
+//! and Wald (2013), every operation rounded once in one format and one
+//! rounding mode (`round`; every mode keeps the test watertight: an edge
+//! function is rounded once, so its sign is exact or it underflows to a
+//! zero, which counts as inside) (issue #16; golden twin
+//! `golden_model::triangle`, docs/triangle.md).
 //!
 //! Inputs per ray: the origin `o`, the axis `kz` of the direction's largest
 //! component and the shear constants `s = (d_kx/d_kz, d_ky/d_kz, 1/d_kz)`,
@@ -48,6 +51,13 @@ const PARAMS: &[ParamSpec] = &[
     super::fcommon::EXP_BITS,
     super::fcommon::FRAC_BITS,
     ParamSpec {
+        name: "round",
+        doc: "rounding of every operation: to nearest even, toward zero, toward +inf, toward \
+              -inf (each keeps the test watertight)",
+        kind: ParamKind::Choice(Rounding::WORDS),
+        default: "rne",
+    },
+    ParamSpec {
         name: "outputs",
         doc: "hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)",
         kind: ParamKind::Choice(&["hit", "full"]),
@@ -66,6 +76,8 @@ const PARAMS: &[ParamSpec] = &[
 pub struct Config {
     /// the one format of every value
     pub fmt: Format,
+    /// the rounding of every operation
+    pub round: Rounding,
     /// `t`, `u`, `v` outputs too
     pub full: bool,
     /// pipeline registers
@@ -80,8 +92,10 @@ pub fn config(p: &Params) -> Result<Config, ParamError> {
         "hit" => false,
         other => unreachable!("outputs={other} passed the choice check"),
     };
+    let round = Rounding::parse(p.word("round")).expect("round passed the choice check");
     Ok(Config {
         fmt,
+        round,
         full,
         stages: p.u32("stages"),
     })
@@ -90,7 +104,11 @@ pub fn config(p: &Params) -> Result<Config, ParamError> {
 /// Module name.
 pub fn triangle_name(cfg: &Config) -> String {
     let out = if cfg.full { "full" } else { "hit" };
-    format!("triangle_{}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
+    let round = match cfg.round {
+        Rounding::Rne => String::new(),
+        r => format!("_{}", r.word()),
+    };
+    format!("triangle_{}{round}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
 }
 
 const AXES: [&str; 3] = ["x", "y", "z"];
@@ -99,10 +117,11 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
     let ty = Ty::UInt(fmt.width());
-    let rne = Rounding::Rne;
+    let mode = cfg.round;
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
-        "Watertight ray/triangle test (Woop, Benthin, Wald 2013), RNE: vertices minus o, sheared \
+        "Watertight ray/triangle test (Woop, Benthin, Wald 2013), every operation rounded in \
+         `round`: vertices minus o, sheared \
          into ray space by (kz, s), edge functions as fused two-term dot products (a shared edge \
          gives exactly negated values), det and T as fused dot products, t = T * (1/det); hit iff \
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
@@ -110,6 +129,7 @@ pub fn build(cfg: &Config) -> Module {
     );
     m.param("exp_bits", fmt.exp_bits)
         .param("frac_bits", fmt.frac_bits)
+        .param("round", cfg.round.word())
         .param("outputs", if cfg.full { "full" } else { "hit" })
         .param("stages", cfg.stages);
     let o = AXES.map(|a| m.input(&format!("o_{a}"), ty));
@@ -142,9 +162,9 @@ pub fn build(cfg: &Config) -> Module {
         let x = m.mux(kz1, p[(1 + k) % 3], p[k % 3]);
         m.mux(kz2, p[(2 + k) % 3], x)
     };
-    let sub = add_module(fmt, rne, true, 0);
-    let fma = fma_module(fmt, rne, 0);
-    let mul = mul_module(fmt, rne, 0);
+    let sub = add_module(fmt, mode, true, 0);
+    let fma = fma_module(fmt, mode, 0);
+    let mul = mul_module(fmt, mode, 0);
     let neg_sx = negate(&mut m, fmt, s[0]);
     let neg_sy = negate(&mut m, fmt, s[1]);
     let mut ray_space = Vec::new();
@@ -184,7 +204,7 @@ pub fn build(cfg: &Config) -> Module {
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
 
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
-    let dot = dot3_module(fmt, rne, 0);
+    let dot = dot3_module(fmt, mode, 0);
     let zero = m.uint(fmt.width(), 0);
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
         let nqy = negate(m, fmt, q[1]);
@@ -252,7 +272,7 @@ pub fn build(cfg: &Config) -> Module {
     let det_zero = unpack(&mut m, fmt, det).zero;
 
     // step 5
-    let recip = recip_module(fmt, rne, 0);
+    let recip = recip_module(fmt, mode, 0);
     let r = operator_result(&mut m, &recip, "u_recip_det", &[("x", det)]);
     let t = operator_result(&mut m, &mul, "u_t", &[("a", t_num), ("b", r)]);
     let (_, after_min, _) = compare(&mut m, fmt, t_min, t);
@@ -289,7 +309,7 @@ impl Unit for Triangle {
         "triangle"
     }
     fn summary(&self) -> &'static str {
-        "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, RNE, fused edge functions"
+        "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions"
     }
     fn params(&self) -> &'static [ParamSpec] {
         PARAMS
