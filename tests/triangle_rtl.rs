@@ -25,10 +25,7 @@ const CASES: &[Case] = &[
 ];
 
 fn params(c: &Case) -> Vec<String> {
-    let mut p = vec![
-        format!("exp_bits={}", c.0),
-        format!("frac_bits={}", c.1),
-    ];
+    let mut p = vec![format!("exp_bits={}", c.0), format!("frac_bits={}", c.1)];
     // the renderer's configuration leaves `round` at its default, as
     // scene::rtl does, so the two share one harness build
     if c.2 != "rne" {

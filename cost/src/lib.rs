@@ -2,7 +2,8 @@
 //! synthesis runner ([`synth`], the pinned yowasp Yosys 0.70 and nextpnr-ice40 /
 //! nextpnr-ecp5 of scripts/fpga-requirements.txt), accuracy on shared
 //! workloads ([`accuracy`]), charts ([`charts`]), the cull-plane units'
-//! cost ([`cull`]), the hardware cost per ray ([`per_ray`]), scene-fitted formats
+//! cost ([`cull`]), the transform's dot styles ([`dot_styles`]), the hardware cost
+//! per ray ([`per_ray`]), scene-fitted formats
 //! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
 #![warn(missing_docs)]
 
@@ -12,6 +13,7 @@ pub mod bringup;
 pub mod charts;
 pub mod cull;
 pub mod depth;
+pub mod dot_styles;
 pub mod fit;
 pub mod per_ray;
 pub mod shell;

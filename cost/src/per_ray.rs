@@ -6,7 +6,7 @@
 //! LUT-cycles: what a design spends per ray, and where planes and bundles
 //! pay for themselves.
 
-use crate::synth::{self, SynthOptions};
+use crate::synth;
 use scene::bvh::Accel;
 use scene::render::render;
 use scene::scene::Scene;
@@ -59,43 +59,15 @@ pub const ROLES: [Role; 6] = [
     },
 ];
 
-/// The Xilinx LUT estimate of each role's unit, from the synthesis cache of
-/// `rtl-cost cull` when it holds it (same options), else by `synth_xilinx`
-/// alone (`cached_only`: never run Yosys).
+/// The Xilinx LUT estimate of each role's unit ([`synth::xilinx_estimate`];
+/// `cached_only`: never run Yosys).
 pub fn unit_luts(cached_only: bool) -> Result<Vec<u64>, String> {
-    // the options of `rtl-cost cull`, so its cull and cull_ray runs are reused
-    let shared = SynthOptions {
-        generic: false,
-        pnr: false,
-        pnr_ecp5: false,
-        cached_only: true,
-        ..SynthOptions::default()
-    };
-    let xilinx_only = SynthOptions {
-        generic: false,
-        ice40: false,
-        ecp5: false,
-        pnr: false,
-        pnr_ecp5: false,
-        cached_only,
-        ..SynthOptions::default()
-    };
     ROLES
         .iter()
         .map(|r| {
             let p: Vec<String> = r.params.iter().map(|s| s.to_string()).collect();
             let g = rtl_gen::flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
-            let report = match synth::run(&g, &shared) {
-                Ok(rep) if rep.xilinx.is_some() => rep,
-                _ => {
-                    eprintln!("synthesising {} (synth_xilinx) ...", g.module.name);
-                    synth::run(&g, &xilinx_only).map_err(|e| format!("{}: {e}", g.module.name))?
-                }
-            };
-            report
-                .xilinx
-                .map(|x| x.luts)
-                .ok_or_else(|| format!("{}: no synth_xilinx figures", g.module.name))
+            Ok(synth::xilinx_estimate(&g, cached_only)?.luts)
         })
         .collect()
 }

@@ -522,6 +522,39 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
     Ok(report)
 }
 
+/// The `synth_xilinx -flatten` estimate of `g`: from the cache of a run
+/// with every technology but without place and route (`rtl-cost cull`'s
+/// options) when it holds one, else by `synth_xilinx` alone (cached under
+/// its own options; `cached_only`: never run Yosys).
+pub fn xilinx_estimate(g: &Generated, cached_only: bool) -> Result<Xilinx, String> {
+    let every_technology = SynthOptions {
+        generic: false,
+        pnr: false,
+        pnr_ecp5: false,
+        cached_only: true,
+        ..SynthOptions::default()
+    };
+    let xilinx_only = SynthOptions {
+        generic: false,
+        ice40: false,
+        ecp5: false,
+        pnr: false,
+        pnr_ecp5: false,
+        cached_only,
+        ..SynthOptions::default()
+    };
+    let report = match run(g, &every_technology) {
+        Ok(rep) if rep.xilinx.is_some() => rep,
+        _ => {
+            eprintln!("synthesising {} (synth_xilinx) ...", g.module.name);
+            run(g, &xilinx_only).map_err(|e| format!("{}: {e}", g.module.name))?
+        }
+    };
+    report
+        .xilinx
+        .ok_or_else(|| format!("{}: no synth_xilinx figures", g.module.name))
+}
+
 fn run_in(g: &Generated, o: &SynthOptions, dir: &Path) -> Result<SynthReport, SynthError> {
     g.write(dir, 1000.0 / o.target_mhz)
         .map_err(|e| SynthError(e.to_string()))?;

@@ -126,7 +126,15 @@ fn main() {
         "cull_ray (normal_terms_into, no allocation), K = 4",
         rate(&cull_rays, secs, |x| {
             let mut t = [cull::tester::NormalTerm::default(); 8];
-            cull::tester::normal_terms_into(&ccfg, &x.o, &x.d, &x.r, &x.normals, &mut t, &mut [0; 8])
+            cull::tester::normal_terms_into(
+                &ccfg,
+                &x.o,
+                &x.d,
+                &x.r,
+                &x.normals,
+                &mut t,
+                &mut [0; 8],
+            )
         }),
     );
     let children: Vec<ChildIn> = cull_rays

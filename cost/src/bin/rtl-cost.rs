@@ -168,6 +168,35 @@ enum Cmd {
         #[arg(long)]
         chart_dir: Option<PathBuf>,
     },
+    /// The transform unit's dot styles (separate, fma, dot3, wide) side by side: xc7 LUT/FF/DSP48
+    /// (synth_xilinx estimate, cached) against the accuracy study's error with respect to the
+    /// stored inverse's real product (binary32); table and chart
+    DotStyles {
+        /// pipeline stages of every style
+        #[arg(long, default_value_t = 8)]
+        stages: u32,
+        /// random matrices of the accuracy study
+        #[arg(long, default_value_t = 1000)]
+        matrices: usize,
+        /// origins per offset for each random matrix
+        #[arg(long, default_value_t = 100)]
+        points: usize,
+        /// origins per offset for each of the seed's M1-M3
+        #[arg(long, default_value_t = 10_000)]
+        seed_points: usize,
+        /// seed of the matrices and origins
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// also write the table here
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// also draw the chart as <DIR>/transform_dot_styles.png and .svg
+        #[arg(long)]
+        chart_dir: Option<PathBuf>,
+    },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
         /// output directory
@@ -279,6 +308,34 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             }
             if let (Some(dir), Some(luts)) = (chart_dir, &luts) {
                 for p in cost::per_ray::chart(luts, &loads, &dir)? {
+                    println!("wrote {}", p.display());
+                }
+            }
+        }
+        Cmd::DotStyles {
+            stages,
+            matrices,
+            points,
+            seed_points,
+            seed,
+            cached_only,
+            out,
+            chart_dir,
+        } => {
+            let study = cost::dot_styles::Study {
+                matrices,
+                points,
+                seed_points,
+                seed,
+            };
+            let rows = cost::dot_styles::run_styles(stages, study, cached_only)?;
+            let t = cost::dot_styles::markdown(&rows, stages, study);
+            print!("{t}");
+            if let Some(path) = out {
+                std::fs::write(path, &t)?;
+            }
+            if let Some(dir) = chart_dir {
+                for p in cost::dot_styles::chart(&rows, &dir)? {
                     println!("wrote {}", p.display());
                 }
             }
