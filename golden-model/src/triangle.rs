@@ -205,21 +205,34 @@ pub mod exact {
     /// The exact answer: `Some(t)` as the fraction `t_num / t_den`
     /// (`t_den > 0`) when the segment meets the triangle's interior or
     /// boundary at one point, `None` otherwise (a miss, a degenerate triangle
-    /// or a ray in its plane, a non-finite input).
+    /// or a ray in its plane, a non-finite input); with the barycentric
+    /// weights of B and C over the same denominator.
     #[derive(Debug, Clone, PartialEq, Eq)]
     pub struct Hit {
         /// numerator of t
         pub t_num: IBig,
-        /// denominator of t (> 0)
+        /// denominator of t, u and v (> 0)
         pub t_den: IBig,
         /// exponent: t = t_num / t_den · 2^exp
         pub exp: i64,
+        /// numerator of u, the weight of B (u = u_num / t_den)
+        pub u_num: IBig,
+        /// numerator of v, the weight of C (v = v_num / t_den)
+        pub v_num: IBig,
     }
 
     impl Hit {
         /// `t` as an `f64` (for error measurements).
         pub fn t_f64(&self) -> f64 {
             super::ratio_f64(&self.t_num, &self.t_den) * (self.exp as f64).exp2()
+        }
+        /// `u` (weight of B) as an `f64`.
+        pub fn u_f64(&self) -> f64 {
+            super::ratio_f64(&self.u_num, &self.t_den)
+        }
+        /// `v` (weight of C) as an `f64`.
+        pub fn v_f64(&self) -> f64 {
+            super::ratio_f64(&self.v_num, &self.t_den)
         }
     }
 
@@ -315,6 +328,8 @@ pub mod exact {
             t_num: t,
             t_den: det,
             exp: 0,
+            u_num: beta,
+            v_num: gamma,
         })
     }
 }
@@ -322,10 +337,13 @@ pub mod exact {
 /// `n / d` in `f64` for big integers (a few ulps; for error measurements).
 fn ratio_f64(n: &dashu::integer::IBig, d: &dashu::integer::IBig) -> f64 {
     use dashu::base::BitTest;
+    // the leading 60 bits of each, and the difference of their scales (so
+    // operands far beyond f64's range still give their ratio)
     let top = |x: &dashu::integer::IBig| {
         let shift = x.bit_len().saturating_sub(60);
         let head = i64::try_from(&(x >> shift)).expect("60 bits fit");
-        head as f64 * (shift as f64).exp2()
+        (head as f64, shift as f64)
     };
-    top(n) / top(d)
+    let ((hn, sn), (hd, sd)) = (top(n), top(d));
+    hn / hd * (sn - sd).exp2()
 }

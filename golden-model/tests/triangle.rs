@@ -93,6 +93,8 @@ fn random_rays_in(mode: RoundingMode, med_max: f64, p99_max: f64) {
     let mut rng = Rng(16);
     let (mut cases, mut hits, mut disagree) = (0u32, 0u32, 0u32);
     let mut t_err: Vec<f64> = Vec::new();
+    // barycentric weights in [0, 1]: absolute error
+    let mut uv_err: Vec<f64> = Vec::new();
     for _ in 0..100_000 {
         let tri = [0; 3].map(|_| [0; 3].map(|_| rng.range(-1.0, 1.0) as f32));
         let radius = rng.range(2.0, 8.0);
@@ -114,14 +116,19 @@ fn random_rays_in(mode: RoundingMode, med_max: f64, p99_max: f64) {
             hits += 1;
             let te = h.t_f64();
             t_err.push(((val(got.t) as f64 - te) / te).abs());
+            uv_err.push((val(got.u) as f64 - h.u_f64()).abs());
+            uv_err.push((val(got.v) as f64 - h.v_f64()).abs());
         }
     }
     t_err.sort_by(f64::total_cmp);
-    let pct = |q: f64| t_err[((t_err.len() - 1) as f64 * q) as usize];
-    let (median, p99, worst) = (pct(0.5), pct(0.99), pct(1.0));
+    uv_err.sort_by(f64::total_cmp);
+    let pct = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q) as usize];
+    let (median, p99, worst) = (pct(&t_err, 0.5), pct(&t_err, 0.99), pct(&t_err, 1.0));
+    let (uv_median, uv_p99, uv_worst) = (pct(&uv_err, 0.5), pct(&uv_err, 0.99), pct(&uv_err, 1.0));
     eprintln!(
         "{mode:?}: {cases} rays, {hits} hits, {disagree} disagreements with the exact test; \
-         relative t error median {median:.2e}, 99th percentile {p99:.2e}, max {worst:.2e}"
+         relative t error median {median:.2e}, 99th percentile {p99:.2e}, max {worst:.2e}; \
+         absolute u, v error median {uv_median:.2e}, 99th percentile {uv_p99:.2e}, max {uv_worst:.2e}"
     );
     assert!(hits > cases / 4, "the stimulus must hit often");
     // only rays within rounding distance of an edge may disagree
@@ -131,6 +138,16 @@ fn random_rays_in(mode: RoundingMode, med_max: f64, p99_max: f64) {
     // origin's distance, so a triangle small in projection loses digits)
     assert!(median < med_max, "{mode:?}: median t error {median:.2e}");
     assert!(p99 < p99_max, "{mode:?}: 99th percentile t error {p99:.2e}");
+    // the weights are V/det and W/det of rounded V, W, det: the same
+    // conditioning as t, on values at most 1
+    assert!(
+        uv_median < 2.0 * med_max,
+        "{mode:?}: median u, v error {uv_median:.2e}"
+    );
+    assert!(
+        uv_p99 < 2.0 * p99_max,
+        "{mode:?}: 99th percentile u, v error {uv_p99:.2e}"
+    );
 }
 
 /// `((Q − P) × d) · (X − P)` in exact arithmetic: which side of the plane
