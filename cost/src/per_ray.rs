@@ -217,7 +217,8 @@ pub fn chart(
     let series = configs
         .iter()
         .zip(colors)
-        .map(|(&(p, b), color)| Series {
+        .enumerate()
+        .map(|(k, (&(p, b), color))| Series {
             name: format!(
                 "planes {}, bundles {}",
                 if p { "on" } else { "off" },
@@ -228,8 +229,11 @@ pub fn chart(
                 .iter()
                 .filter(|w| w.planes == p && w.bundles == b)
                 .map(|w| {
+                    // the four configurations side by side around the scene's index
                     let x = scenes.iter().position(|s| *s == w.scene).unwrap_or(0) as f64;
-                    Point::new(x + 1.0, cost_per_ray(w, luts), w.scene.clone())
+                    let v = cost_per_ray(w, luts);
+                    let x = x + 1.0 + (k as f64 - 1.5) * 0.12;
+                    Point::new(x, v, format!("{:.0}k", v / 1000.0))
                 })
                 .collect(),
             hollow: false,
@@ -239,7 +243,15 @@ pub fn chart(
     let c = Chart::plain(
         "cost_per_ray",
         "Hardware per ray: sum over units of xc7 LUT x transactions",
-        &format!("scene ({})", scenes.join(", ")),
+        &format!(
+            "scene: {}",
+            scenes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| format!("{} {s}", i + 1))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
         "LUT-cycles per ray",
         series,
     );

@@ -37,7 +37,7 @@ use crate::render::{render, Frame};
 use crate::scene::Scene;
 use crate::tester::{ray_input, BoxTester, BundleBox, Golden, RayBox};
 use crate::trace::{TraceOpts, TriTest};
-use crate::units::{GoldenUnits, Units};
+use crate::units::{ChildTestIn, GoldenUnits, RayTermsIn, Units};
 use golden_model::cull::tester::NormalTerm;
 use golden_model::float::RoundingMode;
 use golden_model::silhouette::{BundleIn, Verdict};
@@ -289,20 +289,18 @@ trait Packs {
             self.loop_units().transform.to_ports(ray, inst, v)
         })
     }
-    fn pack_cull_ray(
-        &self,
-        o: &[u64; 3],
-        d: &[u64; 3],
-        r_min: &[u64; 3],
-        normals: &[[u64; 3]],
-    ) -> Packed {
+    fn pack_cull_ray(&self, x: &RayTermsIn) -> Packed {
         Packed::new(self.loop_units(), Stream::CullRay, |v| {
-            self.loop_units().cull_ray.to_ports(o, d, r_min, normals, v)
+            self.loop_units()
+                .cull_ray
+                .to_ports(x.o, x.d, x.r_min, x.normals, v)
         })
     }
-    fn pack_cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> Packed {
+    fn pack_cull(&self, x: &ChildTestIn) -> Packed {
         Packed::new(self.loop_units(), Stream::Cull, |v| {
-            self.loop_units().cull.to_ports(t_lo, t_hi, w, terms, v)
+            self.loop_units()
+                .cull
+                .to_ports(x.t_lo, x.t_hi, x.w, x.terms, v)
         })
     }
     fn pack_triangle(&self, x: &TriIn) -> Packed {
@@ -372,20 +370,13 @@ impl Units for Recorder<'_> {
         self.record(self.pack_transform(ray, inst));
         GoldenUnits::get().transform(ray, inst)
     }
-    fn cull_ray(
-        &self,
-        o: &[u64; 3],
-        d: &[u64; 3],
-        r_min: &[u64; 3],
-        normals: &[[u64; 3]],
-        terms: &mut [NormalTerm],
-    ) {
-        self.record(self.pack_cull_ray(o, d, r_min, normals));
-        GoldenUnits::get().cull_ray(o, d, r_min, normals, terms)
+    fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]) {
+        self.record(self.pack_cull_ray(x));
+        GoldenUnits::get().cull_ray(x, terms)
     }
-    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
-        self.record(self.pack_cull(t_lo, t_hi, w, terms));
-        GoldenUnits::get().cull(t_lo, t_hi, w, terms)
+    fn cull(&self, x: &ChildTestIn) -> bool {
+        self.record(self.pack_cull(x));
+        GoldenUnits::get().cull(x)
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         self.record(self.pack_triangle(x));
@@ -477,22 +468,15 @@ impl Units for RtlTester<'_> {
             None => GoldenUnits::get().transform(ray, inst),
         }
     }
-    fn cull_ray(
-        &self,
-        o: &[u64; 3],
-        d: &[u64; 3],
-        r_min: &[u64; 3],
-        normals: &[[u64; 3]],
-        terms: &mut [NormalTerm],
-    ) {
-        match self.lookup(&self.pack_cull_ray(o, d, r_min, normals)) {
+    fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]) {
+        match self.lookup(&self.pack_cull_ray(x)) {
             Some(out) => self.units.cull_ray.terms_from_ports(out, terms),
-            None => GoldenUnits::get().cull_ray(o, d, r_min, normals, terms),
+            None => GoldenUnits::get().cull_ray(x, terms),
         }
     }
-    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
+    fn cull(&self, x: &ChildTestIn) -> bool {
         // a missing answer keeps the child (never a wrongful cull)
-        self.lookup(&self.pack_cull(t_lo, t_hi, w, terms))
+        self.lookup(&self.pack_cull(x))
             .is_none_or(CullBench::keep_from_ports)
     }
     fn triangle(&self, x: &TriIn) -> TriOut {

@@ -15,7 +15,7 @@
 use crate::bvh::{f32_up, Accel, PLANES_K};
 use crate::scene::Scene;
 use crate::tester::{BoxTester, BundleBox, RayBox};
-use crate::units::Units;
+use crate::units::{ChildTestIn, RayTermsIn, Units};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{box_interval, slab_reciprocal, NormalTerm};
 use golden_model::float::FloatFormat;
@@ -323,7 +323,13 @@ impl LazyTerms<'_> {
     fn get(&mut self, units: &dyn Units, i: usize, r: &TRay) -> &[NormalTerm; 8] {
         // computed in place (no copy of the terms)
         let (normals, r_min) = (self.normals, self.r_min);
-        let compute = |t: &mut [NormalTerm; 8]| units.cull_ray(&r.o, &r.d, &r_min, normals, t);
+        let x = RayTermsIn {
+            o: &r.o,
+            d: &r.d,
+            r_min: &r_min,
+            normals,
+        };
+        let compute = |t: &mut [NormalTerm; 8]| units.cull_ray(&x, t);
         match self.first {
             None => {
                 let t = &mut self.first.insert((i, [NormalTerm::default(); 8])).1;
@@ -697,7 +703,12 @@ impl<'a> Tracer<'a> {
                 )
                 .is_some_and(|(t_lo, t_hi)| {
                     let terms = parent_terms.get(self.units, i, r);
-                    self.units.cull(t_lo, t_hi, w, &terms[..PLANES_K])
+                    self.units.cull(&ChildTestIn {
+                        t_lo,
+                        t_hi,
+                        w,
+                        terms: &terms[..PLANES_K],
+                    })
                 });
                 if !keep {
                     st.culled_nodes += 1;

@@ -19,24 +19,42 @@ use golden_model::transform::{
 use golden_model::triangle::{self, TriIn, TriOut};
 use std::sync::LazyLock;
 
+/// The inputs of one `cull_ray` transaction, borrowed from the traversal.
+#[derive(Debug, Clone, Copy)]
+pub struct RayTermsIn<'a> {
+    /// model-space origin
+    pub o: &'a [u64; 3],
+    /// model-space direction
+    pub d: &'a [u64; 3],
+    /// the node's lower corner: the children's distances are measured from it
+    pub r_min: &'a [u64; 3],
+    /// the node's shared normals (missing ones read as 0)
+    pub normals: &'a [[u64; 3]],
+}
+
+/// The inputs of one `cull` transaction, borrowed from the traversal.
+#[derive(Debug, Clone, Copy)]
+pub struct ChildTestIn<'a> {
+    /// `≤` the segment's entry into the child's box
+    pub t_lo: u64,
+    /// `≥` its exit
+    pub t_hi: u64,
+    /// the child's distances, one per normal (missing ones read as 0)
+    pub w: &'a [u64],
+    /// the ray terms of the normals
+    pub terms: &'a [NormalTerm],
+}
+
 /// What the traversal asks of the units other than the box tester.
 pub trait Units: Sync {
     /// The world ray in the instance's model space (`transform` unit).
     fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay;
-    /// The ray terms of a node's shared normals (`cull_ray` unit): the
-    /// first [`PLANES_K`] entries of `terms`; normals beyond `normals.len()`
-    /// read as 0.
-    fn cull_ray(
-        &self,
-        o: &[u64; 3],
-        d: &[u64; 3],
-        r_min: &[u64; 3],
-        normals: &[[u64; 3]],
-        terms: &mut [NormalTerm],
-    );
+    /// The ray terms of a node's shared normals (`cull_ray` unit) into the
+    /// first [`PLANES_K`] entries of `terms`.
+    fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]);
     /// May the segment `[t_lo, t_hi]` inside a child's box meet the child's
     /// geometry (`cull` unit; [`PLANES_K`] distances and terms)?
-    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool;
+    fn cull(&self, x: &ChildTestIn) -> bool;
     /// The watertight ray/triangle test (`triangle` unit, `outputs=full`).
     fn triangle(&self, x: &TriIn) -> TriOut;
 }
@@ -75,18 +93,11 @@ impl Units for GoldenUnits {
     fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
         transform::transform(&self.transform, ray, inst)
     }
-    fn cull_ray(
-        &self,
-        o: &[u64; 3],
-        d: &[u64; 3],
-        r_min: &[u64; 3],
-        normals: &[[u64; 3]],
-        terms: &mut [NormalTerm],
-    ) {
-        normal_terms_into(&self.cull, o, d, r_min, normals, terms, &mut [0; 8]);
+    fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]) {
+        normal_terms_into(&self.cull, x.o, x.d, x.r_min, x.normals, terms, &mut [0; 8]);
     }
-    fn cull(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> bool {
-        cull::eval_parts(&self.cull, t_lo, t_hi, w, terms).keep
+    fn cull(&self, x: &ChildTestIn) -> bool {
+        cull::eval_parts(&self.cull, x.t_lo, x.t_hi, x.w, x.terms).keep
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         triangle::eval(self.triangle, x)

@@ -109,7 +109,7 @@ enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// The cull-plane units (cull per child, cull_ray per ray and parent) against the plane format (e4m3 .. e8m23, K = 4) and K (1, 2, 8 at e5m10), binary32 rays: one table
+    /// The cull-plane units (cull per child, cull_ray per ray and parent) against the plane format (e4m3 .. e8m23, K = 4) and K (1, 2, 8 at e5m10), binary32 rays: one table; charts cull_luts_vs_plane_bits, cull_luts_vs_k
     Cull {
         /// pipeline stages of both units
         #[arg(long, default_value_t = 4)]
@@ -117,14 +117,10 @@ enum Cmd {
         /// use only synthesis results already in the cache (no Yosys run)
         #[arg(long)]
         cached_only: bool,
-        /// also write the report here
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// also draw the charts as <DIR>/cull_luts_vs_plane_bits and cull_luts_vs_k (.png, .svg)
-        #[arg(long)]
-        chart_dir: Option<PathBuf>,
+        #[command(flatten)]
+        to: ReportTo,
     },
-    /// Routed Fmax against pipeline depth on the ECP5-85F-6: synth_ecp5 and nextpnr-ecp5 of the timing shell for each `stages` and register placement (pipeline=plan|balanced); one table of LUT4, FF, MULT18X18D and MHz
+    /// Routed Fmax against pipeline depth on the ECP5-85F-6: synth_ecp5 and nextpnr-ecp5 of the timing shell for each `stages` and register placement (pipeline=plan|balanced); one table of LUT4, FF, MULT18X18D and MHz; chart depth_<unit>_<params> (Fmax against stages)
     Depth {
         /// unit name (`rtl-gen list`)
         unit: String,
@@ -140,14 +136,10 @@ enum Cmd {
         /// nextpnr-ecp5 target frequency, MHz
         #[arg(long, default_value_t = 100.0)]
         target_mhz: f64,
-        /// also write the table here
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// also draw Fmax against stages as <DIR>/depth_<unit>_<params>.png and .svg
-        #[arg(long)]
-        chart_dir: Option<PathBuf>,
+        #[command(flatten)]
+        to: ReportTo,
     },
-    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and bar chart
+    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and chart cost_per_ray
     PerRay {
         /// scene files (TOML)
         #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
@@ -161,16 +153,12 @@ enum Cmd {
         /// transactions per ray only: no synthesis, no LUT-cycles, no chart
         #[arg(long)]
         no_synth: bool,
-        /// also write the table here
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// also draw the chart as <DIR>/cost_per_ray.png and .svg
-        #[arg(long)]
-        chart_dir: Option<PathBuf>,
+        #[command(flatten)]
+        to: ReportTo,
     },
     /// The transform unit's dot styles (separate, fma, dot3, wide) side by side: xc7 LUT/FF/DSP48
     /// (synth_xilinx estimate, cached) against the accuracy study's error with respect to the
-    /// stored inverse's real product (binary32); table and chart
+    /// stored inverse's real product (binary32); table and chart transform_dot_styles
     DotStyles {
         /// pipeline stages of every style
         #[arg(long, default_value_t = 8)]
@@ -190,12 +178,8 @@ enum Cmd {
         /// use only synthesis results already in the cache (no Yosys run)
         #[arg(long)]
         cached_only: bool,
-        /// also write the table here
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// also draw the chart as <DIR>/transform_dot_styles.png and .svg
-        #[arg(long)]
-        chart_dir: Option<PathBuf>,
+        #[command(flatten)]
+        to: ReportTo,
     },
     /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
     Charts {
@@ -290,8 +274,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             width,
             cached_only,
             no_synth,
-            out,
-            chart_dir,
+            to,
         } => {
             let mut loads = Vec::new();
             for s in &scenes {
@@ -301,15 +284,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 true => None,
                 false => Some(cost::per_ray::unit_luts(cached_only)?),
             };
-            let t = cost::per_ray::markdown(luts.as_deref(), &loads);
-            print!("{t}");
-            if let Some(path) = out {
-                std::fs::write(path, &t)?;
-            }
-            if let (Some(dir), Some(luts)) = (chart_dir, &luts) {
-                for p in cost::per_ray::chart(luts, &loads, &dir)? {
-                    println!("wrote {}", p.display());
-                }
+            to.text(&cost::per_ray::markdown(luts.as_deref(), &loads))?;
+            if let (Some(dir), Some(luts)) = (&to.chart_dir, &luts) {
+                wrote(cost::per_ray::chart(luts, &loads, dir)?);
             }
         }
         Cmd::DotStyles {
@@ -319,8 +296,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             seed_points,
             seed,
             cached_only,
-            out,
-            chart_dir,
+            to,
         } => {
             let study = cost::dot_styles::Study {
                 matrices,
@@ -329,15 +305,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 seed,
             };
             let rows = cost::dot_styles::run_styles(stages, study, cached_only)?;
-            let t = cost::dot_styles::markdown(&rows, stages, study);
-            print!("{t}");
-            if let Some(path) = out {
-                std::fs::write(path, &t)?;
-            }
-            if let Some(dir) = chart_dir {
-                for p in cost::dot_styles::chart(&rows, &dir)? {
-                    println!("wrote {}", p.display());
-                }
+            to.text(&cost::dot_styles::markdown(&rows, stages, study))?;
+            if let Some(dir) = &to.chart_dir {
+                wrote(cost::dot_styles::chart(&rows, dir)?);
             }
         }
         Cmd::Depth {
@@ -346,21 +316,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             stages,
             pipeline,
             target_mhz,
-            out,
-            chart_dir,
+            to,
         } => {
             let rows = cost::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz)?;
-            let t = cost::depth::table(&unit, &params, &rows);
-            print!("{t}");
-            if let Some(path) = out {
-                std::fs::write(path, t)?;
-            }
-            if let Some(dir) = chart_dir {
+            to.text(&cost::depth::table(&unit, &params, &rows))?;
+            if let Some(dir) = &to.chart_dir {
                 let tag: Vec<String> = params.iter().map(|p| p.replace('=', "")).collect();
                 let stem = format!("depth_{unit}_{}", tag.join("_"));
-                for p in cost::depth::chart(&unit, &params, &rows, &stem, &dir)? {
-                    println!("wrote {}", p.display());
-                }
+                wrote(cost::depth::chart(&unit, &params, &rows, &stem, dir)?);
             }
         }
         Cmd::Fit {
@@ -445,22 +408,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Cmd::Cull {
             stages,
             cached_only,
-            out,
-            chart_dir,
+            to,
         } => {
             let rows = cost::cull::synthesise(&cost::cull::sweep_designs(), stages, cached_only)?;
-            if let Some(dir) = chart_dir {
-                for p in cost::cull::charts(&rows, &dir)? {
-                    println!("wrote {}", p.display());
-                }
+            if let Some(dir) = &to.chart_dir {
+                wrote(cost::cull::charts(&rows, dir)?);
             }
             let mut text = cost::cull::markdown(&rows, stages);
             text += &cost::cull::targets(&rows, None);
-            println!("{text}");
-            if let Some(path) = out {
-                std::fs::write(&path, text)?;
-                println!("wrote {}", path.display());
-            }
+            to.text(&text)?;
         }
         Cmd::Boxes {
             fracs,
@@ -502,6 +458,36 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// Where a report goes besides standard output.
+#[derive(clap::Args, Debug)]
+struct ReportTo {
+    /// also write the report (markdown) here
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// also draw the report's charts into DIR (PNG and SVG, names in the command's help)
+    #[arg(long)]
+    chart_dir: Option<PathBuf>,
+}
+
+impl ReportTo {
+    /// Prints `text` and writes it to `--out` if given.
+    fn text(&self, text: &str) -> Result<(), Box<dyn std::error::Error>> {
+        print!("{text}");
+        if let Some(path) = &self.out {
+            std::fs::write(path, text)?;
+            println!("wrote {}", path.display());
+        }
+        Ok(())
+    }
+}
+
+/// Lists the files a chart wrote.
+fn wrote(files: Vec<PathBuf>) {
+    for p in files {
+        println!("wrote {}", p.display());
+    }
 }
 
 /// The shipped scenes (`scenes/*.toml` of the repository).
