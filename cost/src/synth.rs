@@ -531,7 +531,6 @@ pub fn xilinx_estimate(g: &Generated, cached_only: bool) -> Result<Xilinx, Strin
         generic: false,
         pnr: false,
         pnr_ecp5: false,
-        cached_only: true,
         ..SynthOptions::default()
     };
     let xilinx_only = SynthOptions {
@@ -543,10 +542,23 @@ pub fn xilinx_estimate(g: &Generated, cached_only: bool) -> Result<Xilinx, Strin
         cached_only,
         ..SynthOptions::default()
     };
-    let report = match run(g, &every_technology) {
-        Ok(rep) if rep.xilinx.is_some() => rep,
-        _ => {
-            eprintln!("synthesising {} (synth_xilinx) ...", g.module.name);
+    let cached = |o: &SynthOptions| {
+        run(
+            g,
+            &SynthOptions {
+                cached_only: true,
+                ..o.clone()
+            },
+        )
+        .ok()
+        .filter(|r| r.xilinx.is_some())
+    };
+    let report = match cached(&every_technology).or_else(|| cached(&xilinx_only)) {
+        Some(rep) => rep,
+        None => {
+            if !cached_only {
+                eprintln!("synthesising {} (synth_xilinx) ...", g.module.name);
+            }
             run(g, &xilinx_only).map_err(|e| format!("{}: {e}", g.module.name))?
         }
     };
