@@ -602,7 +602,24 @@ impl std::fmt::Display for LoopReport {
             "image: {} of {} pixels differ from the golden render: {}",
             self.differing_pixels,
             self.golden.ids.len(),
-            if self.ok() { "IDENTICAL" } else { "FAILED" }
+            if self.differing_pixels == 0 {
+                "IDENTICAL"
+            } else {
+                "DIFFERENT"
+            }
+        )?;
+        let unexercised = self.units.iter().any(|u| u.used && u.vectors == 0);
+        writeln!(
+            f,
+            "RTL in the loop: {}",
+            if self.ok() {
+                "passed"
+            } else if unexercised && self.units.iter().all(|u| u.vectors == 0 || u.ok()) {
+                "FAILED: a unit the render uses got no test (render larger, or turn its \
+                 feature off: --bundle 0, --no-planes)"
+            } else {
+                "FAILED"
+            }
         )
     }
 }
