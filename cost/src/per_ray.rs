@@ -233,7 +233,13 @@ pub fn chart(
                     let x = scenes.iter().position(|s| *s == w.scene).unwrap_or(0) as f64;
                     let v = cost_per_ray(w, luts);
                     let x = x + 1.0 + (k as f64 - 1.5) * 0.12;
-                    Point::new(x, v, format!("{:.0}k", v / 1000.0))
+                    // (leading spaces: the label starts under the marker)
+                    let label = if v >= 1e6 {
+                        format!("  {:.2}M", v / 1e6)
+                    } else {
+                        format!("  {:.0}k", v / 1e3)
+                    };
+                    Point::new(x, v, label)
                 })
                 .collect(),
             hollow: false,
