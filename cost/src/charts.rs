@@ -227,9 +227,10 @@ where
         x0 /= 1.4;
         x1 *= 1.4;
     } else {
+        // labels are drawn right of their markers: more room on that side
         let pad = (x1 - x0).max(1.0) * 0.08;
         x0 -= pad;
-        x1 += pad;
+        x1 += 2.5 * pad;
     }
     y0 /= 3.0;
     y1 *= 3.0;

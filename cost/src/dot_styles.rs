@@ -127,7 +127,8 @@ pub fn chart(rows: &[StyleRow], dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std:
                 Point::new(
                     r.max_rel * 1e8,
                     r.xilinx.luts as f64,
-                    format!("{} ({} DSP48)", r.style.word(), r.xilinx.dsps),
+                    // (leading spaces: the label starts under the marker)
+                    format!("  {}, {} DSP48", r.style.word(), r.xilinx.dsps),
                 )
             })
             .collect(),
