@@ -3,7 +3,7 @@
 //! `nextpnr-ecp5` of the timing shell on the LFE5U-85F-6, one table, so a
 //! user can choose the depth for a target clock.
 
-use crate::synth::{self, SynthOptions, SynthReport};
+use crate::synth::{self, PlacerWeights, SynthOptions, SynthReport};
 use std::fmt::Write as _;
 
 /// One row: what was built and what it measured.
@@ -26,8 +26,12 @@ pub fn sweep(
     stages: &[u32],
     pipelines: &[String],
     target_mhz: f64,
+    placer: Option<PlacerWeights>,
 ) -> Result<Vec<DepthRow>, Box<dyn std::error::Error>> {
-    let o = SynthOptions::ecp5_routed(target_mhz);
+    let o = SynthOptions {
+        ecp5_placer: placer,
+        ..SynthOptions::ecp5_routed(target_mhz)
+    };
     let mut rows = Vec::new();
     for &s in stages {
         for pipeline in pipelines {
@@ -50,11 +54,24 @@ pub fn sweep(
 }
 
 /// The markdown table of a sweep.
-pub fn table(unit: &str, params: &[String], rows: &[DepthRow]) -> String {
+pub fn table(
+    unit: &str,
+    params: &[String],
+    rows: &[DepthRow],
+    placer: Option<PlacerWeights>,
+) -> String {
     let mut t = String::new();
+    let weights = placer
+        .map(|w| {
+            format!(
+                ", placer timing weight {} and criticality exponent {}",
+                w.timing_weight, w.crit_exp
+            )
+        })
+        .unwrap_or_default();
     let _ = writeln!(
         t,
-        "`{unit}` {}: ECP5 LFE5U-85F-6 (synth_ecp5, nextpnr-ecp5 in the timing shell)\n",
+        "`{unit}` {}: ECP5 LFE5U-85F-6 (synth_ecp5, nextpnr-ecp5 in the timing shell{weights})\n",
         params.join(" ")
     );
     t.push_str("| pipeline | stages | model period (LUT levels) | ECP5 LUT4 | FF | MULT18X18D | routed Fmax MHz |\n");

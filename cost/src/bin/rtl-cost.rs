@@ -136,6 +136,11 @@ enum Cmd {
         /// nextpnr-ecp5 target frequency, MHz
         #[arg(long, default_value_t = 100.0)]
         target_mhz: f64,
+        /// nextpnr-ecp5 placer weights TIMING,CRITEXP (--placer-heap-timingweight,
+        /// --placer-heap-critexp; nextpnr's defaults 10,2); 40,4 places the registers
+        /// around DSP blocks next to them
+        #[arg(long, value_delimiter = ',')]
+        placer: Option<Vec<u32>>,
         #[command(flatten)]
         to: ReportTo,
     },
@@ -316,10 +321,19 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             stages,
             pipeline,
             target_mhz,
+            placer,
             to,
         } => {
-            let rows = cost::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz)?;
-            to.text(&cost::depth::table(&unit, &params, &rows))?;
+            let placer = match placer.as_deref() {
+                None => None,
+                Some(&[timing_weight, crit_exp]) => Some(cost::synth::PlacerWeights {
+                    timing_weight,
+                    crit_exp,
+                }),
+                Some(_) => return Err("--placer takes two numbers, TIMING,CRITEXP".into()),
+            };
+            let rows = cost::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz, placer)?;
+            to.text(&cost::depth::table(&unit, &params, &rows, placer))?;
             if let Some(dir) = &to.chart_dir {
                 let tag: Vec<String> = params.iter().map(|p| p.replace('=', "")).collect();
                 let stem = format!("depth_{unit}_{}", tag.join("_"));
