@@ -240,13 +240,40 @@ impl LoopUnits {
         &self.generated[s as usize]
     }
 
-    fn inputs(&self, s: Stream) -> usize {
-        self.generated(s).ports.inputs.len()
+    /// A call of stream `s` packed by `pack` into the unit's input ports.
+    fn packed(&self, s: Stream, pack: impl FnOnce(&mut [u64])) -> Packed {
+        let len = self.generated(s).ports.inputs.len();
+        let mut v = [0; MAX_PORTS];
+        pack(&mut v[..len]);
+        Packed { stream: s, len, v }
     }
 
-    /// The input port values of a box test.
-    fn box_ports(&self, x: &BundleIn, shared: bool, v: &mut [u64]) {
-        if shared { &self.shared } else { &self.bounded }.to_ports(x, v)
+    // One packing per unit, its testbench's (the recorder and the RTL tester
+    // both pack through these, so they see the same port values).
+    fn pack_box(&self, x: &BundleIn, shared: bool) -> Packed {
+        if shared {
+            self.packed(Stream::BoxShared, |v| self.shared.to_ports(x, v))
+        } else {
+            self.packed(Stream::BoxBounded, |v| self.bounded.to_ports(x, v))
+        }
+    }
+    fn pack_transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> Packed {
+        self.packed(Stream::Transform, |v| self.transform.to_ports(ray, inst, v))
+    }
+    fn pack_cull_ray(&self, x: &RayTermsIn) -> Packed {
+        self.packed(Stream::CullRay, |v| {
+            self.cull_ray.to_ports(x.o, x.d, x.r_min, x.normals, v)
+        })
+    }
+    fn pack_cull(&self, x: &ChildTestIn) -> Packed {
+        self.packed(Stream::Cull, |v| {
+            self.cull.to_ports(x.t_lo, x.t_hi, x.w, x.terms, v)
+        })
+    }
+    fn pack_triangle(&self, x: &TriIn) -> Packed {
+        self.packed(Stream::Triangle, |v| {
+            v.copy_from_slice(&tri_flow::to_vector(x))
+        })
     }
 }
 
@@ -258,55 +285,8 @@ struct Packed {
 }
 
 impl Packed {
-    fn new(units: &LoopUnits, stream: Stream, pack: impl FnOnce(&mut [u64])) -> Packed {
-        let len = units.inputs(stream);
-        let mut v = [0; MAX_PORTS];
-        pack(&mut v[..len]);
-        Packed { stream, len, v }
-    }
     fn values(&self) -> &[u64] {
         &self.v[..self.len]
-    }
-}
-
-/// How the loop's testers pack each call (shared by [`Recorder`] and
-/// [`RtlTester`], so both see the same port values).
-trait Packs {
-    fn loop_units(&self) -> &LoopUnits;
-
-    fn pack_box(&self, x: &BundleIn, shared: bool) -> Packed {
-        let s = if shared {
-            Stream::BoxShared
-        } else {
-            Stream::BoxBounded
-        };
-        Packed::new(self.loop_units(), s, |v| {
-            self.loop_units().box_ports(x, shared, v)
-        })
-    }
-    fn pack_transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> Packed {
-        Packed::new(self.loop_units(), Stream::Transform, |v| {
-            self.loop_units().transform.to_ports(ray, inst, v)
-        })
-    }
-    fn pack_cull_ray(&self, x: &RayTermsIn) -> Packed {
-        Packed::new(self.loop_units(), Stream::CullRay, |v| {
-            self.loop_units()
-                .cull_ray
-                .to_ports(x.o, x.d, x.r_min, x.normals, v)
-        })
-    }
-    fn pack_cull(&self, x: &ChildTestIn) -> Packed {
-        Packed::new(self.loop_units(), Stream::Cull, |v| {
-            self.loop_units()
-                .cull
-                .to_ports(x.t_lo, x.t_hi, x.w, x.terms, v)
-        })
-    }
-    fn pack_triangle(&self, x: &TriIn) -> Packed {
-        Packed::new(self.loop_units(), Stream::Triangle, |v| {
-            v.copy_from_slice(&tri_flow::to_vector(x))
-        })
     }
 }
 
@@ -339,19 +319,13 @@ impl<'u> Recorder<'u> {
     }
 }
 
-impl Packs for Recorder<'_> {
-    fn loop_units(&self) -> &LoopUnits {
-        self.units
-    }
-}
-
 impl BoxTester for Recorder<'_> {
     fn ray(&self, x: &RayBox) -> bool {
-        self.record(self.pack_box(&ray_input(x), true));
+        self.record(self.units.pack_box(&ray_input(x), true));
         self.golden.ray(x)
     }
     fn bundle(&self, x: &BundleBox) -> Verdict {
-        self.record(self.pack_box(&x.input, x.shared));
+        self.record(self.units.pack_box(&x.input, x.shared));
         self.golden.bundle(x)
     }
     fn supports_bundles(&self) -> bool {
@@ -367,19 +341,19 @@ impl BoxTester for Recorder<'_> {
 
 impl Units for Recorder<'_> {
     fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
-        self.record(self.pack_transform(ray, inst));
+        self.record(self.units.pack_transform(ray, inst));
         GoldenUnits::get().transform(ray, inst)
     }
     fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]) {
-        self.record(self.pack_cull_ray(x));
+        self.record(self.units.pack_cull_ray(x));
         GoldenUnits::get().cull_ray(x, terms)
     }
     fn cull(&self, x: &ChildTestIn) -> bool {
-        self.record(self.pack_cull(x));
+        self.record(self.units.pack_cull(x));
         GoldenUnits::get().cull(x)
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
-        self.record(self.pack_triangle(x));
+        self.record(self.units.pack_triangle(x));
         GoldenUnits::get().triangle(x)
     }
 }
@@ -426,12 +400,6 @@ impl<'u> RtlTester<'u> {
     }
 }
 
-impl Packs for RtlTester<'_> {
-    fn loop_units(&self) -> &LoopUnits {
-        self.units
-    }
-}
-
 /// The silhouette unit's outputs: bit 0 all_hit, bit 1 any_hit ([`BOX_OUTPUTS`]).
 fn all_any(out: &[u64]) -> (bool, bool) {
     (out[0] & 1 != 0, out[1] & 1 != 0)
@@ -439,11 +407,14 @@ fn all_any(out: &[u64]) -> (bool, bool) {
 
 impl BoxTester for RtlTester<'_> {
     fn ray(&self, x: &RayBox) -> bool {
-        self.lookup(&self.pack_box(&ray_input(x), true))
+        self.lookup(&self.units.pack_box(&ray_input(x), true))
             .is_none_or(|out| all_any(out).1)
     }
     fn bundle(&self, x: &BundleBox) -> Verdict {
-        match self.lookup(&self.pack_box(&x.input, x.shared)).map(all_any) {
+        match self
+            .lookup(&self.units.pack_box(&x.input, x.shared))
+            .map(all_any)
+        {
             None => Verdict::Mixed,
             Some((true, _)) => Verdict::AllHit,
             Some((false, false)) => Verdict::AllMiss,
@@ -463,24 +434,24 @@ impl BoxTester for RtlTester<'_> {
 
 impl Units for RtlTester<'_> {
     fn transform(&self, ray: &WorldRay, inst: &InstanceTransform) -> ModelRay {
-        match self.lookup(&self.pack_transform(ray, inst)) {
+        match self.lookup(&self.units.pack_transform(ray, inst)) {
             Some(out) => self.units.transform.model_ray_from_ports(out),
             None => GoldenUnits::get().transform(ray, inst),
         }
     }
     fn cull_ray(&self, x: &RayTermsIn, terms: &mut [NormalTerm]) {
-        match self.lookup(&self.pack_cull_ray(x)) {
+        match self.lookup(&self.units.pack_cull_ray(x)) {
             Some(out) => self.units.cull_ray.terms_from_ports(out, terms),
             None => GoldenUnits::get().cull_ray(x, terms),
         }
     }
     fn cull(&self, x: &ChildTestIn) -> bool {
         // a missing answer keeps the child (never a wrongful cull)
-        self.lookup(&self.pack_cull(x))
+        self.lookup(&self.units.pack_cull(x))
             .is_none_or(CullBench::keep_from_ports)
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
-        match self.lookup(&self.pack_triangle(x)) {
+        match self.lookup(&self.units.pack_triangle(x)) {
             Some(out) => tri_flow::from_outputs(out),
             None => GoldenUnits::get().triangle(x),
         }

@@ -423,9 +423,7 @@ impl TransformBench {
             is_origin,
         }
     }
-}
 
-impl TransformBench {
     /// The input ports of one transaction of a full-throughput unit (origin
     /// and direction together: the renderer's call of `transform`).
     pub fn to_ports(&self, ray: &WorldRay, inst: &InstanceTransform, v: &mut [u64]) {
