@@ -479,6 +479,10 @@ fn sum_prefix(m: &BTreeMap<String, u64>, prefix: &str) -> u64 {
 /// Runs the flows of `o` on `g`.
 pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
     let texts: Vec<&str> = g.files.iter().map(|f| f.text.as_str()).collect();
+    // only when set, so the entries of the default placer stay valid
+    let placer = o
+        .ecp5_placer
+        .map(|w| format!("placer {} {}", w.timing_weight, w.crit_exp));
     let key = hash_text(
         &[
             texts.clone(),
@@ -498,14 +502,7 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
                 std::env::var_os(Tool::NextpnrEcp5.env_var()),
             )],
             vec![TOOLCHAIN_PINS],
-            // only when set, so the entries of the default placer stay valid
-            o.ecp5_placer
-                .iter()
-                .map(|w| format!("placer {} {}", w.timing_weight, w.crit_exp))
-                .collect::<Vec<_>>()
-                .iter()
-                .map(String::as_str)
-                .collect(),
+            placer.iter().map(String::as_str).collect(),
         ]
         .concat(),
     );
