@@ -49,7 +49,7 @@ use rtl_gen::flow::silhouette::SilhouetteBench;
 use rtl_gen::flow::transform::TransformBench;
 use rtl_gen::flow::triangle::{self as tri_flow, TriangleBench};
 use rtl_gen::flow::{self, Generated};
-use sim::{BinReader, BinWriter, Harness};
+use sim::Harness;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -628,27 +628,13 @@ fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<St
         let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root()).map_err(e)?;
         let build = (started.elapsed(), harness.was_cached());
         let started = Instant::now();
-        let (fin, fout) = (
-            dir.join(format!("{name}.in.rtlvec")),
-            dir.join(format!("{name}.out.rtlvec")),
-        );
-        let mut w = BinWriter::create(&fin, &g.ports.inputs).map_err(e)?;
-        for v in inputs.chunks(n_in) {
-            w.write_record(v).map_err(e)?;
-        }
-        w.finish().map_err(e)?;
-        let stats = harness
-            .run(&fin, &fout, &sim::RunOptions::default())
+        let (stats, outputs) = harness
+            .run_records(
+                inputs.chunks(n_in),
+                &dir.join(name),
+                &sim::RunOptions::default(),
+            )
             .map_err(e)?;
-        let mut r = BinReader::open(&fout).map_err(e)?;
-        r.expect_ports(&g.ports.outputs).map_err(e)?;
-        let mut o = vec![0u64; n_out];
-        let mut outputs = Vec::with_capacity(inputs.len() / n_in * n_out);
-        while r.read_record(&mut o).map_err(e)? {
-            outputs.extend_from_slice(&o);
-        }
-        let _ = std::fs::remove_file(&fin);
-        let _ = std::fs::remove_file(&fout);
         (build, stats.cycles, outputs, started.elapsed())
     };
     let vectors = inputs.len() / n_in;

@@ -470,6 +470,44 @@ impl Harness {
             stderr,
         })
     }
+
+    /// Runs in-memory input records (each in the input ports' order)
+    /// through the harness, by way of `<stem>.in.rtlvec` and
+    /// `<stem>.out.rtlvec` (removed afterwards, also on error), and returns
+    /// the run's statistics and the output records, flat: one record per
+    /// transaction, in the output ports' order.
+    pub fn run_records<'a>(
+        &self,
+        records: impl IntoIterator<Item = &'a [u64]>,
+        stem: &Path,
+        opts: &RunOptions,
+    ) -> Result<(RunStats, Vec<u64>), SimError> {
+        let with = |ext: &str| {
+            let mut name = stem.as_os_str().to_owned();
+            name.push(ext);
+            PathBuf::from(name)
+        };
+        let (fin, fout) = (with(".in.rtlvec"), with(".out.rtlvec"));
+        let result = (|| {
+            let mut w = crate::BinWriter::create(&fin, &self.ports.inputs)?;
+            for r in records {
+                w.write_record(r)?;
+            }
+            w.finish()?;
+            let stats = self.run(&fin, &fout, opts)?;
+            let mut rd = crate::BinReader::open(&fout)?;
+            rd.expect_ports(&self.ports.outputs)?;
+            let mut record = vec![0u64; self.ports.outputs.len()];
+            let mut outputs = Vec::with_capacity(stats.transactions as usize * record.len());
+            while rd.read_record(&mut record)? {
+                outputs.extend_from_slice(&record);
+            }
+            Ok((stats, outputs))
+        })();
+        let _ = fs::remove_file(&fin);
+        let _ = fs::remove_file(&fout);
+        result
+    }
 }
 
 /// Everything a build depends on, read once so that the hashed bytes are

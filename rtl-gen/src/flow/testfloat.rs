@@ -25,7 +25,7 @@
 
 use super::report::{FailingVector, RunReport};
 use super::{FlowError, Generated, Testbench};
-use sim::{BinReader, BinWriter, Location, Port, SimError};
+use sim::{Location, Port, SimError};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::io::BufRead;
@@ -423,32 +423,26 @@ pub fn run(
         std::process::id(),
         std::thread::current().id()
     ));
-    let (tin, tout) = (
-        tmp.with_extension("in.rtlvec"),
-        tmp.with_extension("out.rtlvec"),
-    );
-    let result = (|| -> Result<Outcome, FlowError> {
-        let mut w = BinWriter::create(&tin, &ports.inputs)?;
-        for c in cases {
-            w.write_record(&c.operands)?;
+    {
+        let (_, outputs) = harness.run_records(
+            cases.iter().map(|c| c.operands.as_slice()),
+            &tmp,
+            &sim::RunOptions::default(),
+        )?;
+        let n_out = ports.outputs.len();
+        if outputs.len() != cases.len() * n_out {
+            return Err(SimError::Invalid(format!(
+                "the harness returned {} results for the {} cases",
+                outputs.len() / n_out.max(1),
+                cases.len()
+            ))
+            .into());
         }
-        w.finish()?;
-        harness.run(&tin, &tout, &sim::RunOptions::default())?;
-        let mut rd = BinReader::open(&tout)?;
-        rd.expect_ports(&ports.outputs)?;
-        let mut got = vec![0u64; ports.outputs.len()];
         let mut gold = vec![0u64; ports.outputs.len()];
         let mut classes: BTreeMap<Class, ClassCount> = BTreeMap::new();
         let (mut mismatches, mut rtl_vs_golden) = (0u64, 0u64);
         let mut first: Option<FailingVector> = None;
-        for c in cases {
-            if !rd.read_record(&mut got)? {
-                return Err(SimError::Invalid(format!(
-                    "the harness returned fewer results than the {} cases",
-                    cases.len()
-                ))
-                .into());
-            }
+        for (c, got) in cases.iter().zip(outputs.chunks(n_out)) {
             tb.eval(&c.operands, &mut gold);
             let (r, gv) = (got[map.result], gold[map.result]);
             let rtl_ok = map.matches(r, c.expected, nan_exact);
@@ -541,10 +535,7 @@ pub fn run(
             with_flags,
             report,
         })
-    })();
-    let _ = std::fs::remove_file(&tin);
-    let _ = std::fs::remove_file(&tout);
-    result
+    }
 }
 
 #[cfg(test)]
