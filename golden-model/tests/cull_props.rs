@@ -16,7 +16,9 @@ use golden_model::cull::exact::{region_hit, Dyadic, RegionIn};
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, CullOut, RayIn,
 };
-use golden_model::float::{add, convert, sub, FloatFormat, RoundingMode};
+use golden_model::float::{
+    add, convert, from_total_key, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode,
+};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -49,36 +51,10 @@ fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
     convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
 }
 
-fn to_f64(fmt: FloatFormat, bits: u64) -> f64 {
-    f64::from_bits(convert(fmt, FloatFormat::BINARY64, bits, RNE))
-}
-
-fn key(fmt: FloatFormat, bits: u64) -> i64 {
-    let mag = (bits & fmt.mask() & !fmt.sign_bit()) as i64;
-    if bits & fmt.sign_bit() != 0 {
-        -mag - 1
-    } else {
-        mag
-    }
-}
-
-fn from_key(fmt: FloatFormat, k: i64) -> u64 {
-    if k < 0 {
-        ((-(k + 1)) as u64) | fmt.sign_bit()
-    } else {
-        k as u64
-    }
-}
-
-fn nudge(fmt: FloatFormat, bits: u64, n: i64) -> u64 {
-    let lim = key(fmt, fmt.max_finite(false));
-    from_key(fmt, (key(fmt, bits) + n).clamp(-lim - 1, lim))
-}
-
 fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (key(fmt, lo), key(fmt, hi));
+    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
     let (a, b) = (a.min(b), a.max(b));
-    from_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
 }
 
 fn rand_val(fmt: FloatFormat, rng: &mut Rng, scale: i32, spread: i32) -> u64 {
@@ -194,7 +170,7 @@ fn gen(f: FloatFormat, pf: FloatFormat, k: usize, rng: &mut Rng, kind: Kind) -> 
         } else {
             rand_val(f, rng, scale, 2)
         };
-        let (lo, hi) = if key(f, a) <= key(f, b) {
+        let (lo, hi) = if total_key(f, a) <= total_key(f, b) {
             (a, b)
         } else {
             (b, a)

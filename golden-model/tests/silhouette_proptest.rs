@@ -5,10 +5,10 @@
 mod silhouette_gen;
 
 use golden_model::exact::ray_box::{corner_rays, ray_hits_box, rays_all_any, BoxIn, RayIn};
+use golden_model::float::total_key;
 use golden_model::float::FloatFormat;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding, Verdict};
 use proptest::prelude::*;
-use silhouette_gen::key;
 
 const POOL: &[f32] = &[
     0.0,
@@ -113,7 +113,7 @@ fn sorted(fmt: FloatFormat, a: [u64; 3], b: [u64; 3]) -> ([u64; 3], [u64; 3]) {
     let mut lo = a;
     let mut hi = b;
     for i in 0..3 {
-        if !fmt.is_nan(a[i]) && !fmt.is_nan(b[i]) && key(fmt, a[i]) > key(fmt, b[i]) {
+        if !fmt.is_nan(a[i]) && !fmt.is_nan(b[i]) && total_key(fmt, a[i]) > total_key(fmt, b[i]) {
             lo[i] = b[i];
             hi[i] = a[i];
         }

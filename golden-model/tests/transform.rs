@@ -2,8 +2,9 @@
 //! exact invariants, the hardware inversion, and the accuracy study's
 //! qualitative result.
 
+use golden_model::float::to_f64;
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::transform::accuracy::{self, forward, to_f64, Rng, StudyOptions, SEED_MATRICES};
+use golden_model::transform::accuracy::{self, forward, Rng, StudyOptions, SEED_MATRICES};
 use golden_model::transform::exact::{
     exact_inverse, inverse_entries, scene_builder_inverse, scene_builder_translation,
 };

@@ -24,7 +24,7 @@
 
 use super::bvh::{Bvh, Mesh, NodeKind};
 use super::exact::Dyadic;
-use crate::float::{convert, FloatFormat, RoundingMode};
+use crate::float::{convert, to_f64, FloatFormat, RoundingMode};
 
 /// Builder parameters.
 #[derive(Debug, Clone, Copy)]
@@ -131,15 +131,6 @@ fn quantise(pf: FloatFormat, n: [f64; 3]) -> [u64; 3] {
             RoundingMode::NearestEven,
         )
     })
-}
-
-fn to_f64(pf: FloatFormat, b: u64) -> f64 {
-    f64::from_bits(convert(
-        pf,
-        FloatFormat::BINARY64,
-        b,
-        RoundingMode::NearestEven,
-    ))
 }
 
 fn octant(pf: FloatFormat, n: &[u64; 3]) -> usize {

@@ -14,7 +14,7 @@
 
 use super::exact::{exact_inverse, inverse_entries, reference_origin, scene_builder_translation};
 use super::{conventional_origin, dot, invert_hw, two_step_origin, DotStyle};
-use crate::float::{convert, FloatFormat, RoundingMode};
+use crate::float::{convert, to_f64, FloatFormat, RoundingMode};
 use std::fmt::Write as _;
 
 /// An instance transform as the seed specifies its examples.
@@ -89,16 +89,6 @@ pub fn from_f64(fmt: FloatFormat, x: f64) -> u64 {
         x.to_bits(),
         RoundingMode::NearestEven,
     )
-}
-
-/// A value of `fmt` as binary64 (exact for every supported format).
-pub fn to_f64(fmt: FloatFormat, x: u64) -> f64 {
-    f64::from_bits(convert(
-        fmt,
-        FloatFormat::BINARY64,
-        x,
-        RoundingMode::NearestEven,
-    ))
 }
 
 /// The forward transform `(R, T)` of a placement in `fmt`:

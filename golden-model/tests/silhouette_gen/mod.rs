@@ -4,6 +4,7 @@
 
 use golden_model::exact::ray_box::{corner_rays, BoxIn, RayIn};
 use golden_model::float::{add, convert, mul, sub, FloatFormat, RoundingMode};
+pub use golden_model::float::{from_total_key, nudge, to_f64, total_key};
 use golden_model::silhouette::BundleIn;
 
 /// splitmix64.
@@ -39,39 +40,10 @@ pub fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
     convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
 }
 
-/// Approximate value of `bits` (for generators only).
-pub fn to_f64(fmt: FloatFormat, bits: u64) -> f64 {
-    f64::from_bits(convert(fmt, FloatFormat::BINARY64, bits, RNE))
-}
-
-/// Total-order key of a non-NaN value (-0 < +0).
-pub fn key(fmt: FloatFormat, bits: u64) -> i64 {
-    let mag = (bits & fmt.mask() & !fmt.sign_bit()) as i64;
-    if bits & fmt.sign_bit() != 0 {
-        -mag - 1
-    } else {
-        mag
-    }
-}
-
-pub fn from_key(fmt: FloatFormat, k: i64) -> u64 {
-    if k < 0 {
-        ((-(k + 1)) as u64) | fmt.sign_bit()
-    } else {
-        k as u64
-    }
-}
-
-/// `bits` moved by `n` ulps in the total order (clamped to finite values).
-pub fn nudge(fmt: FloatFormat, bits: u64, n: i64) -> u64 {
-    let lim = key(fmt, fmt.max_finite(false));
-    from_key(fmt, (key(fmt, bits) + n).clamp(-lim - 1, lim))
-}
-
 /// A uniformly chosen float between `lo <= hi` in the total order.
 pub fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (key(fmt, lo), key(fmt, hi));
-    from_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
+    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
 }
 
 /// A random finite value: random sign, magnitude `2^k · (1 + u)` with `k`
@@ -117,7 +89,7 @@ pub fn rand_box(fmt: FloatFormat, rng: &mut Rng, scale: i32) -> BoxIn {
         } else {
             rand_val(fmt, rng, scale, 2)
         };
-        let (lo, hi) = if key(fmt, a) <= key(fmt, b) {
+        let (lo, hi) = if total_key(fmt, a) <= total_key(fmt, b) {
             (a, b)
         } else {
             (b, a)
@@ -320,7 +292,7 @@ pub fn gen_bundle(
                 )
             }
         };
-        let (mut a, mut b) = if key(fmt, a) <= key(fmt, b) {
+        let (mut a, mut b) = if total_key(fmt, a) <= total_key(fmt, b) {
             (a, b)
         } else {
             (b, a)
@@ -328,10 +300,10 @@ pub fn gen_bundle(
         if !allow_mixed {
             // keep the sign of the centre (a zero centre stays a one-sided interval)
             let neg_centre = ray.d[i] & fmt.sign_bit() != 0;
-            if neg_centre && key(fmt, b) > key(fmt, fmt.zero(true)) {
+            if neg_centre && total_key(fmt, b) > total_key(fmt, fmt.zero(true)) {
                 b = fmt.zero(true);
             }
-            if !neg_centre && key(fmt, a) < key(fmt, fmt.zero(false)) {
+            if !neg_centre && total_key(fmt, a) < total_key(fmt, fmt.zero(false)) {
                 a = fmt.zero(false);
             }
         } else if rng.chance(1, 8) {
@@ -350,7 +322,7 @@ pub fn gen_bundle(
             );
             let lo = sub(fmt, ray.o[i], eps, RNE);
             let hi = add(fmt, ray.o[i], eps, RNE);
-            if key(fmt, lo) <= key(fmt, hi) {
+            if total_key(fmt, lo) <= total_key(fmt, hi) {
                 o_lo[i] = lo;
                 o_hi[i] = hi;
             }
@@ -403,8 +375,8 @@ pub fn bundle_well_formed(fmt: FloatFormat, b: &BundleIn, bounded: bool) -> bool
             && fin(b.d_hi[i])
             && fin(b.o_lo[i])
             && fin(o_hi[i])
-            && key(fmt, b.d_lo[i]) <= key(fmt, b.d_hi[i])
-            && key(fmt, b.o_lo[i]) <= key(fmt, o_hi[i])
+            && total_key(fmt, b.d_lo[i]) <= total_key(fmt, b.d_hi[i])
+            && total_key(fmt, b.o_lo[i]) <= total_key(fmt, o_hi[i])
     })
 }
 

@@ -21,9 +21,7 @@
 //! infinite bounds; 14 random `dir` codes (3 included) and parallel planes
 //! with `no_lo` near `w`; 15 extreme scales and subnormal distances.
 
-use super::cull_ray::{
-    configs, from_f64, nudge, parallel, scale, scene, specials, tiny, to_f64, Gen,
-};
+use super::cull_ray::{configs, from_f64, parallel, scale, scene, specials, tiny, Gen};
 use super::stimulus::{mask, VectorRng};
 use super::Testbench;
 use crate::params::Params;
@@ -31,7 +29,7 @@ use crate::units::cull::{Config as UnitConfig, TermField};
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
 };
-use golden_model::float::{convert, FloatFormat, RoundingMode};
+use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
 
 /// Testbench of one `cull` configuration.
 pub struct CullBench {

@@ -21,7 +21,7 @@ use super::Testbench;
 use crate::params::Params;
 use crate::units::cull::{Config as UnitConfig, TermField};
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
-use golden_model::float::{convert, FloatFormat, RoundingMode};
+use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -75,30 +75,6 @@ pub(super) fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
         fmt.max_finite(r & fmt.sign_bit() != 0)
     } else {
         r
-    }
-}
-
-/// The value of `b` (any finite encoding of `fmt`) as `f64`.
-pub(super) fn to_f64(fmt: FloatFormat, b: u64) -> f64 {
-    f64::from_bits(convert(fmt, FloatFormat::BINARY64, b, RNE))
-}
-
-/// `b` moved by `n` ulps (through zero, clamped to the finite range).
-pub(super) fn nudge(fmt: FloatFormat, b: u64, n: i64) -> u64 {
-    let key = |b: u64| {
-        let mag = (b & fmt.mask() & !fmt.sign_bit()) as i64;
-        if b & fmt.sign_bit() != 0 {
-            -mag - 1
-        } else {
-            mag
-        }
-    };
-    let lim = key(fmt.max_finite(false));
-    let k = (key(b) + n).clamp(-lim - 1, lim);
-    if k < 0 {
-        ((-(k + 1)) as u64) | fmt.sign_bit()
-    } else {
-        k as u64
     }
 }
 

@@ -19,7 +19,9 @@
 use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
-use golden_model::float::{add, convert, sub, FloatFormat, RoundingMode};
+use golden_model::float::{
+    add, convert, from_total_key, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode,
+};
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -29,40 +31,11 @@ pub fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
     convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
 }
 
-/// The value of `bits` (exact: every supported format fits binary64).
-pub fn to_f64(fmt: FloatFormat, bits: u64) -> f64 {
-    f64::from_bits(convert(fmt, FloatFormat::BINARY64, bits, RNE))
-}
-
-/// Position of a non-NaN encoding in the total order (−0 just below +0).
-fn key(fmt: FloatFormat, bits: u64) -> i64 {
-    let mag = (bits & fmt.mask() & !fmt.sign_bit()) as i64;
-    if bits & fmt.sign_bit() != 0 {
-        -mag - 1
-    } else {
-        mag
-    }
-}
-
-fn from_key(fmt: FloatFormat, k: i64) -> u64 {
-    if k < 0 {
-        (-(k + 1)) as u64 | fmt.sign_bit()
-    } else {
-        k as u64
-    }
-}
-
-/// `bits` moved by `n` places in the total order, kept finite.
-pub fn nudge(fmt: FloatFormat, bits: u64, n: i64) -> u64 {
-    let top = key(fmt, fmt.max_finite(false));
-    from_key(fmt, (key(fmt, bits) + n).clamp(-top - 1, top))
-}
-
 /// A uniform encoding between `lo` and `hi` (in either order) in the total order.
 pub fn between(fmt: FloatFormat, rng: &mut VectorRng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (key(fmt, lo), key(fmt, hi));
+    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
     let (a, b) = (a.min(b), a.max(b));
-    from_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
 }
 
 fn chance(rng: &mut VectorRng, num: u64, den: u64) -> bool {
@@ -169,7 +142,7 @@ fn rand_box(fmt: FloatFormat, rng: &mut VectorRng, scale: i32) -> ([u64; 3], [u6
         } else {
             rand_val(fmt, rng, scale, 2)
         };
-        let (x, y) = if key(fmt, a) <= key(fmt, b) {
+        let (x, y) = if total_key(fmt, a) <= total_key(fmt, b) {
             (a, b)
         } else {
             (b, a)
@@ -249,7 +222,7 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
             let pick = |rng: &mut VectorRng| from_f64(fmt, POOL[rng.below(8) as usize]);
             for i in 0..3 {
                 let (a, b) = (pick(rng), pick(rng));
-                let (a, b) = if key(fmt, a) <= key(fmt, b) {
+                let (a, b) = if total_key(fmt, a) <= total_key(fmt, b) {
                     (a, b)
                 } else {
                     (b, a)
@@ -267,7 +240,7 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
             for i in 0..3 {
                 let a = from_f64(fmt, unit(rng) * 2.0 - 1.0);
                 let b = from_f64(fmt, unit(rng) * 2.0 - 1.0);
-                let (a, b) = if key(fmt, a) <= key(fmt, b) {
+                let (a, b) = if total_key(fmt, a) <= total_key(fmt, b) {
                     (a, b)
                 } else {
                     (b, a)
@@ -391,7 +364,7 @@ pub fn bundle_of(
                 (sub(fmt, d, delta, RNE), add(fmt, d, delta, RNE))
             }
         };
-        let (mut lo, mut hi) = if key(fmt, lo) <= key(fmt, hi) {
+        let (mut lo, mut hi) = if total_key(fmt, lo) <= total_key(fmt, hi) {
             (lo, hi)
         } else {
             (hi, lo)
@@ -402,10 +375,10 @@ pub fn bundle_of(
         } else {
             // keep the sign of the centre (a zero centre stays one-sided)
             let negative = d & fmt.sign_bit() != 0;
-            if negative && key(fmt, hi) > key(fmt, fmt.zero(true)) {
+            if negative && total_key(fmt, hi) > total_key(fmt, fmt.zero(true)) {
                 hi = fmt.zero(true);
             }
-            if !negative && key(fmt, lo) < key(fmt, fmt.zero(false)) {
+            if !negative && total_key(fmt, lo) < total_key(fmt, fmt.zero(false)) {
                 lo = fmt.zero(false);
             }
         }

@@ -7,10 +7,11 @@
 //! widened interval ends at ∞ or starts at 0). The golden
 //! model is `golden_model::slab::eval` or `eval_conservative`.
 
-use super::silhouette::{corner_cases, from_f64, gen_ray, nudge, to_f64, RayCase, KINDS};
+use super::silhouette::{corner_cases, from_f64, gen_ray, RayCase, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
+use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
 

@@ -118,7 +118,7 @@ impl TransformBench {
     /// `R⁻¹` by the binary64 adjugate, rounded to the format (NaN if singular).
     fn f64_inverse(&self, r: &[u64; 9]) -> [u64; 9] {
         let fmt = self.cfg.fmt;
-        let a: [f64; 9] = r.map(|x| golden_model::transform::accuracy::to_f64(fmt, x));
+        let a: [f64; 9] = r.map(|x| golden_model::float::to_f64(fmt, x));
         let at = |i: usize, j: usize| a[3 * (i % 3) + (j % 3)];
         let adj: [f64; 9] = std::array::from_fn(|k| {
             let (i, j) = (k / 3, k % 3);

@@ -9,11 +9,12 @@
 //! Ports: `o_{x,y,z}`, `kz`, `s_{x,y,z}`, `a_*`, `b_*`, `c_*`, `t_min`,
 //! `t_max`; outputs `hit`, `invalid` and, with `outputs=full`, `t`, `u`, `v`.
 
-use super::silhouette::{from_f64, nudge, to_f64};
+use super::silhouette::from_f64;
 use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
 use crate::units::triangle::config;
+use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
 
