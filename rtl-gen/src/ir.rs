@@ -4,6 +4,9 @@
 //! Everything above this file (builder, operators, units) produces it; the
 //! emitter and the evaluator read it and nothing above it.
 
+pub mod identifier;
+
+pub use identifier::is_identifier;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::panic::Location;
@@ -352,6 +355,23 @@ impl Module {
                 _ => {}
             }
         }
+        let names = std::iter::once(("module", self.name.as_str()))
+            .chain(self.inputs.iter().map(|p| ("input", p.name.as_str())))
+            .chain(
+                self.outputs
+                    .iter()
+                    .map(|(p, _)| ("output", p.name.as_str())),
+            )
+            .chain(self.registers.iter().map(|r| ("register", r.name.as_str())))
+            .chain(self.instances.iter().map(|i| ("instance", i.name.as_str())));
+        for (what, name) in names {
+            if !is_identifier(name) {
+                return Err(format!(
+                    "module {}: {what} `{name}` is not a Verilog identifier Verilator accepts",
+                    self.name
+                ));
+            }
+        }
         let in_range = |id: NodeId| (id.0 as usize) < n;
         for r in &self.registers {
             if !in_range(r.next) || r.enable.is_some_and(|e| !in_range(e)) {
@@ -381,5 +401,28 @@ impl Module {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::builder::ModuleBuilder;
+    use crate::ir::Ty;
+
+    /// A name the builder would refuse, written into the IR directly, is
+    /// caught before emission: `near` is a C++ word Verilator rejects.
+    #[test]
+    fn well_formed_modules_have_identifiers_for_names() {
+        let mut m = ModuleBuilder::new("names");
+        let a = m.input("a", Ty::UInt(4));
+        m.output("z", a);
+        let mut module = m.finish().unwrap();
+        assert_eq!(module.check_well_formed(), Ok(()));
+        module.inputs[0].name = "near".into();
+        let e = module.check_well_formed().unwrap_err();
+        assert!(e.contains("input `near`"), "{e}");
+        module.inputs[0].name = "a".into();
+        module.name = "module".into();
+        assert!(module.check_well_formed().is_err());
     }
 }

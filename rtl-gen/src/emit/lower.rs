@@ -130,7 +130,7 @@ struct Names {
 impl Names {
     fn claim(&mut self, want: &str) -> String {
         // a derived name can happen to be a reserved word (e.g. a slice of `in`)
-        let want = if crate::builder::is_identifier(want) {
+        let want = if crate::ir::is_identifier(want) {
             want.to_string()
         } else {
             format!("{want}_w")
