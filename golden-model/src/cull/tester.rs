@@ -465,15 +465,17 @@ fn normal_terms_f32_in(
             }
         }
         let b_lo = dot3_floor_operands(cf, &n, &dd);
-        let q = recip_f64(cf, b_lo & !cf.sign_bit());
-        let (rcp_lo, rcp_hi) = round_exact_f64_down_up(cf, q);
-        terms[j] = NormalTerm {
-            no_lo: dot3_floor_operands(B32, &n, &u_lo),
-            rcp_lo,
-            rcp_hi,
-            dir: crossing_of(cf, b_lo),
-        };
+        terms[j].no_lo = dot3_floor_operands(B32, &n, &u_lo);
+        terms[j].dir = crossing_of(cf, b_lo);
         b_los[j] = b_lo;
+    }
+    // the K divisions back to back, so that they overlap in the divider
+    let mut q = [0f64; 8];
+    for j in 0..k {
+        q[j] = recip_f64(cf, b_los[j] & !cf.sign_bit());
+    }
+    for j in 0..k {
+        (terms[j].rcp_lo, terms[j].rcp_hi) = round_exact_f64_down_up(cf, q[j]);
     }
     Some(())
 }
