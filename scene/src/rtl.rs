@@ -638,12 +638,6 @@ fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<St
         (build, stats.cycles, outputs, started.elapsed())
     };
     let vectors = inputs.len() / n_in;
-    if outputs.len() != vectors * n_out {
-        return Err(format!(
-            "{name}: {vectors} inputs, {} outputs from the harness",
-            outputs.len() / n_out
-        ));
-    }
     let bench = g.testbench();
     let mut golden = vec![0u64; n_out];
     let mut answers = Answers::with_capacity(vectors);

@@ -475,7 +475,8 @@ impl Harness {
     /// through the harness, by way of `<stem>.in.rtlvec` and
     /// `<stem>.out.rtlvec` (removed afterwards, also on error), and returns
     /// the run's statistics and the output records, flat: one record per
-    /// transaction, in the output ports' order.
+    /// transaction, in the output ports' order; an error unless there is
+    /// exactly one output record per input record.
     pub fn run_records<'a>(
         &self,
         records: impl IntoIterator<Item = &'a [u64]>,
@@ -490,8 +491,10 @@ impl Harness {
         let (fin, fout) = (with(".in.rtlvec"), with(".out.rtlvec"));
         let result = (|| {
             let mut w = crate::BinWriter::create(&fin, &self.ports.inputs)?;
+            let mut written = 0usize;
             for r in records {
                 w.write_record(r)?;
+                written += 1;
             }
             w.finish()?;
             let stats = self.run(&fin, &fout, opts)?;
@@ -499,8 +502,17 @@ impl Harness {
             rd.expect_ports(&self.ports.outputs)?;
             let mut record = vec![0u64; self.ports.outputs.len()];
             let mut outputs = Vec::with_capacity(stats.transactions as usize * record.len());
+            let mut read = 0usize;
             while rd.read_record(&mut record)? {
                 outputs.extend_from_slice(&record);
+                read += 1;
+            }
+            if read != written {
+                return Err(SimError::Invalid(format!(
+                    "the harness for `{}` returned {read} output records for {written} input \
+                     records",
+                    self.ports.top
+                )));
             }
             Ok((stats, outputs))
         })();

@@ -423,119 +423,109 @@ pub fn run(
         std::process::id(),
         std::thread::current().id()
     ));
-    {
-        let (_, outputs) = harness.run_records(
-            cases.iter().map(|c| c.operands.as_slice()),
-            &tmp,
-            &sim::RunOptions::default(),
-        )?;
-        let n_out = ports.outputs.len();
-        if outputs.len() != cases.len() * n_out {
-            return Err(SimError::Invalid(format!(
-                "the harness returned {} results for the {} cases",
-                outputs.len() / n_out.max(1),
-                cases.len()
-            ))
-            .into());
+    let (_, outputs) = harness.run_records(
+        cases.iter().map(|c| c.operands.as_slice()),
+        &tmp,
+        &sim::RunOptions::default(),
+    )?;
+    let n_out = ports.outputs.len();
+    let mut gold = vec![0u64; ports.outputs.len()];
+    let mut classes: BTreeMap<Class, ClassCount> = BTreeMap::new();
+    let (mut mismatches, mut rtl_vs_golden) = (0u64, 0u64);
+    let mut first: Option<FailingVector> = None;
+    for (c, got) in cases.iter().zip(outputs.chunks(n_out)) {
+        tb.eval(&c.operands, &mut gold);
+        let (r, gv) = (got[map.result], gold[map.result]);
+        let rtl_ok = map.matches(r, c.expected, nan_exact);
+        let golden_ok = map.matches(gv, c.expected, nan_exact);
+        rtl_vs_golden += (got != gold) as u64;
+        if rtl_ok && golden_ok {
+            continue;
         }
-        let mut gold = vec![0u64; ports.outputs.len()];
-        let mut classes: BTreeMap<Class, ClassCount> = BTreeMap::new();
-        let (mut mismatches, mut rtl_vs_golden) = (0u64, 0u64);
-        let mut first: Option<FailingVector> = None;
-        for (c, got) in cases.iter().zip(outputs.chunks(n_out)) {
-            tb.eval(&c.operands, &mut gold);
-            let (r, gv) = (got[map.result], gold[map.result]);
-            let rtl_ok = map.matches(r, c.expected, nan_exact);
-            let golden_ok = map.matches(gv, c.expected, nan_exact);
-            rtl_vs_golden += (got != gold) as u64;
-            if rtl_ok && golden_ok {
-                continue;
-            }
-            mismatches += 1;
-            let class = map.classify(&c.operands, c.expected);
-            let e = classes.entry(class).or_default();
-            e.rtl += !rtl_ok as u64;
-            e.golden += !golden_ok as u64;
-            let m = CaseMismatch {
-                case: c.clone(),
-                class,
-                rtl: r,
-                golden: gv,
-            };
-            if e.examples.len() < EXAMPLES_PER_CLASS {
-                e.examples.push(m);
-            }
-            if first.is_none() {
-                let name = &ports.outputs[map.result].name;
-                first = Some(FailingVector {
-                    index: c.line - 1,
-                    location: Some(format!("{source} line {}", c.line)),
-                    inputs: super::report::hex_values(
-                        &ports
-                            .inputs
-                            .iter()
-                            .map(|p| p.name.clone())
-                            .zip(c.operands.iter().copied())
-                            .collect::<Vec<_>>(),
-                    ),
-                    expected: [(name.clone(), format!("{:#x}", c.expected))].into(),
-                    got: [
-                        (name.clone(), format!("{r:#x}")),
-                        (format!("{name} (golden model)"), format!("{gv:#x}")),
-                    ]
-                    .into(),
-                    replay: None,
-                });
-            }
+        mismatches += 1;
+        let class = map.classify(&c.operands, c.expected);
+        let e = classes.entry(class).or_default();
+        e.rtl += !rtl_ok as u64;
+        e.golden += !golden_ok as u64;
+        let m = CaseMismatch {
+            case: c.clone(),
+            class,
+            rtl: r,
+            golden: gv,
+        };
+        if e.examples.len() < EXAMPLES_PER_CLASS {
+            e.examples.push(m);
         }
-        let elapsed = started.elapsed().as_secs_f64();
-        let with_flags = cases.iter().filter(|c| c.flags.is_some()).count() as u64;
-        let mut report = RunReport::new("testfloat", g);
-        report.total_vectors = cases.len() as u64;
-        report.vectors = cases.len() as u64;
-        report.mismatches = mismatches;
-        report.first_mismatch = first;
-        report.mismatch_classes = classes
-            .iter()
-            .flat_map(|(k, c)| {
-                [
-                    (format!("{k} (rtl)"), c.rtl),
-                    (format!("{k} (golden)"), c.golden),
+        if first.is_none() {
+            let name = &ports.outputs[map.result].name;
+            first = Some(FailingVector {
+                index: c.line - 1,
+                location: Some(format!("{source} line {}", c.line)),
+                inputs: super::report::hex_values(
+                    &ports
+                        .inputs
+                        .iter()
+                        .map(|p| p.name.clone())
+                        .zip(c.operands.iter().copied())
+                        .collect::<Vec<_>>(),
+                ),
+                expected: [(name.clone(), format!("{:#x}", c.expected))].into(),
+                got: [
+                    (name.clone(), format!("{r:#x}")),
+                    (format!("{name} (golden model)"), format!("{gv:#x}")),
                 ]
-            })
-            .filter(|(_, n)| *n > 0)
-            .collect();
-        report.vectors_per_sec = cases.len() as f64 / elapsed.max(1e-9);
-        report.wall_time_s = elapsed;
-        report.input = Some(source.to_string());
-        report.notes.push(format!(
-            "exception flags ignored ({with_flags} of {} cases have them): the operators \
-             produce no flags",
-            cases.len()
-        ));
-        report.notes.push(if nan_exact {
-            "NaN results compared bit for bit (--nan-exact)".into()
-        } else {
-            "any NaN result matches any expected NaN (our NaN is canonical)".into()
-        });
-        report
-            .notes
-            .push("subnormals are not flushed (inputs or results); compared bit for bit".into());
-        if rtl_vs_golden > 0 {
-            report.notes.push(format!(
-                "RTL and golden model differ on {rtl_vs_golden} cases (some outputs)"
-            ));
+                .into(),
+                replay: None,
+            });
         }
-        report.update_verdict();
-        Ok(Outcome {
-            cases: cases.len() as u64,
-            mismatches,
-            rtl_vs_golden,
-            classes,
-            with_flags,
-            report,
-        })
     }
+    let elapsed = started.elapsed().as_secs_f64();
+    let with_flags = cases.iter().filter(|c| c.flags.is_some()).count() as u64;
+    let mut report = RunReport::new("testfloat", g);
+    report.total_vectors = cases.len() as u64;
+    report.vectors = cases.len() as u64;
+    report.mismatches = mismatches;
+    report.first_mismatch = first;
+    report.mismatch_classes = classes
+        .iter()
+        .flat_map(|(k, c)| {
+            [
+                (format!("{k} (rtl)"), c.rtl),
+                (format!("{k} (golden)"), c.golden),
+            ]
+        })
+        .filter(|(_, n)| *n > 0)
+        .collect();
+    report.vectors_per_sec = cases.len() as f64 / elapsed.max(1e-9);
+    report.wall_time_s = elapsed;
+    report.input = Some(source.to_string());
+    report.notes.push(format!(
+        "exception flags ignored ({with_flags} of {} cases have them): the operators \
+             produce no flags",
+        cases.len()
+    ));
+    report.notes.push(if nan_exact {
+        "NaN results compared bit for bit (--nan-exact)".into()
+    } else {
+        "any NaN result matches any expected NaN (our NaN is canonical)".into()
+    });
+    report
+        .notes
+        .push("subnormals are not flushed (inputs or results); compared bit for bit".into());
+    if rtl_vs_golden > 0 {
+        report.notes.push(format!(
+            "RTL and golden model differ on {rtl_vs_golden} cases (some outputs)"
+        ));
+    }
+    report.update_verdict();
+    Ok(Outcome {
+        cases: cases.len() as u64,
+        mismatches,
+        rtl_vs_golden,
+        classes,
+        with_flags,
+        report,
+    })
 }
 
 #[cfg(test)]
