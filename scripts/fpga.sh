@@ -68,6 +68,14 @@ done
 if [ $# -eq 0 ]; then
     set -- slab -p exp_bits=5 -p frac_bits=7 -p stages=6
 fi
+# dsp=ecp5 instantiates ECP5 MULT18X18D blocks; Yosys knows them from its cell library
+lib_cells=
+if [ "$family" = ecp5 ]; then
+    lib_cells="read_verilog -lib +/lattice/cells_bb_ecp5.v; "
+elif [[ " $* " == *"dsp=ecp5"* ]]; then
+    echo "error: dsp=ecp5 writes ECP5 MULT18X18D blocks; $board is an iCE40 (use dsp=infer)" >&2
+    exit 2
+fi
 rm -rf "$OUT/rtl"
 mkdir -p "$OUT"
 rm -f "$OUT"/bringup.{json,asc,bin,config,bit} "$OUT"/{yosys,nextpnr}.log
@@ -84,7 +92,7 @@ cons=$(basename "$constraints")
 cp "$constraints" "$OUT/$cons"
 sources=$(cd "$OUT" && echo rtl/*.v)
 echo "== yosys synth_$family $SYNTH_FLAGS"
-(cd "$OUT" && "$YOSYS" -q -l yosys.log -p "read_verilog $sources; synth_$family $SYNTH_FLAGS -top bringup_top -json bringup.json" >/dev/null)
+(cd "$OUT" && "$YOSYS" -q -l yosys.log -p "${lib_cells}read_verilog $sources; synth_$family $SYNTH_FLAGS -top bringup_top -json bringup.json" >/dev/null)
 echo "== nextpnr-$family ${device[*]} --freq $mhz $NEXTPNR_FLAGS"
 if [ "$family" = ice40 ]; then
     # shellcheck disable=SC2086

@@ -14,7 +14,8 @@
 //! - ray mode: binary32 conservative, 4 stages; bfloat16 nearest, 2 stages, with bubbles;
 //! - slab: binary32, 4 stages; bfloat16, 0 stages;
 //! - conservative slab: binary32, 4 stages; bfloat16, 2 stages;
-//! - `pipeline=balanced`: ray mode bfloat16, 12 stages, with bubbles.
+//! - `pipeline=balanced`: ray mode bfloat16, 12 stages, with bubbles; the same at 14 stages
+//!   with `dsp=ecp5` (products in MULT18X18D blocks, behavioural branch).
 
 mod common;
 
@@ -174,4 +175,29 @@ fn silhouette_ray_mode_bfloat16_balanced_12_stages_with_bubbles() {
         "pipeline=balanced",
     ];
     run("sil_ray_bf16_bal", "silhouette", &p, 12, Some(3));
+}
+
+/// `dsp=ecp5` (each registered product in an ECP5 MULT18X18D with its own
+/// registers; here the behavioural branch Verilator reads): the ray tester
+/// at bfloat16 balanced to 14 stages, the configuration routed on the
+/// ECP5-85F-6, with bubbles. The products really moved into the blocks.
+#[test]
+fn silhouette_ray_mode_bfloat16_balanced_ecp5_dsp_blocks_with_bubbles() {
+    let p = [
+        "mode=ray",
+        "exp_bits=8",
+        "frac_bits=7",
+        "stages=14",
+        "pipeline=balanced",
+        "dsp=ecp5",
+    ];
+    let (g, _) = generate("sil_ray_bf16_dsp_probe", "silhouette", &p);
+    let blocks = g
+        .module
+        .instances
+        .iter()
+        .filter(|i| i.module.vendor_cell.is_some())
+        .count();
+    assert!(blocks >= 9, "{}: {blocks} MULT18X18D blocks", g.module.name);
+    run("sil_ray_bf16_dsp", "silhouette", &p, 14, Some(3));
 }

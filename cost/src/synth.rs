@@ -397,9 +397,22 @@ pub fn coarse_commands(flow: &str) -> Vec<String> {
         .collect()
 }
 
-/// The Yosys script for the unit `top` whose files are `files`.
-pub fn yosys_script(top: &str, files: &[String], o: &SynthOptions) -> String {
+/// True when the unit instantiates ECP5 cells (`dsp=ecp5`).
+fn has_ecp5_cells(g: &Generated) -> bool {
+    g.module.hierarchy().iter().any(|m| m.vendor_cell.is_some())
+}
+
+/// Yosys's ECP5 cell declarations, read before a design that instantiates
+/// them so that `hierarchy -check` knows them.
+const ECP5_CELLS: &str = "read_verilog -lib +/lattice/cells_bb_ecp5.v\n";
+
+/// The Yosys script for the unit `top` whose files are `files`
+/// (`ecp5_cells`: the unit instantiates ECP5 cells).
+pub fn yosys_script(top: &str, files: &[String], o: &SynthOptions, ecp5_cells: bool) -> String {
     let mut s = String::new();
+    if ecp5_cells {
+        s += ECP5_CELLS;
+    }
     s += &format!("read_verilog {}\n", files.join(" "));
     s += &format!("hierarchy -check -top {top}\ndesign -save orig\n");
     let nf = if o.flat { "" } else { " -noflatten" };
@@ -478,6 +491,23 @@ fn sum_prefix(m: &BTreeMap<String, u64>, prefix: &str) -> u64 {
 
 /// Runs the flows of `o` on `g`.
 pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
+    let ecp5_only;
+    let o = if has_ecp5_cells(g) && (o.generic || o.ice40 || o.xilinx || o.pnr) {
+        eprintln!(
+            "{}: dsp=ecp5 instantiates ECP5 MULT18X18D blocks, so only synth_ecp5 and nextpnr-ecp5 run",
+            g.module.name
+        );
+        ecp5_only = SynthOptions {
+            generic: false,
+            ice40: false,
+            xilinx: false,
+            pnr: false,
+            ..o.clone()
+        };
+        &ecp5_only
+    } else {
+        o
+    };
     let texts: Vec<&str> = g.files.iter().map(|f| f.text.as_str()).collect();
     // only when set, so the entries of the default placer stay valid
     let placer = o
@@ -613,7 +643,7 @@ fn run_in(g: &Generated, o: &SynthOptions, dir: &Path) -> Result<SynthReport, Sy
             xilinx: flow == "xilinx",
             ..o.clone()
         };
-        let script = yosys_script(&g.module.name, &files, &only);
+        let script = yosys_script(&g.module.name, &files, &only, has_ecp5_cells(g));
         let name = format!("run_{flow}.ys");
         std::fs::write(dir.join(&name), &script).map_err(io("script"))?;
         yosys(dir, &name, &format!("yosys_{flow}.log"))?;
@@ -884,7 +914,12 @@ fn place_and_route(
         names.push(f.file_name.clone());
     }
     let nf = if o.flat { "" } else { " -noflatten" };
-    let mut script = format!(
+    let mut script = if has_ecp5_cells(g) {
+        ECP5_CELLS.to_string()
+    } else {
+        String::new()
+    };
+    script += &format!(
         "read_verilog {}\nhierarchy -check -top {}\ndesign -save shell\n",
         names.join(" "),
         shell.name

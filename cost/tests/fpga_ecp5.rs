@@ -12,30 +12,41 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
-#[test]
-fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
+/// Runs `scripts/fpga.sh ARGS` into a fresh directory named `tag`; returns
+/// its standard output and the directory. Exit 0 (timing met) is asserted.
+fn fpga(tag: &str, args: &[&str]) -> (String, std::path::PathBuf) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fpga_ecp5_ulx3s_fadd_e5m4");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(tag);
     let _ = std::fs::remove_dir_all(&out);
     let t0 = Instant::now();
     let r = Command::new("bash")
         .arg(root.join("scripts/fpga.sh"))
-        .args(["ulx3s", "fadd", "-p", "exp_bits=5", "-p", "frac_bits=4"])
+        .args(args)
         .env("OUT", &out)
         // the binary cargo built for this test: no nested `cargo run`
         .env("RTL_BRINGUP", env!("CARGO_BIN_EXE_rtl-bringup"))
         .current_dir(root)
         .output()
         .expect("bash runs");
-    let stdout = String::from_utf8_lossy(&r.stdout);
+    let stdout = String::from_utf8_lossy(&r.stdout).to_string();
     let stderr = String::from_utf8_lossy(&r.stderr);
     let secs = t0.elapsed().as_secs_f64();
-    eprintln!("{stdout}{stderr}scripts/fpga.sh ulx3s fadd e5m4: {secs:.1} s");
+    let what = format!("scripts/fpga.sh {}", args.join(" "));
+    eprintln!("{stdout}{stderr}{what}: {secs:.1} s");
     assert_eq!(
         r.status.code(),
         Some(0),
-        "scripts/fpga.sh ulx3s fadd e5m4 failed (exit 2: a tool or the toolchain is missing, \
-         run `bash scripts/setup.sh`; exit 3: timing failed):\n{stdout}\n{stderr}"
+        "{what} failed (exit 2: a tool or the toolchain is missing, run `bash scripts/setup.sh`; \
+         exit 3: timing failed):\n{stdout}\n{stderr}"
+    );
+    (stdout, out)
+}
+
+#[test]
+fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
+    let (stdout, out) = fpga(
+        "fpga_ecp5_ulx3s_fadd_e5m4",
+        &["ulx3s", "fadd", "-p", "exp_bits=5", "-p", "frac_bits=4"],
     );
 
     // exactly one timing line, and it is the last line
@@ -84,4 +95,52 @@ fn ulx3s_fadd_e5m4_bitstream_meets_25mhz() {
         bit.windows(2).take(256).any(|w| w == [0xbd, 0xb3]),
         "ECP5 preamble 0xBDB3"
     );
+}
+
+/// `dsp=ecp5` through the whole ECP5 flow: the multiply-compare unit's two
+/// registered 8x8 products are MULT18X18D blocks with their output registers
+/// in the synthesised netlist (the `ifdef SYNTHESIS` branch Verilator never
+/// reads), and the bitstream meets the board clock.
+#[test]
+fn ulx3s_mulcmp_dsp_blocks_keep_their_output_registers() {
+    let (stdout, out) = fpga(
+        "fpga_ecp5_ulx3s_mulcmp_dsp",
+        &[
+            "ulx3s",
+            "mulcmp",
+            "-p",
+            "a_width=8",
+            "-p",
+            "b_width=8",
+            "-p",
+            "dsp=ecp5",
+        ],
+    );
+    assert!(
+        stdout
+            .lines()
+            .last()
+            .is_some_and(|l| l.starts_with("timing: met at ")),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("MULT18X18D:       2/"),
+        "two DSP blocks:\n{stdout}"
+    );
+    let text = std::fs::read_to_string(out.join("bringup.json")).expect("bringup.json");
+    let netlist: serde_json::Value = serde_json::from_str(&text).expect("Yosys JSON");
+    let cells = netlist["modules"]["bringup_top"]["cells"]
+        .as_object()
+        .expect("the top's cells");
+    let blocks: Vec<&serde_json::Value> = cells
+        .values()
+        .filter(|c| c["type"] == "MULT18X18D")
+        .collect();
+    assert_eq!(blocks.len(), 2, "two MULT18X18D cells");
+    for b in blocks {
+        assert_eq!(
+            b["parameters"]["REG_OUTPUT_CLK"], "CLK0",
+            "output register on: {b}"
+        );
+    }
 }

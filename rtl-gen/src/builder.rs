@@ -930,6 +930,7 @@ impl ModuleBuilder {
             instances: self.instances,
             latency: last,
             handshake,
+            vendor_cell: None,
         };
         module.check_well_formed().map_err(|message| {
             BuildErrors(vec![DslError {

@@ -266,6 +266,46 @@ pub struct Module {
     /// input is data input 0 and the valid output is data output 0 in the IR,
     /// named `in_valid`/`out_valid`
     pub handshake: Option<Handshake>,
+    /// `Some` when a vendor's hard block implements this module in synthesis
+    pub vendor_cell: Option<VendorCell>,
+}
+
+/// A vendor's hard block (an FPGA primitive) that implements a module in
+/// synthesis. The module's own nodes and registers stay its behaviour: the
+/// evaluator, the re-timer and simulation read them, and the emitter writes
+/// both, the cell under `` `ifdef SYNTHESIS `` (which Yosys defines and
+/// Verilator and Icarus do not).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VendorCell {
+    /// cell type, e.g. `MULT18X18D`
+    pub cell: String,
+    /// string-valued parameters of the cell
+    pub params: Vec<(String, String)>,
+    /// the connected pins, in order; a pin not listed is left open
+    pub pins: Vec<(String, CellPin)>,
+}
+
+/// What one pin of a [`VendorCell`] connects to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellPin {
+    /// the module's clock
+    Clock,
+    /// a constant bit
+    Const(bool),
+    /// bit `bit` of data input `port`
+    Input {
+        /// index into the module's inputs
+        port: usize,
+        /// bit of that input
+        bit: u32,
+    },
+    /// drives bit `bit` of data output `port`
+    Output {
+        /// index into the module's outputs
+        port: usize,
+        /// bit of that output
+        bit: u32,
+    },
 }
 
 /// Names of the implicit control ports.
@@ -387,6 +427,26 @@ impl Module {
                     "module {}: output {} reads a missing node",
                     self.name, p.name
                 ));
+            }
+        }
+        if let Some(cell) = &self.vendor_cell {
+            for (pin, c) in &cell.pins {
+                let fits = match *c {
+                    CellPin::Clock | CellPin::Const(_) => true,
+                    CellPin::Input { port, bit } => {
+                        self.inputs.get(port).is_some_and(|p| bit < p.ty.width())
+                    }
+                    CellPin::Output { port, bit } => self
+                        .outputs
+                        .get(port)
+                        .is_some_and(|(p, _)| bit < p.ty.width()),
+                };
+                if !fits {
+                    return Err(format!(
+                        "module {}: pin {pin} of its {} connects to a missing port bit",
+                        self.name, cell.cell
+                    ));
+                }
             }
         }
         for inst in &self.instances {

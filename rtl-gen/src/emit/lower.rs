@@ -508,9 +508,48 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
         items.push(Item::Blank);
         items.push(Item::Instance {
             module: sub.name.clone(),
+            params: Vec::new(),
             name: names.instance[ii].clone(),
             connections,
         });
+    }
+    if let Some(cell) = &m.vendor_cell {
+        let bit = |name: &str, ty: Ty, bit: u32| match ty.width() {
+            1 => Expr::Ident(name.to_string()),
+            _ => Expr::Select(name.to_string(), bit, bit),
+        };
+        let connections = cell
+            .pins
+            .iter()
+            .map(|(pin, c)| {
+                let e = match *c {
+                    CellPin::Clock => Expr::Ident(control::CLOCK.into()),
+                    CellPin::Const(v) => Expr::Literal {
+                        width: 1,
+                        value: v as u128,
+                    },
+                    CellPin::Input { port, bit: b } => {
+                        bit(&m.inputs[port].name, m.inputs[port].ty, b)
+                    }
+                    CellPin::Output { port, bit: b } => {
+                        let p = &m.outputs[port].0;
+                        bit(&p.name, p.ty, b)
+                    }
+                };
+                (pin.clone(), e)
+            })
+            .collect();
+        let hard = Item::Instance {
+            module: cell.cell.clone(),
+            params: cell.params.clone(),
+            name: "hard_block".into(),
+            connections,
+        };
+        items = vec![Item::Ifdef {
+            symbol: "SYNTHESIS".into(),
+            then: vec![hard],
+            otherwise: items,
+        }];
     }
     VModule {
         header: header(m, generator, is_top),

@@ -123,32 +123,44 @@ pub fn module(m: &VModule) -> String {
         waived(&mut out, INDENT, d, &line);
     }
     out.push_str(");\n");
-    for item in &m.items {
+    items(&mut out, &m.items);
+    out.push_str("endmodule\n\n`default_nettype wire\n");
+    out
+}
+
+fn items(out: &mut String, items_: &[Item]) {
+    for item in items_ {
         match item {
             Item::Comment(c) => {
                 let _ = writeln!(out, "{INDENT}// {c}");
             }
-            Item::Wire(d) => waived(
-                &mut out,
-                INDENT,
-                d,
-                &format!("wire {}{};", range(d), d.name),
-            ),
-            Item::Reg(d) => waived(&mut out, INDENT, d, &format!("reg {}{};", range(d), d.name)),
+            Item::Wire(d) => waived(out, INDENT, d, &format!("wire {}{};", range(d), d.name)),
+            Item::Reg(d) => waived(out, INDENT, d, &format!("reg {}{};", range(d), d.name)),
             Item::Assign(l, r) => {
                 let _ = writeln!(out, "{INDENT}assign {l} = {};", expr(r));
             }
             Item::AlwaysPosedge(clk, body) => {
                 let _ = writeln!(out, "{INDENT}always @(posedge {clk}) begin");
-                stmts(&mut out, 2, body);
+                stmts(out, 2, body);
                 let _ = writeln!(out, "{INDENT}end");
             }
             Item::Instance {
                 module,
+                params,
                 name,
                 connections,
             } => {
-                let _ = writeln!(out, "{INDENT}{module} {name} (");
+                if params.is_empty() {
+                    let _ = writeln!(out, "{INDENT}{module} {name} (");
+                } else {
+                    let _ = writeln!(out, "{INDENT}{module} #(");
+                    let k = params.len();
+                    for (i, (p, v)) in params.iter().enumerate() {
+                        let comma = if i + 1 < k { "," } else { "" };
+                        let _ = writeln!(out, "{INDENT}{INDENT}.{p}(\"{v}\"){comma}");
+                    }
+                    let _ = writeln!(out, "{INDENT}) {name} (");
+                }
                 let k = connections.len();
                 for (i, (p, e)) in connections.iter().enumerate() {
                     let comma = if i + 1 < k { "," } else { "" };
@@ -156,11 +168,20 @@ pub fn module(m: &VModule) -> String {
                 }
                 let _ = writeln!(out, "{INDENT});");
             }
+            Item::Ifdef {
+                symbol,
+                then,
+                otherwise,
+            } => {
+                let _ = writeln!(out, "`ifdef {symbol}");
+                items(out, then);
+                out.push_str("`else\n");
+                items(out, otherwise);
+                out.push_str("`endif\n");
+            }
             Item::Blank => out.push('\n'),
         }
     }
-    out.push_str("endmodule\n\n`default_nettype wire\n");
-    out
 }
 
 #[cfg(test)]

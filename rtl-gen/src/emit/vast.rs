@@ -73,14 +73,25 @@ pub enum Item {
     Assign(String, Expr),
     /// `always @(posedge clock) begin ... end`
     AlwaysPosedge(String, Vec<Stmt>),
-    /// `module_name instance_name (.port(expr), ...);`
+    /// `module_name #(.param("value"), ...) instance_name (.port(expr), ...);`
     Instance {
         /// module instantiated
         module: String,
+        /// string-valued parameters (none for generated modules)
+        params: Vec<(String, String)>,
         /// instance name
         name: String,
         /// port connections in port order
         connections: Vec<(String, Expr)>,
+    },
+    /// `` `ifdef symbol `` items `` `else `` items `` `endif ``
+    Ifdef {
+        /// the macro tested
+        symbol: String,
+        /// items when it is defined
+        then: Vec<Item>,
+        /// items when it is not
+        otherwise: Vec<Item>,
     },
     /// an empty line between groups
     Blank,

@@ -218,10 +218,23 @@ pub const PIPELINE: ParamSpec = ParamSpec {
     default: "plan",
 };
 
-/// Every parameter of `entry`: its own and the flow's [`PIPELINE`].
+/// The parameter every unit takes besides its own: whether registered
+/// products use an FPGA's hard DSP registers (`crate::retime::hard_dsp`).
+pub const DSP: ParamSpec = ParamSpec {
+    name: "dsp",
+    doc: "multiplier blocks: infer (plain `*`, any synthesis tool maps it) or ecp5 (each \
+          registered product of at most 18x18 bits written as an ECP5 MULT18X18D with its own \
+          output register, so the route back from the DSP row is a path of its own; Verilog \
+          for ECP5 synthesis, same function and latency)",
+    kind: ParamKind::Choice(&["infer", "ecp5"]),
+    default: "infer",
+};
+
+/// Every parameter of `entry`: its own and the flow's [`PIPELINE`] and [`DSP`].
 pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
     let mut specs = entry.unit.params().to_vec();
     specs.push(PIPELINE);
+    specs.push(DSP);
     specs
 }
 
@@ -260,6 +273,23 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
         );
         module = balanced;
         balance = Some(report);
+    }
+    if params.word(DSP.name) == "ecp5" {
+        let (hard, done) = crate::retime::hard_dsp::ecp5_hard_registers(&module);
+        if done.products == 0 {
+            return Err(ParamError::Combination(format!(
+                "dsp=ecp5: `{}` has no registered product of at most 18x18 bits to put in a \
+                 MULT18X18D (give it stages, or pipeline=balanced)",
+                module.name
+            ))
+            .into());
+        }
+        module = hard;
+        module.params.insert(DSP.name.into(), "ecp5".into());
+        module.description = format!(
+            "{} {} products in ECP5 MULT18X18D blocks with their output registers (dsp=ecp5).",
+            module.description, done.products
+        );
     }
     let files = emit(&module, crate::GENERATOR);
     let ports = sim::PortList {

@@ -27,6 +27,7 @@
 //! Only feed-forward pipelines are re-timed: a module with a register that has
 //! an enable or reads a later value (state) is refused.
 
+pub mod hard_dsp;
 mod registers;
 
 use crate::builder::{BuildErrors, ModuleBuilder, Sig};
