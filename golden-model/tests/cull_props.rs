@@ -16,9 +16,7 @@ use golden_model::cull::exact::{region_hit, Dyadic, RegionIn};
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, CullOut, RayIn,
 };
-use golden_model::float::{
-    add, convert, from_total_key, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode,
-};
+use golden_model::float::{add, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -47,14 +45,10 @@ impl Rng {
     }
 }
 
-fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
-    convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
-}
+use golden_model::float::from_f64;
 
 fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
-    let (a, b) = (a.min(b), a.max(b));
-    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+    golden_model::float::between(fmt, lo, hi, |n| rng.below(n))
 }
 
 fn rand_val(fmt: FloatFormat, rng: &mut Rng, scale: i32, spread: i32) -> u64 {

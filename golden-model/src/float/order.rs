@@ -5,6 +5,25 @@
 use super::convert::convert;
 use super::format::{FloatFormat, RoundingMode};
 
+/// `v` rounded to nearest (ties to even) in `fmt`.
+pub fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
+    convert(
+        FloatFormat::BINARY64,
+        fmt,
+        v.to_bits(),
+        RoundingMode::NearestEven,
+    )
+}
+
+/// A uniform draw among the encodings from `lo` to `hi` (either order) in
+/// the total order of [`total_key`]; `below(n)` draws uniformly from `0..n`
+/// (each generator passes its own random source).
+pub fn between(fmt: FloatFormat, lo: u64, hi: u64, below: impl FnOnce(u64) -> u64) -> u64 {
+    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
+    let (a, b) = (a.min(b), a.max(b));
+    from_total_key(fmt, a + below((b - a + 1) as u64) as i64)
+}
+
 /// The value of `bits` as binary64 (exact for every supported format).
 pub fn to_f64(fmt: FloatFormat, bits: u64) -> f64 {
     f64::from_bits(convert(

@@ -14,7 +14,7 @@
 
 use super::exact::{exact_inverse, inverse_entries, reference_origin, scene_builder_translation};
 use super::{conventional_origin, dot, invert_hw, two_step_origin, DotStyle};
-use crate::float::{convert, to_f64, FloatFormat, RoundingMode};
+use crate::float::{to_f64, FloatFormat, RoundingMode};
 use std::fmt::Write as _;
 
 /// An instance transform as the seed specifies its examples.
@@ -81,15 +81,7 @@ pub fn rotation(axis: [f64; 3], angle_deg: f64) -> [f64; 9] {
     ]
 }
 
-/// A binary64 value rounded to `fmt` (RNE).
-pub fn from_f64(fmt: FloatFormat, x: f64) -> u64 {
-    convert(
-        FloatFormat::BINARY64,
-        fmt,
-        x.to_bits(),
-        RoundingMode::NearestEven,
-    )
-}
+pub use crate::float::from_f64;
 
 /// The forward transform `(R, T)` of a placement in `fmt`:
 /// `R = diag(scale) · rotation(axis, angle)` in binary64, each entry rounded.

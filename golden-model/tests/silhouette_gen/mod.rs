@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use golden_model::exact::ray_box::{corner_rays, BoxIn, RayIn};
-use golden_model::float::{add, convert, mul, sub, FloatFormat, RoundingMode};
-pub use golden_model::float::{from_total_key, nudge, to_f64, total_key};
+use golden_model::float::{add, mul, sub, FloatFormat, RoundingMode};
+pub use golden_model::float::{nudge, to_f64, total_key};
 use golden_model::silhouette::BundleIn;
 
 /// splitmix64.
@@ -35,15 +35,11 @@ impl Rng {
 
 pub const RNE: RoundingMode = RoundingMode::NearestEven;
 
-/// `v` rounded to nearest in `fmt`.
-pub fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
-    convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
-}
+pub use golden_model::float::from_f64;
 
 /// A uniformly chosen float between `lo <= hi` in the total order.
 pub fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
-    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
+    golden_model::float::between(fmt, lo, hi, |n| rng.below(n))
 }
 
 /// A random finite value: random sign, magnitude `2^k · (1 + u)` with `k`

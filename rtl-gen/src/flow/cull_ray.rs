@@ -70,7 +70,7 @@ impl Gen<'_> {
 
 /// `v` rounded to nearest into `fmt`, overflow saturated to the largest finite value.
 pub(super) fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
-    let r = convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE);
+    let r = golden_model::float::from_f64(fmt, v);
     if r & !fmt.sign_bit() == fmt.inf(false) {
         fmt.max_finite(r & fmt.sign_bit() != 0)
     } else {

@@ -19,24 +19,12 @@
 use super::stimulus::VectorRng;
 use super::Testbench;
 use crate::params::Params;
-use golden_model::float::{
-    add, convert, from_total_key, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode,
-};
+use golden_model::float::{add, between, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
-/// `v` rounded to nearest in `fmt`.
-pub fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
-    convert(FloatFormat::BINARY64, fmt, v.to_bits(), RNE)
-}
-
-/// A uniform encoding between `lo` and `hi` (in either order) in the total order.
-pub fn between(fmt: FloatFormat, rng: &mut VectorRng, lo: u64, hi: u64) -> u64 {
-    let (a, b) = (total_key(fmt, lo), total_key(fmt, hi));
-    let (a, b) = (a.min(b), a.max(b));
-    from_total_key(fmt, a + rng.below((b - a + 1) as u64) as i64)
-}
+pub use golden_model::float::from_f64;
 
 fn chance(rng: &mut VectorRng, num: u64, den: u64) -> bool {
     rng.below(den) < num
@@ -163,7 +151,7 @@ fn point_on_box(fmt: FloatFormat, rng: &mut VectorRng, c: &RayCase, boundary: u3
                 c.p_max[i]
             }
         } else {
-            between(fmt, rng, c.p_min[i], c.p_max[i])
+            between(fmt, c.p_min[i], c.p_max[i], |n| rng.below(n))
         }
     })
 }
