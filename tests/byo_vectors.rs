@@ -5,8 +5,8 @@
 mod common;
 
 use common::{generate, scratch};
-use rtl_gen::flow::byo::{run_file, Mode};
-use rtl_gen::flow::Testbench;
+use rtl_flow::byo::{run_file, Mode};
+use rtl_flow::Testbench;
 
 /// The real testbench with `eq` inverted whenever a == 7.
 struct Wrong(Box<dyn Testbench>);

@@ -2,7 +2,7 @@
 //! directory, build its harness (cached), cross-check it.
 #![allow(dead_code)] // each test file uses a subset
 
-use rtl_gen::flow::{self, Generated};
+use rtl_flow::{self, Generated};
 use std::path::PathBuf;
 
 /// A fresh directory under the target dir for one test's outputs.
@@ -17,8 +17,8 @@ pub fn scratch(name: &str) -> PathBuf {
 /// private to `test` (tests run in parallel).
 pub fn generate(test: &str, unit: &str, params: &[&str]) -> (Generated, PathBuf) {
     let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-    let g =
-        flow::generate(unit, &params).unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"));
+    let g = rtl_flow::generate(unit, &params)
+        .unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"));
     let dir = scratch(&format!("{test}/{}", g.module.name));
     g.write(&dir, 10.0).expect("write generated files");
     (g, dir)

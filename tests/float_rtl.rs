@@ -16,9 +16,9 @@
 mod common;
 
 use common::scratch;
+use rtl_flow::{self, Generated, Testbench};
 use rtl_gen::builder::ModuleBuilder;
 use rtl_gen::emit::emit;
-use rtl_gen::flow::{self, Generated, Testbench};
 use rtl_gen::ir::control;
 use rtl_gen::params::Params;
 use std::sync::Arc;
@@ -73,7 +73,8 @@ fn check(test: &str, configs: &[(&str, &[&str])]) {
     let mut described = Vec::new();
     for (k, (unit, params)) in configs.iter().enumerate() {
         let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-        let g = flow::generate(unit, &params).unwrap_or_else(|e| panic!("{unit} {params:?}: {e}"));
+        let g =
+            rtl_flow::generate(unit, &params).unwrap_or_else(|e| panic!("{unit} {params:?}: {e}"));
         let op = Arc::clone(&g.module.instances[0].module);
         let conn: Vec<(String, _)> = op
             .inputs

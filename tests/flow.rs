@@ -34,7 +34,7 @@ fn mulcmp_matches_golden_model_on_a_million_vectors_per_configuration() {
 
 #[test]
 fn a_flipped_output_bit_in_the_golden_model_is_caught_with_a_replay_command() {
-    struct Flipped(Box<dyn rtl_gen::flow::Testbench>);
+    struct Flipped(Box<dyn rtl_flow::Testbench>);
     impl sim::Golden for Flipped {
         fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
             self.0.eval(inputs, outputs);
@@ -128,8 +128,8 @@ fn generated_verilog_compiles_in_icarus_and_synthesises_in_yosys() {
 
 #[test]
 fn same_parameters_give_the_same_bytes() {
-    let a = rtl_gen::flow::generate("mulcmp", &["stages=4".into(), "a_width=9".into()]).unwrap();
-    let b = rtl_gen::flow::generate("mulcmp", &["a_width=9".into(), "stages=4".into()]).unwrap();
+    let a = rtl_flow::generate("mulcmp", &["stages=4".into(), "a_width=9".into()]).unwrap();
+    let b = rtl_flow::generate("mulcmp", &["a_width=9".into(), "stages=4".into()]).unwrap();
     assert_eq!(a.files, b.files);
     assert_eq!(a.ports, b.ports);
     assert!(a
@@ -149,7 +149,7 @@ fn same_parameters_give_the_same_bytes() {
 fn impossible_parameters_are_clear_errors() {
     let err = |unit: &str, p: &[&str]| {
         let p: Vec<String> = p.iter().map(|s| s.to_string()).collect();
-        rtl_gen::flow::generate(unit, &p)
+        rtl_flow::generate(unit, &p)
             .err()
             .expect("must fail")
             .to_string()
@@ -163,7 +163,7 @@ fn impossible_parameters_are_clear_errors() {
 
 #[test]
 fn the_reference_sdc_in_constraints_is_what_the_generator_writes() {
-    let g = rtl_gen::flow::generate("mulcmp", &[]).unwrap();
+    let g = rtl_flow::generate("mulcmp", &[]).unwrap();
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../constraints/mulcmp_a16_b16_s2.sdc"
@@ -171,7 +171,7 @@ fn the_reference_sdc_in_constraints_is_what_the_generator_writes() {
     let kept = std::fs::read_to_string(path).expect("constraints/mulcmp_a16_b16_s2.sdc");
     assert_eq!(
         kept,
-        rtl_gen::flow::sdc(&g, 10.0),
+        rtl_flow::sdc(&g, 10.0),
         "regenerate constraints/ with rtl-gen emit mulcmp"
     );
 }

@@ -7,9 +7,9 @@
 mod common;
 
 use common::generate;
-use rtl_gen::flow::regress::{run_check, CheckRun};
-use rtl_gen::flow::report::{merge, Shard};
-use rtl_gen::flow::Testbench;
+use rtl_flow::regress::{run_check, CheckRun};
+use rtl_flow::report::{merge, Shard};
+use rtl_flow::Testbench;
 
 const VECTORS: u64 = 300_000;
 const SEED: u64 = 11;

@@ -5,7 +5,7 @@
 mod common;
 
 use common::{generate, scratch};
-use rtl_gen::flow::testfloat::{read_cases, run, Mapping};
+use rtl_flow::testfloat::{read_cases, run, Mapping};
 use rustc_apfloat::ieee::{Half, Single};
 use rustc_apfloat::{Float, Round};
 

@@ -10,7 +10,7 @@ mod common;
 use common::{cross_check, generate};
 use golden_model::float::FloatFormat;
 use golden_model::triangle::eval;
-use rtl_gen::flow::triangle::TriangleBench;
+use rtl_flow::triangle::TriangleBench;
 
 /// (exp_bits, frac_bits, round, outputs, stages, pipeline)
 /// (the unit's plan is the delay-balanced placement, so `pipeline=balanced`

@@ -245,7 +245,7 @@ pub struct RayStatsAll {
     pub slab: RayStats,
     /// conservative slab (`slab -p rounding=conservative`):
     /// `golden_model::slab::eval_conservative` with `inv_d = RTZ(1/d)`, the
-    /// reciprocal `rtl-gen/src/flow/slab.rs` feeds it
+    /// reciprocal `rtl-flow/src/slab.rs` feeds it
     pub slab_conservative: RayStats,
 }
 

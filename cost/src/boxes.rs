@@ -86,7 +86,7 @@ pub fn synthesise(
                 format!("frac_bits={frac}"),
                 format!("stages={depth}"),
             ]);
-            let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
+            let g = rtl_flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
             eprintln!("synthesising {} ...", g.module.name);
             // one design the tools cannot map must not lose the others' figures
             let (report, failed) = match synth::run(&g, &o) {

@@ -393,7 +393,7 @@ pub struct Bringup {
 
 impl Bringup {
     /// Wraps the unit of `g` at `cycles_per_bit` and emits the Verilog.
-    pub fn new(g: &rtl_gen::flow::Generated, cycles_per_bit: u32) -> Bringup {
+    pub fn new(g: &rtl_flow::Generated, cycles_per_bit: u32) -> Bringup {
         let unit = Arc::new(g.module.clone());
         let module = wrapper(&unit, cycles_per_bit);
         let files = rtl_gen::emit::emit(&module, rtl_gen::GENERATOR);

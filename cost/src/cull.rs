@@ -69,7 +69,7 @@ pub fn synthesise(
                 format!("k={k}"),
                 format!("stages={stages}"),
             ];
-            let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
+            let g = rtl_flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
             eprintln!("synthesising {} ...", g.module.name);
             let (report, failed) = match synth::run(&g, &o) {
                 Ok(r) => (r, None),

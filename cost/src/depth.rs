@@ -38,7 +38,7 @@ pub fn sweep(
             let mut p = params.to_vec();
             p.push(format!("stages={s}"));
             p.push(format!("pipeline={pipeline}"));
-            let g = rtl_gen::flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
+            let g = rtl_flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
             let model_period = g.modelled_period()?;
             eprintln!("{unit} stages={s} pipeline={pipeline} ...");
             let report = synth::run(&g, &o)?;

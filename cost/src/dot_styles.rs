@@ -60,8 +60,7 @@ pub fn run_styles(stages: u32, study: Study, cached_only: bool) -> Result<Vec<St
         .enumerate()
         .map(|(k, &style)| {
             let p = vec![format!("dot={}", style.word()), format!("stages={stages}")];
-            let g =
-                rtl_gen::flow::generate("transform", &p).map_err(|e| format!("transform: {e}"))?;
+            let g = rtl_flow::generate("transform", &p).map_err(|e| format!("transform: {e}"))?;
             let xilinx = synth::xilinx_estimate(&g, cached_only)?;
             let max_rel = rows
                 .iter()

@@ -503,7 +503,7 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
         let mut s = 0u32;
         let mut tries = 0;
         loop {
-            let g = rtl_gen::flow::generate("silhouette", &params(s))?;
+            let g = rtl_flow::generate("silhouette", &params(s))?;
             let rep = synth::run(&g, &so)?;
             let ice = rep.ice40.clone().unwrap_or_default();
             let est = 1000.0 / (ice.depth.max(1) as f64 * NS_PER_CELL);
@@ -595,7 +595,7 @@ fn routed_ecp5_stages(
     let budget = 1000.0 / target_mhz / NS_PER_LEVEL_ECP5;
     let mut s = 32;
     for k in 0..=32 {
-        let g = rtl_gen::flow::generate("silhouette", &params(k))?;
+        let g = rtl_flow::generate("silhouette", &params(k))?;
         if g.modelled_period()? <= budget {
             s = k;
             break;
@@ -609,7 +609,7 @@ fn routed_ecp5_stages(
     let so = SynthOptions::ecp5_routed(target_mhz);
     let mut tries = 0;
     loop {
-        let g = rtl_gen::flow::generate("silhouette", &params(s))?;
+        let g = rtl_flow::generate("silhouette", &params(s))?;
         let rep = synth::run(&g, &so)?;
         let e = rep.ecp5.clone().unwrap_or_default();
         let fmax = rep.pnr_ecp5.as_ref().and_then(|p| p.fmax_mhz);

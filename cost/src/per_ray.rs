@@ -66,7 +66,7 @@ pub fn unit_luts(cached_only: bool) -> Result<Vec<u64>, String> {
         .iter()
         .map(|r| {
             let p: Vec<String> = r.params.iter().map(|s| s.to_string()).collect();
-            let g = rtl_gen::flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
+            let g = rtl_flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
             Ok(synth::xilinx_estimate(&g, cached_only)?.luts)
         })
         .collect()

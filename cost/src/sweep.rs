@@ -169,7 +169,7 @@ pub fn run(o: &SweepOptions) -> Result<Sweep, Box<dyn std::error::Error>> {
                 cfgs.len(),
                 params.join(" ")
             );
-            let g = rtl_gen::flow::generate(unit, params)?;
+            let g = rtl_flow::generate(unit, params)?;
             match synth::run(&g, &so) {
                 Ok(r) => s.cost.push(r),
                 Err(e) => eprintln!("  failed: {e}"),

@@ -38,7 +38,7 @@
 //! of the pinned tool versions under `target/cost-cache/`, so a sweep
 //! interrupted half way resumes.
 
-use rtl_gen::flow::Generated;
+use rtl_flow::Generated;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -39,7 +39,7 @@ fn build(b: &Bringup, dir: &Path) -> PathBuf {
 /// `cycles_per_bit` and compares every answer with the golden model.
 fn check(unit: &str, params: &[&str], cycles_per_bit: u32, vectors: u64, seed: u64) {
     let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
-    let g = rtl_gen::flow::generate(unit, &params).unwrap();
+    let g = rtl_flow::generate(unit, &params).unwrap();
     let b = Bringup::new(&g, cycles_per_bit);
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(&b.module.name);
     let exe = build(&b, &dir);

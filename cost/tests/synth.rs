@@ -8,7 +8,7 @@ use cost::synth::{self, SynthOptions, Tool};
 
 #[test]
 fn tiny_mulcmp_through_yosys_and_nextpnr() {
-    let g = rtl_gen::flow::generate(
+    let g = rtl_flow::generate(
         "mulcmp",
         &["a_width=4".into(), "b_width=4".into(), "stages=1".into()],
     )
@@ -66,7 +66,7 @@ fn tiny_mulcmp_through_yosys_and_nextpnr() {
 
 #[test]
 fn xilinx_maps_a_12x12_multiplier_to_a_dsp48() {
-    let g = rtl_gen::flow::generate(
+    let g = rtl_flow::generate(
         "mulcmp",
         &["a_width=12".into(), "b_width=12".into(), "stages=2".into()],
     )
@@ -220,7 +220,7 @@ fn fit_suzanne_format_without_synthesis() {
         f.report
     );
     assert_eq!(f.picked().same_image, Some(true), "{}", f.report);
-    rtl_gen::flow::generate("silhouette", &f.params).unwrap();
+    rtl_flow::generate("silhouette", &f.params).unwrap();
 }
 
 #[test]

@@ -43,12 +43,12 @@ use golden_model::float::RoundingMode;
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{InstanceTransform, ModelRay, WorldRay};
 use golden_model::triangle::{TriIn, TriOut};
-use rtl_gen::flow::cull::CullBench;
-use rtl_gen::flow::cull_ray::CullRayBench;
-use rtl_gen::flow::silhouette::SilhouetteBench;
-use rtl_gen::flow::transform::TransformBench;
-use rtl_gen::flow::triangle::{self as tri_flow, TriangleBench};
-use rtl_gen::flow::{self, Generated};
+use rtl_flow::cull::CullBench;
+use rtl_flow::cull_ray::CullRayBench;
+use rtl_flow::silhouette::SilhouetteBench;
+use rtl_flow::transform::TransformBench;
+use rtl_flow::triangle::{self as tri_flow, TriangleBench};
+use rtl_flow::{self, Generated};
 use sim::Harness;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -169,7 +169,8 @@ impl LoopUnits {
         let mut generated = Vec::new();
         for s in Stream::ALL {
             let given: Vec<String> = s.params().iter().map(|p| p.to_string()).collect();
-            let g = flow::generate(s.unit(), &given).map_err(|e| format!("{}: {e}", s.label()))?;
+            let g =
+                rtl_flow::generate(s.unit(), &given).map_err(|e| format!("{}: {e}", s.label()))?;
             if g.ports.inputs.len() > MAX_PORTS {
                 return Err(format!("{}: more than {MAX_PORTS} input ports", s.label()));
             }

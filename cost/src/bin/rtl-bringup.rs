@@ -28,7 +28,7 @@ struct Cli {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let g = match rtl_gen::flow::generate(&cli.unit, &cli.params) {
+    let g = match rtl_flow::generate(&cli.unit, &cli.params) {
         Ok(g) => g,
         Err(e) => {
             eprintln!("rtl-bringup: {e}");

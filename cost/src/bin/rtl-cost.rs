@@ -247,7 +247,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             ecp5_target_mhz,
             json,
         } => {
-            let g = rtl_gen::flow::generate(&unit, &params)?;
+            let g = rtl_flow::generate(&unit, &params)?;
             let o = SynthOptions {
                 pnr: !no_pnr && !no_pnr_ice40,
                 pnr_ecp5: !no_pnr && !no_pnr_ecp5,
@@ -362,7 +362,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 exact_all,
             };
             let f = cost::fit::fit(&sc, &name, &o)?;
-            let g = rtl_gen::flow::generate("silhouette", &f.params)?;
+            let g = rtl_flow::generate("silhouette", &f.params)?;
             for p in g.write(&out, 1000.0 / fmax)? {
                 println!("wrote {}", p.display());
             }

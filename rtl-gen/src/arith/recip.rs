@@ -167,16 +167,8 @@ pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
 mod tests {
     use super::*;
     use crate::eval::Evaluator;
+    use crate::golden_twin::golden_mode;
     use golden_model::float::{FloatFormat, RoundingMode};
-
-    fn golden_mode(r: Rounding) -> RoundingMode {
-        match r {
-            Rounding::Rne => RoundingMode::NearestEven,
-            Rounding::Rtz => RoundingMode::TowardZero,
-            Rounding::Rup => RoundingMode::Up,
-            Rounding::Rdn => RoundingMode::Down,
-        }
-    }
 
     /// Every encoding of (4,3) in every mode, of (5,10) in RNE, random values
     /// otherwise and for binary32, against the golden reciprocal.

@@ -829,7 +829,7 @@ mod tests {
     #[test]
     fn widen_is_the_exact_conversion() {
         use crate::eval::Evaluator;
-        use crate::flow::fstim::golden_format;
+        use crate::golden_twin::golden_format;
         use golden_model::float::{classify, convert, Class, RoundingMode};
         let f = |e, m| Format::new(e, m).unwrap();
         for (from, to) in [

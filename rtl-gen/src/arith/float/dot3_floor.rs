@@ -210,7 +210,7 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
 mod tests {
     use super::*;
     use crate::eval::Evaluator;
-    use crate::flow::fstim::golden_format;
+    use crate::golden_twin::golden_format;
 
     /// Against the golden operator: random operands of small formats (a
     /// third of them special or zero), and of the cull unit's formats, at

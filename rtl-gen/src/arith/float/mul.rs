@@ -186,7 +186,7 @@ pub fn mul_mixed_module(
 mod tests {
     use super::*;
     use crate::eval::Evaluator;
-    use crate::flow::fstim::{golden_format, golden_mode};
+    use crate::golden_twin::{golden_format, golden_mode};
     use golden_model::float::{convert, mul, RoundingMode};
 
     /// The mixed-width product against the golden model's product of both

@@ -1,0 +1,480 @@
+//! The flow: a unit, its parameters, its golden model and stimulus; writing
+//! the Verilog, port list and constraints; lint, Verilator build, cross-check.
+//!
+//! This is the only place that knows both the generator and the golden model;
+//! the DSL layers below never see either `sim` or `golden-model`.
+
+pub mod byo;
+pub mod cull;
+pub mod cull_ray;
+pub mod fadd;
+pub mod fadd_down_up;
+pub mod fcmp;
+pub mod fcvt;
+pub mod fdot3;
+pub mod ffma;
+pub mod fminmax;
+pub mod fmul;
+pub mod fmul_exact;
+pub mod frecip;
+pub mod fstim;
+pub mod funpack;
+pub mod mulcmp;
+pub mod regress;
+pub mod report;
+pub mod silhouette;
+pub mod slab;
+pub mod stimulus;
+pub mod testfloat;
+pub mod transform;
+pub mod triangle;
+
+use rtl_gen::emit::{emit, VerilogFile};
+use rtl_gen::ir::{control, Module, Ty};
+use rtl_gen::params::{ParamError, ParamKind, ParamSpec, Params};
+use rtl_gen::units::Unit;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Golden model plus stimulus of one unit, for resolved parameters.
+pub trait Testbench: sim::Golden + sim::Stimulus {}
+
+/// A unit the CLI offers: its generator and its testbench.
+pub struct Entry {
+    /// the generator
+    pub unit: &'static dyn Unit,
+    /// makes the testbench for resolved parameters
+    pub testbench: fn(&Params) -> Box<dyn Testbench>,
+}
+
+/// Every unit, in the order `rtl-gen list` shows them.
+pub fn catalog() -> Vec<Entry> {
+    vec![
+        Entry {
+            unit: &rtl_gen::units::mulcmp::MulCmp,
+            testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::silhouette::Silhouette,
+            testbench: |p| Box::new(silhouette::SilhouetteBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::slab::Slab,
+            testbench: |p| Box::new(slab::SlabBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::cull::Cull,
+            testbench: |p| Box::new(cull::CullBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::cull_ray::CullRay,
+            testbench: |p| Box::new(cull_ray::CullRayBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::transform::Transform,
+            testbench: |p| Box::new(transform::TransformBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::triangle::Triangle,
+            testbench: |p| Box::new(triangle::TriangleBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fadd::FAdd,
+            testbench: |p| Box::new(fadd::FAddBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fadd_down_up::FAddDownUp,
+            testbench: |p| Box::new(fadd_down_up::FAddDownUpBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fmul::FMul,
+            testbench: |p| Box::new(fmul::FMulBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fmul_exact::FMulExact,
+            testbench: |p| Box::new(fmul_exact::FMulExactBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fcmp::FCmp,
+            testbench: |p| Box::new(fcmp::FCmpBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fminmax::FMinMax,
+            testbench: |p| Box::new(fminmax::FMinMaxBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fcvt::FCvt,
+            testbench: |p| Box::new(fcvt::FCvtBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::ffma::FFma,
+            testbench: |p| Box::new(ffma::FFmaBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::fdot3::FDot3,
+            testbench: |p| Box::new(fdot3::FDot3Bench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::frecip::FRecip,
+            testbench: |p| Box::new(frecip::FRecipBench::new(p)),
+        },
+        Entry {
+            unit: &rtl_gen::units::funpack::FUnpack,
+            testbench: |p| Box::new(funpack::FUnpackBench::new(p)),
+        },
+    ]
+}
+
+/// The catalog entry called `name`.
+pub fn find(name: &str) -> Result<Entry, ParamError> {
+    let known: Vec<String> = catalog()
+        .iter()
+        .map(|e| e.unit.name().to_string())
+        .collect();
+    catalog()
+        .into_iter()
+        .find(|e| e.unit.name() == name)
+        .ok_or(ParamError::UnknownUnit {
+            name: name.to_string(),
+            known,
+        })
+}
+
+/// Anything that stops the flow.
+#[derive(Debug)]
+pub enum FlowError {
+    /// bad unit or parameters
+    Params(ParamError),
+    /// writing the outputs failed
+    Io(PathBuf, std::io::Error),
+    /// Verilator, the harness or the cross-check failed
+    Sim(sim::SimError),
+}
+
+impl fmt::Display for FlowError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FlowError::Params(e) => write!(f, "{e}"),
+            FlowError::Io(p, e) => write!(f, "{}: {e}", p.display()),
+            FlowError::Sim(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for FlowError {}
+
+impl From<ParamError> for FlowError {
+    fn from(e: ParamError) -> Self {
+        FlowError::Params(e)
+    }
+}
+
+impl From<sim::SimError> for FlowError {
+    fn from(e: sim::SimError) -> Self {
+        FlowError::Sim(e)
+    }
+}
+
+/// A generated unit: the module, its Verilog files and its port list.
+pub struct Generated {
+    /// unit name
+    pub unit: String,
+    /// resolved parameters
+    pub params: Params,
+    /// the top module
+    pub module: Module,
+    /// Verilog, submodules first
+    pub files: Vec<VerilogFile>,
+    /// the contract with the harness
+    pub ports: sim::PortList,
+    /// what `pipeline=balanced` did (`None` for the unit's own plan)
+    pub balance: Option<rtl_gen::retime::Balance>,
+}
+
+impl Generated {
+    /// The delay model's clock period of the emitted module, LUT levels.
+    pub fn modelled_period(&self) -> Result<f64, String> {
+        match &self.balance {
+            // measured on the schedule itself: re-reading the emitted module
+            // would put each DSP block's routes back into the block's stage
+            Some(b) => Ok(b.period),
+            None => rtl_gen::retime::modelled_period(&self.module),
+        }
+    }
+}
+
+fn port_width(ty: Ty) -> u32 {
+    ty.width()
+}
+
+/// The parameter every unit takes besides its own: where its pipeline
+/// registers go (`rtl_gen::retime`).
+pub const PIPELINE: ParamSpec = ParamSpec {
+    name: "pipeline",
+    doc: "register placement: plan (the unit's own per-step plan, hierarchical) or balanced \
+          (the combinational datapath, flattened, cut into `stages` stages of equal modelled \
+          delay: one module, a shorter clock period)",
+    kind: ParamKind::Choice(&["plan", "balanced"]),
+    default: "plan",
+};
+
+/// The parameter every unit takes besides its own: whether registered
+/// products use an FPGA's hard DSP registers (`rtl_gen::retime::hard_dsp`).
+pub const DSP: ParamSpec = ParamSpec {
+    name: "dsp",
+    doc: "multiplier blocks: infer (plain `*`, any synthesis tool maps it) or ecp5 (each \
+          registered product of at most 18x18 bits written as an ECP5 MULT18X18D with its own \
+          output register, so the route back from the DSP row is a path of its own; Verilog \
+          for ECP5 synthesis, same function and latency)",
+    kind: ParamKind::Choice(&["infer", "ecp5"]),
+    default: "infer",
+};
+
+/// Every parameter of `entry`: its own and the flow's [`PIPELINE`] and [`DSP`].
+pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
+    let mut specs = entry.unit.params().to_vec();
+    specs.push(PIPELINE);
+    specs.push(DSP);
+    specs
+}
+
+/// Builds `unit` with `given` parameters (`key=value` strings) and emits it.
+///
+/// `pipeline=balanced` builds the unit with `stages=0` (its datapath without
+/// registers, and without the structure a plan adds for its registers, such
+/// as multipliers cut into slices) and lets [`rtl_gen::retime::balance`] place
+/// `stages` registers; the module keeps the plan's name with `_bal` added.
+pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
+    let entry = find(unit)?;
+    let specs = param_specs(&entry);
+    let params = Params::resolve(unit, &specs, given)?;
+    let mut module = entry.unit.build(&params)?;
+    let mut balance = None;
+    if params.word(PIPELINE.name) == "balanced" {
+        if !specs.iter().any(|s| s.name == "stages") {
+            return Err(ParamError::Combination(format!(
+                "unit `{unit}` has no `stages`: pipeline=balanced does not apply"
+            ))
+            .into());
+        }
+        let mut comb = given.to_vec();
+        comb.push("stages=0".into());
+        let datapath = entry.unit.build(&Params::resolve(unit, &specs, &comb)?)?;
+        let (mut balanced, report) = rtl_gen::retime::balance(&datapath, params.u32("stages"))
+            .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
+        balanced.name = format!("{}_bal", module.name);
+        balanced.params = module.params.clone();
+        balanced
+            .params
+            .insert(PIPELINE.name.into(), "balanced".into());
+        balanced.description = format!(
+            "{} Registers placed by rtl-gen's delay model (pipeline=balanced): modelled period {:.1} LUT levels.",
+            module.description, report.period
+        );
+        module = balanced;
+        balance = Some(report);
+    }
+    if params.word(DSP.name) == "ecp5" {
+        let (hard, done) = rtl_gen::retime::hard_dsp::ecp5_hard_registers(&module);
+        if done.products == 0 {
+            return Err(ParamError::Combination(format!(
+                "dsp=ecp5: `{}` has no registered product of at most 18x18 bits to put in a \
+                 MULT18X18D (give it stages, or pipeline=balanced)",
+                module.name
+            ))
+            .into());
+        }
+        module = hard;
+        module.params.insert(DSP.name.into(), "ecp5".into());
+        module.description = format!(
+            "{} {} products in ECP5 MULT18X18D blocks with their output registers (dsp=ecp5).",
+            module.description, done.products
+        );
+    }
+    let files = emit(&module, rtl_gen::GENERATOR);
+    let ports = sim::PortList {
+        top: module.name.clone(),
+        files: files.iter().map(|f| f.file_name.clone()).collect(),
+        generator: rtl_gen::GENERATOR.to_string(),
+        unit: unit.to_string(),
+        params: params.values().clone(),
+        latency: module.latency,
+        clock: control::CLOCK.into(),
+        reset: control::RESET.into(),
+        in_valid: control::IN_VALID.into(),
+        out_valid: control::OUT_VALID.into(),
+        inputs: module
+            .data_inputs()
+            .iter()
+            .map(|p| sim::Port {
+                name: p.name.clone(),
+                width: port_width(p.ty),
+            })
+            .collect(),
+        outputs: module
+            .data_outputs()
+            .iter()
+            .map(|(p, _)| sim::Port {
+                name: p.name.clone(),
+                width: port_width(p.ty),
+            })
+            .collect(),
+    };
+    Ok(Generated {
+        unit: unit.to_string(),
+        params,
+        module,
+        files,
+        ports,
+        balance,
+    })
+}
+
+/// A timing constraints file (SDC) for the top module: one clock, and I/O
+/// delays of a fifth of the period so the unit's registers see a real budget.
+pub fn sdc(g: &Generated, period_ns: f64) -> String {
+    let io = period_ns / 5.0;
+    let data_in: Vec<&str> = std::iter::once(control::IN_VALID)
+        .chain(g.ports.inputs.iter().map(|p| p.name.as_str()))
+        .collect();
+    let data_out: Vec<&str> = std::iter::once(control::OUT_VALID)
+        .chain(g.ports.outputs.iter().map(|p| p.name.as_str()))
+        .collect();
+    format!(
+        "# Timing constraints for {top}, generated by {gen}.\n\
+         # Parameters: {params}\n\
+         # Latency {lat} cycle(s); every path is register to register inside the unit\n\
+         # except the input and output stages, budgeted below.\n\
+         create_clock -name clk -period {period_ns:.3} [get_ports clk]\n\
+         set_input_delay -clock clk {io:.3} [get_ports {{rst {ins}}}]\n\
+         set_output_delay -clock clk {io:.3} [get_ports {{{outs}}}]\n",
+        top = g.module.name,
+        gen = rtl_gen::GENERATOR,
+        params = rtl_gen::emit::lower::params_line(g.params.values()),
+        lat = g.module.latency,
+        ins = data_in.join(" "),
+        outs = data_out.join(" "),
+    )
+}
+
+impl Generated {
+    /// Writes the Verilog files, `<top>.ports.json` and `<top>.sdc` into `dir`.
+    pub fn write(&self, dir: &Path, clock_period_ns: f64) -> Result<Vec<PathBuf>, FlowError> {
+        std::fs::create_dir_all(dir).map_err(|e| FlowError::Io(dir.to_path_buf(), e))?;
+        let mut written = Vec::new();
+        let mut put = |name: String, text: &str| -> Result<(), FlowError> {
+            let path = dir.join(name);
+            std::fs::write(&path, text).map_err(|e| FlowError::Io(path.clone(), e))?;
+            written.push(path);
+            Ok(())
+        };
+        for f in &self.files {
+            put(f.file_name.clone(), &f.text)?;
+        }
+        put(
+            format!("{}.sdc", self.module.name),
+            &sdc(self, clock_period_ns),
+        )?;
+        let json = serde_json::to_string_pretty(&self.ports).expect("port list serialises");
+        put(format!("{}.ports.json", self.module.name), &(json + "\n"))?;
+        Ok(written)
+    }
+
+    /// The testbench of this unit and parameters.
+    pub fn testbench(&self) -> Box<dyn Testbench> {
+        let entry = find(&self.unit).expect("generated from a catalog unit");
+        (entry.testbench)(&self.params)
+    }
+
+    /// The command line that regenerates this unit.
+    pub fn param_args(&self) -> String {
+        self.params.to_args()
+    }
+}
+
+/// Result of running vectors through the IR evaluator against the golden model.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EvalReport {
+    /// vectors compared
+    pub vectors: u64,
+    /// vectors with at least one differing output
+    pub mismatches: u64,
+    /// the first failing vector: index, inputs, golden outputs, evaluator outputs
+    pub first: Option<(u64, Vec<u64>, Vec<u64>, Vec<u64>)>,
+}
+
+impl fmt::Display for EvalReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} vectors, {} mismatches",
+            self.vectors, self.mismatches
+        )?;
+        if let Some((index, inputs, expected, got)) = &self.first {
+            let hex = |v: &[u64]| {
+                v.iter()
+                    .map(|x| format!("{x:#x}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            };
+            write!(
+                f,
+                "; first at index {index}: inputs {} golden {} evaluator {}",
+                hex(inputs),
+                hex(expected),
+                hex(got)
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl Generated {
+    /// Runs vectors `0..vectors` of `seed` through the cycle-based IR evaluator,
+    /// back to back with the handshake, and compares every output with the
+    /// golden model: the third leg of the check, next to Verilator. When
+    /// Verilator disagrees with the golden model but the evaluator agrees,
+    /// the emitter (or the harness) is at fault; when both disagree, the
+    /// generator or the golden model is.
+    pub fn evaluate(&self, tb: &dyn Testbench, vectors: u64, seed: u64) -> EvalReport {
+        let m = &self.module;
+        let n_in = self.ports.inputs.len();
+        let n_out = self.ports.outputs.len();
+        let mut ev = rtl_gen::eval::Evaluator::new(m);
+        ev.set_reset(true);
+        ev.step(&vec![0; n_in + 1]);
+        ev.set_reset(false);
+        let mut report = EvalReport {
+            vectors: 0,
+            mismatches: 0,
+            first: None,
+        };
+        let mut next_out = 0u64;
+        let (mut inputs, mut expected) = (vec![0u64; n_in], vec![0u64; n_out]);
+        for cycle in 0..vectors + m.latency as u64 {
+            let mut drive = vec![0u128; n_in + 1];
+            if cycle < vectors {
+                tb.vector(seed, cycle, &mut inputs);
+                drive[0] = 1;
+                for (d, v) in drive[1..].iter_mut().zip(&inputs) {
+                    *d = *v as u128;
+                }
+            }
+            let out = ev.step(&drive);
+            if out[0] == 1 {
+                tb.vector(seed, next_out, &mut inputs);
+                tb.eval(&inputs, &mut expected);
+                let got: Vec<u64> = out[1..].iter().map(|v| *v as u64).collect();
+                if got != expected {
+                    report.mismatches += 1;
+                    if report.first.is_none() {
+                        report.first = Some((next_out, inputs.clone(), expected.clone(), got));
+                    }
+                }
+                next_out += 1;
+            }
+        }
+        report.vectors = next_out;
+        report
+    }
+}

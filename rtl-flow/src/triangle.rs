@@ -1,0 +1,240 @@
+//! Stimulus and golden-model adapter for `triangle` (golden
+//! `golden_model::triangle::eval_with`). Rays come with their shear constants
+//! from the golden `shear`; kinds of vector: rays aimed at a random point
+//! of the triangle (two in three) or of its plane around it, rays aimed at an
+//! edge's midpoint and a few ulps beside it, vertices and edge ends, segment
+//! bounds around the hit, degenerate triangles (a repeated vertex, three
+//! collinear vertices), special values (NaN, ±∞, ±0, subnormals, raw bits)
+//! in any input and `kz = 3`, at scales from 2^-20 to 2^20.
+//! Ports: `o_{x,y,z}`, `kz`, `s_{x,y,z}`, `a_*`, `b_*`, `c_*`, `t_min`,
+//! `t_max`; outputs `hit`, `invalid` and, with `outputs=full`, `t`, `u`, `v`.
+
+use super::silhouette::from_f64;
+use super::stimulus::VectorRng;
+use super::Testbench;
+use golden_model::float::{nudge, to_f64};
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
+use rtl_gen::params::Params;
+use rtl_gen::units::triangle::config;
+
+/// Vectors and golden model of one `triangle` configuration.
+pub struct TriangleBench {
+    fmt: FloatFormat,
+    mode: RoundingMode,
+    full: bool,
+}
+
+/// Input values per transaction.
+pub const INPUTS: usize = 18;
+
+impl TriangleBench {
+    /// The testbench for resolved parameters.
+    pub fn new(p: &Params) -> Self {
+        let cfg = config(p).expect("parameters were checked when building");
+        TriangleBench {
+            fmt: FloatFormat::new(cfg.fmt.exp_bits, cfg.fmt.frac_bits)
+                .expect("format checked by the unit"),
+            mode: super::fstim::golden_mode(cfg.round),
+            full: cfg.full,
+        }
+    }
+
+    fn unit(r: &mut VectorRng) -> f64 {
+        (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The transaction of vector `index` under `seed`.
+    pub fn case(&self, seed: u64, index: u64) -> TriIn {
+        let fmt = self.fmt;
+        let mut r = VectorRng::new(seed, index);
+        let q = |v: f64| from_f64(fmt, v);
+        // a scale the format can hold: small formats stay near 1
+        let span = (fmt.bias() / 4).clamp(1, 20);
+        let scale = (2f64).powi((r.below(2 * span as u64 + 1) as i32) - span);
+        let rnd = |r: &mut VectorRng, lo: f64, hi: f64| lo + (hi - lo) * Self::unit(r);
+        let tri: [[u64; 3]; 3] = [0; 3].map(|_| [0; 3].map(|_| q(rnd(&mut r, -1.0, 1.0) * scale)));
+        let v = |k: usize, i: usize| to_f64(fmt, tri[k][i]);
+        let o_f: [f64; 3] = {
+            let dist = rnd(&mut r, 1.5, 6.0) * scale;
+            let dir = [0; 3].map(|_| rnd(&mut r, -1.0, 1.0));
+            let n = (dir.iter().map(|x| x * x).sum::<f64>()).sqrt().max(1e-3);
+            dir.map(|x| x / n * dist)
+        };
+        let o = o_f.map(q);
+        let kind = r.below(10);
+        // where the ray is aimed
+        let aim: [f64; 3] = match kind {
+            // an edge's midpoint, or a vertex, nudged by a few ulps below
+            0..=2 => {
+                let (p, qv) = (r.below(3) as usize, r.below(3) as usize);
+                [0, 1, 2].map(|i| 0.5 * (v(p, i) + v((p + 1 + qv % 2) % 3, i)))
+            }
+            3 => {
+                let k = r.below(3) as usize;
+                [0, 1, 2].map(|i| v(k, i))
+            }
+            _ => {
+                let (mut b1, mut b2) = (rnd(&mut r, -0.3, 1.3), rnd(&mut r, -0.3, 1.3));
+                if r.below(3) != 0 {
+                    // inside: a uniform point of the triangle
+                    (b1, b2) = (Self::unit(&mut r), Self::unit(&mut r));
+                    if b1 + b2 > 1.0 {
+                        (b1, b2) = (1.0 - b1, 1.0 - b2);
+                    }
+                }
+                [0, 1, 2].map(|i| v(0, i) + b1 * (v(1, i) - v(0, i)) + b2 * (v(2, i) - v(0, i)))
+            }
+        };
+        let mut aim = aim.map(q);
+        if kind <= 3 {
+            let axis = r.below(3) as usize;
+            let n = r.below(7) as i64 - 3;
+            aim[axis] = nudge(fmt, aim[axis], n);
+        }
+        let d = [0, 1, 2].map(|i| q(to_f64(fmt, aim[i]) - to_f64(fmt, o[i])));
+        let (kz, s) = shear(fmt, d);
+        let mut x = TriIn {
+            o,
+            kz,
+            s,
+            a: tri[0],
+            b: tri[1],
+            c: tri[2],
+            t_min: fmt.zero(false),
+            t_max: fmt.inf(false),
+        };
+        // segment bounds, degenerate triangles, special values
+        match r.below(8) {
+            0 => {
+                // bounds around the distance to the aim point (t = 1 there)
+                let one = from_f64(fmt, 1.0);
+                x.t_min = nudge(fmt, one, r.below(9) as i64 - 4);
+                x.t_max = nudge(fmt, one, r.below(9) as i64 - 4);
+            }
+            1 => {
+                x.t_min = q(rnd(&mut r, -2.0, 1.5));
+                x.t_max = q(rnd(&mut r, 0.0, 3.0));
+            }
+            2 => match r.below(3) {
+                0 => x.b = x.a,
+                1 => x.c = x.b,
+                _ => {
+                    // c on the line through a and b
+                    let f = rnd(&mut r, -1.0, 2.0);
+                    x.c = [0, 1, 2].map(|i| q(v(0, i) + f * (v(1, i) - v(0, i))));
+                }
+            },
+            3 => {
+                let specials = [
+                    fmt.canonical_nan(),
+                    fmt.inf(false),
+                    fmt.inf(true),
+                    fmt.zero(false),
+                    fmt.zero(true),
+                    fmt.min_subnormal(r.below(2) == 1),
+                    fmt.max_finite(r.below(2) == 1),
+                    r.bits(fmt.width()),
+                ];
+                let value = specials[r.below(specials.len() as u64) as usize];
+                let slot = r.below(INPUTS as u64) as usize;
+                let mut flat = to_vector(&x);
+                if slot == 3 {
+                    flat[3] = r.below(4);
+                } else {
+                    flat[slot] = value;
+                }
+                x = from_vector(&flat);
+            }
+            4 if r.below(8) == 0 => {
+                let mut flat = [0u64; INPUTS];
+                for (k, f) in flat.iter_mut().enumerate() {
+                    *f = if k == 3 {
+                        r.below(4)
+                    } else {
+                        r.bits(fmt.width())
+                    };
+                }
+                x = from_vector(&flat);
+            }
+            _ => {}
+        }
+        x
+    }
+}
+
+/// The ports' values in port order.
+pub fn to_vector(x: &TriIn) -> [u64; INPUTS] {
+    let mut v = [0u64; INPUTS];
+    v[0..3].copy_from_slice(&x.o);
+    v[3] = x.kz as u64;
+    v[4..7].copy_from_slice(&x.s);
+    v[7..10].copy_from_slice(&x.a);
+    v[10..13].copy_from_slice(&x.b);
+    v[13..16].copy_from_slice(&x.c);
+    v[16] = x.t_min;
+    v[17] = x.t_max;
+    v
+}
+
+/// The transaction of the ports' values.
+pub fn from_vector(v: &[u64]) -> TriIn {
+    let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
+    TriIn {
+        o: three(0),
+        kz: (v[3] & 3) as u32,
+        s: three(4),
+        a: three(7),
+        b: three(10),
+        c: three(13),
+        t_min: v[16],
+        t_max: v[17],
+    }
+}
+
+/// The result of a full-output unit's output ports.
+pub fn from_outputs(out: &[u64]) -> TriOut {
+    TriOut {
+        hit: out[0] & 1 != 0,
+        invalid: out[1] & 1 != 0,
+        t: out[2],
+        u: out[3],
+        v: out[4],
+    }
+}
+
+impl TriangleBench {
+    /// The format.
+    pub fn format(&self) -> FloatFormat {
+        self.fmt
+    }
+    /// The rounding of every operation.
+    pub fn mode(&self) -> RoundingMode {
+        self.mode
+    }
+    /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
+    pub fn full(&self) -> bool {
+        self.full
+    }
+}
+
+impl sim::Golden for TriangleBench {
+    fn eval(&self, v: &[u64], outputs: &mut [u64]) {
+        let out = eval_with(self.fmt, self.mode, &from_vector(v));
+        outputs[0] = out.hit as u64;
+        outputs[1] = out.invalid as u64;
+        if self.full {
+            outputs[2] = out.t;
+            outputs[3] = out.u;
+            outputs[4] = out.v;
+        }
+    }
+}
+
+impl sim::Stimulus for TriangleBench {
+    fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
+        v[..INPUTS].copy_from_slice(&to_vector(&self.case(seed, index)));
+    }
+}
+
+impl Testbench for TriangleBench {}
