@@ -17,8 +17,9 @@
 # places and routes at the board clock with --timing-allow-fail and packs, with the pinned yowasp
 # toolchain of scripts/fpga-requirements.txt installed by scripts/setup.sh in
 # ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv} (RTL_GEN_YOSYS, RTL_GEN_NEXTPNR_ICE40,
-# RTL_GEN_ICEPACK, RTL_GEN_NEXTPNR_ECP5, RTL_GEN_ECPPACK override the programs; RTL_BRINGUP names
-# a built rtl-bringup to run instead of `cargo run --release --bin rtl-bringup`).
+# RTL_GEN_ICEPACK, RTL_GEN_NEXTPNR_ECP5, RTL_GEN_ECPPACK override the programs; RTL_GEN names a
+# built rtl-gen whose `bringup` runs instead of `cargo run --release --bin rtl-gen -- bringup`, as
+# `rtl-gen fpga` sets it; RTL_BRINGUP a built rtl-bringup, the same command's earlier name).
 # Prints the routed utilisation, then ends with exactly one line
 #   timing: met at <routed MHz> MHz (target <board MHz> MHz)      exit status 0
 #   timing: FAILED at <routed MHz> MHz (target <board MHz> MHz)   exit status 3 (bitstream still written)
@@ -82,8 +83,10 @@ rm -f "$OUT"/bringup.{json,asc,bin,config,bit} "$OUT"/{yosys,nextpnr}.log
 echo "== $board ($part, $mhz MHz, $CPB cycles a bit): emit + lint: $*"
 if [ -n "${RTL_BRINGUP:-}" ]; then
     bringup=("$RTL_BRINGUP")
+elif [ -n "${RTL_GEN:-}" ]; then
+    bringup=("$RTL_GEN" bringup)
 else
-    bringup=(cargo run -q --release --bin rtl-bringup --)
+    bringup=(cargo run -q --release --bin rtl-gen -- bringup)
 fi
 "${bringup[@]}" "$@" --cycles-per-bit "$CPB" --top bringup_top --out "$OUT/rtl" >/dev/null
 # the yowasp tools see /tmp as a private scratch folder: run them inside $OUT on relative names

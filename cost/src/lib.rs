@@ -11,6 +11,7 @@ pub mod accuracy;
 pub mod boxes;
 pub mod bringup;
 pub mod charts;
+pub mod cli;
 pub mod cull;
 pub mod depth;
 pub mod dot_styles;

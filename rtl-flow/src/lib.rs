@@ -5,6 +5,7 @@
 //! the DSL layers below never see either `sim` or `golden-model`.
 
 pub mod byo;
+pub mod cli;
 pub mod cull;
 pub mod cull_ray;
 pub mod fadd;

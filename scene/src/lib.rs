@@ -8,6 +8,7 @@
 
 pub mod bundle;
 pub mod bvh;
+pub mod cli;
 pub mod hybrid;
 pub mod mesh;
 pub mod render;

@@ -1,32 +1,19 @@
-//! `rtl-gen`: generate, lint, simulate and cross-check ray-tracing intersection units.
+//! The `rtl-gen` subcommands that generate, lint, simulate and cross-check
+//! units ([`Command`], run by [`main`]); the `rtl-gen` binary (crate
+//! `rtl-tool`) puts them beside the renderer's and the cost tools'.
 
-use clap::{Parser, Subcommand};
+use crate::report::{self, RunReport, Shard};
+use crate::{byo, regress, FlowError, Generated};
+use clap::Subcommand;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rtl_flow::report::{self, RunReport, Shard};
-use rtl_flow::{self, byo, regress, FlowError, Generated};
 use rtl_gen::params::ParamKind;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-#[derive(Parser)]
-#[command(
-    name = "rtl-gen",
-    version,
-    about = "Generates Verilog for ray-tracing intersection units and cross-checks it in Verilator against bit-accurate golden models.",
-    long_about = "Generates Verilog for ray-tracing intersection units and cross-checks it in Verilator against bit-accurate golden models.\n\n\
-Every emitted module has clk (rising edge), rst (synchronous, active high), in_valid and out_valid: \
-a transaction presented with in_valid high comes out with out_valid high exactly `latency` cycles later \
-(one per clock, no backpressure). `rtl-gen list` shows the units and their parameters."
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
 #[derive(clap::Args)]
-struct UnitArgs {
+pub struct UnitArgs {
     /// Unit to generate (see `rtl-gen list`).
     unit: String,
     /// Parameter as key=value; repeat for several. Unset parameters take their defaults.
@@ -76,7 +63,7 @@ impl UnitArgs {
 
     /// Builds and emits the unit with these parameters.
     fn generate(&self) -> Result<Generated, FlowError> {
-        rtl_flow::generate(&self.unit, &self.all_params()?)
+        crate::generate(&self.unit, &self.all_params()?)
     }
 }
 
@@ -86,7 +73,7 @@ fn float_format(name: &str) -> Option<(u32, u32)> {
 }
 
 #[derive(clap::Args)]
-struct ScaleArgs {
+pub struct ScaleArgs {
     /// Harness processes run in parallel, each fed by its own golden-model threads
     /// (default: all cores).
     #[arg(long, value_name = "N")]
@@ -99,7 +86,7 @@ struct ScaleArgs {
 }
 
 #[derive(clap::Args)]
-struct ReportArgs {
+pub struct ReportArgs {
     /// Write a JSON report: unit, parameters, generator version, Verilog hash, seed, shard,
     /// vectors, mismatches with the first failing vector, vectors/s, wall time.
     #[arg(long, value_name = "FILE.json")]
@@ -110,7 +97,7 @@ struct ReportArgs {
 }
 
 #[derive(clap::Args)]
-struct FileArgs {
+pub struct FileArgs {
     /// Input vectors: text (a header line of port names, one transaction a line, values in
     /// 0x-hex or decimal) or binary rtlvec, told apart by content.
     #[arg(long = "in", value_name = "FILE")]
@@ -121,8 +108,9 @@ struct FileArgs {
     out: PathBuf,
 }
 
+/// The flow's subcommands.
 #[derive(Subcommand)]
-enum Command {
+pub enum Command {
     /// List the units and their parameters.
     List,
     /// Write a unit's Verilog (one file per module), its port list (JSON) and timing constraints (SDC).
@@ -299,9 +287,18 @@ enum Command {
     },
 }
 
-fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
+/// The top-level help of `rtl-gen`: what every emitted module looks like.
+pub const ABOUT: &str = "Generates Verilog for ray-tracing intersection units and cross-checks it in Verilator against bit-accurate golden models.";
+
+/// [`ABOUT`], then the interface every emitted module has.
+pub const LONG_ABOUT: &str = "Generates Verilog for ray-tracing intersection units and cross-checks it in Verilator against bit-accurate golden models.\n\n\
+Every emitted module has clk (rising edge), rst (synchronous, active high), in_valid and out_valid: \
+a transaction presented with in_valid high comes out with out_valid high exactly `latency` cycles later \
+(one per clock, no backpressure). `rtl-gen list` shows the units and their parameters.";
+
+/// Runs one subcommand: exit 0, 1 (a check failed) or 2 (an error, printed).
+pub fn main(command: Command) -> ExitCode {
+    let result = match command {
         Command::List => {
             list();
             Ok(true)
@@ -405,10 +402,10 @@ fn main() -> ExitCode {
 }
 
 fn list() {
-    for entry in rtl_flow::catalog() {
+    for entry in crate::catalog() {
         let u = entry.unit;
         println!("{}: {}", u.name(), u.summary());
-        let rows: Vec<(String, &str)> = rtl_flow::param_specs(&entry)
+        let rows: Vec<(String, &str)> = crate::param_specs(&entry)
             .iter()
             .map(|p| {
                 let range = match p.kind {
@@ -694,7 +691,7 @@ fn convert(
 ) -> Result<bool, FlowError> {
     let ports = match unit {
         Some(u) => {
-            let g = rtl_flow::generate(&u, params)?;
+            let g = crate::generate(&u, params)?;
             let mut p = g.ports.inputs.clone();
             if results {
                 p.extend(g.ports.outputs.iter().cloned());
@@ -828,7 +825,7 @@ fn check_testfloat(
     cache: Option<PathBuf>,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    use rtl_flow::testfloat;
+    use crate::testfloat;
     let g = unit.generate()?;
     let map = testfloat::Mapping::for_unit(&g, result).map_err(bad_usage)?;
     let mut base = RunReport::new("testfloat", &g);

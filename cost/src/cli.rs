@@ -1,0 +1,595 @@
+//! The `rtl-gen` subcommands for hardware cost ([`Command`], run by
+//! [`main`]): synthesis reports, accuracy, charts, scene fitting, Fmax
+//! against depth, and the FPGA bring-up wrapper (`bringup`).
+
+// clap reads doc comments as help text: the variants' fields carry theirs,
+// the structures below only group them.
+#![allow(missing_docs)]
+
+use crate::synth::{self, SynthOptions};
+use clap::Subcommand;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The cost tools' subcommands.
+#[derive(Subcommand)]
+pub enum Command {
+    /// Synthesise one unit: Yosys synth / synth_ice40 / synth_ecp5 / synth_xilinx, ltp, nextpnr-ice40 and nextpnr-ecp5 where it fits
+    Synth {
+        /// unit name (`rtl-gen list`)
+        unit: String,
+        /// parameter key=value (repeatable)
+        #[arg(short = 'p', value_name = "KEY=VALUE")]
+        params: Vec<String>,
+        /// skip place and route (both nextpnr-ice40 and nextpnr-ecp5)
+        #[arg(long)]
+        no_pnr: bool,
+        /// skip nextpnr-ice40
+        #[arg(long)]
+        no_pnr_ice40: bool,
+        /// skip nextpnr-ecp5 (LFE5U-85F-6BG381C)
+        #[arg(long)]
+        no_pnr_ecp5: bool,
+        /// skip synth_ecp5
+        #[arg(long)]
+        no_ecp5: bool,
+        /// skip synth_xilinx -flatten (the xc7 synthesis estimates)
+        #[arg(long)]
+        no_xilinx: bool,
+        /// flatten before mapping (slower, a little smaller)
+        #[arg(long)]
+        flat: bool,
+        /// nextpnr-ice40 target frequency, MHz
+        #[arg(long, default_value_t = 12.0)]
+        target_mhz: f64,
+        /// nextpnr-ecp5 target frequency, MHz
+        #[arg(long, default_value_t = 100.0)]
+        ecp5_target_mhz: f64,
+        /// write the JSON report here
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Smallest box-tester format and stage count for a scene or mesh, judged on the scene's own
+    /// render (0 false misses, the same image as binary32, box tests per ray within the target);
+    /// emits the RTL, SDC, fit-report.md and, with --json, the figures
+    Fit {
+        /// TOML scene, or OBJ mesh (placed in a default scene: camera on +z, one light)
+        scene: PathBuf,
+        /// allowed increase of box tests per ray over binary32 (0.01 = 1 %)
+        #[arg(long, default_value_t = 0.01)]
+        target_rate: f64,
+        /// target Fmax, MHz
+        #[arg(long, default_value_t = 20.0)]
+        fmax: f64,
+        /// render width (default: the scene's; the height keeps the aspect)
+        #[arg(long)]
+        width: Option<u32>,
+        /// device the unit must fit: ice40up5k, ice40hx8k, ecp5-25f, ecp5-85f
+        #[arg(long, default_value = "ecp5-85f")]
+        device: String,
+        /// do not run Yosys (stages = the default 4, device fit unknown)
+        #[arg(long)]
+        no_synth: bool,
+        /// output directory (Verilog, ports, SDC, fit-report.md)
+        #[arg(long)]
+        out: PathBuf,
+        /// also write the result as JSON (key `format` spelled eXmY)
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// test every single-ray miss with the exact rational test (default: only the misses
+        /// the proven binary32 unit calls hits; much slower)
+        #[arg(long)]
+        exact_all: bool,
+    },
+    /// The box testers side by side (silhouette ray/bundle, RNE and conservative slab, the slab's reciprocal per box test, RAABB's figures): one table, the issue-19 targets checked
+    Boxes {
+        /// fraction bits to compare (exponent 8)
+        #[arg(long, value_delimiter = ',', default_value = "7,10,15,23")]
+        fracs: Vec<u32>,
+        /// pipeline stages of every box tester
+        #[arg(long, default_value_t = 4)]
+        stages: u32,
+        /// pipeline stages of the per-ray reciprocal (Yosys 0.70's ABC9 aborts on the binary32
+        /// and e8m15 reciprocal at 4 stages; it maps at 2 and 8)
+        #[arg(long, default_value_t = 8)]
+        recip_stages: u32,
+        /// width of the renders that measure box tests per ray
+        #[arg(long, default_value_t = 96)]
+        width: u32,
+        /// scenes whose box tests per ray amortise the reciprocal (default: scenes/*.toml)
+        #[arg(long)]
+        scene: Vec<PathBuf>,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// also write the report here
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// The cull-plane units (cull per child, cull_ray per ray and parent) against the plane format (e4m3 .. e8m23, K = 4) and K (1, 2, 8 at e5m10), binary32 rays: one table; charts cull_luts_vs_plane_bits, cull_luts_vs_k
+    Cull {
+        /// pipeline stages of both units
+        #[arg(long, default_value_t = 4)]
+        stages: u32,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        #[command(flatten)]
+        to: ReportTo,
+    },
+    /// Routed Fmax against pipeline depth on the ECP5-85F-6: synth_ecp5 and nextpnr-ecp5 of the timing shell for each `stages` and register placement (pipeline=plan|balanced); one table of LUT4, FF, MULT18X18D and MHz; chart depth_<unit>_<params> (Fmax against stages)
+    Depth {
+        /// unit name (`rtl-gen list`)
+        unit: String,
+        /// parameter key=value besides `stages` and `pipeline` (repeatable)
+        #[arg(short = 'p')]
+        params: Vec<String>,
+        /// pipeline depths to sweep, comma separated
+        #[arg(long, value_delimiter = ',', default_value = "2,4,8,12,16")]
+        stages: Vec<u32>,
+        /// register placements to compare, comma separated
+        #[arg(long, value_delimiter = ',', default_value = "plan,balanced")]
+        pipeline: Vec<String>,
+        /// nextpnr-ecp5 target frequency, MHz
+        #[arg(long, default_value_t = 100.0)]
+        target_mhz: f64,
+        /// nextpnr-ecp5 placer weights TIMING,CRITEXP (--placer-heap-timingweight,
+        /// --placer-heap-critexp; nextpnr's defaults 10,2); 40,4 places the registers
+        /// around DSP blocks next to them
+        #[arg(long, value_delimiter = ',')]
+        placer: Option<Vec<u32>>,
+        #[command(flatten)]
+        to: ReportTo,
+    },
+    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and chart cost_per_ray
+    PerRay {
+        /// scene files (TOML)
+        #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
+        scenes: Vec<PathBuf>,
+        /// image width of each render
+        #[arg(long, default_value_t = 64)]
+        width: u32,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// transactions per ray only: no synthesis, no LUT-cycles, no chart
+        #[arg(long)]
+        no_synth: bool,
+        #[command(flatten)]
+        to: ReportTo,
+    },
+    /// The transform unit's dot styles (separate, fma, dot3, wide) side by side: xc7 LUT/FF/DSP48
+    /// (synth_xilinx estimate, cached) against the accuracy study's error with respect to the
+    /// stored inverse's real product (binary32); table and chart transform_dot_styles
+    DotStyles {
+        /// pipeline stages of every style
+        #[arg(long, default_value_t = 8)]
+        stages: u32,
+        /// random matrices of the accuracy study
+        #[arg(long, default_value_t = 1000)]
+        matrices: usize,
+        /// origins per offset for each random matrix
+        #[arg(long, default_value_t = 100)]
+        points: usize,
+        /// origins per offset for each of the seed's M1-M3
+        #[arg(long, default_value_t = 10_000)]
+        seed_points: usize,
+        /// seed of the matrices and origins
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        #[command(flatten)]
+        to: ReportTo,
+    },
+    /// Every unit and format: synthesis (cached), accuracy, tables, charts (PNG + SVG)
+    Charts {
+        /// output directory
+        #[arg(long, default_value = "docs/charts")]
+        out: PathBuf,
+        /// cases per synthetic workload
+        #[arg(long, default_value_t = 200_000)]
+        cases: usize,
+        /// rays per mesh
+        #[arg(long, default_value_t = 2000)]
+        scene_rays: usize,
+        /// meshes (default: every OBJ in ../shared/scenes)
+        #[arg(long)]
+        mesh: Vec<PathBuf>,
+        /// skip place and route
+        #[arg(long)]
+        no_pnr: bool,
+        /// skip nextpnr-ecp5 (keep nextpnr-ice40)
+        #[arg(long)]
+        no_pnr_ecp5: bool,
+        /// skip synth_xilinx (the xc7 synthesis estimates)
+        #[arg(long)]
+        no_xilinx: bool,
+        /// accuracy only
+        #[arg(long)]
+        no_synth: bool,
+        /// use only synthesis results already in the cache (no Yosys run)
+        #[arg(long)]
+        cached_only: bool,
+        /// seed of every workload
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Emit the UART bring-up wrapper of a unit (cost/src/bringup.rs) and its board top, and
+    /// lint them with Verilator; scripts/fpga.sh (`rtl-gen fpga`) builds the bitstream from them.
+    Bringup(BringupArgs),
+}
+
+/// Runs one subcommand: exit 0, or 2 with the error printed.
+pub fn main(command: Command) -> ExitCode {
+    if let Command::Bringup(args) = command {
+        return bringup(&args);
+    }
+    match run(command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
+    match command {
+        Command::Bringup(_) => unreachable!("run by main"),
+        Command::Synth {
+            unit,
+            params,
+            no_pnr,
+            no_pnr_ice40,
+            no_pnr_ecp5,
+            no_ecp5,
+            no_xilinx,
+            flat,
+            target_mhz,
+            ecp5_target_mhz,
+            json,
+        } => {
+            let g = rtl_flow::generate(&unit, &params)?;
+            let o = SynthOptions {
+                pnr: !no_pnr && !no_pnr_ice40,
+                pnr_ecp5: !no_pnr && !no_pnr_ecp5,
+                ecp5: !no_ecp5,
+                xilinx: !no_xilinx,
+                flat,
+                target_mhz,
+                ecp5_target_mhz,
+                ..Default::default()
+            };
+            let r = synth::run(&g, &o)?;
+            println!("{}\n{}", synth::table_header(), synth::table_row(&r));
+            for (what, p) in [("nextpnr-ice40", &r.pnr), ("nextpnr-ecp5", &r.pnr_ecp5)] {
+                if let Some(p) = p {
+                    if !p.note.is_empty() {
+                        println!("{what} ({}): {}", p.device, p.note);
+                    }
+                }
+            }
+            println!("{}", r.yosys_version);
+            let text = serde_json::to_string_pretty(&r)?;
+            if let Some(path) = json {
+                std::fs::write(path, text + "\n")?;
+            }
+        }
+        Command::PerRay {
+            scenes,
+            width,
+            cached_only,
+            no_synth,
+            to,
+        } => {
+            let mut loads = Vec::new();
+            for s in &scenes {
+                loads.extend(crate::per_ray::workloads(s, width)?);
+            }
+            let luts = match no_synth {
+                true => None,
+                false => Some(crate::per_ray::unit_luts(cached_only)?),
+            };
+            to.text(&crate::per_ray::markdown(luts.as_deref(), &loads))?;
+            if let (Some(dir), Some(luts)) = (&to.chart_dir, &luts) {
+                wrote(crate::per_ray::chart(luts, &loads, dir)?);
+            }
+        }
+        Command::DotStyles {
+            stages,
+            matrices,
+            points,
+            seed_points,
+            seed,
+            cached_only,
+            to,
+        } => {
+            let study = crate::dot_styles::Study {
+                matrices,
+                points,
+                seed_points,
+                seed,
+            };
+            let rows = crate::dot_styles::run_styles(stages, study, cached_only)?;
+            to.text(&crate::dot_styles::markdown(&rows, stages, study))?;
+            if let Some(dir) = &to.chart_dir {
+                wrote(crate::dot_styles::chart(&rows, dir)?);
+            }
+        }
+        Command::Depth {
+            unit,
+            params,
+            stages,
+            pipeline,
+            target_mhz,
+            placer,
+            to,
+        } => {
+            let placer = match placer.as_deref() {
+                None => None,
+                Some(&[timing_weight, crit_exp]) => Some(crate::synth::PlacerWeights {
+                    timing_weight,
+                    crit_exp,
+                }),
+                Some(_) => return Err("--placer takes two numbers, TIMING,CRITEXP".into()),
+            };
+            let rows = crate::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz, placer)?;
+            to.text(&crate::depth::table(&unit, &params, &rows, placer))?;
+            if let Some(dir) = &to.chart_dir {
+                let tag: Vec<String> = params.iter().map(|p| p.replace('=', "")).collect();
+                let stem = format!("depth_{unit}_{}", tag.join("_"));
+                wrote(crate::depth::chart(&unit, &params, &rows, &stem, dir)?);
+            }
+        }
+        Command::Fit {
+            scene,
+            target_rate,
+            fmax,
+            width,
+            device,
+            no_synth,
+            out,
+            json,
+            exact_all,
+        } => {
+            let sc = crate::fit::load(&scene)?;
+            let name = scene.display().to_string();
+            let o = crate::fit::FitOptions {
+                target_rate,
+                target_mhz: fmax,
+                width,
+                synth: !no_synth,
+                device,
+                exact_all,
+            };
+            let f = crate::fit::fit(&sc, &name, &o)?;
+            let g = rtl_flow::generate("silhouette", &f.params)?;
+            for p in g.write(&out, 1000.0 / fmax)? {
+                println!("wrote {}", p.display());
+            }
+            let rp = out.join("fit-report.md");
+            std::fs::write(&rp, &f.report)?;
+            println!("{}", f.report);
+            println!("wrote {}", rp.display());
+            if let Some(j) = json {
+                std::fs::write(&j, serde_json::to_string_pretty(&f.json(&name))? + "\n")
+                    .map_err(|e| format!("{}: {e}", j.display()))?;
+                println!("wrote {}", j.display());
+            }
+            println!(
+                "fit: {} stages={} in {:.1} s",
+                f.format, f.stages, f.seconds
+            );
+        }
+        Command::Charts {
+            out,
+            cases,
+            scene_rays,
+            mesh,
+            no_pnr,
+            no_pnr_ecp5,
+            no_xilinx,
+            no_synth,
+            cached_only,
+            seed,
+        } => {
+            let meshes = if mesh.is_empty() {
+                default_meshes()
+            } else {
+                mesh
+            };
+            let o = crate::sweep::SweepOptions {
+                synth: SynthOptions {
+                    pnr: !no_pnr,
+                    pnr_ecp5: !no_pnr && !no_pnr_ecp5,
+                    xilinx: !no_xilinx,
+                    cached_only,
+                    ..Default::default()
+                },
+                cases,
+                scene_rays,
+                meshes,
+                seed,
+                no_synth,
+            };
+            let s = crate::sweep::run(&o)?;
+            crate::sweep::write(&s, &out)?;
+            for f in crate::charts::draw_all(&s, &out)? {
+                println!("wrote {}", f.display());
+            }
+            println!("wrote {}", out.join("sweep.json").display());
+            println!("wrote {}", out.join("tables.md").display());
+        }
+        Command::Cull {
+            stages,
+            cached_only,
+            to,
+        } => {
+            let rows = crate::cull::synthesise(&crate::cull::sweep_designs(), stages, cached_only)?;
+            if let Some(dir) = &to.chart_dir {
+                wrote(crate::cull::charts(&rows, dir)?);
+            }
+            let mut text = crate::cull::markdown(&rows, stages);
+            text += &crate::cull::targets(&rows, None);
+            to.text(&text)?;
+        }
+        Command::Boxes {
+            fracs,
+            stages,
+            recip_stages,
+            width,
+            scene,
+            cached_only,
+            out,
+        } => {
+            let scenes = if scene.is_empty() {
+                default_scenes()
+            } else {
+                scene
+            };
+            if scenes.is_empty() {
+                return Err(
+                    "no scenes: give --scene FILE (the shipped ones are scenes/*.toml)".into(),
+                );
+            }
+            let paths: Vec<&std::path::Path> = scenes.iter().map(|p| p.as_path()).collect();
+            let loads = crate::boxes::scene_loads(&paths, width)?;
+            let rows = crate::boxes::synthesise(&fracs, stages, recip_stages, cached_only)?;
+            let mut text = crate::boxes::markdown(&rows, &loads, stages, recip_stages);
+            // the cull units beside the box testers, same run, same Yosys
+            let cull = crate::cull::synthesise(&[((5, 10), 4)], stages, cached_only)?;
+            let sil_depth = rows
+                .iter()
+                .find(|r| r.label == "silhouette ray" && r.frac == 23 && r.failed.is_none())
+                .and_then(|r| r.report.ice40.as_ref().map(|i| i.depth));
+            text += "\n";
+            text += &crate::cull::markdown(&cull, stages);
+            text += &crate::cull::targets(&cull, sil_depth);
+            println!("{text}");
+            if let Some(path) = out {
+                std::fs::write(&path, text)?;
+                println!("wrote {}", path.display());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Where a report goes besides standard output.
+#[derive(clap::Args, Debug)]
+pub struct ReportTo {
+    /// also write the report (markdown) here
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// also draw the report's charts into DIR (PNG and SVG, names in the command's help)
+    #[arg(long)]
+    chart_dir: Option<PathBuf>,
+}
+
+impl ReportTo {
+    /// Prints `text` and writes it to `--out` if given.
+    fn text(&self, text: &str) -> Result<(), Box<dyn std::error::Error>> {
+        print!("{text}");
+        if let Some(path) = &self.out {
+            std::fs::write(path, text)?;
+            println!("wrote {}", path.display());
+        }
+        Ok(())
+    }
+}
+
+/// Lists the files a chart wrote.
+fn wrote(files: Vec<PathBuf>) {
+    for p in files {
+        println!("wrote {}", p.display());
+    }
+}
+
+/// The shipped scenes (`scenes/*.toml` of the repository).
+fn default_scenes() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// The OBJ meshes of `../shared/scenes` (relative to the repository root).
+fn default_meshes() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// The arguments of `bringup`.
+#[derive(clap::Args)]
+pub struct BringupArgs {
+    /// unit name (`rtl-gen list`)
+    unit: String,
+    /// parameter key=value (repeatable)
+    #[arg(short = 'p', value_name = "KEY=VALUE")]
+    params: Vec<String>,
+    /// clock cycles per UART bit (12 MHz / 115200 baud = 104)
+    #[arg(long, default_value_t = 104)]
+    cycles_per_bit: u32,
+    /// name of the board top (power-on reset + wrapper)
+    #[arg(long, default_value = "bringup_top")]
+    top: String,
+    /// output directory
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Emits the bring-up wrapper of `a.unit` and its board top, lints them and
+/// prints the files written: exit 0, or 2 with the error printed.
+pub fn bringup(a: &BringupArgs) -> ExitCode {
+    use crate::bringup::{board_top, record_bytes, Bringup};
+    let g = match rtl_flow::generate(&a.unit, &a.params) {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("bringup: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let b = Bringup::new(&g, a.cycles_per_bit);
+    let run = || -> Result<(), String> {
+        let paths = b.write(&a.out).map_err(|e| e.to_string())?;
+        b.lint(&a.out).map_err(|r| format!("lint warnings:\n{r}"))?;
+        let top = a.out.join(format!("{}.v", a.top));
+        std::fs::write(&top, board_top(&b.module, &a.top)).map_err(|e| e.to_string())?;
+        for p in paths.iter().chain([&top]) {
+            println!("{}", p.display());
+        }
+        Ok(())
+    };
+    match run() {
+        Ok(()) => {
+            eprintln!(
+                "{}: {} input bytes, {} output bytes, unit latency {}, lint clean",
+                b.module.name,
+                record_bytes(b.in_widths.iter().copied()),
+                record_bytes(b.out_widths.iter().copied()),
+                g.module.latency
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bringup: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

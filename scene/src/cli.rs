@@ -1,0 +1,434 @@
+//! The `rtl-gen` subcommands that render scenes ([`Command`], run by
+//! [`main`]): the golden-model ray tracer (or the hybrid renderer) writes a
+//! PNG and prints statistics; `bench` compares rays/s with a plain f32 slab
+//! renderer; `rtl-loop` answers a render's tests from the Verilated units.
+// clap reads doc comments as help text: the flattened argument groups of the
+// variants stay without one.
+#![allow(missing_docs)]
+
+use crate::bvh::Accel;
+use crate::hybrid::{orders, render_async, render_sync, HybridOpts};
+use crate::render::render;
+use crate::scene::Scene;
+use crate::stats::{bundle_savings, plane_savings, table};
+use crate::tester::{BoxTester, Exact, Golden, Reduced, Slab};
+use crate::trace::{BundleOpts, TraceOpts, TriTest};
+use clap::{Subcommand, ValueEnum};
+use golden_model::float::FloatFormat;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The box tester of a render.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum BoxKind {
+    /// silhouette unit golden model (conservative), with bundles
+    Golden,
+    /// exact rational box test (single rays)
+    Exact,
+    /// plain f32 slab test (single rays, f32 transforms, no planes)
+    Slab,
+}
+
+/// The options every render takes.
+#[derive(clap::Args, Clone)]
+pub struct Common {
+    /// scene file (TOML)
+    scene: PathBuf,
+    /// image width (default: the scene's)
+    #[arg(long)]
+    width: Option<u32>,
+    /// image height (default: the scene's, scaled with --width)
+    #[arg(long)]
+    height: Option<u32>,
+    /// maximum rays per bundle (seed 000: 4, 16, 32, 64); 0 or 1 disables bundles
+    #[arg(long, default_value_t = 16)]
+    bundle: usize,
+    /// do not place or use cull planes
+    #[arg(long)]
+    no_planes: bool,
+    /// AO rays per pixel (default: the scene's)
+    #[arg(long)]
+    ao: Option<u32>,
+    /// ray/triangle test
+    #[arg(long, value_enum, default_value = "f64")]
+    tri: TriKind,
+}
+
+/// The ray/triangle test of a render.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TriKind {
+    /// software watertight test, f64 arithmetic on the binary32 data
+    F64,
+    /// the `triangle` unit's golden model at binary32 (bit for bit what the RTL computes)
+    Golden,
+    /// exact rational test (slow)
+    Exact,
+}
+
+/// The renderer's subcommands.
+#[derive(Subcommand)]
+pub enum Command {
+    /// Ray-trace a scene, write a PNG, print statistics per ray type.
+    Render {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG
+        #[arg(long, short)]
+        out: PathBuf,
+        /// box tester
+        #[arg(long = "box", value_enum, default_value = "golden")]
+        box_kind: BoxKind,
+        /// also render without cull planes and report what the planes saved
+        #[arg(long)]
+        plane_savings: bool,
+        /// also render without bundles and report the box tests the bundles saved, net
+        #[arg(long)]
+        bundle_savings: bool,
+        /// box tests in a reduced format eXmY (e.g. e6m9) instead of binary32: the
+        /// silhouette unit with ray and boxes rounded outward (--box golden only)
+        #[arg(long, value_name = "eXmY")]
+        box_format: Option<String>,
+        /// write every pixel's primary hit (instance, primitive, t) as text
+        #[arg(long, value_name = "FILE")]
+        dump_hits: Option<PathBuf>,
+    },
+    /// Hybrid raster + ray tracing (seed 002): synchronous and asynchronous
+    /// renders for several primitive orders, counts of emitted/culled/traced rays.
+    Hybrid {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG (the synchronous image)
+        #[arg(long, short)]
+        out: PathBuf,
+        /// rays the ray processor handles after each primitive
+        #[arg(long, default_value_t = 64)]
+        rays_per_step: usize,
+        /// primitives rasterised while a traced batch's results are in flight (the
+        /// contribution check then sees a later depth buffer than the cull)
+        #[arg(long, default_value_t = 0)]
+        result_latency: usize,
+    },
+    /// RTL in the loop: record every box, transform, cull and triangle test of
+    /// a (small) golden render, run them through the Verilated binary32 units
+    /// (one stream per unit), render again answering every test from the RTL
+    /// outputs and check the image is bit-identical. Prints one line per unit;
+    /// exit 1 when a unit or the image differs (or a unit the render uses got
+    /// no test).
+    RtlLoop {
+        #[command(flatten)]
+        c: Common,
+        /// output PNG (the image answered by the RTL)
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// directory for the generated Verilog and the vector streams
+        /// (default: target/rtl-loop/<pid>)
+        #[arg(long)]
+        work: Option<PathBuf>,
+    },
+    /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same
+    /// run; the last line is `golden/slab rays/s ratio: R` (golden with bundles).
+    Bench {
+        #[command(flatten)]
+        c: Common,
+    },
+}
+
+fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
+    let mut s = Scene::load(&c.scene).map_err(|e| e.to_string())?;
+    if let Some(a) = c.ao {
+        s.render.ao_rays = a;
+    }
+    let (sw, sh) = (s.render.width, s.render.height);
+    let w = c.width.unwrap_or(sw);
+    let h = c
+        .height
+        .unwrap_or(((sh as u64 * w as u64) / sw as u64).max(1) as u32);
+    let opts = TraceOpts {
+        planes: !c.no_planes,
+        bundles: BundleOpts {
+            enabled: c.bundle >= 2,
+            max_size: c.bundle.max(2),
+            ..BundleOpts::default()
+        },
+        f32_transform: false,
+        tri: match c.tri {
+            TriKind::F64 => TriTest::F64,
+            TriKind::Golden => TriTest::Golden,
+            TriKind::Exact => TriTest::Exact,
+        },
+    };
+    Ok((s, w, h, opts))
+}
+
+fn build(s: &Scene, planes: bool) -> Accel {
+    let acc = Accel::build(s, planes);
+    eprintln!(
+        "{}: {} meshes, {} instances, {} instanced triangles",
+        s.path.display(),
+        s.meshes.len(),
+        s.instances.len(),
+        s.instanced_triangles()
+    );
+    eprintln!("{}", acc.describe());
+    acc
+}
+
+/// Runs a command; `Ok` carries the exit code (1: the RTL in the loop differs).
+fn run(command: Command) -> Result<ExitCode, String> {
+    match command {
+        Command::Render {
+            c,
+            out,
+            box_kind,
+            plane_savings: ps,
+            bundle_savings: bs,
+            box_format,
+            dump_hits,
+        } => {
+            let (s, w, h, mut opts) = setup(&c)?;
+            let reduced = match &box_format {
+                None => None,
+                Some(name) => {
+                    if !matches!(box_kind, BoxKind::Golden) {
+                        return Err("--box-format needs --box golden (the silhouette unit)".into());
+                    }
+                    let fmt =
+                        FloatFormat::from_name(name).map_err(|e| format!("--box-format {e}"))?;
+                    Some(Reduced::new(fmt).map_err(|e| format!("--box-format {name}: {e}"))?)
+                }
+            };
+            if matches!(box_kind, BoxKind::Slab) {
+                opts.planes = false;
+                opts.f32_transform = true;
+            }
+            let acc = build(&s, opts.planes);
+            let tester: Box<dyn BoxTester> = match box_kind {
+                BoxKind::Golden => match reduced {
+                    Some(r) => Box::new(r.with_world_anchor(Reduced::scene_anchor(&acc))),
+                    None => Box::new(Golden::default()),
+                },
+                BoxKind::Exact => Box::new(Exact),
+                BoxKind::Slab => Box::new(Slab),
+            };
+            let f = render(&s, &acc, tester.as_ref(), opts, w, h, true);
+            f.save_png(&out)?;
+            if let Some(path) = &dump_hits {
+                let header = format!(
+                    "render --dump-hits: {} {w}x{h}, box tester {}{}\ncamera: pixel (x, y) looks along forward + sx*right + sy*up, sx, sy the pixel centre on the image plane at distance 1 (x right, y down); t in units of that direction",
+                    s.path.display(),
+                    tester.name(),
+                    box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default()
+                );
+                std::fs::write(path, f.hits_text(&header))
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
+            println!(
+                "{} {}x{}, box tester {}{}, bundles {}: {} rays in {:.2} s = {:.0} rays/s -> {}",
+                s.path.display(),
+                w,
+                h,
+                tester.name(),
+                box_format
+                    .as_deref()
+                    .map(|b| format!(" {b}"))
+                    .unwrap_or_default(),
+                if opts.bundles.enabled {
+                    format!("≤ {}", opts.bundles.max_size)
+                } else {
+                    "off".into()
+                },
+                f.rays(),
+                f.time.as_secs_f64(),
+                f.rays() as f64 / f.time.as_secs_f64(),
+                out.display()
+            );
+            println!("\n{}", table(&f.stats));
+            if ps && opts.planes {
+                let g = render(
+                    &s,
+                    &acc,
+                    tester.as_ref(),
+                    TraceOpts {
+                        planes: false,
+                        ..opts
+                    },
+                    w,
+                    h,
+                    true,
+                );
+                let same = g.ids == f.ids && g.t == f.t;
+                println!(
+                    "cull planes (same render without them; identical image: {same}):\n\n{}",
+                    plane_savings(&f.stats, &g.stats)
+                );
+            }
+            if bs && opts.bundles.enabled {
+                let single = TraceOpts {
+                    bundles: BundleOpts {
+                        enabled: false,
+                        ..opts.bundles
+                    },
+                    ..opts
+                };
+                let g = render(&s, &acc, tester.as_ref(), single, w, h, true);
+                println!(
+                    "bundles (same render with single rays; identical image: {}):\n\n{}",
+                    g.same_hits(&f),
+                    bundle_savings(&f.stats, &g.stats)
+                );
+            }
+        }
+        Command::Hybrid {
+            c,
+            out,
+            rays_per_step,
+            result_latency,
+        } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let g = Golden::default();
+            let sync = render_sync(&s, &acc, &g, opts, w, h);
+            sync.save_png(&out)?;
+            println!(
+                "{} {}x{} hybrid; synchronous: {} rays traced in {:.2} s -> {}\n",
+                s.path.display(),
+                w,
+                h,
+                sync.rays(),
+                sync.time.as_secs_f64(),
+                out.display()
+            );
+            println!("| order | emitted | culled: tile range | sample depth | generation | traced | discarded (contribution check) | superseded | used | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|");
+            for (name, order) in orders(&s, &acc, 1) {
+                let (f, k) = render_async(
+                    &s,
+                    &acc,
+                    &g,
+                    opts,
+                    w,
+                    h,
+                    &HybridOpts {
+                        order,
+                        rays_per_step,
+                        result_latency,
+                    },
+                );
+                let same = f.ids == sync.ids
+                    && f.color
+                        .iter()
+                        .zip(&sync.color)
+                        .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits));
+                println!(
+                    "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    k.emitted,
+                    k.culled_tile,
+                    k.culled_depth,
+                    k.culled_generation,
+                    k.traced,
+                    k.discarded,
+                    k.superseded,
+                    k.used,
+                    if same { "yes" } else { "NO" }
+                );
+                if !same {
+                    return Err(format!("{name}: asynchronous image differs"));
+                }
+            }
+        }
+        Command::RtlLoop { c, out, work } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let work = work.unwrap_or_else(crate::rtl::default_work_dir);
+            eprintln!(
+                "building (or finding in {}) the Verilated harnesses of six units; a first build takes minutes",
+                sim::default_cache_root().display()
+            );
+            let r = crate::rtl::rtl_loop(&s, &acc, opts, w, h, &work, true)?;
+            if let Some(out) = &out {
+                r.rtl.save_png(out)?;
+            }
+            println!(
+                "{} {}x{}, bundles {}: {} rays; golden render {:.2} s, RTL-answered render {:.2} s{}\n",
+                s.path.display(),
+                w,
+                h,
+                if opts.bundles.enabled {
+                    format!("≤ {}", opts.bundles.max_size)
+                } else {
+                    "off".into()
+                },
+                r.golden.rays(),
+                r.golden.time.as_secs_f64(),
+                r.rtl.time.as_secs_f64(),
+                out.map(|o| format!(" -> {}", o.display()))
+                    .unwrap_or_default()
+            );
+            println!("{r}");
+            if !r.ok() {
+                return Ok(ExitCode::from(1));
+            }
+        }
+        Command::Bench { c } => {
+            let (s, w, h, opts) = setup(&c)?;
+            let acc = build(&s, opts.planes);
+            let g = render(&s, &acc, &Golden::default(), opts, w, h, true);
+            let singles = TraceOpts {
+                bundles: BundleOpts {
+                    enabled: false,
+                    ..opts.bundles
+                },
+                ..opts
+            };
+            let g1 = render(&s, &acc, &Golden::default(), singles, w, h, true);
+            let slab_opts = TraceOpts {
+                planes: false,
+                bundles: singles.bundles,
+                f32_transform: true,
+                tri: TriTest::F64,
+            };
+            let f = render(&s, &acc, &Slab, slab_opts, w, h, true);
+            let rate = |f: &crate::render::Frame| f.rays() as f64 / f.time.as_secs_f64();
+            let diff = f.ids.iter().zip(&g.ids).filter(|(a, b)| a != b).count();
+            println!(
+                "{} {}x{}, {} threads\n\n| renderer | rays | seconds | rays/s | box tests/ray |\n|---|---|---|---|---|",
+                s.path.display(),
+                w,
+                h,
+                rayon::current_num_threads()
+            );
+            for (name, fr) in [
+                ("golden models, bundles", &g),
+                ("golden models, single rays", &g1),
+                ("plain f32 slab, f32 transform, no planes", &f),
+            ] {
+                println!(
+                    "| {name} | {} | {:.2} | {:.0} | {:.2} |",
+                    fr.rays(),
+                    fr.time.as_secs_f64(),
+                    rate(fr),
+                    fr.stats.total().box_tests_per_ray()
+                );
+            }
+            println!(
+                "\nslab / golden speed ratio: {:.1}x; primary hits differing from the golden image: {diff} of {} pixels",
+                rate(&f) / rate(&g),
+                g.ids.len()
+            );
+            // the golden-model renderer as `render` runs it (bundles) against the slab renderer
+            println!("golden/slab rays/s ratio: {:.2}", rate(&g) / rate(&f));
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Runs one subcommand: exit 0, 1 (the RTL in the loop differs) or 2 (an
+/// error, printed).
+pub fn main(command: Command) -> ExitCode {
+    match run(command) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
