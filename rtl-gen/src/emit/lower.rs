@@ -85,6 +85,30 @@ fn liveness(m: &Module) -> Liveness {
     }
 }
 
+/// Hash-consing: for every node, the first live node that computes the same
+/// operation on the same operands (after the same mapping) with the same
+/// type, itself when it is the first. Sources (inputs, registers, instance
+/// outputs) are distinct by nature; constants and casts are never written as
+/// wires. Only the first of equal expressions is emitted, and every read of
+/// the others reads it.
+fn same_expressions(m: &Module, live: &[bool]) -> Vec<NodeId> {
+    let mut same: Vec<NodeId> = (0..m.nodes.len() as u32).map(NodeId).collect();
+    let mut first: HashMap<(Op, Ty), NodeId> = HashMap::new();
+    for (i, node) in m.nodes.iter().enumerate() {
+        let id = NodeId(i as u32);
+        let op = node.op.clone().map_operands(|o| same[o.0 as usize]);
+        match op {
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => {}
+            Op::Cast(_) if !live[i] => {}
+            _ if !live[i] => {}
+            _ => {
+                same[i] = *first.entry((op, node.ty)).or_insert(id);
+            }
+        }
+    }
+    same
+}
+
 /// Describes the unused bits of a value of width `w` whose read bits are `used`.
 fn unused_reason(w: u32, used: u128, what: &str) -> Option<String> {
     let full = mask(u128::MAX, w);
@@ -203,7 +227,16 @@ fn header(m: &Module, generator: &str, is_top: bool) -> Vec<String> {
 /// `rst` ports (one interface for every configuration); a submodule has them
 /// only when it uses them.
 pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
-    let lv = liveness(m);
+    let mut lv = liveness(m);
+    let same = same_expressions(m, &lv.live);
+    // an emitted expression carries the read bits of its copies
+    for (i, s) in same.iter().enumerate() {
+        if s.0 as usize != i {
+            let bits = lv.used_bits[i];
+            lv.used_bits[s.0 as usize] |= bits;
+        }
+    }
+    let is_copy = |i: usize| same[i].0 as usize != i;
     let mut names = Names {
         taken: HashSet::new(),
         node: HashMap::new(),
@@ -232,7 +265,7 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
                 names.node.insert(id, names.reg[r].clone());
             }
             Op::Const(_) | Op::Cast(_) => {}
-            _ if lv.live[i] => {
+            _ if lv.live[i] && !is_copy(i) => {
                 let n = names.claim(&node.name);
                 names.node.insert(id, n);
             }
@@ -261,18 +294,20 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
         }
     }
 
-    // A reference to a node: its identifier, its literal, or (for casts) its operand's.
-    fn reference(m: &Module, names: &Names, id: NodeId) -> Expr {
+    // A reference to a node: its identifier, its literal, or (for casts) its
+    // operand's; a copy of an expression reads the one emitted.
+    fn reference(m: &Module, names: &Names, same: &[NodeId], id: NodeId) -> Expr {
+        let id = same[id.0 as usize];
         match m.node(id).op {
             Op::Const(v) => Expr::Literal {
                 width: m.node(id).ty.width(),
                 value: v,
             },
-            Op::Cast(a) => reference(m, names, a),
+            Op::Cast(a) => reference(m, names, same, a),
             _ => Expr::Ident(names.node[&id].clone()),
         }
     }
-    let r = |id: NodeId| reference(m, &names, id);
+    let r = |id: NodeId| reference(m, &names, &same, id);
     let ext = |id: NodeId, w: u32| -> Expr {
         let ty = m.node(id).ty;
         let wi = ty.width();
@@ -343,7 +378,7 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
     let mut assigns = Vec::new();
     for (i, node) in m.nodes.iter().enumerate() {
         let id = NodeId(i as u32);
-        if !lv.live[i] {
+        if !lv.live[i] || is_copy(i) {
             continue;
         }
         let rhs = match &node.op {
