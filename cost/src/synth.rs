@@ -1026,7 +1026,17 @@ fn nextpnr(
         p.lcs_used = used;
         p.lcs_total = total;
     }
-    p.fmax_mhz = parse_fmax(&log);
+    if out.status.code().is_none() {
+        // killed (a signal): no verdict, and nothing that could be cached as one
+        return Err(SynthError(format!(
+            "{} was stopped by a signal ({})",
+            t.program(),
+            out.status
+        )));
+    }
+    // a failed run's log may hold the placer's estimate: only a finished
+    // route has a routed Fmax
+    p.fmax_mhz = out.status.success().then(|| parse_fmax(&log)).flatten();
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         let last: Vec<&str> = err.lines().filter(|l| l.contains("ERROR")).collect();
