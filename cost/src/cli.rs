@@ -138,6 +138,10 @@ pub enum Command {
         /// around DSP blocks next to them
         #[arg(long, value_delimiter = ',')]
         placer: Option<Vec<u32>>,
+        /// nextpnr-ecp5's --seed (every published figure uses 1 unless it says otherwise);
+        /// other seeds show how much a placement varies
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
         #[command(flatten)]
         to: ReportTo,
     },
@@ -325,6 +329,7 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             pipeline,
             target_mhz,
             placer,
+            seed,
             to,
         } => {
             let placer = match placer.as_deref() {
@@ -335,8 +340,9 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
                 }),
                 Some(_) => return Err("--placer takes two numbers, TIMING,CRITEXP".into()),
             };
-            let rows = crate::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz, placer)?;
-            to.text(&crate::depth::table(&unit, &params, &rows, placer))?;
+            let rows =
+                crate::depth::sweep(&unit, &params, &stages, &pipeline, target_mhz, placer, seed)?;
+            to.text(&crate::depth::table(&unit, &params, &rows, placer, seed))?;
             if let Some(dir) = &to.chart_dir {
                 let tag: Vec<String> = params.iter().map(|p| p.replace('=', "")).collect();
                 let stem = format!("depth_{unit}_{}", tag.join("_"));

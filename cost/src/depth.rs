@@ -27,9 +27,11 @@ pub fn sweep(
     pipelines: &[String],
     target_mhz: f64,
     placer: Option<PlacerWeights>,
+    seed: u64,
 ) -> Result<Vec<DepthRow>, Box<dyn std::error::Error>> {
     let o = SynthOptions {
         ecp5_placer: placer,
+        ecp5_seed: seed,
         ..SynthOptions::ecp5_routed(target_mhz)
     };
     let mut rows = Vec::new();
@@ -59,9 +61,10 @@ pub fn table(
     params: &[String],
     rows: &[DepthRow],
     placer: Option<PlacerWeights>,
+    seed: u64,
 ) -> String {
     let mut t = String::new();
-    let weights = placer
+    let mut weights = placer
         .map(|w| {
             format!(
                 ", placer timing weight {} and criticality exponent {}",
@@ -69,6 +72,9 @@ pub fn table(
             )
         })
         .unwrap_or_default();
+    if seed != 1 {
+        weights += &format!(", seed {seed}");
+    }
     let _ = writeln!(
         t,
         "`{unit}` {}: ECP5 LFE5U-85F-6 (synth_ecp5, nextpnr-ecp5 in the timing shell{weights})\n",

@@ -142,6 +142,9 @@ pub struct SynthOptions {
     pub cached_only: bool,
     /// nextpnr-ecp5's placer weights (`None`: nextpnr's defaults)
     pub ecp5_placer: Option<PlacerWeights>,
+    /// nextpnr-ecp5's `--seed` (1 for every published figure unless noted;
+    /// a design whose placement is chaotic is judged over several)
+    pub ecp5_seed: u64,
 }
 
 /// The timing weights of nextpnr's analytic placer (`--placer-heap-*`).
@@ -171,6 +174,7 @@ impl Default for SynthOptions {
             cache: Some(default_cache()),
             cached_only: false,
             ecp5_placer: None,
+            ecp5_seed: 1,
         }
     }
 }
@@ -513,6 +517,7 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
     let placer = o
         .ecp5_placer
         .map(|w| format!("placer {} {}", w.timing_weight, w.crit_exp));
+    let seed = (o.ecp5_seed != 1).then(|| format!("seed {}", o.ecp5_seed));
     let key = hash_text(
         &[
             texts.clone(),
@@ -533,6 +538,7 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
             )],
             vec![TOOLCHAIN_PINS],
             placer.iter().map(String::as_str).collect(),
+            seed.iter().map(String::as_str).collect(),
         ]
         .concat(),
     );
@@ -955,6 +961,7 @@ fn place_and_route(
             &args,
             "nextpnr-ice40.log",
             "ICESTORM_LC",
+            1,
             p,
         )?;
     }
@@ -983,20 +990,23 @@ fn place_and_route(
             &args,
             "nextpnr-ecp5.log",
             "TRELLIS_COMB",
+            o.ecp5_seed,
             p,
         )?;
     }
     Ok((ice, ecp))
 }
 
-/// Runs one nextpnr (`--timing-allow-fail --seed 1 --freq <target>` added)
-/// and fills `p` from its log.
+/// Runs one nextpnr (`--timing-allow-fail --seed <seed> --freq <target>`
+/// added) and fills `p` from its log.
+#[allow(clippy::too_many_arguments)]
 fn nextpnr(
     t: Tool,
     dir: &Path,
     args: &[String],
     log_name: &str,
     lut_cell: &str,
+    seed: u64,
     p: &mut Pnr,
 ) -> Result<(), SynthError> {
     let prog = tool(t)?;
@@ -1009,7 +1019,7 @@ fn nextpnr(
             "--freq",
             &format!("{}", p.target_mhz),
             "--seed",
-            "1",
+            &seed.to_string(),
             "-l",
             log_name,
         ])

@@ -6,9 +6,9 @@
 fn depth_sweep_routes_both_placements_of_fadd_e5m4() {
     let params = vec!["exp_bits=5".to_string(), "frac_bits=4".to_string()];
     let pipelines = vec!["plan".to_string(), "balanced".to_string()];
-    let rows = cost::depth::sweep("fadd", &params, &[3], &pipelines, 100.0, None)
+    let rows = cost::depth::sweep("fadd", &params, &[3], &pipelines, 100.0, None, 1)
         .unwrap_or_else(|e| panic!("rtl-cost depth (run `bash scripts/setup.sh`): {e}"));
-    let table = cost::depth::table("fadd", &params, &rows, None);
+    let table = cost::depth::table("fadd", &params, &rows, None, 1);
     eprintln!("{table}");
     assert_eq!(rows.len(), 2);
     let fmax = |r: &cost::depth::DepthRow| {
