@@ -134,3 +134,102 @@ fn check_reports_zero_mismatches_and_throughput_and_replay_traces() {
         "trace lacks signals"
     );
 }
+
+/// Every subcommand of the flow, the renderer, the cost tools and `fpga`.
+const SUBCOMMANDS: [&str; 24] = [
+    "list",
+    "emit",
+    "check",
+    "sim",
+    "golden",
+    "vectors",
+    "convert",
+    "merge-reports",
+    "replay",
+    "transform-accuracy",
+    "render",
+    "hybrid",
+    "rtl-loop",
+    "bench",
+    "synth",
+    "fit",
+    "boxes",
+    "cull",
+    "depth",
+    "per-ray",
+    "dot-styles",
+    "charts",
+    "bringup",
+    "fpga",
+];
+
+/// `rtl-gen` is the one command (issue #18): every group's subcommands are
+/// under it, each with its own `--help`.
+#[test]
+fn every_subcommand_is_listed_and_explains_itself() {
+    let top = rtl_gen(&["--help"]);
+    assert!(top.status.success(), "{}", text(&top));
+    let help = text(&top);
+    for s in SUBCOMMANDS {
+        assert!(
+            help.lines()
+                .any(|l| l.trim_start().starts_with(&format!("{s} "))),
+            "`rtl-gen --help` lists {s}:\n{help}"
+        );
+        let o = rtl_gen(&[s, "--help"]);
+        assert!(o.status.success(), "rtl-gen {s} --help: {}", text(&o));
+        assert!(text(&o).contains("Usage: rtl-gen"), "rtl-gen {s} --help");
+    }
+}
+
+/// One real run per group of `rtl-gen`, and one bad input each (exit 2).
+#[test]
+fn one_run_per_group() {
+    let tmp = scratch("one_tool");
+    std::fs::create_dir_all(&tmp).unwrap();
+
+    // the flow
+    let o = rtl_gen(&["list"]);
+    assert!(
+        o.status.success() && text(&o).contains("silhouette:"),
+        "{}",
+        text(&o)
+    );
+
+    // the renderer
+    let png = tmp.join("cornell.png");
+    let o = rtl_gen(&[
+        "render",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml"),
+        "--width",
+        "16",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "rtl-gen render: {}", text(&o));
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+
+    // the cost tools' bring-up wrapper (Verilator lints it)
+    let dir = tmp.join("bringup");
+    let o = rtl_gen(&[
+        "bringup",
+        "mulcmp",
+        "-p",
+        "stages=1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "rtl-gen bringup: {}", text(&o));
+    assert!(dir.join("bringup_top.v").is_file());
+
+    // bad input: exit 2 with a message, in each group
+    for args in [
+        &["emit", "no_such_unit", "--out", "x"][..],
+        &["render", "no_such_scene.toml", "--out", "x.png"],
+        &["synth", "no_such_unit", "--no-pnr"],
+    ] {
+        let o = rtl_gen(args);
+        assert_eq!(o.status.code(), Some(2), "rtl-gen {args:?}: {}", text(&o));
+        assert!(text(&o).contains("error"), "rtl-gen {args:?}: {}", text(&o));
+    }
+}

@@ -88,9 +88,8 @@ fn liveness(m: &Module) -> Liveness {
 /// Hash-consing: for every node, the first live node that computes the same
 /// operation on the same operands (after the same mapping) with the same
 /// type, itself when it is the first. Sources (inputs, registers, instance
-/// outputs) are distinct by nature; constants and casts are never written as
-/// wires. Only the first of equal expressions is emitted, and every read of
-/// the others reads it.
+/// outputs) and constants stay themselves. Only the first of equal
+/// expressions is emitted, and every read of the others reads it.
 fn same_expressions(m: &Module, live: &[bool]) -> Vec<NodeId> {
     let mut same: Vec<NodeId> = (0..m.nodes.len() as u32).map(NodeId).collect();
     let mut first: HashMap<(Op, Ty), NodeId> = HashMap::new();
@@ -99,11 +98,8 @@ fn same_expressions(m: &Module, live: &[bool]) -> Vec<NodeId> {
         let op = node.op.clone().map_operands(|o| same[o.0 as usize]);
         match op {
             Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => {}
-            Op::Cast(_) if !live[i] => {}
-            _ if !live[i] => {}
-            _ => {
-                same[i] = *first.entry((op, node.ty)).or_insert(id);
-            }
+            _ if live[i] => same[i] = *first.entry((op, node.ty)).or_insert(id),
+            _ => {}
         }
     }
     same

@@ -16,7 +16,7 @@
 //! function are unchanged, so the unit's golden model checks it as before.
 
 use crate::ir::*;
-use std::collections::{BTreeMap, BinaryHeap, HashMap};
+use std::collections::{BTreeMap, HashMap};
 use std::panic::Location;
 use std::sync::Arc;
 
@@ -99,9 +99,15 @@ fn harden_here(m: &mut Module) -> Hardened {
         {
             continue;
         }
+        // a pipeline register comes after the value it loads, so the block's
+        // output (at the register's place) comes after its operands: the
+        // evaluator's order holds without moving a node
         let Some(q) = m.nodes.iter().position(|n| n.op == Op::Reg(ri)) else {
             continue;
         };
+        if (reg.next.0 as usize) >= q {
+            continue;
+        }
         let block = Arc::new(mult18(ta, tb, m.node(reg.next).ty));
         m.instances.push(Instance {
             name: format!("{}_block", reg.name),
@@ -114,73 +120,7 @@ fn harden_here(m: &mut Module) -> Hardened {
         };
         done.products += 1;
     }
-    if done.products > 0 {
-        reorder(m);
-    }
     done
-}
-
-/// Puts the nodes back in an order where operands precede users and an
-/// instance's inputs precede its outputs (the evaluator's order), keeping the
-/// old order wherever it allows (ports keep their order).
-fn reorder(m: &mut Module) {
-    let n = m.nodes.len();
-    let deps: Vec<Vec<usize>> = m
-        .nodes
-        .iter()
-        .map(|node| {
-            let mut d: Vec<usize> = node.op.operands().iter().map(|o| o.0 as usize).collect();
-            if let Op::InstOut { inst, .. } = node.op {
-                d.extend(m.instances[inst].inputs.iter().map(|i| i.0 as usize));
-            }
-            d
-        })
-        .collect();
-    let mut waiting: Vec<usize> = deps.iter().map(Vec::len).collect();
-    let mut users: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (i, d) in deps.iter().enumerate() {
-        d.iter().for_each(|&o| users[o].push(i));
-    }
-    let mut ready: BinaryHeap<std::cmp::Reverse<usize>> = (0..n)
-        .filter(|&i| waiting[i] == 0)
-        .map(std::cmp::Reverse)
-        .collect();
-    let mut order = Vec::with_capacity(n);
-    while let Some(std::cmp::Reverse(i)) = ready.pop() {
-        order.push(i);
-        for &u in &users[i] {
-            waiting[u] -= 1;
-            if waiting[u] == 0 {
-                ready.push(std::cmp::Reverse(u));
-            }
-        }
-    }
-    assert_eq!(order.len(), n, "a feed-forward netlist has no cycle");
-    let mut new_id = vec![0u32; n];
-    for (k, &i) in order.iter().enumerate() {
-        new_id[i] = k as u32;
-    }
-    let map = |id: NodeId| NodeId(new_id[id.0 as usize]);
-    let old = std::mem::take(&mut m.nodes);
-    let mut slots: Vec<Option<Node>> = old.into_iter().map(Some).collect();
-    m.nodes = order
-        .iter()
-        .map(|&i| {
-            let mut node = slots[i].take().expect("each node once");
-            node.op = node.op.map_operands(map);
-            node
-        })
-        .collect();
-    for r in &mut m.registers {
-        r.next = map(r.next);
-        r.enable = r.enable.map(map);
-    }
-    for (_, o) in &mut m.outputs {
-        *o = map(*o);
-    }
-    for inst in &mut m.instances {
-        inst.inputs.iter_mut().for_each(|i| *i = map(*i));
-    }
 }
 
 /// One MULT18X18D: `p = a · b` one clock after its operands; `a` and `b`
