@@ -123,6 +123,10 @@ pub enum Command {
         /// Clock period written into the SDC file, in nanoseconds.
         #[arg(long, default_value_t = 10.0, value_name = "NS")]
         clock_period_ns: f64,
+        /// Write a `// src: file:line` comment above each assignment: the generator line that
+        /// built the value.
+        #[arg(long)]
+        source_lines: bool,
     },
     /// Generate a unit, lint it with `verilator --lint-only -Wall`, simulate it in Verilator and
     /// compare every output of every valid cycle with the golden model.
@@ -307,7 +311,8 @@ pub fn main(command: Command) -> ExitCode {
             unit,
             out,
             clock_period_ns,
-        } => emit(&unit, &out, clock_period_ns),
+            source_lines,
+        } => emit(&unit, &out, clock_period_ns, source_lines),
         Command::Check {
             unit,
             vectors,
@@ -423,13 +428,22 @@ fn list() {
     }
 }
 
-fn emit(unit: &UnitArgs, out: &PathBuf, period: f64) -> Result<bool, FlowError> {
+fn emit(
+    unit: &UnitArgs,
+    out: &std::path::Path,
+    period: f64,
+    source_lines: bool,
+) -> Result<bool, FlowError> {
     if !(period.is_finite() && period > 0.0) {
         return Err(FlowError::Params(rtl_gen::params::ParamError::Combination(
             format!("--clock-period-ns must be a positive number of nanoseconds, got {period}"),
         )));
     }
-    let g = unit.generate()?;
+    let mut g = unit.generate()?;
+    if source_lines {
+        let options = rtl_gen::emit::EmitOptions { source_lines };
+        g.files = rtl_gen::emit::emit_with(&g.module, rtl_gen::GENERATOR, options);
+    }
     for path in g.write(out, period)? {
         println!("wrote {}", path.display());
     }

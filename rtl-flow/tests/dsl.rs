@@ -101,7 +101,8 @@ fn signed_operations_evaluate_and_emit_with_explicit_extension() {
     let text = &emit(&module, "test")[0].text;
     for want in [
         "assign add_a_b = {a[7], a} + {{5{b[3]}}, b};",
-        "assign lt_a_b = $signed(a) < $signed({{4{b[3]}}, b});",
+        // a comparison read once is written where it is read
+        "assign lt = $signed(a) < $signed({{4{b[3]}}, b});",
         "assign mul_a_b = $signed(a) * $signed(b);",
         "assign shr_a_n = $signed(a) >>> n;",
         "wire signed [8:0] add_a_b;",
@@ -132,10 +133,11 @@ fn constants_fold_and_derived_names_are_unique_and_stable() {
     assert_eq!(t1, t2, "same module, same bytes");
     // the same expression twice is one wire (hash-consing in the emitter), read by both
     assert_eq!(t1.matches("{2'd0, a} + 6'd7").count(), 1, "{t1}");
-    assert!(t1.contains("assign add_a_k7 = {2'd0, a} + 6'd7;"), "{t1}");
-    assert!(t1.contains("assign x = add_a_k7;"), "{t1}");
-    assert!(t1.contains("assign y = add_a_k7;"), "{t1}");
-    assert!(!t1.contains("add_a_k7_1"), "no counter for a copy: {t1}");
+    // derived names leave constants out
+    assert!(t1.contains("assign add_a = {2'd0, a} + 6'd7;"), "{t1}");
+    assert!(t1.contains("assign x = add_a;"), "{t1}");
+    assert!(t1.contains("assign y = add_a;"), "{t1}");
+    assert!(!t1.contains("add_a_1"), "no counter for a copy: {t1}");
 }
 
 #[test]

@@ -136,9 +136,12 @@ pub struct ModuleBuilder {
     constants: HashMap<(Ty, u128), NodeId>,
     /// valid bit per stage, when the module has a handshake
     valid: Option<Vec<NodeId>>,
+    /// the naming scopes open now, outermost first ([`ModuleBuilder::scope`])
+    scopes: Vec<String>,
 }
 
-/// Longest derived name before it is cut (names stay readable, not exhaustive).
+/// Longest name derived from an operation and its operands' names; a longer
+/// one is replaced by the scope and the operation (`edge_xy_add`).
 const DERIVED_NAME_MAX: usize = 40;
 
 impl ModuleBuilder {
@@ -160,6 +163,32 @@ impl ModuleBuilder {
             carried: HashMap::new(),
             constants: HashMap::new(),
             valid: None,
+            scopes: Vec::new(),
+        }
+    }
+
+    /// Runs `body` in the naming scope `scope`: a name given inside
+    /// ([`ModuleBuilder::name`]) becomes `scope_name`, scopes nest
+    /// (`a_x_lzc_hi`), and a value left unnamed whose derived name would be
+    /// too long is called after its scope and operation (`a_x_lzc_mux`).
+    /// Helpers open a scope and name their results after their role, so two
+    /// uses of one helper get different names without counters.
+    #[track_caller]
+    pub fn scope<T>(&mut self, scope: &str, body: impl FnOnce(&mut Self) -> T) -> T {
+        if !is_identifier(scope) {
+            self.error(scope, "scope name is not a Verilog identifier");
+        }
+        self.scopes.push(scope.to_string());
+        let out = body(self);
+        self.scopes.pop();
+        out
+    }
+
+    /// `name` inside the open scopes.
+    fn scoped(&self, name: &str) -> String {
+        match self.scopes.is_empty() {
+            true => name.to_string(),
+            false => format!("{}_{name}", self.scopes.join("_")),
         }
     }
 
@@ -206,21 +235,55 @@ impl ModuleBuilder {
         }
     }
 
+    /// The name of a value; an unnamed cast goes by its source's (current) name.
     fn name_of(&self, id: NodeId) -> &str {
-        &self.nodes[id.0 as usize].name
+        let node = &self.nodes[id.0 as usize];
+        match node.op {
+            Op::Cast(src) if !node.named => self.name_of(src),
+            _ => &node.name,
+        }
     }
 
     #[track_caller]
     fn push(&mut self, op: Op, ty: Ty, name: String, stage: Option<u32>) -> Sig {
         let id = NodeId(self.nodes.len() as u32);
+        let named = matches!(op, Op::Input(_) | Op::Reg(_) | Op::InstOut { .. });
         self.nodes.push(Node {
             op,
             ty,
             name,
+            named,
             location: Location::caller(),
         });
         self.stage_of.push(stage);
         Sig { id, ty }
+    }
+
+    /// The name of an unnamed value: the operation and its operands' names
+    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out; when
+    /// that is longer than [`DERIVED_NAME_MAX`], the open scopes and the
+    /// operation (`a_x_lzc_mux`; the emitter numbers repeats).
+    fn derived_name(&self, op: &Op) -> String {
+        let operands: Vec<&str> = op
+            .operands()
+            .into_iter()
+            .filter(|o| !matches!(self.nodes[o.0 as usize].op, Op::Const(_)))
+            .map(|o| self.name_of(o))
+            .collect();
+        let first = operands.first().copied().unwrap_or("k");
+        let full = match op {
+            Op::Slice(_, h, l) if h == l => format!("{first}_b{h}"),
+            Op::Slice(_, h, l) => format!("{first}_{h}_{l}"),
+            Op::Cast(_) => first.to_string(),
+            _ => std::iter::once(verb(op))
+                .chain(operands.iter().copied())
+                .collect::<Vec<_>>()
+                .join("_"),
+        };
+        if full.len() <= DERIVED_NAME_MAX {
+            return full;
+        }
+        self.scoped(verb(op))
     }
 
     /// A placeholder returned after an error so that building can go on.
@@ -289,15 +352,28 @@ impl ModuleBuilder {
     /// Gives a value the name it will carry in the Verilog.
     #[track_caller]
     pub fn name(&mut self, value: Sig, name: &str) -> Sig {
-        if !is_identifier(name) {
+        let name = self.scoped(name);
+        if !is_identifier(&name) {
             self.error(name, "signal name is not a Verilog identifier");
             return value;
         }
-        let node = &mut self.nodes[value.id.0 as usize];
+        // a cast is written as its source: a derived source takes the name
+        let mut id = value.id;
+        while let Op::Cast(src) = self.nodes[id.0 as usize].op {
+            let source = &self.nodes[src.0 as usize];
+            if source.named || matches!(source.op, Op::Input(_) | Op::Reg(_) | Op::Const(_)) {
+                break;
+            }
+            id = src;
+        }
+        let node = &mut self.nodes[id.0 as usize];
         match node.op {
             // ports and registers keep their declared names
             Op::Input(_) | Op::Reg(_) | Op::Const(_) => {}
-            _ => node.name = name.to_string(),
+            _ => {
+                node.name = name.to_string();
+                node.named = true;
+            }
         }
         value
     }
@@ -385,7 +461,7 @@ impl ModuleBuilder {
     #[track_caller]
     fn op(&mut self, op: Op, ty: Ty) -> Sig {
         if ty.width() == 0 || ty.width() > MAX_WIDTH {
-            let name = derived_name(&op, |id| self.name_of(id).to_string());
+            let name = self.derived_name(&op);
             self.error(
                 name,
                 format!("result width {} outside 1..={MAX_WIDTH}", ty.width()),
@@ -411,7 +487,7 @@ impl ModuleBuilder {
         }
         let stage = self.current_stage;
         let op = op.map_operands(|id| self.at_stage(id, stage));
-        let name = derived_name(&op, |id| self.name_of(id).to_string());
+        let name = self.derived_name(&op);
         self.push(op, ty, name, Some(stage))
     }
 
@@ -649,10 +725,43 @@ impl ModuleBuilder {
             self.error(name, format!("slice [{hi}:{lo}] of {}", a.ty));
             return self.poison(Ty::UInt(hi.saturating_sub(lo) + 1));
         }
-        if lo == 0 && hi + 1 == a.width() {
-            return self.as_uint(a);
+        // A slice of a slice, of a cast or of one part of a concatenation
+        // built in this stage reads that part directly: the same bits, one
+        // wire fewer (earlier stages are left alone: the register would hold
+        // the wider source instead of the slice).
+        let (mut src, mut hi, mut lo) = (a.id, hi, lo);
+        while self.stage_of[src.0 as usize] == Some(self.current_stage) {
+            match &self.nodes[src.0 as usize].op {
+                Op::Cast(x) => src = *x,
+                Op::Slice(x, _, l) => (src, hi, lo) = (*x, hi + l, lo + l),
+                Op::Concat(parts) => {
+                    // parts are listed most significant first
+                    let mut top = self.nodes[src.0 as usize].ty.width();
+                    let mut inside = None;
+                    for p in parts {
+                        let w = self.nodes[p.0 as usize].ty.width();
+                        if lo >= top - w && hi < top {
+                            inside = Some((*p, hi - (top - w), lo - (top - w)));
+                            break;
+                        }
+                        top -= w;
+                    }
+                    match inside {
+                        Some(part) => (src, hi, lo) = part,
+                        None => break,
+                    }
+                }
+                _ => break,
+            }
         }
-        self.op(Op::Slice(a.id, hi, lo), Ty::UInt(hi - lo + 1))
+        let src = Sig {
+            id: src,
+            ty: self.nodes[src.0 as usize].ty,
+        };
+        if lo == 0 && hi + 1 == src.width() {
+            return self.as_uint(src);
+        }
+        self.op(Op::Slice(src.id, hi, lo), Ty::UInt(hi - lo + 1))
     }
 
     /// Bit i of a, as `Bool`.
@@ -704,6 +813,17 @@ impl ModuleBuilder {
             let name = self.name_of(a.id).to_string();
             self.error(name, format!("cast of {} to {}: widths differ", a.ty, ty));
             return self.poison(ty);
+        }
+        // a cast of a cast in this stage is a cast of the source: one node,
+        // and equal values stay equal for the emitter's hash-consing
+        if let Op::Cast(src) = self.nodes[a.id.0 as usize].op {
+            if self.stage_of[a.id.0 as usize] == Some(self.current_stage) {
+                let src = Sig {
+                    id: src,
+                    ty: self.nodes[src.0 as usize].ty,
+                };
+                return self.cast(src, ty);
+            }
         }
         self.op(Op::Cast(a.id), ty)
     }
@@ -872,7 +992,7 @@ impl ModuleBuilder {
     /// stage under `name` (constants fold as usual): the retiming pass
     /// replays a flattened module through this.
     #[track_caller]
-    pub(crate) fn replay(&mut self, op: Op, ty: Ty, name: &str) -> Sig {
+    pub(crate) fn replay(&mut self, op: Op, ty: Ty, name: &str, named: bool) -> Sig {
         if let Op::Const(value) = op {
             // constants belong to no stage: never carried by registers
             return self.constant_unchecked(ty, value);
@@ -881,6 +1001,7 @@ impl ModuleBuilder {
         let node = &mut self.nodes[s.id.0 as usize];
         if !matches!(node.op, Op::Const(_)) {
             node.name = name.to_string();
+            node.named = named;
         }
         s
     }
@@ -946,9 +1067,10 @@ impl ModuleBuilder {
 
 /// A readable name made from the operation and its operands' names, cut to
 /// [`DERIVED_NAME_MAX`]; the emitter makes names unique.
-fn derived_name(op: &Op, name: impl Fn(NodeId) -> String) -> String {
-    let verb = match op {
-        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => "n",
+/// The short word for an operation in derived names.
+fn verb(op: &Op) -> &'static str {
+    match op {
+        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } | Op::Cast(_) => "n",
         Op::Add(..) => "add",
         Op::Sub(..) => "sub",
         Op::Mul(..) => "mul",
@@ -963,27 +1085,9 @@ fn derived_name(op: &Op, name: impl Fn(NodeId) -> String) -> String {
         Op::Shr(..) => "shr",
         Op::Mux(..) => "mux",
         Op::Concat(_) => "cat",
-        Op::Slice(_, h, l) if h == l => return format!("{}_b{h}", name(op.operands()[0])),
-        Op::Slice(_, h, l) => return cut(format!("{}_{h}_{l}", name(op.operands()[0]))),
+        Op::Slice(..) => "bits",
         Op::Reduce(ReduceOp::And, _) => "all",
         Op::Reduce(ReduceOp::Or, _) => "any",
         Op::Reduce(ReduceOp::Xor, _) => "par",
-        Op::Cast(_) => return cut(format!("{}_c", name(op.operands()[0]))),
-    };
-    let mut s = verb.to_string();
-    for o in op.operands() {
-        s.push('_');
-        s.push_str(&name(o));
     }
-    cut(s)
-}
-
-fn cut(mut s: String) -> String {
-    if s.len() > DERIVED_NAME_MAX {
-        s.truncate(DERIVED_NAME_MAX);
-        while s.ends_with('_') {
-            s.pop();
-        }
-    }
-    s
 }

@@ -194,6 +194,10 @@ pub struct Node {
     pub ty: Ty,
     /// name given or derived
     pub name: String,
+    /// true when the name was given (a port, a register, `name()`), false
+    /// when derived from the operation: the emitter may write a derived,
+    /// once-read value inside its reader's expression instead of as a wire
+    pub named: bool,
     /// the Rust source line that built it
     pub location: &'static Location<'static>,
 }

@@ -1,9 +1,13 @@
 //! Lowers an IR module to the Verilog tree.
 //!
-//! Every live operation becomes one named wire and one `assign`, so the
-//! Verilog reads like the generator code. Semantics never depend on Verilog's
-//! context-dependent widths or signedness: operands are extended explicitly
-//! and signed operations wrap their operands in `$signed(...)`.
+//! A live operation becomes a named wire and an `assign`, unless its value is
+//! derived (not named by the generator), read once, and small: then it is
+//! written inside its reader's expression ([`inlined`]), so a wire name is a
+//! value someone named or a value read more than once. Semantics never depend
+//! on Verilog's context-dependent widths or signedness: operands are extended
+//! explicitly, signed operations wrap their operands in `$signed(...)`, and an
+//! expression is written inside another only where every context-determined
+//! operand has the reader's width.
 
 use super::vast::*;
 use crate::eval::mask;
@@ -105,6 +109,119 @@ fn same_expressions(m: &Module, live: &[bool]) -> Vec<NodeId> {
     same
 }
 
+/// Operators in one inlined expression at most, so a line stays readable.
+const INLINE_OPERATORS: u32 = 6;
+
+/// How an expression may be written in one operand slot of its reader.
+#[derive(Clone, Copy, PartialEq)]
+enum Slot {
+    /// the slot needs an identifier (a slice, a product's operand, a cast)
+    Identifier,
+    /// the operand's width is its own (a concatenation, a reduction, a
+    /// comparison's operand, a select, a shift amount)
+    SelfDetermined,
+    /// the operand takes the reader's width: fine when it has that width
+    Context(u32),
+}
+
+fn slots(m: &Module, node: &Node) -> Vec<(NodeId, Slot)> {
+    let w = node.ty.width();
+    let ctx = Slot::Context(w);
+    match node.op {
+        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } => vec![],
+        Op::Slice(a, ..) | Op::Cast(a) => vec![(a, Slot::Identifier)],
+        Op::Mul(a, b) => vec![(a, Slot::Identifier), (b, Slot::Identifier)],
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Bit(_, a, b) => vec![(a, ctx), (b, ctx)],
+        Op::Not(a) => vec![(a, ctx)],
+        Op::Shl(a, b) | Op::Shr(a, b) => vec![(a, ctx), (b, Slot::SelfDetermined)],
+        Op::Mux(s, t, f) => vec![(s, Slot::SelfDetermined), (t, ctx), (f, ctx)],
+        Op::Concat(ref parts) => parts.iter().map(|p| (*p, Slot::SelfDetermined)).collect(),
+        Op::Reduce(_, a) => vec![(a, Slot::SelfDetermined)],
+        Op::Cmp(_, a, b) => {
+            // both operands are extended to the wider one's width
+            let cw = m.node(a).ty.width().max(m.node(b).ty.width());
+            let slot = |x: NodeId| match m.node(x).ty.width() == cw {
+                true => Slot::SelfDetermined,
+                false if m.node(x).ty.is_signed() => Slot::Identifier,
+                false => Slot::SelfDetermined, // zero-extended by a concatenation
+            };
+            vec![(a, slot(a)), (b, slot(b))]
+        }
+    }
+}
+
+/// Which live, emitted nodes are written inside their one reader's
+/// expression instead of as a wire: derived names only, unsigned values
+/// only (a signed operator's meaning depends on its context), no products
+/// (their operands are extended to the product's width), at most
+/// [`INLINE_OPERATORS`] operators per expression.
+fn inlined(m: &Module, lv: &Liveness, same: &[NodeId]) -> Vec<bool> {
+    let n = m.nodes.len();
+    let canon = |id: NodeId| same[id.0 as usize].0 as usize;
+    let emitted = |i: usize| lv.live[i] && same[i].0 as usize == i;
+    let mut readers = vec![0u32; n];
+    for (_, node) in m.nodes.iter().enumerate().filter(|(i, _)| emitted(*i)) {
+        node.op
+            .operands()
+            .into_iter()
+            .for_each(|o| readers[canon(o)] += 1);
+    }
+    let mut sinks: Vec<NodeId> = m.outputs.iter().map(|(_, id)| *id).collect();
+    for (reg, _) in m.registers.iter().zip(&lv.regs).filter(|(_, l)| **l) {
+        sinks.push(reg.next);
+        sinks.extend(reg.enable);
+    }
+    for (inst, _) in m.instances.iter().zip(&lv.instances).filter(|(_, l)| **l) {
+        sinks.extend(inst.inputs.iter().copied());
+    }
+    sinks.iter().for_each(|o| readers[canon(*o)] += 1);
+
+    let candidate = |c: usize| {
+        let node = &m.nodes[c];
+        emitted(c)
+            && !node.named
+            && readers[c] == 1
+            && !node.ty.is_signed()
+            && !matches!(
+                node.op,
+                Op::Input(_)
+                    | Op::Const(_)
+                    | Op::Reg(_)
+                    | Op::InstOut { .. }
+                    | Op::Cast(_)
+                    | Op::Mul(..)
+            )
+    };
+    let mut inline = vec![false; n];
+    let mut size = vec![1u32; n];
+    let take = |slots: Vec<(NodeId, Slot)>, inline: &mut Vec<bool>, size: &[u32]| {
+        let mut total = 1;
+        for (o, slot) in slots {
+            let c = canon(o);
+            let fits = match slot {
+                Slot::Identifier => false,
+                Slot::SelfDetermined => true,
+                Slot::Context(w) => m.nodes[c].ty.width() == w,
+            };
+            if fits && candidate(c) && total + size[c] <= INLINE_OPERATORS {
+                inline[c] = true;
+                total += size[c];
+            }
+        }
+        total
+    };
+    for (i, node) in m.nodes.iter().enumerate() {
+        if emitted(i) {
+            size[i] = take(slots(m, node), &mut inline, &size);
+        }
+    }
+    for o in sinks {
+        let w = m.node(o).ty.width();
+        take(vec![(o, Slot::Context(w))], &mut inline, &size);
+    }
+    inline
+}
+
 /// Describes the unused bits of a value of width `w` whose read bits are `used`.
 fn unused_reason(w: u32, used: u128, what: &str) -> Option<String> {
     let full = mask(u128::MAX, w);
@@ -145,6 +262,9 @@ struct Names {
     node: HashMap<NodeId, String>,
     reg: Vec<String>,
     instance: Vec<String>,
+    /// identifiers claimed, and how many of them needed a number to be unique
+    claimed: usize,
+    numbered: usize,
 }
 
 impl Names {
@@ -162,8 +282,87 @@ impl Names {
             name = format!("{want}_{k}");
             k += 1;
         }
+        self.claimed += 1;
+        self.numbered += usize::from(k > 1);
         name
     }
+}
+
+/// How a module's identifiers came out: a figure the naming tests bound.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NameCounts {
+    /// wires, registers and instances named (ports not included)
+    pub names: usize,
+    /// of them, names that needed a number to be unique (`lt_3`)
+    pub numbered: usize,
+    /// length of the longest identifier
+    pub longest: usize,
+}
+
+/// Names every identifier of `m` as [`lower`] does and counts them.
+pub fn name_counts(m: &Module) -> NameCounts {
+    let (lv, same) = used_values(m);
+    let inline = inlined(m, &lv, &same);
+    let names = assign_names(m, &lv, &same, &inline);
+    let longest = names.taken.iter().map(|n| n.len()).max().unwrap_or(0);
+    NameCounts {
+        names: names.claimed,
+        numbered: names.numbered,
+        longest,
+    }
+}
+
+/// Liveness and hash-consing, with the read bits of a copy of an
+/// expression carried by the one emitted.
+fn used_values(m: &Module) -> (Liveness, Vec<NodeId>) {
+    let mut lv = liveness(m);
+    let same = same_expressions(m, &lv.live);
+    for (i, s) in same.iter().enumerate() {
+        if s.0 as usize != i {
+            let bits = lv.used_bits[i];
+            lv.used_bits[s.0 as usize] |= bits;
+        }
+    }
+    (lv, same)
+}
+
+/// Every identifier: ports as declared, then instances, registers and
+/// wires in node order (so the same module always gets the same names).
+fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> Names {
+    let mut names = Names {
+        taken: HashSet::new(),
+        node: HashMap::new(),
+        reg: vec![],
+        instance: vec![],
+        claimed: 0,
+        numbered: 0,
+    };
+    for c in [control::CLOCK, control::RESET] {
+        names.taken.insert(c.to_string());
+    }
+    for p in m.inputs.iter().chain(m.outputs.iter().map(|(p, _)| p)) {
+        names.taken.insert(p.name.clone());
+    }
+    names.instance = m.instances.iter().map(|i| names.claim(&i.name)).collect();
+    names.reg = m.registers.iter().map(|r| names.claim(&r.name)).collect();
+    for (i, node) in m.nodes.iter().enumerate() {
+        let id = NodeId(i as u32);
+        match node.op {
+            Op::Input(p) => {
+                names.node.insert(id, m.inputs[p].name.clone());
+            }
+            Op::Reg(r) => {
+                names.node.insert(id, names.reg[r].clone());
+            }
+            Op::Const(_) | Op::Cast(_) => {}
+            _ if lv.live[i] && same[i].0 as usize == i && !inline[i] => {
+                let n = names.claim(&node.name);
+                names.node.insert(id, n);
+            }
+            _ => {}
+        }
+    }
+    names
 }
 
 fn decl(name: &str, ty: Ty, unused: Option<String>) -> Decl {
@@ -219,95 +418,36 @@ fn header(m: &Module, generator: &str, is_top: bool) -> Vec<String> {
     h
 }
 
-/// Lowers `m` to a Verilog module. A top-level module always has `clk` and
-/// `rst` ports (one interface for every configuration); a submodule has them
-/// only when it uses them.
-pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
-    let mut lv = liveness(m);
-    let same = same_expressions(m, &lv.live);
-    // an emitted expression carries the read bits of its copies
-    for (i, s) in same.iter().enumerate() {
-        if s.0 as usize != i {
-            let bits = lv.used_bits[i];
-            lv.used_bits[s.0 as usize] |= bits;
-        }
-    }
-    let is_copy = |i: usize| same[i].0 as usize != i;
-    let mut names = Names {
-        taken: HashSet::new(),
-        node: HashMap::new(),
-        reg: vec![],
-        instance: vec![],
-    };
-    let sequential = m.is_sequential();
-    let needs_reset = m.uses_reset();
-    let has_clk = sequential || is_top;
-    let has_rst = needs_reset || is_top;
-    for c in [control::CLOCK, control::RESET] {
-        names.taken.insert(c.to_string());
-    }
-    for p in m.inputs.iter().chain(m.outputs.iter().map(|(p, _)| p)) {
-        names.taken.insert(p.name.clone());
-    }
-    names.instance = m.instances.iter().map(|i| names.claim(&i.name)).collect();
-    names.reg = m.registers.iter().map(|r| names.claim(&r.name)).collect();
-    for (i, node) in m.nodes.iter().enumerate() {
-        let id = NodeId(i as u32);
-        match node.op {
-            Op::Input(p) => {
-                names.node.insert(id, m.inputs[p].name.clone());
-            }
-            Op::Reg(r) => {
-                names.node.insert(id, names.reg[r].clone());
-            }
-            Op::Const(_) | Op::Cast(_) => {}
-            _ if lv.live[i] && !is_copy(i) => {
-                let n = names.claim(&node.name);
-                names.node.insert(id, n);
-            }
-            _ => {}
-        }
-    }
+/// Writes the expressions of one module: a reference to a node is its
+/// identifier, its literal, its operand's (for casts) or, for an inlined
+/// node, its own expression.
+struct Writer<'a> {
+    m: &'a Module,
+    names: &'a Names,
+    same: &'a [NodeId],
+    inline: &'a [bool],
+}
 
-    // instance outputs no live node reads still need a wire to connect to
-    let mut dead_outputs: HashMap<(usize, usize), String> = HashMap::new();
-    for (ii, inst) in m
-        .instances
-        .iter()
-        .enumerate()
-        .filter(|(ii, _)| lv.instances[*ii])
-    {
-        for (port, (p, _)) in inst.module.outputs.iter().enumerate() {
-            let live = m
-                .nodes
-                .iter()
-                .enumerate()
-                .any(|(k, n)| n.op == Op::InstOut { inst: ii, port } && lv.live[k]);
-            if !live {
-                let w = names.claim(&format!("{}_{}", names.instance[ii], p.name));
-                dead_outputs.insert((ii, port), w);
-            }
-        }
-    }
-
-    // A reference to a node: its identifier, its literal, or (for casts) its
-    // operand's; a copy of an expression reads the one emitted.
-    fn reference(m: &Module, names: &Names, same: &[NodeId], id: NodeId) -> Expr {
-        let id = same[id.0 as usize];
-        match m.node(id).op {
+impl Writer<'_> {
+    fn reference(&self, id: NodeId) -> Expr {
+        let id = self.same[id.0 as usize];
+        match self.m.node(id).op {
             Op::Const(v) => Expr::Literal {
-                width: m.node(id).ty.width(),
+                width: self.m.node(id).ty.width(),
                 value: v,
             },
-            Op::Cast(a) => reference(m, names, same, a),
-            _ => Expr::Ident(names.node[&id].clone()),
+            Op::Cast(a) => self.reference(a),
+            _ if self.inline[id.0 as usize] => self.expression(id),
+            _ => Expr::Ident(self.names.node[&id].clone()),
         }
     }
-    let r = |id: NodeId| reference(m, &names, &same, id);
-    let ext = |id: NodeId, w: u32| -> Expr {
-        let ty = m.node(id).ty;
+
+    /// The reference to `id` extended to `w` bits (zeros, or copies of the
+    /// sign bit when signed).
+    fn extended(&self, id: NodeId, w: u32) -> Expr {
+        let ty = self.m.node(id).ty;
         let wi = ty.width();
-        let e = r(id);
+        let e = self.reference(id);
         if wi == w {
             return e;
         }
@@ -343,46 +483,21 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
                 };
                 Expr::Concat(vec![fill, e.clone()])
             }
-            _ => unreachable!("references are identifiers or literals"),
+            _ => unreachable!("signed values are never inlined"),
         }
-    };
-    let signed_if = |signed: bool, e: Expr| if signed { Expr::Signed(Box::new(e)) } else { e };
-    let bin = |op: &'static str, a: Expr, b: Expr| Expr::Binary(op, Box::new(a), Box::new(b));
-
-    let mut ports = Vec::new();
-    let no_regs =
-        "clk and rst keep one interface for every configuration; this one has no registers";
-    if has_clk {
-        let unused = (!sequential).then(|| no_regs.to_string());
-        ports.push((Dir::Input, decl(control::CLOCK, Ty::Bool, unused)));
-    }
-    if has_rst {
-        let unused = (!needs_reset).then(|| no_regs.to_string());
-        ports.push((Dir::Input, decl(control::RESET, Ty::Bool, unused)));
-    }
-    for (i, node) in m.nodes.iter().enumerate() {
-        if let Op::Input(p) = node.op {
-            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "input");
-            ports.push((Dir::Input, decl(&m.inputs[p].name, node.ty, unused)));
-        }
-    }
-    for (p, _) in &m.outputs {
-        ports.push((Dir::Output, decl(&p.name, p.ty, None)));
     }
 
-    let mut items = Vec::new();
-    let mut assigns = Vec::new();
-    for (i, node) in m.nodes.iter().enumerate() {
-        let id = NodeId(i as u32);
-        if !lv.live[i] || is_copy(i) {
-            continue;
-        }
-        let rhs = match &node.op {
-            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) => continue,
-            Op::InstOut { .. } => {
-                let unused = unused_reason(node.ty.width(), lv.used_bits[i], "instance output");
-                items.push(Item::Wire(decl(&names.node[&id], node.ty, unused)));
-                continue;
+    /// What node `id` computes, as one expression over its operands.
+    fn expression(&self, id: NodeId) -> Expr {
+        let m = self.m;
+        let node = m.node(id);
+        let r = |id: NodeId| self.reference(id);
+        let ext = |id: NodeId, w: u32| self.extended(id, w);
+        let signed_if = |signed: bool, e: Expr| if signed { Expr::Signed(Box::new(e)) } else { e };
+        let bin = |op: &'static str, a: Expr, b: Expr| Expr::Binary(op, Box::new(a), Box::new(b));
+        match &node.op {
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) | Op::InstOut { .. } => {
+                unreachable!("sources and casts are referenced, not computed")
             }
             Op::Add(a, b) => bin("+", ext(*a, node.ty.width()), ext(*b, node.ty.width())),
             Op::Sub(a, b) => bin("-", ext(*a, node.ty.width()), ext(*b, node.ty.width())),
@@ -431,10 +546,96 @@ pub fn lower(m: &Module, generator: &str, is_top: bool) -> VModule {
                 };
                 Expr::Unary(o, Box::new(r(*a)))
             }
+        }
+    }
+}
+
+/// Lowers `m` to a Verilog module. A top-level module always has `clk` and
+/// `rst` ports (one interface for every configuration); a submodule has them
+/// only when it uses them.
+pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOptions) -> VModule {
+    let (lv, same) = used_values(m);
+    let inline = inlined(m, &lv, &same);
+    let mut names = assign_names(m, &lv, &same, &inline);
+    let sequential = m.is_sequential();
+    let needs_reset = m.uses_reset();
+    let has_clk = sequential || is_top;
+    let has_rst = needs_reset || is_top;
+
+    // instance outputs no live node reads still need a wire to connect to
+    let mut dead_outputs: HashMap<(usize, usize), String> = HashMap::new();
+    for (ii, inst) in m
+        .instances
+        .iter()
+        .enumerate()
+        .filter(|(ii, _)| lv.instances[*ii])
+    {
+        for (port, (p, _)) in inst.module.outputs.iter().enumerate() {
+            let live = m
+                .nodes
+                .iter()
+                .enumerate()
+                .any(|(k, n)| n.op == Op::InstOut { inst: ii, port } && lv.live[k]);
+            if !live {
+                let w = names.claim(&format!("{}_{}", names.instance[ii], p.name));
+                dead_outputs.insert((ii, port), w);
+            }
+        }
+    }
+
+    let writer = Writer {
+        m,
+        names: &names,
+        same: &same,
+        inline: &inline,
+    };
+    let r = |id: NodeId| writer.reference(id);
+
+    let mut ports = Vec::new();
+    let no_regs =
+        "clk and rst keep one interface for every configuration; this one has no registers";
+    if has_clk {
+        let unused = (!sequential).then(|| no_regs.to_string());
+        ports.push((Dir::Input, decl(control::CLOCK, Ty::Bool, unused)));
+    }
+    if has_rst {
+        let unused = (!needs_reset).then(|| no_regs.to_string());
+        ports.push((Dir::Input, decl(control::RESET, Ty::Bool, unused)));
+    }
+    for (i, node) in m.nodes.iter().enumerate() {
+        if let Op::Input(p) = node.op {
+            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "input");
+            ports.push((Dir::Input, decl(&m.inputs[p].name, node.ty, unused)));
+        }
+    }
+    for (p, _) in &m.outputs {
+        ports.push((Dir::Output, decl(&p.name, p.ty, None)));
+    }
+
+    let mut items = Vec::new();
+    let mut assigns = Vec::new();
+    for (i, node) in m.nodes.iter().enumerate() {
+        let id = NodeId(i as u32);
+        if !lv.live[i] || same[i].0 as usize != i {
+            continue;
+        }
+        let rhs = match &node.op {
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) => continue,
+            Op::InstOut { .. } => {
+                let unused = unused_reason(node.ty.width(), lv.used_bits[i], "instance output");
+                items.push(Item::Wire(decl(&names.node[&id], node.ty, unused)));
+                continue;
+            }
+            _ if inline[i] => continue,
+            _ => writer.expression(id),
         };
         let name = names.node[&id].clone();
         let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
         items.push(Item::Wire(decl(&name, node.ty, unused)));
+        if options.source_lines {
+            let at = node.location;
+            assigns.push(Item::Comment(format!("src: {}:{}", at.file(), at.line())));
+        }
         assigns.push(Item::Assign(name, rhs));
     }
     for (ri, reg) in m.registers.iter().enumerate() {

@@ -18,6 +18,14 @@ pub struct VerilogFile {
     pub text: String,
 }
 
+/// How [`emit_with`] writes the Verilog.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct EmitOptions {
+    /// a `// src: file:line` comment above each assignment: the generator
+    /// line that built the value
+    pub source_lines: bool,
+}
+
 /// Emits `top` and every module below it, one file per module (Verilator's
 /// `DECLFILENAME` rule), submodules first. Same module, same bytes.
 ///
@@ -25,6 +33,11 @@ pub struct VerilogFile {
 /// builder already guarantees it, so a failure is a generator bug, reported
 /// with the module's name rather than emitted as broken Verilog.
 pub fn emit(top: &Module, generator: &str) -> Vec<VerilogFile> {
+    emit_with(top, generator, EmitOptions::default())
+}
+
+/// [`emit`] with options.
+pub fn emit_with(top: &Module, generator: &str, options: EmitOptions) -> Vec<VerilogFile> {
     top.hierarchy()
         .into_iter()
         .map(|m| {
@@ -35,7 +48,7 @@ pub fn emit(top: &Module, generator: &str) -> Vec<VerilogFile> {
             VerilogFile {
                 file_name: format!("{}.v", m.name),
                 module: m.name.clone(),
-                text: print::module(&lower::lower(m, generator, is_top)),
+                text: print::module(&lower::lower(m, generator, is_top, options)),
             }
         })
         .collect()

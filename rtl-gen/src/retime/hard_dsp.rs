@@ -132,6 +132,7 @@ fn mult18(ta: Ty, tb: Ty, tp: Ty) -> Module {
         op,
         ty,
         name: name.into(),
+        named: true,
         location: here,
     };
     let id = |i: u32| NodeId(i);

@@ -40,6 +40,8 @@ struct FlatNode {
     op: Op,
     ty: Ty,
     name: String,
+    /// the name was given, not derived ([`Node::named`])
+    named: bool,
     /// the stage the unit's own plan computes it in (`None` for constants)
     built: Option<u32>,
     /// a same-bits cast standing for the route from a DSP block's output
@@ -129,6 +131,7 @@ fn inline(
                         n.built = Some(stage);
                     }
                 }
+                nodes[id].named |= node.named;
                 (id, stage)
             }
         };
@@ -142,6 +145,7 @@ fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> usize {
         op,
         ty,
         name,
+        named: false,
         built: None,
         wire: false,
     });
@@ -318,6 +322,7 @@ fn flatten(m: &Module) -> Result<Flat, String> {
                 op: Op::Input(p),
                 ty: port.ty,
                 name: port.name.clone(),
+                named: true,
                 built: Some(0),
                 wire: false,
             });
@@ -680,7 +685,7 @@ fn replay(m: &Module, g: &Graph, s: &Schedule, last: u32) -> Result<Module, Buil
                 let op = op
                     .clone()
                     .map_operands(|id| sig[id.0 as usize].expect("operands precede users").id());
-                b.replay(op, node.ty, &node.name)
+                b.replay(op, node.ty, &node.name, node.named)
             }
         };
         sig[i] = Some(new);

@@ -286,10 +286,11 @@ fn is_any_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     m.eq(mag, inf)
 }
 
-/// IEEE quiet `a <= b` (false if either is NaN).
+/// IEEE quiet `a <= b` (false if either is NaN), its comparator's values
+/// named in the scope `name`.
 #[track_caller]
-fn le(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> Sig {
-    compare(m, fmt, a, b).1
+fn le(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig, name: &str) -> Sig {
+    m.scope(name, |m| compare(m, fmt, a, b).1)
 }
 
 /// Module name of the axis block.
@@ -464,12 +465,16 @@ pub fn tests_name(cfg: &Config, plan: &StagePlan) -> String {
 /// The factor whose fields are those of `b` where `sel`, else of `a`.
 #[track_caller]
 fn pick(m: &mut ModuleBuilder, sel: Sig, b: &Factor, a: &Factor) -> Factor {
+    let mut field = |name: &str, b: Sig, a: Sig| {
+        let v = m.mux(sel, b, a);
+        m.name(v, name)
+    };
     Factor {
-        sign: m.mux(sel, b.sign, a.sign),
-        zero: m.mux(sel, b.zero, a.zero),
-        inf: m.mux(sel, b.inf, a.inf),
-        exp: m.mux(sel, b.exp, a.exp),
-        sig: m.mux(sel, b.sig, a.sig),
+        sign: field("d_sign", b.sign, a.sign),
+        zero: field("d_zero", b.zero, a.zero),
+        inf: field("d_inf", b.inf, a.inf),
+        exp: field("d_exp", b.exp, a.exp),
+        sig: field("d_sig", b.sig, a.sig),
     }
 }
 
@@ -585,7 +590,7 @@ pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
             fa[k]
         } else {
             let pick_b = if want_max { m.not(v.sign) } else { v.sign };
-            pick(m, pick_b, &fb[k], &fa[k])
+            m.scope(inst, |m| pick(m, pick_b, &fb[k], &fa[k]))
         };
         Side::Product(start_product(m, f, v, &d, plan.product, inst))
     };
@@ -646,7 +651,7 @@ pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
             let base = label.trim_end_matches("_ok");
             let lt = term(&mut m, l, &format!("{base}_lhs"));
             let rt = term(&mut m, r, &format!("{base}_rhs"));
-            let v = term_le(&mut m, &lt, &rt);
+            let v = m.scope(base, |m| term_le(m, &lt, &rt));
             ok.push(m.name(v, label));
         }
         oks.push(ok);
@@ -737,12 +742,12 @@ pub fn build(cfg: &Config) -> Module {
         }
         if !cfg.ray() {
             // a ray's bounds coincide: d <= d holds for every non-NaN value
-            let d_ok = le(&mut m, f, d_lo[i], d_hi[i]);
+            let d_ok = le(&mut m, f, d_lo[i], d_hi[i], &format!("d_{}_order", AXES[i]));
             bad.push(m.not(d_ok));
         }
         if bounded {
             // shared mode: o_lo <= o_lo holds for every non-NaN value
-            let o_ok = le(&mut m, f, o_lo[i], o_hi[i]);
+            let o_ok = le(&mut m, f, o_lo[i], o_hi[i], &format!("o_{}_order", AXES[i]));
             bad.push(m.not(o_ok));
         }
     }
@@ -750,12 +755,18 @@ pub fn build(cfg: &Config) -> Module {
     let not_nan = m.not(nan);
     let invalid = m.and(bad, not_nan);
     let invalid = m.name(invalid, "invalid_in");
-    let t_ok = le(&mut m, f, t_min, t_max);
+    let t_ok = le(&mut m, f, t_min, t_max, "t_order");
     let mut empty = vec![m.not(t_ok)];
     empty.push(is_inf(&mut m, f, t_min, false));
     empty.push(is_inf(&mut m, f, t_max, true));
     for i in 0..3 {
-        let p_ok = le(&mut m, f, p_min[i], p_max[i]);
+        let p_ok = le(
+            &mut m,
+            f,
+            p_min[i],
+            p_max[i],
+            &format!("p_{}_order", AXES[i]),
+        );
         empty.push(m.not(p_ok));
         empty.push(is_inf(&mut m, f, p_min[i], false));
         empty.push(is_inf(&mut m, f, p_max[i], true));

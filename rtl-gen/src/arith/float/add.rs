@@ -69,8 +69,8 @@ pub fn add_raw(
 ) -> SumRaw {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let w = fmt.width();
-    let ua = unpack(m, fmt, a);
-    let ub = unpack(m, fmt, b);
+    let ua = m.scope("a", |m| unpack(m, fmt, a));
+    let ub = m.scope("b", |m| unpack(m, fmt, b));
     let sign_b = if negate_b { m.not(ub.sign) } else { ub.sign };
 
     // step 1: order by magnitude, exponent difference, specials

@@ -29,33 +29,41 @@ pub fn lzc(m: &mut ModuleBuilder, x: Sig) -> Sig {
         parts.push(m.uint(pad - 1, 0));
     }
     let padded = m.cat(&parts);
-    let (_, count) = lzc_tree(m, padded);
+    let (_, count) = m.scope("lzc", |m| lzc_tree(m, padded, "top"));
     m.name(count, "lzc")
 }
 
-/// `(all_zero, count)` of a power-of-two-wide value.
+/// `(all_zero, count)` of a power-of-two-wide value; `at` names the node
+/// by its path from the top (`top_hi_lo`).
 #[track_caller]
-fn lzc_tree(m: &mut ModuleBuilder, x: Sig) -> (Sig, Sig) {
+fn lzc_tree(m: &mut ModuleBuilder, x: Sig, at: &str) -> (Sig, Sig) {
     let w = x.width();
     if w == 2 {
         let hi = m.bit_at(x, 1);
         let any = m.any_set(x);
         let zero = m.not(any);
         let count = m.not(hi);
-        return (zero, m.as_uint(count));
+        let count = m.as_uint(count);
+        return (
+            m.name(zero, &format!("{at}_zero")),
+            m.name(count, &format!("{at}_count")),
+        );
     }
     let half = w / 2;
     let hi = m.slice(x, w - 1, half);
     let lo = m.slice(x, half - 1, 0);
-    let (zh, ch) = lzc_tree(m, hi);
-    let (zl, cl) = lzc_tree(m, lo);
+    let (zh, ch) = lzc_tree(m, hi, &format!("{at}_hi"));
+    let (zl, cl) = lzc_tree(m, lo, &format!("{at}_lo"));
     let zero = m.and(zh, zl);
     let zero_bit = m.uint(1, 0);
     let one_bit = m.uint(1, 1);
     let when_hi = m.cat(&[zero_bit, ch]);
     let when_lo = m.cat(&[one_bit, cl]);
     let count = m.mux(zh, when_lo, when_hi);
-    (zero, count)
+    (
+        m.name(zero, &format!("{at}_zero")),
+        m.name(count, &format!("{at}_count")),
+    )
 }
 
 /// `x >> amount` (logical, width of `x`) with every bit shifted out ORed into

@@ -54,6 +54,7 @@ pub fn compare(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig,
         any_nan,
     } = SignMagnitude::of(m, fmt, a, b);
     let ordered = m.not(any_nan);
+    let ordered = m.name(ordered, "ordered");
     let mag_or = m.or(mag_a, mag_b);
     let nonzero = m.any_set(mag_or);
     let both_zero = m.not(nonzero);
@@ -68,8 +69,10 @@ pub fn compare(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig,
     let neg_pos = m.and(neg_pos, nonzero);
     let both_pos = m.and(not_sa, not_sb);
     let pos_lt = m.and(both_pos, mag_lt);
+    let pos_lt = m.name(pos_lt, "pos_lt");
     let both_neg = m.and(sa, sb);
     let neg_lt = m.and(both_neg, mag_gt);
+    let neg_lt = m.name(neg_lt, "neg_lt");
     let lt = m.or(neg_pos, pos_lt);
     let lt = m.or(lt, neg_lt);
     let lt = m.and(lt, ordered);

@@ -64,8 +64,8 @@ pub fn mul_mixed_raw(
     mul_stages: u32,
     inst: &str,
 ) -> Raw {
-    let ua = unpack(m, fa, a);
-    let ub = unpack(m, fb, b);
+    let ua = m.scope("a", |m| unpack(m, fa, a));
+    let ub = m.scope("b", |m| unpack(m, fb, b));
     let sign = m.xor(ua.sign, ub.sign);
     let inf_zero = m.and(ua.inf, ub.zero);
     let zero_inf = m.and(ua.zero, ub.inf);

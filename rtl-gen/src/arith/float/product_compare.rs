@@ -42,19 +42,21 @@ pub struct Factor {
     pub sig: Sig,
 }
 
-/// Unpacks and normalises the `fmt` encoding `x`; its fields are named
-/// `{name}_sign`, `{name}_exp`, `{name}_sig`, ...
+/// Unpacks and normalises the `fmt` encoding `x` in the naming scope
+/// `name`: `{name}_sign`, `{name}_zero`, `{name}_exp_norm`, `{name}_sig_norm`, ...
 #[track_caller]
 pub fn factor(m: &mut ModuleBuilder, fmt: Format, x: Sig, name: &str) -> Factor {
-    let u = unpack(m, fmt, x);
-    let Normalized { sig, exp } = normalize(m, fmt, &u);
-    Factor {
-        sign: m.name(u.sign, &format!("{name}_sign")),
-        zero: m.name(u.zero, &format!("{name}_zero")),
-        inf: m.name(u.inf, &format!("{name}_inf")),
-        exp: m.name(exp, &format!("{name}_exp")),
-        sig: m.name(sig, &format!("{name}_sig")),
-    }
+    m.scope(name, |m| {
+        let u = unpack(m, fmt, x);
+        let Normalized { sig, exp } = normalize(m, fmt, &u);
+        Factor {
+            sign: u.sign,
+            zero: m.name(u.zero, "zero"),
+            inf: m.name(u.inf, "inf"),
+            exp,
+            sig,
+        }
+    })
 }
 
 /// Lowest exponent of a term: two factors at `emin - F - 1` each.
@@ -128,55 +130,55 @@ pub fn start_product(
         .instance(inst, &mul, &[("a", a.sig), ("b", b.sig)])
         .get("p")
         .expect("multiplier has output p");
-    let w = sint_width(term_exp_min(fmt), term_exp_max(fmt));
-    let ea = sext(m, a.exp, w);
-    let eb = sext(m, b.exp, w);
-    let exp_sum = m.add(ea, eb);
-    let exp_sum = sext(m, exp_sum, w);
-    let zero = m.or(a.zero, b.zero);
-    let not_zero = m.not(zero);
-    let any_inf = m.or(a.inf, b.inf);
-    let inf = m.and(any_inf, not_zero);
-    let differ = m.xor(a.sign, b.sign);
-    let neg = m.and(differ, not_zero);
-    ProductStart {
-        sig,
-        exp_sum: m.name(exp_sum, &format!("{inst}_exp_sum")),
-        zero: m.name(zero, &format!("{inst}_zero")),
-        inf: m.name(inf, &format!("{inst}_inf")),
-        neg: m.name(neg, &format!("{inst}_neg")),
-    }
+    m.scope(inst, |m| {
+        let w = sint_width(term_exp_min(fmt), term_exp_max(fmt));
+        let ea = sext(m, a.exp, w);
+        let eb = sext(m, b.exp, w);
+        let exp_sum = m.add(ea, eb);
+        let exp_sum = sext(m, exp_sum, w);
+        let zero = m.or(a.zero, b.zero);
+        let not_zero = m.not(zero);
+        let any_inf = m.or(a.inf, b.inf);
+        let inf = m.and(any_inf, not_zero);
+        let differ = m.xor(a.sign, b.sign);
+        let neg = m.and(differ, not_zero);
+        ProductStart {
+            sig,
+            exp_sum: m.name(exp_sum, "exp_sum"),
+            zero: m.name(zero, "zero"),
+            inf: m.name(inf, "inf"),
+            neg: m.name(neg, "neg"),
+        }
+    })
 }
 
 /// The key of a term from its class, unbiased exponent (SInt) and the
 /// 2F + 1 fraction bits below the leading one.
 #[track_caller]
-fn key_of(
-    m: &mut ModuleBuilder,
-    fmt: Format,
-    zero: Sig,
-    inf: Sig,
-    exp: Sig,
-    frac: Sig,
-    name: &str,
-) -> Sig {
+fn key_of(m: &mut ModuleBuilder, fmt: Format, zero: Sig, inf: Sig, exp: Sig, frac: Sig) -> Sig {
     let we = term_exp_width(fmt);
     let biased = add_const(m, exp, term_offset(fmt), we + 1);
     let biased = m.slice(biased, we - 1, 0);
     let finite_flag = m.uint(1, 0);
     let finite = m.cat(&[finite_flag, biased, frac]);
+    let finite = m.name(finite, "finite_key");
     let tw = term_width(fmt);
     let inf_key = m.uint(tw, 1u128 << (tw - 1));
     let zero_key = m.uint(tw, 0);
     let k = m.mux(inf, inf_key, finite);
     let k = m.mux(zero, zero_key, k);
-    m.name(k, &format!("{name}_key"))
+    m.name(k, "key")
 }
 
 /// Finishes a product started by [`start_product`]: normalise the
 /// significand product by at most one bit and form the key.
 #[track_caller]
 pub fn product_term(m: &mut ModuleBuilder, fmt: Format, p: &ProductStart, name: &str) -> Term {
+    m.scope(name, |m| product_key(m, fmt, p))
+}
+
+#[track_caller]
+fn product_key(m: &mut ModuleBuilder, fmt: Format, p: &ProductStart) -> Term {
     let f = fmt.frac_bits;
     // the product of two normalised significands lies in [2^2F, 2^(2F+2))
     let top = m.bit_at(p.sig, 2 * f + 1);
@@ -184,33 +186,41 @@ pub fn product_term(m: &mut ModuleBuilder, fmt: Format, p: &ProductStart, name: 
     let low = m.slice(p.sig, 2 * f - 1, 0);
     let zero_bit = m.uint(1, 0);
     let low = m.cat(&[low, zero_bit]);
+    let low = m.name(low, "frac_if_low");
     let frac = m.mux(top, high, low);
     let w = p.exp_sum.width() + 1;
     let es = sext(m, p.exp_sum, w);
     let top_u = m.as_uint(top);
     let top_s = to_sint(m, top_u, w);
     let exp = m.add(es, top_s);
-    let key = key_of(m, fmt, p.zero, p.inf, exp, frac, name);
+    let exp = m.name(exp, "exp");
+    let key = key_of(m, fmt, p.zero, p.inf, exp, frac);
     Term { neg: p.neg, key }
 }
 
 /// A factor as a term of its own (compared against products).
 #[track_caller]
 pub fn single_term(m: &mut ModuleBuilder, fmt: Format, a: &Factor, name: &str) -> Term {
-    let f = fmt.frac_bits;
-    let frac = m.slice(a.sig, f - 1, 0);
-    let pad = m.uint(f + 1, 0);
-    let frac = m.cat(&[frac, pad]);
-    let key = key_of(m, fmt, a.zero, a.inf, a.exp, frac, name);
-    let not_zero = m.not(a.zero);
-    let neg = m.and(a.sign, not_zero);
-    Term { neg, key }
+    m.scope(name, |m| {
+        let f = fmt.frac_bits;
+        let frac = m.slice(a.sig, f - 1, 0);
+        let pad = m.uint(f + 1, 0);
+        let frac = m.cat(&[frac, pad]);
+        let key = key_of(m, fmt, a.zero, a.inf, a.exp, frac);
+        let not_zero = m.not(a.zero);
+        let neg = m.and(a.sign, not_zero);
+        Term {
+            neg: m.name(neg, "neg"),
+            key,
+        }
+    })
 }
 
 /// `a <= b` for two terms (±0 equal), Bool.
 #[track_caller]
 pub fn term_le(m: &mut ModuleBuilder, a: &Term, b: &Term) -> Sig {
     let lt = m.lt(a.key, b.key);
+    let lt = m.name(lt, "key_lt");
     let eq = m.eq(a.key, b.key);
     let mag_le = m.or(lt, eq);
     let mag_ge = m.not(lt);

@@ -59,7 +59,8 @@ pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
     let lo = m.or(nan, not_inf);
     let hi = m.as_uint(special);
     let lo = m.as_uint(lo);
-    m.cat(&[hi, lo])
+    let class = m.cat(&[hi, lo]);
+    m.name(class, "class_code")
 }
 
 /// Module name of the rounder.
@@ -170,8 +171,12 @@ pub fn round_down_up_module(
     let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
     let rdn = Rm::fixed(Rounding::Rdn);
     let rup = Rm::fixed(Rounding::Rup);
-    let down = round_and_pack(&mut m, fmt, &rdn, sign_down, class, sticky_in, &n);
-    let up = round_and_pack(&mut m, fmt, &rup, sign_up, class, sticky_in, &n);
+    let down = m.scope("down", |m| {
+        round_and_pack(m, fmt, &rdn, sign_down, class, sticky_in, &n)
+    });
+    let up = m.scope("up", |m| {
+        round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n)
+    });
     for _ in 0..plan[2] {
         m.stage();
     }

@@ -40,16 +40,23 @@ pub struct Unpacked {
     pub eff_exp: Sig,
 }
 
-/// Decodes the `fmt` encoding `x` (UInt of the format's width).
+/// Decodes the `fmt` encoding `x` (UInt of the format's width); the fields
+/// are named after their role (`sign`, `is_nan`, `sig`, ...), so a module
+/// that unpacks several operands calls it in a scope per operand.
 #[track_caller]
 pub fn unpack(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Unpacked {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
+    // named as they are made, so that the values derived from them say so
     let sign = m.msb(x);
+    let sign = m.name(sign, "sign");
     let exp_field = m.slice(x, e + f - 1, f);
+    let exp_field = m.name(exp_field, "exp_field");
     let frac = m.slice(x, f - 1, 0);
+    let frac = m.name(frac, "frac");
     let exp_ones = m.all_ones(exp_field);
     let exp_any = m.any_set(exp_field);
     let exp_zero = m.not(exp_any);
+    let exp_zero = m.name(exp_zero, "exp_zero");
     let frac_any = m.any_set(frac);
     let frac_zero = m.not(frac_any);
     let nan = m.and(exp_ones, frac_any);
@@ -64,12 +71,12 @@ pub fn unpack(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Unpacked {
         sign,
         exp_field,
         frac,
-        nan,
-        inf,
-        zero,
-        sub,
-        sig,
-        eff_exp,
+        nan: m.name(nan, "is_nan"),
+        inf: m.name(inf, "is_inf"),
+        zero: m.name(zero, "is_zero"),
+        sub: m.name(sub, "is_sub"),
+        sig: m.name(sig, "sig"),
+        eff_exp: m.name(eff_exp, "eff_exp"),
     }
 }
 
