@@ -7,7 +7,7 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float as g;
 use rtl_gen::params::Params;
-use rtl_gen::units::fcommon::format;
+use rtl_gen::units::float_ops::format;
 
 /// The `fcmp` testbench.
 pub struct FCmpBench {

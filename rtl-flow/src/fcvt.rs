@@ -10,7 +10,7 @@ use super::Testbench;
 use golden_model::float as g;
 use rtl_gen::arith::float::Format;
 use rtl_gen::params::Params;
-use rtl_gen::units::fcommon::{format_of, rounding};
+use rtl_gen::units::float_ops::{format_of, rounding};
 
 /// The `fcvt` testbench.
 pub struct FCvtBench {

@@ -10,7 +10,7 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float as g;
 use rtl_gen::params::Params;
-use rtl_gen::units::fcommon::{format, rounding};
+use rtl_gen::units::float_ops::{format, rounding};
 
 /// The `fdot3` testbench.
 pub struct FDot3Bench {

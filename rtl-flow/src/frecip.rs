@@ -7,8 +7,8 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use rtl_gen::arith::float::Rounding;
 use rtl_gen::params::Params;
-use rtl_gen::units::fcommon::format;
-use rtl_gen::units::frecip::mode;
+use rtl_gen::units::float_ops::format;
+use rtl_gen::units::float_ops::recip_mode;
 
 /// The `frecip` testbench.
 pub struct FRecipBench {
@@ -22,7 +22,7 @@ impl FRecipBench {
         let fmt = format(p, "frecip").expect("parameters were checked when building");
         FRecipBench {
             stim: FloatStim::new(fmt),
-            mode: mode(p),
+            mode: recip_mode(p),
         }
     }
 }

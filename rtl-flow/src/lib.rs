@@ -80,47 +80,47 @@ pub fn catalog() -> Vec<Entry> {
             testbench: |p| Box::new(triangle::TriangleBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fadd::FAdd,
+            unit: &rtl_gen::units::float_ops::FADD,
             testbench: |p| Box::new(fadd::FAddBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fadd_down_up::FAddDownUp,
+            unit: &rtl_gen::units::float_ops::FADD_DOWN_UP,
             testbench: |p| Box::new(fadd_down_up::FAddDownUpBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fmul::FMul,
+            unit: &rtl_gen::units::float_ops::FMUL,
             testbench: |p| Box::new(fmul::FMulBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fmul_exact::FMulExact,
+            unit: &rtl_gen::units::float_ops::FMUL_EXACT,
             testbench: |p| Box::new(fmul_exact::FMulExactBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fcmp::FCmp,
+            unit: &rtl_gen::units::float_ops::FCMP,
             testbench: |p| Box::new(fcmp::FCmpBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fminmax::FMinMax,
+            unit: &rtl_gen::units::float_ops::FMINMAX,
             testbench: |p| Box::new(fminmax::FMinMaxBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fcvt::FCvt,
+            unit: &rtl_gen::units::float_ops::FCVT,
             testbench: |p| Box::new(fcvt::FCvtBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::ffma::FFma,
+            unit: &rtl_gen::units::float_ops::FFMA,
             testbench: |p| Box::new(ffma::FFmaBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::fdot3::FDot3,
+            unit: &rtl_gen::units::float_ops::FDOT3,
             testbench: |p| Box::new(fdot3::FDot3Bench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::frecip::FRecip,
+            unit: &rtl_gen::units::float_ops::FRECIP,
             testbench: |p| Box::new(frecip::FRecipBench::new(p)),
         },
         Entry {
-            unit: &rtl_gen::units::funpack::FUnpack,
+            unit: &rtl_gen::units::float_ops::FUNPACK,
             testbench: |p| Box::new(funpack::FUnpackBench::new(p)),
         },
     ]

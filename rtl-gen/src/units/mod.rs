@@ -2,18 +2,7 @@
 
 pub mod cull;
 pub mod cull_ray;
-pub mod fadd;
-pub mod fadd_down_up;
-pub mod fcmp;
-pub mod fcommon;
-pub mod fcvt;
-pub mod fdot3;
-pub mod ffma;
-pub mod fminmax;
-pub mod fmul;
-pub mod fmul_exact;
-pub mod frecip;
-pub mod funpack;
+pub mod float_ops;
 pub mod mulcmp;
 pub mod silhouette;
 pub mod slab;

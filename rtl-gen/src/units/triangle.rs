@@ -48,8 +48,8 @@ use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 pub struct Triangle;
 
 const PARAMS: &[ParamSpec] = &[
-    super::fcommon::EXP_BITS,
-    super::fcommon::FRAC_BITS,
+    super::float_ops::EXP_BITS,
+    super::float_ops::FRAC_BITS,
     ParamSpec {
         name: "round",
         doc: "rounding of every operation: to nearest even, toward zero, toward +inf, toward \
@@ -86,7 +86,7 @@ pub struct Config {
 
 /// The configuration of `p`.
 pub fn config(p: &Params) -> Result<Config, ParamError> {
-    let fmt = super::fcommon::format(p, "triangle")?;
+    let fmt = super::float_ops::format(p, "triangle")?;
     let full = match p.word("outputs") {
         "full" => true,
         "hit" => false,
