@@ -2,29 +2,12 @@
 //! vectors from the start (the corner list) and from far beyond it against
 //! the golden model.
 
-use rtl_flow::{self, Generated, Testbench};
+use rtl_flow::{self, Generated, Skipped};
 
 pub fn gen(unit: &str, params: &[&str]) -> Generated {
     let p: Vec<String> = params.iter().map(|s| s.to_string()).collect();
     rtl_flow::generate(unit, &p).unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"))
 }
-
-/// A testbench whose vector `k` is vector `first + k` of the wrapped one.
-struct From<'a>(&'a dyn Testbench, u64);
-
-impl sim::Golden for From<'_> {
-    fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
-        self.0.eval(inputs, outputs)
-    }
-}
-
-impl sim::Stimulus for From<'_> {
-    fn vector(&self, seed: u64, index: u64, inputs: &mut [u64]) {
-        self.0.vector(seed, self.1 + index, inputs)
-    }
-}
-
-impl Testbench for From<'_> {}
 
 /// `corners` vectors from the start (strided over the whole corner list)
 /// and `random` vectors from far beyond the corners.
@@ -33,7 +16,14 @@ pub fn check(unit: &str, params: &[&str], stages: u32, corners: u64, random: u64
     assert_eq!(g.module.latency, stages, "{}", g.module.name);
     let tb = g.testbench();
     for (first, n) in [(0, corners), (1_000_000, random)] {
-        let r = g.evaluate(&From(tb.as_ref(), first), n, 5);
+        let r = g.evaluate(
+            &Skipped {
+                of: tb.as_ref(),
+                first,
+            },
+            n,
+            5,
+        );
         eprintln!("{} from {first}: {r}", g.module.name);
         assert_eq!(
             (r.vectors, r.mismatches),
