@@ -93,7 +93,7 @@ pub const PARAMS: &[ParamSpec] = &[
     ParamSpec {
         name: "stages",
         doc: "pipeline stages (latency in cycles), spread over the datapath's steps",
-        kind: ParamKind::Int { min: 0, max: 48 },
+        kind: ParamKind::Int { min: 0, max: 64 },
         default: "0",
     },
 ];
@@ -772,7 +772,7 @@ mod tests {
 
     #[test]
     fn stage_plan_covers_every_register_and_registers_outputs_first() {
-        for s in 0..=48 {
+        for s in 0..=64 {
             let p = StagePlan::new(s);
             assert_eq!(p.plane() + p.out, s);
         }

@@ -232,7 +232,7 @@ mod tests {
     #[test]
     fn stage_plan_covers_every_register() {
         let cf = Format::new(8, 10).unwrap();
-        for s in 0..=48 {
+        for s in 0..=64 {
             let p = StagePlan::new(s, cf);
             assert_eq!(p.diff + p.dot + p.recip, s);
         }
