@@ -21,6 +21,7 @@ pub mod frecip;
 pub mod fstim;
 pub mod funpack;
 pub mod mulcmp;
+pub mod rays;
 pub mod regress;
 pub mod report;
 pub mod silhouette;

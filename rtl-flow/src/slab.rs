@@ -7,7 +7,7 @@
 //! widened interval ends at ∞ or starts at 0). The golden
 //! model is `golden_model::slab::eval` or `eval_conservative`.
 
-use super::silhouette::{corner_cases, from_f64, gen_ray, RayCase, KINDS};
+use super::rays::{corner_cases, from_f64, gen_ray, RayCase, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};

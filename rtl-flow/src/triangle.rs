@@ -9,7 +9,7 @@
 //! Ports: `o_{x,y,z}`, `kz`, `s_{x,y,z}`, `a_*`, `b_*`, `c_*`, `t_min`,
 //! `t_max`; outputs `hit`, `invalid` and, with `outputs=full`, `t`, `u`, `v`.
 
-use super::silhouette::from_f64;
+use super::rays::from_f64;
 use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
