@@ -15,6 +15,49 @@ pub struct SilhouetteBench {
     ray: bool,
     corners: Vec<BundleIn>,
     stride: u64,
+    ports: Ports,
+}
+
+/// Where each field of a [`BundleIn`] goes among the unit's inputs, looked
+/// up by name in the unit's own list (`Config::input_names`), so a port
+/// added to the unit cannot shift the others. A ray's lower and upper
+/// bounds share ports.
+struct Ports {
+    p_min: [usize; 3],
+    p_max: [usize; 3],
+    o_lo: [usize; 3],
+    o_hi: [usize; 3],
+    d_lo: [usize; 3],
+    d_hi: [usize; 3],
+    t_min: usize,
+    t_max: usize,
+}
+
+impl Ports {
+    fn of(names: &[String], ray: bool) -> Ports {
+        let at = |n: &str| {
+            names
+                .iter()
+                .position(|x| x == n)
+                .unwrap_or_else(|| panic!("silhouette has no input `{n}` (inputs: {names:?})"))
+        };
+        let three = |g: &str| [0, 1, 2].map(|i| at(&format!("{g}_{}", ["x", "y", "z"][i])));
+        let has = |g: &str| names.iter().any(|x| x == &format!("{g}_x"));
+        let (o_lo, d_lo, d_hi) = match ray {
+            true => (three("o"), three("d"), three("d")),
+            false => (three("o_lo"), three("d_lo"), three("d_hi")),
+        };
+        Ports {
+            p_min: three("p_min"),
+            p_max: three("p_max"),
+            o_lo,
+            o_hi: if has("o_hi") { three("o_hi") } else { o_lo },
+            d_lo,
+            d_hi,
+            t_min: at("t_min"),
+            t_max: at("t_max"),
+        }
+    }
 }
 
 impl SilhouetteBench {
@@ -43,6 +86,7 @@ impl SilhouetteBench {
             ray,
             corners,
             stride,
+            ports: Ports::of(&u.input_names(), ray),
         }
     }
 
@@ -92,46 +136,32 @@ impl SilhouetteBench {
     /// Writes a transaction into port order (ray mode: the lower bounds are
     /// the ray).
     pub fn to_ports(&self, b: &BundleIn, v: &mut [u64]) {
-        let mut k = 0;
-        let mut put = |x: u64| {
-            v[k] = x;
-            k += 1;
-        };
-        b.p_min.iter().for_each(|&x| put(x));
-        b.p_max.iter().for_each(|&x| put(x));
-        b.o_lo.iter().for_each(|&x| put(x));
-        if self.bounded() {
-            b.o_hi.iter().for_each(|&x| put(x));
-        }
-        b.d_lo.iter().for_each(|&x| put(x));
-        if !self.ray {
-            b.d_hi.iter().for_each(|&x| put(x));
-        }
-        put(b.t_min);
-        put(b.t_max);
+        let p = &self.ports;
+        let mut put3 = |at: &[usize; 3], x: &[u64; 3]| (0..3).for_each(|i| v[at[i]] = x[i]);
+        // the upper bounds first: in ray mode the lower ones overwrite them
+        put3(&p.o_hi, &b.o_hi);
+        put3(&p.d_hi, &b.d_hi);
+        put3(&p.p_min, &b.p_min);
+        put3(&p.p_max, &b.p_max);
+        put3(&p.o_lo, &b.o_lo);
+        put3(&p.d_lo, &b.d_lo);
+        v[p.t_min] = b.t_min;
+        v[p.t_max] = b.t_max;
     }
 
     /// Reads a transaction from port order.
     pub fn from_ports(&self, v: &[u64]) -> BundleIn {
-        let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
-        if self.ray {
-            return BundleIn::ray(three(0), three(3), three(6), three(9), v[12], v[13]);
-        }
-        let o_lo = three(6);
-        let (o_hi, d) = if self.bounded() {
-            (three(9), 12)
-        } else {
-            (o_lo, 9)
-        };
+        let p = &self.ports;
+        let three = |at: &[usize; 3]| at.map(|k| v[k]);
         BundleIn {
-            p_min: three(0),
-            p_max: three(3),
-            o_lo,
-            o_hi,
-            d_lo: three(d),
-            d_hi: three(d + 3),
-            t_min: v[d + 6],
-            t_max: v[d + 7],
+            p_min: three(&p.p_min),
+            p_max: three(&p.p_max),
+            o_lo: three(&p.o_lo),
+            o_hi: three(&p.o_hi),
+            d_lo: three(&p.d_lo),
+            d_hi: three(&p.d_hi),
+            t_min: v[p.t_min],
+            t_max: v[p.t_max],
         }
     }
 

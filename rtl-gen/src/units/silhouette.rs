@@ -185,6 +185,24 @@ impl StagePlan {
 }
 
 impl Config {
+    /// The data inputs in port order, by name: the module's ports, its
+    /// `ports.json` and the testbench's packing all come from this list.
+    /// Ray: `p_min_* p_max_* o_* d_* t_min t_max`; bundle: `p_min_* p_max_*
+    /// o_lo_* [o_hi_*] d_lo_* d_hi_* t_min t_max` (`*` = x, y, z).
+    pub fn input_names(&self) -> Vec<String> {
+        let groups: &[&str] = match (self.ray(), self.bounded()) {
+            (true, _) => &["p_min", "p_max", "o", "d"],
+            (false, false) => &["p_min", "p_max", "o_lo", "d_lo", "d_hi"],
+            (false, true) => &["p_min", "p_max", "o_lo", "o_hi", "d_lo", "d_hi"],
+        };
+        let mut names: Vec<String> = groups
+            .iter()
+            .flat_map(|g| AXES.iter().map(move |a| format!("{g}_{a}")))
+            .collect();
+        names.extend(["t_min".to_string(), "t_max".to_string()]);
+        names
+    }
+
     /// The parameter tags of module names, e.g. `e8m23_shared_cons_s4`
     /// (bundle) or `e8m23_ray_cons_s4`.
     pub fn tag(&self) -> String {
@@ -693,28 +711,23 @@ pub fn build(cfg: &Config) -> Module {
     cfg.describe_params(&mut m, cfg.stages);
     let ty = Ty::UInt(f.width());
     let bounded = cfg.bounded();
-    let vec3 = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
-        AXES.iter()
-            .map(|a| m.input(&format!("{name}_{a}"), ty))
-            .collect()
+    let names = cfg.input_names();
+    let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
+    let port = |name: &str| {
+        ins[names
+            .iter()
+            .position(|n| n == name)
+            .expect("declared input")]
     };
-    let p_min = vec3(&mut m, "p_min");
-    let p_max = vec3(&mut m, "p_max");
-    let (o_lo, o_hi, d_lo, d_hi) = if cfg.ray() {
-        let o = vec3(&mut m, "o");
-        let d = vec3(&mut m, "d");
-        (o.clone(), o, d.clone(), d)
-    } else {
-        let o_lo = vec3(&mut m, "o_lo");
-        let o_hi = if bounded {
-            vec3(&mut m, "o_hi")
-        } else {
-            o_lo.clone()
-        };
-        (o_lo, o_hi, vec3(&mut m, "d_lo"), vec3(&mut m, "d_hi"))
+    let vec3 =
+        |group: &str| -> Vec<Sig> { AXES.iter().map(|a| port(&format!("{group}_{a}"))).collect() };
+    let (p_min, p_max) = (vec3("p_min"), vec3("p_max"));
+    let (o_lo, o_hi, d_lo, d_hi) = match (cfg.ray(), bounded) {
+        (true, _) => (vec3("o"), vec3("o"), vec3("d"), vec3("d")),
+        (false, false) => (vec3("o_lo"), vec3("o_lo"), vec3("d_lo"), vec3("d_hi")),
+        (false, true) => (vec3("o_lo"), vec3("o_hi"), vec3("d_lo"), vec3("d_hi")),
     };
-    let t_min = m.input("t_min", ty);
-    let t_max = m.input("t_max", ty);
+    let (t_min, t_max) = (port("t_min"), port("t_max"));
 
     // Step 1: classify the inputs (no arithmetic).
     let mut read: Vec<Sig> = Vec::new();
