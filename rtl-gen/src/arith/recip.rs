@@ -72,9 +72,12 @@ pub fn recip_raw(m: &mut ModuleBuilder, fmt: Format, x: Sig, cuts: &[u32]) -> Ra
             let low = m.slice(r, rw - 2, 0);
             r = m.cat(&[low, zero_bit]);
         }
-        let ge = m.ge(r, d);
+        // one subtraction per step: its borrow is the quotient bit (a
+        // separate comparison would be a second carry chain on the path)
         let diff = m.sub(r, d);
         let diff = m.as_uint(diff);
+        let borrow = m.bit_at(diff, rw);
+        let ge = m.not(borrow);
         let diff = m.slice(diff, rw - 1, 0);
         r = m.mux(ge, diff, r);
         r = m.name(r, &format!("rem{step}"));

@@ -111,8 +111,8 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     let mut neg_inf = m.bool(false);
     let mut terms = Vec::new();
     for (i, &(a, b)) in ins.iter().enumerate() {
-        let ua = unpack(&mut m, fa, a);
-        let ub = unpack(&mut m, fb, b);
+        let ua = m.scope(&format!("a{i}"), |m| unpack(m, fa, a));
+        let ub = m.scope(&format!("b{i}"), |m| unpack(m, fb, b));
         let n = m.or(ua.nan, ub.nan);
         nan = m.or(nan, n);
         let zero = m.or(ua.zero, ub.zero);
@@ -138,10 +138,17 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     let nan = m.or(nan, both);
     let inf = m.or(pos_inf, neg_inf);
     let class = class_of(&mut m, nan, inf);
-    let e01 = m.ge(terms[0].3, terms[1].3);
-    let e01 = m.mux(e01, terms[0].3, terms[1].3);
-    let e012 = m.ge(e01, terms[2].3);
-    let lsb = m.mux(e012, e01, terms[2].3);
+    // the largest of the three: the three comparisons side by side, then
+    // one selection (not two compare-and-select steps in a row)
+    let [e0, e1, e2] = [terms[0].3, terms[1].3, terms[2].3];
+    let ge01 = m.ge(e0, e1);
+    let ge02 = m.ge(e0, e2);
+    let ge12 = m.ge(e1, e2);
+    let e0_top = m.and(ge01, ge02);
+    let lt01 = m.not(ge01);
+    let e1_top = m.and(lt01, ge12);
+    let e12 = m.mux(e1_top, e1, e2);
+    let lsb = m.mux(e0_top, e0, e12);
     let lsb = m.name(lsb, "window_lsb_exp");
 
     // step 1: the exact products
