@@ -58,9 +58,12 @@ pub fn compare(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig,
     let mag_or = m.or(mag_a, mag_b);
     let nonzero = m.any_set(mag_or);
     let both_zero = m.not(nonzero);
+    // one magnitude comparison (a carry chain) and one equality (a LUT
+    // tree): greater is neither, not a second chain
     let mag_lt = m.lt(mag_a, mag_b);
-    let mag_gt = m.gt(mag_a, mag_b);
     let mag_eq = m.eq(mag_a, mag_b);
+    let mag_lt_or_eq = m.or(mag_lt, mag_eq);
+    let mag_gt = m.not(mag_lt_or_eq);
     let same_sign = m.eq(sa, sb);
     let not_sb = m.not(sb);
     let not_sa = m.not(sa);

@@ -23,10 +23,14 @@ pub fn min_max(m: &mut ModuleBuilder, fmt: Format, a: Sig, b: Sig) -> (Sig, Sig)
     let not_sb = m.not(sb);
     let neg_pos = m.and(sa, not_sb);
     let both_pos = m.and(not_sa, not_sb);
-    let mag_le = m.le(mag_a, mag_b);
+    // one magnitude comparison (a carry chain) and one equality (a LUT
+    // tree): le and ge from them, not a second chain
+    let mag_lt = m.lt(mag_a, mag_b);
+    let mag_eq = m.eq(mag_a, mag_b);
+    let mag_le = m.or(mag_lt, mag_eq);
     let pos_le = m.and(both_pos, mag_le);
     let both_neg = m.and(sa, sb);
-    let mag_ge = m.ge(mag_a, mag_b);
+    let mag_ge = m.not(mag_lt);
     let neg_le = m.and(both_neg, mag_ge);
     let a_le_b = m.or(neg_pos, pos_le);
     let a_le_b = m.or(a_le_b, neg_le);
