@@ -41,14 +41,46 @@ pub struct TransformBench {
     id_bits: u32,
     instances: Vec<InstanceTransform>,
     rays: Vec<WorldRay>,
+    ports: Ports,
 }
 
-fn rounding(word: &str) -> RoundingMode {
-    match word {
-        "rtz" => RoundingMode::TowardZero,
-        "rup" => RoundingMode::Up,
-        "rdn" => RoundingMode::Down,
-        _ => RoundingMode::NearestEven,
+/// Where each field of a transaction goes among the unit's inputs, looked
+/// up by name in the unit's own list (`Config::input_names`), so a port
+/// added to the unit cannot shift the others.
+struct Ports {
+    /// the origin (full throughput) or the one vector (half)
+    first: [usize; 3],
+    /// the direction (full throughput)
+    dir: Option<[usize; 3]>,
+    is_origin: Option<usize>,
+    t_min: usize,
+    t_max: usize,
+    id: usize,
+    linear: [usize; 9],
+    translation: [usize; 3],
+    rotation_hint: Option<usize>,
+}
+
+impl Ports {
+    fn of(names: &[String]) -> Ports {
+        let find = |n: &str| names.iter().position(|x| x == n);
+        let at = |n: &str| {
+            find(n).unwrap_or_else(|| panic!("transform has no input `{n}` (inputs: {names:?})"))
+        };
+        let three = |g: &str| ["x", "y", "z"].map(|a| at(&format!("{g}_{a}")));
+        let full = find("ow_x").is_some();
+        let matrix = if find("r_00").is_some() { "r" } else { "rinv" };
+        Ports {
+            first: three(if full { "ow" } else { "v" }),
+            dir: full.then(|| three("dw")),
+            is_origin: find("is_origin"),
+            t_min: at("tmin_w"),
+            t_max: at("tmax_w"),
+            id: at("id_w"),
+            linear: std::array::from_fn(|k| at(&format!("{matrix}_{}{}", k / 3, k % 3))),
+            translation: three("t"),
+            rotation_hint: find("rot_hint"),
+        }
     }
 }
 
@@ -75,13 +107,27 @@ fn specials(fmt: FloatFormat) -> Vec<u64> {
 impl TransformBench {
     /// The testbench for resolved `transform` parameters.
     pub fn new(p: &Params) -> Self {
-        let fmt = FloatFormat::new(p.u32("exp_bits"), p.u32("frac_bits"))
-            .expect("the unit checked the format");
+        // the unit's one parse of the parameters, mapped onto the golden model's
+        use rtl_gen::arith::float::Rounding;
+        use rtl_gen::units::transform::{self as unit, Dot};
+        let u = unit::Config::from_params(p).expect("parameters checked by the unit");
+        let fmt =
+            FloatFormat::new(u.fmt.exp_bits, u.fmt.frac_bits).expect("format checked by the unit");
         let cfg = Config {
             fmt,
-            mode: rounding(p.word("round")),
-            dot: DotStyle::parse(p.word("dot")).expect("declared choice"),
-            source: if p.word("inverse") == "hw" {
+            mode: match u.mode {
+                Rounding::Rne => RoundingMode::NearestEven,
+                Rounding::Rtz => RoundingMode::TowardZero,
+                Rounding::Rup => RoundingMode::Up,
+                Rounding::Rdn => RoundingMode::Down,
+            },
+            dot: match u.dot {
+                Dot::Separate => DotStyle::Separate,
+                Dot::Fma => DotStyle::Fma,
+                Dot::Dot3 => DotStyle::Dot3,
+                Dot::Wide => DotStyle::Wide,
+            },
+            source: if u.hw {
                 InverseSource::Hardware
             } else {
                 InverseSource::PreInverted
@@ -89,10 +135,11 @@ impl TransformBench {
         };
         let mut bench = TransformBench {
             cfg,
-            full: p.word("throughput") == "full",
-            id_bits: p.u32("id_bits"),
+            full: u.full,
+            id_bits: u.id_bits,
             instances: Vec::new(),
             rays: Vec::new(),
+            ports: Ports::of(&u.input_names()),
         };
         bench.instances = bench.corner_instances();
         bench.rays = bench.corner_rays();
@@ -374,51 +421,55 @@ impl TransformBench {
 
     /// Packs a case in the unit's input port order.
     fn pack(&self, c: &Case, v: &mut [u64]) {
-        let mut k = 0;
-        let mut put = |x: u64| {
-            v[k] = x;
-            k += 1;
-        };
-        if self.full {
-            c.ray.origin.iter().chain(&c.ray.dir).for_each(|&x| put(x));
-        } else {
-            let vec = if c.is_origin { c.ray.origin } else { c.ray.dir };
-            vec.iter().for_each(|&x| put(x));
-            put(c.is_origin as u64);
+        let p = &self.ports;
+        let put3 =
+            |v: &mut [u64], at: &[usize; 3], x: &[u64; 3]| (0..3).for_each(|i| v[at[i]] = x[i]);
+        match p.dir {
+            Some(dir) => {
+                put3(v, &p.first, &c.ray.origin);
+                put3(v, &dir, &c.ray.dir);
+            }
+            None => put3(
+                v,
+                &p.first,
+                if c.is_origin {
+                    &c.ray.origin
+                } else {
+                    &c.ray.dir
+                },
+            ),
         }
-        put(c.ray.t_min);
-        put(c.ray.t_max);
-        put(c.ray.id & mask(self.id_bits));
-        c.inst
-            .linear
-            .iter()
-            .chain(&c.inst.translation)
-            .for_each(|&x| put(x));
-        if self.cfg.source == InverseSource::Hardware {
-            put(c.inst.rotation_hint as u64);
+        if let Some(k) = p.is_origin {
+            v[k] = c.is_origin as u64;
+        }
+        v[p.t_min] = c.ray.t_min;
+        v[p.t_max] = c.ray.t_max;
+        v[p.id] = c.ray.id & mask(self.id_bits);
+        (0..9).for_each(|k| v[p.linear[k]] = c.inst.linear[k]);
+        put3(v, &p.translation, &c.inst.translation);
+        if let Some(k) = p.rotation_hint {
+            v[k] = c.inst.rotation_hint as u64;
         }
     }
 
     /// Unpacks the input ports into a case.
     fn unpack(&self, v: &[u64]) -> Case {
-        let three = |s: &[u64]| [s[0], s[1], s[2]];
-        let (ray_vec, rest, is_origin) = if self.full {
-            ((three(&v[0..]), three(&v[3..])), &v[6..], true)
-        } else {
-            ((three(&v[0..]), three(&v[0..])), &v[4..], v[3] != 0)
-        };
+        let p = &self.ports;
+        let three = |at: &[usize; 3]| at.map(|k| v[k]);
+        let first = three(&p.first);
+        let is_origin = p.is_origin.is_none_or(|k| v[k] != 0);
         Case {
             ray: WorldRay {
-                origin: ray_vec.0,
-                dir: ray_vec.1,
-                t_min: rest[0],
-                t_max: rest[1],
-                id: rest[2],
+                origin: first,
+                dir: p.dir.map_or(first, |d| three(&d)),
+                t_min: v[p.t_min],
+                t_max: v[p.t_max],
+                id: v[p.id],
             },
             inst: InstanceTransform {
-                linear: std::array::from_fn(|k| rest[3 + k]),
-                translation: three(&rest[12..]),
-                rotation_hint: self.cfg.source == InverseSource::Hardware && rest[15] != 0,
+                linear: p.linear.map(|k| v[k]),
+                translation: three(&p.translation),
+                rotation_hint: p.rotation_hint.is_some_and(|k| v[k] != 0),
             },
             is_origin,
         }
@@ -507,11 +558,8 @@ mod tests {
                 Params::resolve("transform", rtl_gen::units::Unit::params(&spec), &given).unwrap();
             let tb = TransformBench::new(&p);
             let fmt = tb.cfg.fmt;
-            // ray part (6, or vector + is_origin), t_min, t_max, id, 9 + 3 matrix, hint
-            let n_in = if tb.full { 6 } else { 4 }
-                + 3
-                + 12
-                + (tb.cfg.source == InverseSource::Hardware) as usize;
+            let unit = rtl_gen::units::transform::Config::from_params(&p).unwrap();
+            let n_in = unit.input_names().len();
             let n_out = if tb.full { 10 } else { 7 };
             let (mut v, mut o) = (vec![0u64; n_in], vec![0u64; n_out]);
             let (mut singular, mut nan, mut inf, mut zero, mut hint) = (0, 0, 0, 0, 0);
@@ -525,7 +573,7 @@ mod tests {
                 inf += vecs.iter().any(|&x| x & !fmt.sign_bit() == fmt.inf(false)) as u64;
                 zero += (o[n_out - 1] == 0 && vecs[..3].iter().all(|&x| x & !fmt.sign_bit() == 0))
                     as u64;
-                hint += (tb.cfg.source == InverseSource::Hardware && v[n_in - 1] == 1) as u64;
+                hint += tb.ports.rotation_hint.is_some_and(|k| v[k] == 1) as u64;
             }
             let pct = |x: u64| 100.0 * x as f64 / total as f64;
             eprintln!(

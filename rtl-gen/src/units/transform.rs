@@ -198,6 +198,32 @@ impl Config {
         })
     }
 
+    /// The data inputs in port order, by name (the module's ports, its
+    /// `ports.json` and the testbench's packing come from this list): the
+    /// world origin and direction `ow_* dw_*` (full throughput) or one
+    /// vector `v_*` and `is_origin` (half); `tmin_w tmax_w id_w`; the matrix
+    /// `rinv_RC` (pre-inverted) or `r_RC` (`inverse=hw`, R, C in 0..3); the
+    /// translation `t_*`; `rot_hint` with `inverse=hw`.
+    pub fn input_names(&self) -> Vec<String> {
+        let three = |g: &str| ["x", "y", "z"].map(|a| format!("{g}_{a}"));
+        let mut names: Vec<String> = Vec::new();
+        if self.full {
+            names.extend(three("ow"));
+            names.extend(three("dw"));
+        } else {
+            names.extend(three("v"));
+            names.push("is_origin".into());
+        }
+        names.extend(["tmin_w", "tmax_w", "id_w"].map(String::from));
+        let matrix = if self.hw { "r" } else { "rinv" };
+        names.extend((0..9).map(|k| format!("{matrix}_{}{}", k / 3, k % 3)));
+        names.extend(three("t"));
+        if self.hw {
+            names.push("rot_hint".into());
+        }
+        names
+    }
+
     /// Module name, carrying every parameter.
     pub fn name(&self) -> String {
         let dot = match self.dot {
@@ -532,26 +558,32 @@ pub fn build(cfg: &Config) -> Module {
         .param("id_bits", cfg.id_bits)
         .param("stages", cfg.stages);
     let axes = ["x", "y", "z"];
+    let names = cfg.input_names();
+    let ins: Vec<Sig> = names
+        .iter()
+        .map(|n| match n.as_str() {
+            "is_origin" | "rot_hint" => m.input(n, Ty::Bool),
+            "id_w" => m.input(n, Ty::UInt(cfg.id_bits)),
+            _ => m.input(n, ty),
+        })
+        .collect();
+    let port = |name: &str| {
+        ins[names
+            .iter()
+            .position(|n| n == name)
+            .expect("declared input")]
+    };
+    let three = |g: &str| axes.map(|a| port(&format!("{g}_{a}")));
     let (vw, dw, is_origin) = if cfg.full {
-        let o = axes.map(|a| m.input(&format!("ow_{a}"), ty));
-        let d = axes.map(|a| m.input(&format!("dw_{a}"), ty));
-        (o, Some(d), None)
+        (three("ow"), Some(three("dw")), None)
     } else {
-        let v = axes.map(|a| m.input(&format!("v_{a}"), ty));
-        (v, None, Some(m.input("is_origin", Ty::Bool)))
+        (three("v"), None, Some(port("is_origin")))
     };
-    let tmin = m.input("tmin_w", ty);
-    let tmax = m.input("tmax_w", ty);
-    let id = m.input("id_w", Ty::UInt(cfg.id_bits));
+    let (tmin, tmax, id) = (port("tmin_w"), port("tmax_w"), port("id_w"));
     let prefix = if cfg.hw { "r" } else { "rinv" };
-    let lin: [Sig; 9] =
-        std::array::from_fn(|k| m.input(&format!("{prefix}_{}{}", k / 3, k % 3), ty));
-    let t = axes.map(|a| m.input(&format!("t_{a}"), ty));
-    let hint = if cfg.hw {
-        Some(m.input("rot_hint", Ty::Bool))
-    } else {
-        None
-    };
+    let lin: [Sig; 9] = std::array::from_fn(|k| port(&format!("{prefix}_{}{}", k / 3, k % 3)));
+    let t = three("t");
+    let hint = cfg.hw.then(|| port("rot_hint"));
 
     let mut bad_in = m.bool(false);
     for x in lin.iter().chain(t.iter()) {
