@@ -2,12 +2,14 @@
 //! [`super::rays`] (corner cases, then seeded random rays, a random share
 //! of them widened into bundles) in the unit's port order.
 
+use super::fstim::golden_format;
 use super::rays::{bundle_of, chance, coprime_stride, corner_cases, gen_ray, Kind, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
-use golden_model::float::FloatFormat;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
 use rtl_gen::params::Params;
+use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
+use rtl_gen::units::{input_at, input_at3};
 
 /// Vectors and golden model of one `silhouette` configuration.
 pub struct SilhouetteBench {
@@ -34,28 +36,27 @@ struct Ports {
 }
 
 impl Ports {
-    fn of(names: &[String], ray: bool) -> Ports {
-        let at = |n: &str| {
-            names
-                .iter()
-                .position(|x| x == n)
-                .unwrap_or_else(|| panic!("silhouette has no input `{n}` (inputs: {names:?})"))
-        };
-        let three = |g: &str| [0, 1, 2].map(|i| at(&format!("{g}_{}", ["x", "y", "z"][i])));
-        let has = |g: &str| names.iter().any(|x| x == &format!("{g}_x"));
-        let (o_lo, d_lo, d_hi) = match ray {
-            true => (three("o"), three("d"), three("d")),
-            false => (three("o_lo"), three("d_lo"), three("d_hi")),
+    fn of(u: &unit::Config) -> Ports {
+        let names = u.input_names();
+        let three = |g: &str| input_at3(&names, g);
+        let (o_lo, o_hi, d_lo, d_hi) = match (u.mode, u.origin) {
+            (Mode::Ray, _) => (three("o"), three("o"), three("d"), three("d")),
+            (Mode::Bundle, Origin::Shared) => {
+                (three("o_lo"), three("o_lo"), three("d_lo"), three("d_hi"))
+            }
+            (Mode::Bundle, Origin::Bounded) => {
+                (three("o_lo"), three("o_hi"), three("d_lo"), three("d_hi"))
+            }
         };
         Ports {
             p_min: three("p_min"),
             p_max: three("p_max"),
             o_lo,
-            o_hi: if has("o_hi") { three("o_hi") } else { o_lo },
+            o_hi,
             d_lo,
             d_hi,
-            t_min: at("t_min"),
-            t_max: at("t_max"),
+            t_min: input_at(&names, "t_min"),
+            t_max: input_at(&names, "t_max"),
         }
     }
 }
@@ -64,10 +65,8 @@ impl SilhouetteBench {
     /// The testbench for resolved `silhouette` parameters.
     pub fn new(p: &Params) -> Self {
         // the unit's one parse of the parameters, mapped onto the golden model's
-        use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
         let u = unit::config(p).expect("parameters checked by the unit");
-        let fmt =
-            FloatFormat::new(u.fmt.exp_bits, u.fmt.frac_bits).expect("format checked by the unit");
+        let fmt = golden_format(u.fmt);
         let origin = match u.origin {
             Origin::Bounded => OriginMode::Bounded,
             Origin::Shared => OriginMode::Shared,
@@ -86,7 +85,7 @@ impl SilhouetteBench {
             ray,
             corners,
             stride,
-            ports: Ports::of(&u.input_names(), ray),
+            ports: Ports::of(&u),
         }
     }
 

@@ -15,15 +15,18 @@
 //! random vectors it is the binary64 inverse rounded, which is as good a
 //! stimulus and much cheaper.
 
+use super::fstim::{golden_format, golden_mode};
 use super::stimulus::{mask, VectorRng};
 use super::Testbench;
-use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::float::FloatFormat;
 use golden_model::transform::accuracy::{forward, from_f64, rotation, Placement, SEED_MATRICES};
 use golden_model::transform::exact::scene_builder_inverse;
 use golden_model::transform::{
     transform, Config, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
 use rtl_gen::params::Params;
+use rtl_gen::units::transform::{self as unit, Dot};
+use rtl_gen::units::{input_at, input_at3};
 
 /// One transaction before packing into ports.
 #[derive(Debug, Clone, Copy)]
@@ -62,24 +65,20 @@ struct Ports {
 }
 
 impl Ports {
-    fn of(names: &[String]) -> Ports {
-        let find = |n: &str| names.iter().position(|x| x == n);
-        let at = |n: &str| {
-            find(n).unwrap_or_else(|| panic!("transform has no input `{n}` (inputs: {names:?})"))
-        };
-        let three = |g: &str| ["x", "y", "z"].map(|a| at(&format!("{g}_{a}")));
-        let full = find("ow_x").is_some();
-        let matrix = if find("r_00").is_some() { "r" } else { "rinv" };
+    fn of(u: &unit::Config) -> Ports {
+        let names = u.input_names();
+        let at = |n: &str| input_at(&names, n);
+        let three = |g: &str| input_at3(&names, g);
         Ports {
-            first: three(if full { "ow" } else { "v" }),
-            dir: full.then(|| three("dw")),
-            is_origin: find("is_origin"),
+            first: three(if u.full { "ow" } else { "v" }),
+            dir: u.full.then(|| three("dw")),
+            is_origin: (!u.full).then(|| at("is_origin")),
             t_min: at("tmin_w"),
             t_max: at("tmax_w"),
             id: at("id_w"),
-            linear: std::array::from_fn(|k| at(&format!("{matrix}_{}{}", k / 3, k % 3))),
+            linear: std::array::from_fn(|k| at(&u.matrix_input(k))),
             translation: three("t"),
-            rotation_hint: find("rot_hint"),
+            rotation_hint: u.hw.then(|| at("rot_hint")),
         }
     }
 }
@@ -108,19 +107,10 @@ impl TransformBench {
     /// The testbench for resolved `transform` parameters.
     pub fn new(p: &Params) -> Self {
         // the unit's one parse of the parameters, mapped onto the golden model's
-        use rtl_gen::arith::float::Rounding;
-        use rtl_gen::units::transform::{self as unit, Dot};
         let u = unit::Config::from_params(p).expect("parameters checked by the unit");
-        let fmt =
-            FloatFormat::new(u.fmt.exp_bits, u.fmt.frac_bits).expect("format checked by the unit");
         let cfg = Config {
-            fmt,
-            mode: match u.mode {
-                Rounding::Rne => RoundingMode::NearestEven,
-                Rounding::Rtz => RoundingMode::TowardZero,
-                Rounding::Rup => RoundingMode::Up,
-                Rounding::Rdn => RoundingMode::Down,
-            },
+            fmt: golden_format(u.fmt),
+            mode: golden_mode(u.mode),
             dot: match u.dot {
                 Dot::Separate => DotStyle::Separate,
                 Dot::Fma => DotStyle::Fma,
@@ -139,7 +129,7 @@ impl TransformBench {
             id_bits: u.id_bits,
             instances: Vec::new(),
             rays: Vec::new(),
-            ports: Ports::of(&u.input_names()),
+            ports: Ports::of(&u),
         };
         bench.instances = bench.corner_instances();
         bench.rays = bench.corner_rays();

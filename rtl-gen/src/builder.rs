@@ -360,8 +360,9 @@ impl ModuleBuilder {
         // a cast is written as its source: a derived source takes the name
         let mut id = value.id;
         while let Op::Cast(src) = self.nodes[id.0 as usize].op {
+            // ports and registers are named; constants keep their literal
             let source = &self.nodes[src.0 as usize];
-            if source.named || matches!(source.op, Op::Input(_) | Op::Reg(_) | Op::Const(_)) {
+            if source.named || matches!(source.op, Op::Const(_)) {
                 break;
             }
             id = src;
@@ -1065,8 +1066,6 @@ impl ModuleBuilder {
     }
 }
 
-/// A readable name made from the operation and its operands' names, cut to
-/// [`DERIVED_NAME_MAX`]; the emitter makes names unique.
 /// The short word for an operation in derived names.
 fn verb(op: &Op) -> &'static str {
     match op {

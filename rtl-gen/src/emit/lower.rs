@@ -124,7 +124,7 @@ enum Slot {
     Context(u32),
 }
 
-fn slots(m: &Module, node: &Node) -> Vec<(NodeId, Slot)> {
+fn slots(node: &Node) -> Vec<(NodeId, Slot)> {
     let w = node.ty.width();
     let ctx = Slot::Context(w);
     match node.op {
@@ -137,16 +137,9 @@ fn slots(m: &Module, node: &Node) -> Vec<(NodeId, Slot)> {
         Op::Mux(s, t, f) => vec![(s, Slot::SelfDetermined), (t, ctx), (f, ctx)],
         Op::Concat(ref parts) => parts.iter().map(|p| (*p, Slot::SelfDetermined)).collect(),
         Op::Reduce(_, a) => vec![(a, Slot::SelfDetermined)],
-        Op::Cmp(_, a, b) => {
-            // both operands are extended to the wider one's width
-            let cw = m.node(a).ty.width().max(m.node(b).ty.width());
-            let slot = |x: NodeId| match m.node(x).ty.width() == cw {
-                true => Slot::SelfDetermined,
-                false if m.node(x).ty.is_signed() => Slot::Identifier,
-                false => Slot::SelfDetermined, // zero-extended by a concatenation
-            };
-            vec![(a, slot(a)), (b, slot(b))]
-        }
+        // the operands take the wider one's width; a narrower one (unsigned:
+        // nothing signed is inlined) is zero-extended by a concatenation
+        Op::Cmp(_, a, b) => vec![(a, Slot::SelfDetermined), (b, Slot::SelfDetermined)],
     }
 }
 
@@ -212,7 +205,7 @@ fn inlined(m: &Module, lv: &Liveness, same: &[NodeId]) -> Vec<bool> {
     };
     for (i, node) in m.nodes.iter().enumerate() {
         if emitted(i) {
-            size[i] = take(slots(m, node), &mut inline, &size);
+            size[i] = take(slots(node), &mut inline, &size);
         }
     }
     for o in sinks {
@@ -262,6 +255,9 @@ struct Names {
     node: HashMap<NodeId, String>,
     reg: Vec<String>,
     instance: Vec<String>,
+    /// (instance, output port) → the wire of an output no live node reads
+    /// (an instance port still needs something to connect to)
+    dead_outputs: HashMap<(usize, usize), String>,
     /// identifiers claimed, and how many of them needed a number to be unique
     claimed: usize,
     numbered: usize,
@@ -334,6 +330,7 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
         node: HashMap::new(),
         reg: vec![],
         instance: vec![],
+        dead_outputs: HashMap::new(),
         claimed: 0,
         numbered: 0,
     };
@@ -360,6 +357,24 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
                 names.node.insert(id, n);
             }
             _ => {}
+        }
+    }
+    for (ii, inst) in m
+        .instances
+        .iter()
+        .enumerate()
+        .filter(|(ii, _)| lv.instances[*ii])
+    {
+        for (port, (p, _)) in inst.module.outputs.iter().enumerate() {
+            let live = m
+                .nodes
+                .iter()
+                .enumerate()
+                .any(|(k, n)| n.op == Op::InstOut { inst: ii, port } && lv.live[k]);
+            if !live {
+                let w = names.claim(&format!("{}_{}", names.instance[ii], p.name));
+                names.dead_outputs.insert((ii, port), w);
+            }
         }
     }
     names
@@ -556,32 +571,11 @@ impl Writer<'_> {
 pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOptions) -> VModule {
     let (lv, same) = used_values(m);
     let inline = inlined(m, &lv, &same);
-    let mut names = assign_names(m, &lv, &same, &inline);
+    let names = assign_names(m, &lv, &same, &inline);
     let sequential = m.is_sequential();
     let needs_reset = m.uses_reset();
     let has_clk = sequential || is_top;
     let has_rst = needs_reset || is_top;
-
-    // instance outputs no live node reads still need a wire to connect to
-    let mut dead_outputs: HashMap<(usize, usize), String> = HashMap::new();
-    for (ii, inst) in m
-        .instances
-        .iter()
-        .enumerate()
-        .filter(|(ii, _)| lv.instances[*ii])
-    {
-        for (port, (p, _)) in inst.module.outputs.iter().enumerate() {
-            let live = m
-                .nodes
-                .iter()
-                .enumerate()
-                .any(|(k, n)| n.op == Op::InstOut { inst: ii, port } && lv.live[k]);
-            if !live {
-                let w = names.claim(&format!("{}_{}", names.instance[ii], p.name));
-                dead_outputs.insert((ii, port), w);
-            }
-        }
-    }
 
     let writer = Writer {
         m,
@@ -718,7 +712,7 @@ pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOpti
             connections.push((p.name.clone(), r(*id)));
         }
         for (port, (p, _)) in sub.outputs.iter().enumerate() {
-            let wire = match dead_outputs.get(&(ii, port)) {
+            let wire = match names.dead_outputs.get(&(ii, port)) {
                 Some(w) => {
                     items.insert(
                         0,

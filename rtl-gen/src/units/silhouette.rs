@@ -713,14 +713,13 @@ pub fn build(cfg: &Config) -> Module {
     let bounded = cfg.bounded();
     let names = cfg.input_names();
     let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
-    let port = |name: &str| {
-        ins[names
+    let port = |name: &str| ins[super::input_at(&names, name)];
+    let vec3 = |group: &str| -> Vec<Sig> {
+        super::input_at3(&names, group)
             .iter()
-            .position(|n| n == name)
-            .expect("declared input")]
+            .map(|&k| ins[k])
+            .collect()
     };
-    let vec3 =
-        |group: &str| -> Vec<Sig> { AXES.iter().map(|a| port(&format!("{group}_{a}"))).collect() };
     let (p_min, p_max) = (vec3("p_min"), vec3("p_max"));
     let (o_lo, o_hi, d_lo, d_hi) = match (cfg.ray(), bounded) {
         (true, _) => (vec3("o"), vec3("o"), vec3("d"), vec3("d")),

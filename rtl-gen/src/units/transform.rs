@@ -215,13 +215,19 @@ impl Config {
             names.push("is_origin".into());
         }
         names.extend(["tmin_w", "tmax_w", "id_w"].map(String::from));
-        let matrix = if self.hw { "r" } else { "rinv" };
-        names.extend((0..9).map(|k| format!("{matrix}_{}{}", k / 3, k % 3)));
+        names.extend((0..9).map(|k| self.matrix_input(k)));
         names.extend(three("t"));
         if self.hw {
             names.push("rot_hint".into());
         }
         names
+    }
+
+    /// The name of matrix input `k` (row-major): `rinv_RC` pre-inverted,
+    /// `r_RC` with `inverse=hw`.
+    pub fn matrix_input(&self, k: usize) -> String {
+        let matrix = if self.hw { "r" } else { "rinv" };
+        format!("{matrix}_{}{}", k / 3, k % 3)
     }
 
     /// Module name, carrying every parameter.
@@ -567,21 +573,15 @@ pub fn build(cfg: &Config) -> Module {
             _ => m.input(n, ty),
         })
         .collect();
-    let port = |name: &str| {
-        ins[names
-            .iter()
-            .position(|n| n == name)
-            .expect("declared input")]
-    };
-    let three = |g: &str| axes.map(|a| port(&format!("{g}_{a}")));
+    let port = |name: &str| ins[super::input_at(&names, name)];
+    let three = |g: &str| super::input_at3(&names, g).map(|k| ins[k]);
     let (vw, dw, is_origin) = if cfg.full {
         (three("ow"), Some(three("dw")), None)
     } else {
         (three("v"), None, Some(port("is_origin")))
     };
     let (tmin, tmax, id) = (port("tmin_w"), port("tmax_w"), port("id_w"));
-    let prefix = if cfg.hw { "r" } else { "rinv" };
-    let lin: [Sig; 9] = std::array::from_fn(|k| port(&format!("{prefix}_{}{}", k / 3, k % 3)));
+    let lin: [Sig; 9] = std::array::from_fn(|k| port(&cfg.matrix_input(k)));
     let t = three("t");
     let hint = cfg.hw.then(|| port("rot_hint"));
 
