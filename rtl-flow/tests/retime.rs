@@ -14,36 +14,36 @@ const CASES: &[(&str, &[&str], u32, f64, f64)] = &[
         "fadd",
         &["exp_bits=8", "frac_bits=23", "stages=3"],
         3,
-        0.8,
-        1.5,
+        0.7,
+        1.7,
     ),
     (
         "fmul",
         &["exp_bits=5", "frac_bits=10", "stages=2"],
         2,
-        0.9,
-        1.6,
+        0.6,
+        1.65,
     ),
     (
         "ffma",
         &["exp_bits=8", "frac_bits=7", "stages=4"],
         4,
-        0.8,
-        1.55,
+        0.68,
+        1.7,
     ),
     (
         "silhouette",
         &["exp_bits=8", "frac_bits=7", "mode=ray", "stages=6"],
         6,
-        0.75,
-        1.3,
+        0.66,
+        1.35,
     ),
     (
         "silhouette",
         &["exp_bits=5", "frac_bits=4", "stages=3"],
         3,
-        0.9,
-        1.1,
+        0.5,
+        1.25,
     ),
     (
         "silhouette",
@@ -68,8 +68,8 @@ const CASES: &[(&str, &[&str], u32, f64, f64)] = &[
         "transform",
         &["exp_bits=8", "frac_bits=7", "stages=6"],
         6,
-        0.8,
-        1.5,
+        0.5,
+        1.7,
     ),
     ("cull", &["k=2", "stages=4"], 4, 0.9, 1.65),
     ("cull_ray", &["k=2", "stages=4"], 4, 0.9, 2.0),
@@ -117,7 +117,12 @@ fn balancing_shortens_the_modelled_period() {
 /// Registers go where values are narrow: a balanced pipeline carries at most
 /// a set multiple of the plan's flip-flops (placing them at the delay
 /// alone, before the boundaries were moved by minimum cuts, carried 1.8 to
-/// 3.9 times the plan's on these cases).
+/// 3.9 times the plan's on these cases). The rounder's stop mask (a
+/// comparison fewer after the leading-zero count; routed `fadd` binary32 at
+/// 5 stages 88.9 → 113.1 MHz) moved the modelled balanced periods by −9 to
+/// +10 % (fadd −9, ffma −6, fmul e5m10 +10, the units −3 to −4) and the
+/// register bits by up to +0.25 of the plan's: these bounds were raised by
+/// 0.05-0.2 and the period ratios above tightened to the new periods.
 #[test]
 fn balanced_registers_stay_near_the_plans() {
     for (unit, params, _, _, allowed) in CASES {

@@ -81,12 +81,15 @@ pub fn add_raw(
     let sig_big = m.mux(a_big, ua.sig, ub.sig);
     let sig_small = m.mux(a_big, ub.sig, ua.sig);
     let exp_big = m.mux(a_big, ua.eff_exp, ub.eff_exp);
-    let exp_small = m.mux(a_big, ub.eff_exp, ua.eff_exp);
     let sign_big = m.mux(a_big, ua.sign, sign_b);
     let sign_big = m.name(sign_big, "sign_big");
-    let diff = m.sub(exp_big, exp_small);
-    // non-negative: the low E bits are the difference
-    let diff = m.slice(diff, e - 1, 0);
+    // both differences beside the comparison, then a selection (not the
+    // subtraction after the selection): the non-negative one's low E bits
+    let diff_ab = m.sub(ua.eff_exp, ub.eff_exp);
+    let diff_ab = m.slice(diff_ab, e - 1, 0);
+    let diff_ba = m.sub(ub.eff_exp, ua.eff_exp);
+    let diff_ba = m.slice(diff_ba, e - 1, 0);
+    let diff = m.mux(a_big, diff_ab, diff_ba);
     let diff = m.name(diff, "exp_diff");
     let eff_sub = m.xor(ua.sign, sign_b);
     let eff_sub = m.name(eff_sub, "eff_sub");

@@ -21,11 +21,15 @@
 //! Datapath, three steps: (1) leading-zero count of `sig` and
 //! `d = exp + sw - 1 - emin`, the distance of `sig`'s top bit above the
 //! smallest normal exponent; the left shift is `min(lz, d)` (subnormal
-//! results stop at emin) and a negative `d` is a right shift with sticky;
-//! (2) the shift; (3) the increment by mode, added to `{biased exponent - 1,
-//! significand}` so that a carry out of the significand moves into the
-//! exponent (subnormal → normal, 1.11..1 → 10.0, max → infinity), then the
-//! overflow choice per mode and the specials.
+//! results stop at emin), for significands up to [`STOP_MASK_MAX_SIG`] bits
+//! counted as the leading zeros of `sig` with a one set at bit `sw - 1 - d`
+//! (a mask decoded from the exponent, which is ready first, so no comparison
+//! follows the count), for wider ones by a comparison; a negative `d` is a right
+//! shift with sticky; (2) the shift; (3) the increment by mode, added to
+//! `{biased exponent - 1, significand}` so that a carry out of the
+//! significand moves into the exponent (subnormal → normal, 1.11..1 → 10.0,
+//! max → infinity), then the overflow choice per mode (the exponent field
+//! all ones or a carry above it: bit tests) and the specials.
 
 use super::bits::{add_const, lzc, lzc_width, shr_sticky, to_sint};
 use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
@@ -34,6 +38,15 @@ use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
+
+/// The widest significand whose left shift is limited by a stop mask (a
+/// one at bit `sw - 1 - d`, decoded from the exponent) rather than by a
+/// comparison after the leading-zero count. The mask takes the comparison
+/// off the count → shift path (`fadd` binary32 at 5 stages: 88.9 → 113.1
+/// MHz routed on the ECP5-85F) but costs a decoder as wide as the
+/// significand: for a binary32 product's 48 bits +20 % xc7 LUTs, so wide
+/// significands keep the comparison.
+pub const STOP_MASK_MAX_SIG: u32 = 32;
 
 /// A raw result in the current module, to be rounded by [`round`].
 #[derive(Debug, Clone, Copy)]
@@ -213,31 +226,52 @@ fn shift_to_grid(m: &mut ModuleBuilder, fmt: Format, exp: Sig, sig: Sig, plan: &
     let offset = sw as i64 - 1 - fmt.emin();
     let (d_lo, d_hi) = (-half + offset, half - 1 + offset);
     let dw = sint_width(d_lo.min(-1), d_hi.max(1i64 << cw)) + 1;
-    let lz = lzc(m, sig);
     let exp_w = to_sint(m, exp, dw);
     let off = m.sint(dw, offset as i128);
     let d = m.add(exp_w, off);
     let d = super::bits::to_sint(m, d, dw);
     let d = m.name(d, "d");
-    let lz_s = to_sint(m, lz, dw);
     let d_neg = m.msb(d);
-    let d_lt_lz = m.lt(d, lz_s);
     let d_bits = m.as_uint(d);
     let d_small = m.slice(d_bits, cw - 1, 0);
-    let zero_cw = m.uint(cw, 0);
-    let lshift_sub = m.mux(d_neg, zero_cw, d_small);
-    let lshift = m.mux(d_lt_lz, lshift_sub, lz);
+    let bw = (dw - 1).max(1);
+    let base0 = m.uint(bw, 0);
+    let (lshift, base) = if sw <= STOP_MASK_MAX_SIG {
+        // min(lz, d) without a comparison after the count: for 0 <= d < sw
+        // a one at bit sw-1-d stops the count at d. The mask depends on
+        // the exponent alone, which is ready before the significand.
+        let d_high = m.slice(d_bits, dw - 1, cw);
+        let d_high_any = m.any_set(d_high);
+        let top_one = m.uint(sw, 1u128 << (sw - 1));
+        let stop = m.shr(top_one, d_small);
+        let no_stop = m.uint(sw, 0);
+        let stop = m.mux(d_high_any, no_stop, stop);
+        let stop = m.name(stop, "lzc_stop");
+        let counted = m.or(sig, stop);
+        let lshift = lzc(m, counted);
+        // d - min(lz, d): 0 for a subnormal result, and for a negative d
+        let lshift_s = to_sint(m, lshift, dw);
+        let base = m.sub(d, lshift_s);
+        let base = m.slice(base, bw - 1, 0);
+        (lshift, m.mux(d_neg, base0, base))
+    } else {
+        // min(lz, d) by a comparison after the count
+        let lz = lzc(m, sig);
+        let lz_s = to_sint(m, lz, dw);
+        let d_lt_lz = m.lt(d, lz_s);
+        let zero_cw = m.uint(cw, 0);
+        let lshift_sub = m.mux(d_neg, zero_cw, d_small);
+        let lshift = m.mux(d_lt_lz, lshift_sub, lz);
+        let base = m.sub(d, lz_s);
+        let base = m.slice(base, bw - 1, 0);
+        (lshift, m.mux(d_lt_lz, base0, base))
+    };
     let lshift = m.name(lshift, "lshift");
+    let base = m.name(base, "exp_base");
     let zero_d = m.sint(dw, 0);
     let neg_d = m.sub(zero_d, d);
     let rshift = m.slice(neg_d, dw - 1, 0);
     let rshift = m.name(rshift, "rshift");
-    let base = m.sub(d, lz_s);
-    let bw = (dw - 1).max(1);
-    let base = m.slice(base, bw - 1, 0);
-    let base0 = m.uint(bw, 0);
-    let base = m.mux(d_lt_lz, base0, base);
-    let base = m.name(base, "exp_base");
     let sig_any = m.any_set(sig);
     let sig_zero = m.not(sig_any);
     for _ in 0..plan[0] {
@@ -302,8 +336,13 @@ fn round_and_pack(
     let packed = m.add(packed, inc_w);
     let packed = zext(m, packed, pw);
     let packed = m.name(packed, "packed_mag");
-    let inf_code = m.uint(pw, fmt.inf_bits());
-    let ovf = m.ge(packed, inf_code);
+    // packed >= the infinity's code: an exponent field of all ones or a carry
+    // above it (bit tests, not a comparison after the addition)
+    let exp_field = m.slice(packed, e + f - 1, f);
+    let exp_all_ones = m.all_ones(exp_field);
+    let above = m.slice(packed, pw - 1, e + f);
+    let carried = m.any_set(above);
+    let ovf = m.or(exp_all_ones, carried);
     let ovf = m.name(ovf, "overflow");
     let mag_w = e + f;
     let inf_mag = m.uint(mag_w, fmt.inf_bits());
