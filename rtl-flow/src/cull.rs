@@ -29,12 +29,14 @@ use golden_model::cull::tester::{
 };
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
 use rtl_gen::params::Params;
-use rtl_gen::units::cull::{Config as UnitConfig, TermField};
+use rtl_gen::units::cull::{ChildPorts, Config as UnitConfig, TermField};
 
 /// Testbench of one `cull` configuration.
 pub struct CullBench {
     cfg: Config,
     unit: UnitConfig,
+    /// the unit's ports, by name
+    at: ChildPorts,
 }
 
 /// `n·(p − r)` in binary64 (the stimulus needs distances near the points,
@@ -72,23 +74,23 @@ impl CullBench {
     /// The testbench for resolved `cull` parameters.
     pub fn new(p: &Params) -> Self {
         let (cfg, unit) = configs(p);
-        CullBench { cfg, unit }
+        let at = unit.child_ports();
+        CullBench { cfg, unit, at }
     }
 
     /// The golden model's input from port values.
     pub fn unpack(&self, v: &[u64]) -> ChildIn {
-        let u = &self.unit;
-        let k = self.cfg.k;
+        let at = &self.at;
         ChildIn {
-            t_lo: v[u.child_t_lo()],
-            t_hi: v[u.child_t_hi()],
-            w: (0..k).map(|j| v[u.child_w(j)]).collect(),
-            terms: (0..k)
+            t_lo: v[at.t_lo],
+            t_hi: v[at.t_hi],
+            w: at.w.iter().map(|&i| v[i]).collect(),
+            terms: (0..self.cfg.k)
                 .map(|j| NormalTerm {
-                    no_lo: v[u.child_term(j, TermField::NoLo)],
-                    rcp_lo: v[u.child_term(j, TermField::RcpLo)],
-                    rcp_hi: v[u.child_term(j, TermField::RcpHi)],
-                    dir: Crossing::from_code(v[u.child_term(j, TermField::Dir)]),
+                    no_lo: v[at.term(j, TermField::NoLo)],
+                    rcp_lo: v[at.term(j, TermField::RcpLo)],
+                    rcp_hi: v[at.term(j, TermField::RcpHi)],
+                    dir: Crossing::from_code(v[at.term(j, TermField::Dir)]),
                 })
                 .collect(),
         }
@@ -98,19 +100,19 @@ impl CullBench {
     /// `eval_parts`), each value masked to its port; distances and terms
     /// beyond the slices' lengths read as 0, as in the golden model.
     pub fn to_ports(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm], v: &mut [u64]) {
-        let u = &self.unit;
+        let at = &self.at;
         let fm = self.cfg.ray.mask();
         let pm = self.cfg.plane.mask();
         let cm = self.cfg.crossing().mask();
-        v[u.child_t_lo()] = t_lo & fm;
-        v[u.child_t_hi()] = t_hi & fm;
+        v[at.t_lo] = t_lo & fm;
+        v[at.t_hi] = t_hi & fm;
         for j in 0..self.cfg.k {
-            v[u.child_w(j)] = w.get(j).copied().unwrap_or(0) & pm;
+            v[at.w[j]] = w.get(j).copied().unwrap_or(0) & pm;
             let t = terms.get(j).copied().unwrap_or_default();
-            v[u.child_term(j, TermField::NoLo)] = t.no_lo & fm;
-            v[u.child_term(j, TermField::RcpLo)] = t.rcp_lo & cm;
-            v[u.child_term(j, TermField::RcpHi)] = t.rcp_hi & cm;
-            v[u.child_term(j, TermField::Dir)] = t.dir.code();
+            v[at.term(j, TermField::NoLo)] = t.no_lo & fm;
+            v[at.term(j, TermField::RcpLo)] = t.rcp_lo & cm;
+            v[at.term(j, TermField::RcpHi)] = t.rcp_hi & cm;
+            v[at.term(j, TermField::Dir)] = t.dir.code();
         }
     }
 
@@ -129,7 +131,7 @@ impl CullBench {
     fn pack(&self, x: &ChildIn, dir_codes: &[u64], v: &mut [u64]) {
         self.to_ports(x.t_lo, x.t_hi, &x.w, &x.terms, v);
         for (j, code) in dir_codes.iter().enumerate().take(self.cfg.k) {
-            v[self.unit.child_term(j, TermField::Dir)] = code & 3;
+            v[self.at.term(j, TermField::Dir)] = code & 3;
         }
     }
 

@@ -21,7 +21,7 @@ use super::Testbench;
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
 use rtl_gen::params::Params;
-use rtl_gen::units::cull::{Config as UnitConfig, TermField};
+use rtl_gen::units::cull::{Config as UnitConfig, RayPorts, TermField};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -272,25 +272,26 @@ pub(super) fn parallel(
 pub struct CullRayBench {
     cfg: Config,
     unit: UnitConfig,
+    /// the unit's ports, by name
+    at: RayPorts,
 }
 
 impl CullRayBench {
     /// The testbench for resolved `cull_ray` parameters.
     pub fn new(p: &Params) -> Self {
         let (cfg, unit) = configs(p);
-        CullRayBench { cfg, unit }
+        let at = unit.ray_ports();
+        CullRayBench { cfg, unit, at }
     }
 
     /// The golden model's input from port values.
     pub fn unpack(&self, v: &[u64]) -> RayIn {
-        let u = &self.unit;
+        let at = &self.at;
         RayIn {
-            o: [0, 1, 2].map(|i| v[u.ray_o(i)]),
-            d: [0, 1, 2].map(|i| v[u.ray_d(i)]),
-            r: [0, 1, 2].map(|i| v[u.ray_r(i)]),
-            normals: (0..self.cfg.k)
-                .map(|j| [0, 1, 2].map(|i| v[u.ray_n(j, i)]))
-                .collect(),
+            o: at.o.map(|i| v[i]),
+            d: at.d.map(|i| v[i]),
+            r: at.r.map(|i| v[i]),
+            normals: at.n.iter().map(|n| n.map(|i| v[i])).collect(),
         }
     }
 
@@ -309,27 +310,27 @@ impl CullRayBench {
         normals: &[[u64; 3]],
         v: &mut [u64],
     ) {
-        let u = &self.unit;
+        let at = &self.at;
         let (fm, pm) = (self.cfg.ray.mask(), self.cfg.plane.mask());
         for i in 0..3 {
-            v[u.ray_o(i)] = o[i] & fm;
-            v[u.ray_d(i)] = d[i] & fm;
-            v[u.ray_r(i)] = r[i] & fm;
-            for j in 0..self.cfg.k {
-                v[u.ray_n(j, i)] = normals.get(j).map_or(0, |n| n[i]) & pm;
+            v[at.o[i]] = o[i] & fm;
+            v[at.d[i]] = d[i] & fm;
+            v[at.r[i]] = r[i] & fm;
+            for (j, n) in at.n.iter().enumerate() {
+                v[n[i]] = normals.get(j).map_or(0, |n| n[i]) & pm;
             }
         }
     }
 
     /// The per-normal terms of the output ports (the first `k` of `terms`).
     pub fn terms_from_ports(&self, out: &[u64], terms: &mut [NormalTerm]) {
-        let u = &self.unit;
+        let at = &self.at;
         for (j, t) in terms.iter_mut().enumerate().take(self.cfg.k) {
             *t = NormalTerm {
-                no_lo: out[u.ray_term(j, TermField::NoLo)],
-                rcp_lo: out[u.ray_term(j, TermField::RcpLo)],
-                rcp_hi: out[u.ray_term(j, TermField::RcpHi)],
-                dir: Crossing::from_code(out[u.ray_term(j, TermField::Dir)]),
+                no_lo: out[at.term(j, TermField::NoLo)],
+                rcp_lo: out[at.term(j, TermField::RcpLo)],
+                rcp_hi: out[at.term(j, TermField::RcpHi)],
+                dir: Crossing::from_code(out[at.term(j, TermField::Dir)]),
             };
         }
     }
@@ -343,12 +344,12 @@ impl CullRayBench {
 impl sim::Golden for CullRayBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let t = ray_terms(&self.cfg, &self.unpack(inputs));
-        let u = &self.unit;
+        let at = &self.at;
         for (j, term) in t.terms.iter().enumerate() {
-            outputs[u.ray_term(j, TermField::NoLo)] = term.no_lo;
-            outputs[u.ray_term(j, TermField::RcpLo)] = term.rcp_lo;
-            outputs[u.ray_term(j, TermField::RcpHi)] = term.rcp_hi;
-            outputs[u.ray_term(j, TermField::Dir)] = term.dir.code();
+            outputs[at.term(j, TermField::NoLo)] = term.no_lo;
+            outputs[at.term(j, TermField::RcpLo)] = term.rcp_lo;
+            outputs[at.term(j, TermField::RcpHi)] = term.rcp_hi;
+            outputs[at.term(j, TermField::Dir)] = term.dir.code();
         }
     }
 }

@@ -14,12 +14,50 @@ use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
 use rtl_gen::params::Params;
+use rtl_gen::units::slab::{input_names, OUTPUT_NAMES};
+use rtl_gen::units::{input_at, input_at3};
 
 /// Vectors and golden model of one `slab` configuration.
 pub struct SlabBench {
     fmt: FloatFormat,
     conservative: bool,
     corners: Vec<SlabIn>,
+    ports: Ports,
+}
+
+/// Where each field of a [`SlabIn`] and [`SlabOut`] goes among the unit's
+/// ports, looked up by name in the unit's own lists.
+struct Ports {
+    p_min: [usize; 3],
+    p_max: [usize; 3],
+    o: [usize; 3],
+    inv_d: [usize; 3],
+    t_min: usize,
+    t_max: usize,
+    hit: usize,
+    t_enter: usize,
+    t_exit: usize,
+}
+
+impl Ports {
+    fn new() -> Ports {
+        let names = input_names();
+        let out = |name: &str| {
+            let outs = OUTPUT_NAMES.map(String::from);
+            input_at(&outs, name)
+        };
+        Ports {
+            p_min: input_at3(&names, "p_min"),
+            p_max: input_at3(&names, "p_max"),
+            o: input_at3(&names, "o"),
+            inv_d: input_at3(&names, "inv_d"),
+            t_min: input_at(&names, "t_min"),
+            t_max: input_at(&names, "t_max"),
+            hit: out("hit"),
+            t_enter: out("t_enter"),
+            t_exit: out("t_exit"),
+        }
+    }
 }
 
 /// `1/d` in `fmt` (±∞ for ±0, NaN for NaN).
@@ -57,6 +95,7 @@ impl SlabBench {
             fmt,
             conservative,
             corners,
+            ports: Ports::new(),
         }
     }
 
@@ -109,31 +148,35 @@ impl SlabBench {
 
 impl sim::Golden for SlabBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
+        let at = &self.ports;
+        let three = |k: [usize; 3]| k.map(|i| v[i]);
         let x = SlabIn {
-            p_min: three(0),
-            p_max: three(3),
-            o: three(6),
-            inv_d: three(9),
-            t_min: v[12],
-            t_max: v[13],
+            p_min: three(at.p_min),
+            p_max: three(at.p_max),
+            o: three(at.o),
+            inv_d: three(at.inv_d),
+            t_min: v[at.t_min],
+            t_max: v[at.t_max],
         };
         let out = self.golden(&x);
-        outputs[0] = out.hit as u64;
-        outputs[1] = out.t_enter;
-        outputs[2] = out.t_exit;
+        outputs[at.hit] = out.hit as u64;
+        outputs[at.t_enter] = out.t_enter;
+        outputs[at.t_exit] = out.t_exit;
     }
 }
 
 impl sim::Stimulus for SlabBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
         let x = self.case(seed, index);
-        v[0..3].copy_from_slice(&x.p_min);
-        v[3..6].copy_from_slice(&x.p_max);
-        v[6..9].copy_from_slice(&x.o);
-        v[9..12].copy_from_slice(&x.inv_d);
-        v[12] = x.t_min;
-        v[13] = x.t_max;
+        let at = &self.ports;
+        for i in 0..3 {
+            v[at.p_min[i]] = x.p_min[i];
+            v[at.p_max[i]] = x.p_max[i];
+            v[at.o[i]] = x.o[i];
+            v[at.inv_d[i]] = x.inv_d[i];
+        }
+        v[at.t_min] = x.t_min;
+        v[at.t_max] = x.t_max;
     }
 }
 

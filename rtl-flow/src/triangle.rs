@@ -16,7 +16,9 @@ use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
 use rtl_gen::params::Params;
-use rtl_gen::units::triangle::config;
+use rtl_gen::units::triangle::{config, input_names, output_names};
+use rtl_gen::units::{input_at, input_at3};
+use std::sync::LazyLock;
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
@@ -139,8 +141,8 @@ impl TriangleBench {
                 let value = specials[r.below(specials.len() as u64) as usize];
                 let slot = r.below(INPUTS as u64) as usize;
                 let mut flat = to_vector(&x);
-                if slot == 3 {
-                    flat[3] = r.below(4);
+                if slot == PORTS.kz {
+                    flat[slot] = r.below(4);
                 } else {
                     flat[slot] = value;
                 }
@@ -149,7 +151,7 @@ impl TriangleBench {
             4 if r.below(8) == 0 => {
                 let mut flat = [0u64; INPUTS];
                 for (k, f) in flat.iter_mut().enumerate() {
-                    *f = if k == 3 {
+                    *f = if k == PORTS.kz {
                         r.below(4)
                     } else {
                         r.bits(fmt.width())
@@ -163,43 +165,91 @@ impl TriangleBench {
     }
 }
 
+/// Where each field of a [`TriIn`] and [`TriOut`] goes among the unit's
+/// ports, looked up by name in the unit's own lists (`t`, `u`, `v` exist
+/// with `outputs=full` only).
+struct Ports {
+    o: [usize; 3],
+    kz: usize,
+    s: [usize; 3],
+    a: [usize; 3],
+    b: [usize; 3],
+    c: [usize; 3],
+    t_min: usize,
+    t_max: usize,
+    hit: usize,
+    invalid: usize,
+    t: usize,
+    u: usize,
+    v: usize,
+}
+
+static PORTS: LazyLock<Ports> = LazyLock::new(|| {
+    let names = input_names();
+    assert_eq!(names.len(), INPUTS, "triangle inputs");
+    let outs: Vec<String> = output_names(true).iter().map(|n| n.to_string()).collect();
+    let i = |n: &str| input_at(&names, n);
+    let i3 = |g: &str| input_at3(&names, g);
+    let o = |n: &str| input_at(&outs, n);
+    Ports {
+        o: i3("o"),
+        kz: i("kz"),
+        s: i3("s"),
+        a: i3("a"),
+        b: i3("b"),
+        c: i3("c"),
+        t_min: i("t_min"),
+        t_max: i("t_max"),
+        hit: o("hit"),
+        invalid: o("invalid"),
+        t: o("t"),
+        u: o("u"),
+        v: o("v"),
+    }
+});
+
 /// The ports' values in port order.
 pub fn to_vector(x: &TriIn) -> [u64; INPUTS] {
+    let at = &*PORTS;
     let mut v = [0u64; INPUTS];
-    v[0..3].copy_from_slice(&x.o);
-    v[3] = x.kz as u64;
-    v[4..7].copy_from_slice(&x.s);
-    v[7..10].copy_from_slice(&x.a);
-    v[10..13].copy_from_slice(&x.b);
-    v[13..16].copy_from_slice(&x.c);
-    v[16] = x.t_min;
-    v[17] = x.t_max;
+    for i in 0..3 {
+        v[at.o[i]] = x.o[i];
+        v[at.s[i]] = x.s[i];
+        v[at.a[i]] = x.a[i];
+        v[at.b[i]] = x.b[i];
+        v[at.c[i]] = x.c[i];
+    }
+    v[at.kz] = x.kz as u64;
+    v[at.t_min] = x.t_min;
+    v[at.t_max] = x.t_max;
     v
 }
 
 /// The transaction of the ports' values.
 pub fn from_vector(v: &[u64]) -> TriIn {
-    let three = |k: usize| [v[k], v[k + 1], v[k + 2]];
+    let at = &*PORTS;
+    let three = |k: [usize; 3]| k.map(|i| v[i]);
     TriIn {
-        o: three(0),
-        kz: (v[3] & 3) as u32,
-        s: three(4),
-        a: three(7),
-        b: three(10),
-        c: three(13),
-        t_min: v[16],
-        t_max: v[17],
+        o: three(at.o),
+        kz: (v[at.kz] & 3) as u32,
+        s: three(at.s),
+        a: three(at.a),
+        b: three(at.b),
+        c: three(at.c),
+        t_min: v[at.t_min],
+        t_max: v[at.t_max],
     }
 }
 
 /// The result of a full-output unit's output ports.
 pub fn from_outputs(out: &[u64]) -> TriOut {
+    let at = &*PORTS;
     TriOut {
-        hit: out[0] & 1 != 0,
-        invalid: out[1] & 1 != 0,
-        t: out[2],
-        u: out[3],
-        v: out[4],
+        hit: out[at.hit] & 1 != 0,
+        invalid: out[at.invalid] & 1 != 0,
+        t: out[at.t],
+        u: out[at.u],
+        v: out[at.v],
     }
 }
 
@@ -221,12 +271,13 @@ impl TriangleBench {
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
         let out = eval_with(self.fmt, self.mode, &from_vector(v));
-        outputs[0] = out.hit as u64;
-        outputs[1] = out.invalid as u64;
+        let at = &*PORTS;
+        outputs[at.hit] = out.hit as u64;
+        outputs[at.invalid] = out.invalid as u64;
         if self.full {
-            outputs[2] = out.t;
-            outputs[3] = out.u;
-            outputs[4] = out.v;
+            outputs[at.t] = out.t;
+            outputs[at.u] = out.u;
+            outputs[at.v] = out.v;
         }
     }
 }

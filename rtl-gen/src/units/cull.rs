@@ -42,7 +42,7 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::Unit;
+use super::{input_at, input_at3, Unit};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
 use crate::arith::float::convert::convert_module;
@@ -163,6 +163,61 @@ pub const AXES: [&str; 3] = ["x", "y", "z"];
 /// checked by the flow.
 pub const CROSSING_GUARD_BITS: u32 = 8;
 
+/// The positions of the `cull` unit's inputs, looked up by name (see
+/// [`Config::child_ports`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChildPorts {
+    /// the box interval's entry `t_lo`
+    pub t_lo: usize,
+    /// the box interval's exit `t_hi`
+    pub t_hi: usize,
+    /// `w<j>`
+    pub w: Vec<usize>,
+    /// per normal, each [`TermField`]'s input
+    pub terms: Vec<[usize; 4]>,
+}
+
+/// The positions of the `cull_ray` unit's inputs and outputs, looked up by
+/// name (see [`Config::ray_ports`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RayPorts {
+    /// origin `o_*`
+    pub o: [usize; 3],
+    /// direction `d_*`
+    pub d: [usize; 3],
+    /// the parent box's lower corner `r_*`
+    pub r: [usize; 3],
+    /// `n<j>_*`
+    pub n: Vec<[usize; 3]>,
+    /// per normal, each [`TermField`]'s output
+    pub terms: Vec<[usize; 4]>,
+}
+
+impl ChildPorts {
+    /// The input of field `t` of plane `j`.
+    pub fn term(&self, j: usize, t: TermField) -> usize {
+        self.terms[j][t as usize]
+    }
+}
+
+impl RayPorts {
+    /// The output of field `t` of normal `j`.
+    pub fn term(&self, j: usize, t: TermField) -> usize {
+        self.terms[j][t as usize]
+    }
+}
+
+fn port_names(ports: &[(String, u32)]) -> Vec<String> {
+    ports.iter().map(|(n, _)| n.clone()).collect()
+}
+
+/// Per normal `j < k`, the positions of its [`TermField`] ports.
+fn term_ports(names: &[String], k: usize) -> Vec<[usize; 4]> {
+    (0..k)
+        .map(|j| TermField::ALL.map(|t| input_at(names, &t.port(j))))
+        .collect()
+}
+
 impl Config {
     /// The crossing format `(E, min(F, Fp + CROSSING_GUARD_BITS))`: `b_lo`
     /// and the reciprocals.
@@ -203,23 +258,6 @@ impl Config {
             .param("stages", self.stages);
     }
 
-    /// `cull` input index of `t_lo`.
-    pub fn child_t_lo(&self) -> usize {
-        0
-    }
-    /// `cull` input index of `t_hi`.
-    pub fn child_t_hi(&self) -> usize {
-        1
-    }
-    /// `cull` input index of `w<j>`.
-    pub fn child_w(&self, j: usize) -> usize {
-        2 + j
-    }
-    /// `cull` input index of field `t` of plane `j`.
-    pub fn child_term(&self, j: usize, t: TermField) -> usize {
-        2 + self.k as usize + 4 * j + t as usize
-    }
-
     /// The `cull` data inputs (name, width), in port order: `t_lo`, `t_hi`,
     /// `w<j>` for every j, then per j the [`TermField`]s.
     pub fn child_inputs(&self) -> Vec<(String, u32)> {
@@ -233,27 +271,6 @@ impl Config {
             v.extend(TermField::ALL.map(|t| (t.port(j), self.term_width(t))));
         }
         v
-    }
-
-    /// `cull_ray` input index of `o_<axis i>`.
-    pub fn ray_o(&self, i: usize) -> usize {
-        i
-    }
-    /// `cull_ray` input index of `d_<axis i>`.
-    pub fn ray_d(&self, i: usize) -> usize {
-        3 + i
-    }
-    /// `cull_ray` input index of `r_<axis i>`.
-    pub fn ray_r(&self, i: usize) -> usize {
-        6 + i
-    }
-    /// `cull_ray` input index of `n<j>_<axis i>`.
-    pub fn ray_n(&self, j: usize, i: usize) -> usize {
-        9 + 3 * j + i
-    }
-    /// `cull_ray` output index of field `t` of normal `j`.
-    pub fn ray_term(&self, j: usize, t: TermField) -> usize {
-        4 * j + t as usize
     }
 
     /// The `cull_ray` data inputs (name, width), in port order: `o_*`,
@@ -275,6 +292,34 @@ impl Config {
         (0..self.k as usize)
             .flat_map(|j| TermField::ALL.map(|t| (t.port(j), self.term_width(t))))
             .collect()
+    }
+
+    /// Where each `cull` input is among [`Config::child_inputs`], by name.
+    pub fn child_ports(&self) -> ChildPorts {
+        let names = port_names(&self.child_inputs());
+        let k = self.k as usize;
+        ChildPorts {
+            t_lo: input_at(&names, "t_lo"),
+            t_hi: input_at(&names, "t_hi"),
+            w: (0..k).map(|j| input_at(&names, &format!("w{j}"))).collect(),
+            terms: term_ports(&names, k),
+        }
+    }
+
+    /// Where each `cull_ray` input is among [`Config::ray_inputs`] and each
+    /// output among [`Config::ray_outputs`], by name.
+    pub fn ray_ports(&self) -> RayPorts {
+        let names = port_names(&self.ray_inputs());
+        let k = self.k as usize;
+        RayPorts {
+            o: input_at3(&names, "o"),
+            d: input_at3(&names, "d"),
+            r: input_at3(&names, "r"),
+            n: (0..k)
+                .map(|j| input_at3(&names, &format!("n{j}")))
+                .collect(),
+            terms: term_ports(&port_names(&self.ray_outputs()), k),
+        }
     }
 }
 
@@ -631,10 +676,11 @@ pub fn build(cfg: &Config) -> Module {
         .iter()
         .map(|(name, w)| m.input(name, Ty::UInt(*w)))
         .collect();
-    let t_lo = ports[cfg.child_t_lo()];
-    let t_hi = ports[cfg.child_t_hi()];
-    let w: Vec<Sig> = (0..k).map(|j| ports[cfg.child_w(j)]).collect();
-    let term = |j: usize, t: TermField| ports[cfg.child_term(j, t)];
+    let at = cfg.child_ports();
+    let t_lo = ports[at.t_lo];
+    let t_hi = ports[at.t_hi];
+    let w: Vec<Sig> = at.w.iter().map(|&i| ports[i]).collect();
+    let term = |j: usize, t: TermField| ports[at.term(j, t)];
 
     // Step 1: classify.
     let mut bad = vec![is_nan(&mut m, f, t_lo), is_nan(&mut m, f, t_hi)];
@@ -791,35 +837,27 @@ mod tests {
     }
 
     #[test]
-    fn layout_indices_name_the_ports() {
+    fn ports_by_name_cover_every_port_once() {
         for k in 1..=8 {
             let c = cfg(k);
-            let ins = c.child_inputs();
-            assert_eq!(ins.len(), 2 + 5 * k as usize);
-            assert_eq!(ins[c.child_t_lo()].0, "t_lo");
-            assert_eq!(ins[c.child_t_hi()].0, "t_hi");
-            for j in 0..k as usize {
-                assert_eq!(ins[c.child_w(j)].0, format!("w{j}"));
-                for t in TermField::ALL {
-                    assert_eq!(ins[c.child_term(j, t)].0, t.port(j));
-                }
-            }
-            let ri = c.ray_inputs();
-            assert_eq!(ri.len(), 9 + 3 * k as usize);
-            for (i, a) in AXES.iter().enumerate() {
-                assert_eq!(ri[c.ray_o(i)].0, format!("o_{a}"));
-                assert_eq!(ri[c.ray_d(i)].0, format!("d_{a}"));
-                assert_eq!(ri[c.ray_r(i)].0, format!("r_{a}"));
-                for j in 0..k as usize {
-                    assert_eq!(ri[c.ray_n(j, i)].0, format!("n{j}_{a}"));
-                }
-            }
-            let ro = c.ray_outputs();
-            for j in 0..k as usize {
-                for t in TermField::ALL {
-                    assert_eq!(ro[c.ray_term(j, t)].0, t.port(j));
-                }
-            }
+            let at = c.child_ports();
+            let mut seen: Vec<usize> = [at.t_lo, at.t_hi].into();
+            seen.extend(&at.w);
+            seen.extend(at.terms.iter().flatten());
+            seen.sort_unstable();
+            assert_eq!(seen, (0..c.child_inputs().len()).collect::<Vec<_>>());
+            assert_eq!(
+                c.child_inputs()[at.term(k as usize - 1, TermField::Dir)].0,
+                format!("dir{}", k - 1)
+            );
+            let at = c.ray_ports();
+            let mut seen: Vec<usize> = at.o.into_iter().chain(at.d).chain(at.r).collect();
+            seen.extend(at.n.iter().flatten());
+            seen.sort_unstable();
+            assert_eq!(seen, (0..c.ray_inputs().len()).collect::<Vec<_>>());
+            let mut outs: Vec<usize> = at.terms.iter().flatten().copied().collect();
+            outs.sort_unstable();
+            assert_eq!(outs, (0..c.ray_outputs().len()).collect::<Vec<_>>());
         }
     }
 

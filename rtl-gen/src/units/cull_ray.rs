@@ -109,12 +109,11 @@ pub fn build(cfg: &Config) -> Module {
         .iter()
         .map(|(name, w)| m.input(name, Ty::UInt(*w)))
         .collect();
-    let o: Vec<Sig> = (0..3).map(|i| ports[cfg.ray_o(i)]).collect();
-    let d: [Sig; 3] = [0, 1, 2].map(|i| ports[cfg.ray_d(i)]);
-    let r: Vec<Sig> = (0..3).map(|i| ports[cfg.ray_r(i)]).collect();
-    let n: Vec<[Sig; 3]> = (0..k)
-        .map(|j| [0, 1, 2].map(|i| ports[cfg.ray_n(j, i)]))
-        .collect();
+    let at = cfg.ray_ports();
+    let o: Vec<Sig> = at.o.iter().map(|&i| ports[i]).collect();
+    let d: [Sig; 3] = at.d.map(|i| ports[i]);
+    let r: Vec<Sig> = at.r.iter().map(|&i| ports[i]).collect();
+    let n: Vec<[Sig; 3]> = at.n.iter().map(|v| v.map(|i| ports[i])).collect();
     let ax = super::cull::AXES;
 
     // Step 1: classify; u = o − r down and up.

@@ -29,7 +29,7 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::Unit;
+use super::{input_at, input_at3, Unit};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
@@ -132,6 +132,20 @@ impl StagePlan {
 }
 
 const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The data inputs in port order, by name: `p_min_* p_max_* o_* inv_d_*
+/// t_min t_max` (`*` = x, y, z); the module and the testbench both read it.
+pub fn input_names() -> Vec<String> {
+    let mut names: Vec<String> = ["p_min", "p_max", "o", "inv_d"]
+        .iter()
+        .flat_map(|g| AXES.iter().map(move |a| format!("{g}_{a}")))
+        .collect();
+    names.extend(["t_min".to_string(), "t_max".to_string()]);
+    names
+}
+
+/// The data outputs in port order.
+pub const OUTPUT_NAMES: [&str; 3] = ["hit", "t_enter", "t_exit"];
 
 /// Module name of the per-axis block.
 pub fn slab_axis_name(fmt: Format, diff: u32, product: u32) -> String {
@@ -321,17 +335,13 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
         )
         .param("stages", stages);
     let ty = Ty::UInt(fmt.width());
-    let vec3 = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
-        AXES.iter()
-            .map(|a| m.input(&format!("{name}_{a}"), ty))
-            .collect()
-    };
-    let p_min = vec3(&mut m, "p_min");
-    let p_max = vec3(&mut m, "p_max");
-    let o = vec3(&mut m, "o");
-    let inv_d = vec3(&mut m, "inv_d");
-    let t_min = m.input("t_min", ty);
-    let t_max = m.input("t_max", ty);
+    let names = input_names();
+    let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
+    let vec3 =
+        |group: &str| -> Vec<Sig> { input_at3(&names, group).iter().map(|&k| ins[k]).collect() };
+    let (p_min, p_max, o, inv_d) = (vec3("p_min"), vec3("p_max"), vec3("o"), vec3("inv_d"));
+    let t_min = ins[input_at(&names, "t_min")];
+    let t_max = ins[input_at(&names, "t_max")];
 
     let axis = match rounding {
         SlabRounding::Nearest => slab_axis_module(fmt, plan.diff, plan.product),
@@ -374,9 +384,9 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
     for _ in 0..plan.compare {
         m.stage();
     }
-    m.output("hit", hit);
-    m.output("t_enter", t_enter);
-    m.output("t_exit", t_exit);
+    for (name, v) in OUTPUT_NAMES.into_iter().zip([hit, t_enter, t_exit]) {
+        m.output(name, v);
+    }
     m.finish()
         .expect("slab generator is type-correct for every format")
 }

@@ -31,7 +31,7 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::Unit;
+use super::{input_at, input_at3, Unit};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
 use crate::arith::float::dot3::dot3_module;
@@ -113,6 +113,31 @@ pub fn triangle_name(cfg: &Config) -> String {
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
+/// The data inputs in port order, by name: `o_* kz s_* a_* b_* c_* t_min
+/// t_max` (`*` = x, y, z; `kz` is 2 bits, the others floats); the module
+/// and the testbench both read it.
+pub fn input_names() -> Vec<String> {
+    let three = |g: &str| AXES.map(|a| format!("{g}_{a}"));
+    let mut names: Vec<String> = three("o").into();
+    names.push("kz".to_string());
+    for g in ["s", "a", "b", "c"] {
+        names.extend(three(g));
+    }
+    names.extend(["t_min".to_string(), "t_max".to_string()]);
+    names
+}
+
+/// The data outputs in port order: `hit`, `invalid` and, with
+/// `outputs=full`, `t`, `u`, `v`.
+pub fn output_names(full: bool) -> &'static [&'static str] {
+    const ALL: [&str; 5] = ["hit", "invalid", "t", "u", "v"];
+    if full {
+        &ALL
+    } else {
+        &ALL[..2]
+    }
+}
+
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
@@ -132,12 +157,17 @@ pub fn build(cfg: &Config) -> Module {
         .param("round", cfg.round.word())
         .param("outputs", if cfg.full { "full" } else { "hit" })
         .param("stages", cfg.stages);
-    let o = AXES.map(|a| m.input(&format!("o_{a}"), ty));
-    let kz = m.input("kz", Ty::UInt(2));
-    let s = AXES.map(|a| m.input(&format!("s_{a}"), ty));
-    let verts = ["a", "b", "c"].map(|v| AXES.map(|a| m.input(&format!("{v}_{a}"), ty)));
-    let t_min = m.input("t_min", ty);
-    let t_max = m.input("t_max", ty);
+    let names = input_names();
+    let ins: Vec<Sig> = names
+        .iter()
+        .map(|n| m.input(n, if n == "kz" { Ty::UInt(2) } else { ty }))
+        .collect();
+    let vec3 = |group: &str| input_at3(&names, group).map(|k| ins[k]);
+    let (o, s) = (vec3("o"), vec3("s"));
+    let verts = ["a", "b", "c"].map(vec3);
+    let kz = ins[input_at(&names, "kz")];
+    let t_min = ins[input_at(&names, "t_min")];
+    let t_max = ins[input_at(&names, "t_max")];
 
     // invalid: a non-finite o, s or vertex, a NaN bound, kz = 3
     let mut invalid = m.all_ones(kz);
@@ -284,15 +314,16 @@ pub fn build(cfg: &Config) -> Module {
     hit = m.and(hit, after_min);
     hit = m.and(hit, before_max);
     let hit = m.name(hit, "hit_found");
-    m.output("hit", hit);
-    m.output("invalid", invalid);
+    let mut outs = vec![hit, invalid];
     if cfg.full {
         let u = operator_result(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
         let v = operator_result(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
-        for (name, x) in [("t", t), ("u", u), ("v", v)] {
-            let shown = m.mux(hit, x, zero);
-            m.output(name, shown);
+        for x in [t, u, v] {
+            outs.push(m.mux(hit, x, zero));
         }
+    }
+    for (name, x) in output_names(cfg.full).iter().zip(outs) {
+        m.output(name, x);
     }
     let datapath = m.finish().expect("triangle datapath is well formed");
     if cfg.stages == 0 {
