@@ -3,6 +3,7 @@
 use super::stimulus::{mask, unsigned_corners, VectorRng};
 use super::Testbench;
 use rtl_gen::params::Params;
+use rtl_gen::units::mulcmp::{INPUT_NAMES, OUTPUT_NAMES};
 
 /// Vectors: first every combination of corner values of a, b, c, d; then
 /// random vectors mixing uniform operands, equal products (swapped or
@@ -12,6 +13,18 @@ pub struct MulCmpBench {
     b_width: u32,
     corners_a: Vec<u64>,
     corners_b: Vec<u64>,
+    /// the positions of `a`, `b`, `c`, `d` among the inputs
+    ins: [usize; 4],
+    /// the positions of `lt`, `eq`, `ab` among the outputs
+    outs: [usize; 3],
+}
+
+/// The position of `name` in `names`.
+fn at(names: &[&str], name: &str) -> usize {
+    names
+        .iter()
+        .position(|n| *n == name)
+        .expect("a port of mulcmp")
 }
 
 impl MulCmpBench {
@@ -23,6 +36,8 @@ impl MulCmpBench {
             b_width,
             corners_a: unsigned_corners(a_width),
             corners_b: unsigned_corners(b_width),
+            ins: ["a", "b", "c", "d"].map(|n| at(&INPUT_NAMES, n)),
+            outs: ["lt", "eq", "ab"].map(|n| at(&OUTPUT_NAMES, n)),
         }
     }
 
@@ -33,10 +48,12 @@ impl MulCmpBench {
 
 impl sim::Golden for MulCmpBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
-        let r = golden_model::mulcmp::eval(inputs[0], inputs[1], inputs[2], inputs[3]);
-        outputs[0] = r.lt as u64;
-        outputs[1] = r.eq as u64;
-        outputs[2] = r.ab as u64;
+        let [a, b, c, d] = self.ins.map(|i| inputs[i]);
+        let r = golden_model::mulcmp::eval(a, b, c, d);
+        let [lt, eq, ab] = self.outs;
+        outputs[lt] = r.lt as u64;
+        outputs[eq] = r.eq as u64;
+        outputs[ab] = r.ab as u64;
     }
 }
 
@@ -55,7 +72,7 @@ impl sim::Stimulus for MulCmpBench {
             .into_iter()
             .enumerate()
             {
-                v[slot] = corners[(k % n) as usize];
+                v[self.ins[slot]] = corners[(k % n) as usize];
                 k /= n;
             }
             return;
@@ -72,15 +89,16 @@ impl sim::Stimulus for MulCmpBench {
             // small operands, many equal products
             4 => {
                 let small = |r: &mut VectorRng, w: u32| r.bits(w.min(3));
-                v[0] = small(&mut rng, aw);
-                v[1] = small(&mut rng, bw);
-                v[2] = small(&mut rng, aw);
-                v[3] = small(&mut rng, bw);
+                for (k, w) in [aw, bw, aw, bw].into_iter().enumerate() {
+                    v[self.ins[k]] = small(&mut rng, w);
+                }
                 return;
             }
             _ => (rng.bits(aw), rng.bits(bw)),
         };
-        v.copy_from_slice(&[a, b, c, d]);
+        for (k, x) in [a, b, c, d].into_iter().enumerate() {
+            v[self.ins[k]] = x;
+        }
     }
 }
 

@@ -24,6 +24,13 @@ const PARAMS: &[ParamSpec] = &[
     },
 ];
 
+/// The data inputs in port order: `a` and `c` of `a_width` bits, `b` and
+/// `d` of `b_width` bits; the module and the testbench both read it.
+pub const INPUT_NAMES: [&str; 4] = ["a", "b", "c", "d"];
+
+/// The data outputs in port order.
+pub const OUTPUT_NAMES: [&str; 3] = ["lt", "eq", "ab"];
+
 /// Builds `mulcmp` for `a`/`c` of `a_width` bits, `b`/`d` of `b_width` bits.
 pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
     let mut m = ModuleBuilder::with_handshake(format!("mulcmp_a{a_width}_b{b_width}_s{stages}"));
@@ -31,10 +38,14 @@ pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
     m.param("a_width", a_width)
         .param("b_width", b_width)
         .param("stages", stages);
-    let a = m.input("a", Ty::UInt(a_width));
-    let b = m.input("b", Ty::UInt(b_width));
-    let c = m.input("c", Ty::UInt(a_width));
-    let d = m.input("d", Ty::UInt(b_width));
+    let [a, b, c, d] = INPUT_NAMES.map(|n| {
+        let w = if matches!(n, "a" | "c") {
+            a_width
+        } else {
+            b_width
+        };
+        m.input(n, Ty::UInt(w))
+    });
     let mul_stages = stages.saturating_sub(1);
     let mul = umul_module(a_width, b_width, mul_stages);
     let ab = m
@@ -55,9 +66,9 @@ pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
     if stages > 0 {
         m.stage();
     }
-    m.output("lt", lt);
-    m.output("eq", eq);
-    m.output("ab", ab);
+    for (name, v) in OUTPUT_NAMES.into_iter().zip([lt, eq, ab]) {
+        m.output(name, v);
+    }
     m.finish()
         .expect("mulcmp generator is type-correct for every accepted width")
 }
