@@ -29,7 +29,7 @@ use golden_model::cull::tester::{
 };
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
 use rtl_gen::params::Params;
-use rtl_gen::units::cull::{ChildPorts, Config as UnitConfig, TermField};
+use rtl_gen::units::cull::{ChildPorts, Config as UnitConfig, TermField, CHILD_OUTPUT_NAMES};
 
 /// Testbench of one `cull` configuration.
 pub struct CullBench {
@@ -37,6 +37,9 @@ pub struct CullBench {
     unit: UnitConfig,
     /// the unit's ports, by name
     at: ChildPorts,
+    /// the positions of `keep` and `invalid` among the outputs
+    keep: usize,
+    invalid: usize,
 }
 
 /// `n·(p − r)` in binary64 (the stimulus needs distances near the points,
@@ -75,7 +78,17 @@ impl CullBench {
     pub fn new(p: &Params) -> Self {
         let (cfg, unit) = configs(p);
         let at = unit.child_ports();
-        CullBench { cfg, unit, at }
+        let out = |name: &str| {
+            let names = CHILD_OUTPUT_NAMES.map(String::from);
+            rtl_gen::units::input_at(&names, name)
+        };
+        CullBench {
+            cfg,
+            unit,
+            at,
+            keep: out("keep"),
+            invalid: out("invalid"),
+        }
     }
 
     /// The golden model's input from port values.
@@ -117,8 +130,8 @@ impl CullBench {
     }
 
     /// `keep` of the output ports.
-    pub fn keep_from_ports(out: &[u64]) -> bool {
-        out[0] & 1 != 0
+    pub fn keep_from_ports(&self, out: &[u64]) -> bool {
+        out[self.keep] & 1 != 0
     }
 
     /// The golden configuration.
@@ -238,8 +251,8 @@ impl CullBench {
 impl sim::Golden for CullBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.unpack(inputs));
-        outputs[0] = out.keep as u64;
-        outputs[1] = out.invalid as u64;
+        outputs[self.keep] = out.keep as u64;
+        outputs[self.invalid] = out.invalid as u64;
     }
 }
 

@@ -14,10 +14,35 @@ use rtl_gen::units::{input_at, input_at3};
 /// Vectors and golden model of one `silhouette` configuration.
 pub struct SilhouetteBench {
     cfg: Config,
-    ray: bool,
     corners: Vec<BundleIn>,
     stride: u64,
     ports: Ports,
+    /// the golden value of each output port, in port order
+    outputs: Vec<Verdict>,
+}
+
+/// Which field of the golden model's result an output port carries.
+#[derive(Clone, Copy)]
+enum Verdict {
+    AllHit,
+    /// also a single ray's `hit` (a ray is a bundle whose bounds coincide)
+    AnyHit,
+    Nan,
+    Invalid,
+    MixedSign,
+}
+
+impl Verdict {
+    fn of(name: &str) -> Verdict {
+        match name {
+            "hit" | "any_hit" => Verdict::AnyHit,
+            "all_hit" => Verdict::AllHit,
+            "nan" => Verdict::Nan,
+            "invalid" => Verdict::Invalid,
+            "mixed_sign" => Verdict::MixedSign,
+            other => panic!("silhouette output `{other}` has no golden value"),
+        }
+    }
 }
 
 /// Where each field of a [`BundleIn`] goes among the unit's inputs, looked
@@ -75,17 +100,16 @@ impl SilhouetteBench {
             Policy::Nearest => Rounding::Nearest,
             Policy::Conservative => Rounding::Conservative,
         };
-        let ray = u.mode == Mode::Ray;
         let cfg =
             Config::new(fmt, origin, rounding).expect("exact-product format checked by the unit");
         let corners = corner_cases(fmt, origin == OriginMode::Bounded);
         let stride = coprime_stride(corners.len() as u64);
         SilhouetteBench {
             cfg,
-            ray,
             corners,
             stride,
             ports: Ports::of(&u),
+            outputs: u.output_names().iter().map(|n| Verdict::of(n)).collect(),
         }
     }
 
@@ -173,18 +197,15 @@ impl SilhouetteBench {
 impl sim::Golden for SilhouetteBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.from_ports(inputs));
-        if self.ray {
-            // a ray is a bundle whose bounds coincide; its hit bit is any_hit
-            outputs[0] = out.any_hit as u64;
-            outputs[1] = out.nan as u64;
-            outputs[2] = out.invalid as u64;
-            return;
+        for (o, v) in outputs.iter_mut().zip(&self.outputs) {
+            *o = match v {
+                Verdict::AllHit => out.all_hit,
+                Verdict::AnyHit => out.any_hit,
+                Verdict::Nan => out.nan,
+                Verdict::Invalid => out.invalid,
+                Verdict::MixedSign => out.mixed_sign,
+            } as u64;
         }
-        outputs[0] = out.all_hit as u64;
-        outputs[1] = out.any_hit as u64;
-        outputs[2] = out.nan as u64;
-        outputs[3] = out.invalid as u64;
-        outputs[4] = out.mixed_sign as u64;
     }
 }
 

@@ -449,7 +449,7 @@ impl Units for RtlTester<'_> {
     fn cull(&self, x: &ChildTestIn) -> bool {
         // a missing answer keeps the child (never a wrongful cull)
         self.lookup(&self.units.pack_cull(x))
-            .is_none_or(CullBench::keep_from_ports)
+            .is_none_or(|out| self.units.cull.keep_from_ports(out))
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         match self.lookup(&self.units.pack_triangle(x)) {

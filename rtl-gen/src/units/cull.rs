@@ -163,6 +163,9 @@ pub const AXES: [&str; 3] = ["x", "y", "z"];
 /// checked by the flow.
 pub const CROSSING_GUARD_BITS: u32 = 8;
 
+/// The `cull` data outputs in port order.
+pub const CHILD_OUTPUT_NAMES: [&str; 2] = ["keep", "invalid"];
+
 /// The positions of the `cull` unit's inputs, looked up by name (see
 /// [`Config::child_ports`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -782,8 +785,9 @@ pub fn build(cfg: &Config) -> Module {
     for _ in 0..plan.out {
         m.stage();
     }
-    m.output("keep", keep);
-    m.output("invalid", invalid);
+    for (name, v) in CHILD_OUTPUT_NAMES.into_iter().zip([keep, invalid]) {
+        m.output(name, v);
+    }
     m.finish()
         .expect("cull generator is type-correct for every accepted configuration")
 }

@@ -203,6 +203,16 @@ impl Config {
         names
     }
 
+    /// The data outputs in port order, by name: ray `hit nan invalid`;
+    /// bundle `all_hit any_hit nan invalid mixed_sign`.
+    pub fn output_names(&self) -> &'static [&'static str] {
+        if self.ray() {
+            &["hit", "nan", "invalid"]
+        } else {
+            &["all_hit", "any_hit", "nan", "invalid", "mixed_sign"]
+        }
+    }
+
     /// The parameter tags of module names, e.g. `e8m23_shared_cons_s4`
     /// (bundle) or `e8m23_ray_cons_s4`.
     pub fn tag(&self) -> String {
@@ -875,8 +885,9 @@ pub fn build(cfg: &Config) -> Module {
     for _ in 0..plan.reduce {
         m.stage();
     }
-    for (name, value) in outputs {
-        m.output(name, value);
+    for &name in cfg.output_names() {
+        let value = outputs.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
+        m.output(name, value.expect("every output is computed"));
     }
     m.finish()
         .expect("silhouette generator is type-correct for every accepted configuration")
