@@ -197,6 +197,28 @@ pub fn f32_bits(v: f32) -> u64 {
     }
 }
 
+/// `v` cut to the grid of `to` (E = 8: binary32's exponent field and bias)
+/// when `v` is a normal value of that exponent range (`2^-126 <= |v| <
+/// 2^128`), in integer operations on the `f64` bits: `(sign, magnitude bits
+/// of the truncated value, whether bits were cut)`. The directed results
+/// are the magnitude or the next one (a carry into an all-ones exponent
+/// field is the infinity, the directed overflow result). `None` for zeros,
+/// values below the normal range (where the grid changes), above it, and
+/// for infinities and NaN.
+#[inline(always)]
+fn truncate_normal_f64(to: FloatFormat, v: f64) -> Option<(bool, u64, bool)> {
+    debug_assert_eq!(to.exp_bits(), 8);
+    let bits = v.to_bits();
+    // binary32's biased exponent of v
+    let biased = ((bits >> 52) & 0x7ff) as i64 - (1023 - 127);
+    if !(1..=254).contains(&biased) {
+        return None;
+    }
+    let cut = 52 - to.frac_bits();
+    let field = (biased as u64) << 52 | (bits & ((1 << 52) - 1));
+    Some((bits >> 63 != 0, field >> cut, field & ((1 << cut) - 1) != 0))
+}
+
 /// Whether [`round_exact_f64_to`] handles `to` in `mode`: binary32 in every
 /// mode; other formats with E = 8 (a binary32 subgrid) in directed modes.
 #[inline(always)]
@@ -214,6 +236,17 @@ pub fn rounds_natively(to: FloatFormat, mode: RoundingMode) -> bool {
 #[inline(always)]
 pub fn round_exact_f64_to(to: FloatFormat, v: f64, mode: RoundingMode) -> u64 {
     debug_assert!(rounds_natively(to, mode));
+    if mode != RoundingMode::NearestEven {
+        if let Some((neg, mag, inexact)) = truncate_normal_f64(to, v) {
+            let away = inexact
+                & match mode {
+                    RoundingMode::Up => !neg,
+                    RoundingMode::Down => neg,
+                    _ => false,
+                };
+            return to.with_sign(neg, mag + away as u64);
+        }
+    }
     let t = round_exact_f64_to_f32(v, mode);
     if to == FloatFormat::BINARY32 {
         return f32_bits(t);
@@ -243,6 +276,11 @@ pub fn round_exact_f64_to(to: FloatFormat, v: f64, mode: RoundingMode) -> u64 {
 /// largest finite value down and the infinity up, as the step from it).
 #[inline(always)]
 pub fn round_exact_f64_down_up(to: FloatFormat, v: f64) -> (u64, u64) {
+    if let Some((neg, mag, inexact)) = truncate_normal_f64(to, v) {
+        let down = to.with_sign(neg, mag + (neg & inexact) as u64);
+        let up = to.with_sign(neg, mag + (!neg & inexact) as u64);
+        return (down, up);
+    }
     let down = round_exact_f64_to(to, v, RoundingMode::Down);
     // a NaN is not stepped (no value equals it)
     let inexact = (to_f32(to, down) as f64 != v) & !v.is_nan();
