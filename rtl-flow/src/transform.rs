@@ -62,6 +62,36 @@ struct Ports {
     linear: [usize; 9],
     translation: [usize; 3],
     rotation_hint: Option<usize>,
+    /// the outputs, looked up in `Config::output_names`
+    out: OutPorts,
+}
+
+/// Where each field of a model-space ray is among the unit's outputs.
+struct OutPorts {
+    /// the origin (full throughput) or the one vector (half)
+    first: [usize; 3],
+    /// the direction (full throughput)
+    dir: Option<[usize; 3]>,
+    t_min: usize,
+    t_max: usize,
+    id: usize,
+    singular: usize,
+}
+
+impl OutPorts {
+    fn of(u: &unit::Config) -> OutPorts {
+        let names = u.output_names();
+        let at = |n: &str| input_at(&names, n);
+        let three = |g: &str| input_at3(&names, g);
+        OutPorts {
+            first: three(if u.full { "om" } else { "vm" }),
+            dir: u.full.then(|| three("dm")),
+            t_min: at("tmin_m"),
+            t_max: at("tmax_m"),
+            id: at("id_m"),
+            singular: at("singular"),
+        }
+    }
 }
 
 impl Ports {
@@ -79,6 +109,7 @@ impl Ports {
             linear: std::array::from_fn(|k| at(&u.matrix_input(k))),
             translation: three("t"),
             rotation_hint: u.hw.then(|| at("rot_hint")),
+            out: OutPorts::of(u),
         }
     }
 }
@@ -482,30 +513,37 @@ impl TransformBench {
     /// The output ports of `m` (of the origin or the direction alone at
     /// half throughput).
     fn outputs_of(&self, m: &ModelRay, is_origin: bool, outputs: &mut [u64]) {
-        let vectors: &[[u64; 3]] = match (self.full, is_origin) {
-            (true, _) => &[m.origin, m.dir],
-            (false, true) => &[m.origin],
-            (false, false) => &[m.dir],
+        let out = &self.ports.out;
+        let first = if self.full || is_origin {
+            m.origin
+        } else {
+            m.dir
         };
-        let flat = vectors.iter().flatten().copied();
-        let tail = [m.t_min, m.t_max, m.id, m.singular as u64];
-        for (o, x) in outputs.iter_mut().zip(flat.chain(tail)) {
-            *o = x;
+        for (k, v) in out.first.into_iter().zip(first) {
+            outputs[k] = v;
         }
+        for (k, v) in out.dir.into_iter().flatten().zip(m.dir) {
+            outputs[k] = v;
+        }
+        outputs[out.t_min] = m.t_min;
+        outputs[out.t_max] = m.t_max;
+        outputs[out.id] = m.id;
+        outputs[out.singular] = m.singular as u64;
     }
 
     /// The model ray of a full-throughput unit's output ports (the inverse
     /// of the golden side's packing).
     pub fn model_ray_from_ports(&self, out: &[u64]) -> ModelRay {
         assert!(self.full, "one transaction per ray needs throughput=full");
-        let three = |k: usize| [out[k], out[k + 1], out[k + 2]];
+        let at = &self.ports.out;
+        let dir = at.dir.expect("full throughput has a direction output");
         ModelRay {
-            origin: three(0),
-            dir: three(3),
-            t_min: out[6],
-            t_max: out[7],
-            id: out[8],
-            singular: out[9] != 0,
+            origin: at.first.map(|k| out[k]),
+            dir: dir.map(|k| out[k]),
+            t_min: out[at.t_min],
+            t_max: out[at.t_max],
+            id: out[at.id],
+            singular: out[at.singular] != 0,
         }
     }
 
@@ -550,19 +588,28 @@ mod tests {
             let fmt = tb.cfg.fmt;
             let unit = rtl_gen::units::transform::Config::from_params(&p).unwrap();
             let n_in = unit.input_names().len();
-            let n_out = if tb.full { 10 } else { 7 };
+            let n_out = unit.output_names().len();
             let (mut v, mut o) = (vec![0u64; n_in], vec![0u64; n_out]);
+            let out = &tb.ports.out;
+            let vecs: Vec<usize> = out
+                .first
+                .into_iter()
+                .chain(out.dir.into_iter().flatten())
+                .collect();
             let (mut singular, mut nan, mut inf, mut zero, mut hint) = (0, 0, 0, 0, 0);
             let total = 50_000u64;
             for i in 0..total {
                 tb.vector(3, i, &mut v);
                 tb.eval(&v, &mut o);
-                singular += (o[n_out - 1] == 1) as u64;
-                let vecs = &o[..n_out - 4];
-                nan += (o[n_out - 1] == 0 && vecs.iter().any(|&x| fmt.is_nan(x))) as u64;
-                inf += vecs.iter().any(|&x| x & !fmt.sign_bit() == fmt.inf(false)) as u64;
-                zero += (o[n_out - 1] == 0 && vecs[..3].iter().all(|&x| x & !fmt.sign_bit() == 0))
+                let is_singular = o[out.singular] == 1;
+                singular += is_singular as u64;
+                nan += (!is_singular && vecs.iter().any(|&k| fmt.is_nan(o[k]))) as u64;
+                inf += vecs
+                    .iter()
+                    .any(|&k| o[k] & !fmt.sign_bit() == fmt.inf(false))
                     as u64;
+                zero +=
+                    (!is_singular && out.first.iter().all(|&k| o[k] & !fmt.sign_bit() == 0)) as u64;
                 hint += tb.ports.rotation_hint.is_some_and(|k| v[k] == 1) as u64;
             }
             let pct = |x: u64| 100.0 * x as f64 / total as f64;

@@ -223,6 +223,22 @@ impl Config {
         names
     }
 
+    /// The output ports, in module order: the model-space origin and
+    /// direction `om_* dm_*` (full throughput) or the one vector `vm_*`
+    /// (half); `tmin_m tmax_m id_m singular`.
+    pub fn output_names(&self) -> Vec<String> {
+        let three = |g: &str| ["x", "y", "z"].map(|a| format!("{g}_{a}"));
+        let mut names: Vec<String> = Vec::new();
+        if self.full {
+            names.extend(three("om"));
+            names.extend(three("dm"));
+        } else {
+            names.extend(three("vm"));
+        }
+        names.extend(["tmin_m", "tmax_m", "id_m", "singular"].map(String::from));
+        names
+    }
+
     /// The name of matrix input `k` (row-major): `rinv_RC` pre-inverted,
     /// `r_RC` with `inverse=hw`.
     pub fn matrix_input(&self, k: usize) -> String {
@@ -631,7 +647,7 @@ pub fn build(cfg: &Config) -> Module {
     let r: [Sig; 9] =
         std::array::from_fn(|k| up(&mut m, format!("u_widen_r{}{}", k / 3, k % 3), r[k]));
     let row = |i: usize| [r[3 * i], r[3 * i + 1], r[3 * i + 2]];
-    match (dw, is_origin) {
+    let vectors = match (dw, is_origin) {
         (Some(dw), _) => {
             let dw = [0, 1, 2].map(|k| up(&mut m, format!("u_widen_d_{}", axes[k]), dw[k]));
             let x0 = m.mux(singular, nan, x[0]);
@@ -644,13 +660,7 @@ pub fn build(cfg: &Config) -> Module {
                     items.push((format!("{tag}{i}"), row(i), v));
                 }
             }
-            let out = dots(&mut m, cfg, &items, dot_plan);
-            for k in 0..3 {
-                m.output(&format!("om_{}", axes[k]), out[k]);
-            }
-            for k in 0..3 {
-                m.output(&format!("dm_{}", axes[k]), out[3 + k]);
-            }
+            dots(&mut m, cfg, &items, dot_plan)
         }
         (None, Some(is_origin)) => {
             let vw = [0, 1, 2].map(|k| up(&mut m, format!("u_widen_d_{}", axes[k]), vw[k]));
@@ -658,17 +668,14 @@ pub fn build(cfg: &Config) -> Module {
             let s0 = m.mux(singular, nan, sel[0]);
             let sel = [s0, sel[1], sel[2]];
             let items: Vec<_> = (0..3).map(|i| (format!("v{i}"), row(i), sel)).collect();
-            let out = dots(&mut m, cfg, &items, dot_plan);
-            for k in 0..3 {
-                m.output(&format!("vm_{}", axes[k]), out[k]);
-            }
+            dots(&mut m, cfg, &items, dot_plan)
         }
         (None, None) => unreachable!("half throughput has is_origin"),
+    };
+    let values = vectors.into_iter().chain([tmin, tmax, id, singular]);
+    for (name, v) in cfg.output_names().iter().zip(values) {
+        m.output(name, v);
     }
-    m.output("tmin_m", tmin);
-    m.output("tmax_m", tmax);
-    m.output("id_m", id);
-    m.output("singular", singular);
     m.finish()
         .expect("transform generator is type-correct for every accepted configuration")
 }
