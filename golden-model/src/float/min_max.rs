@@ -2,6 +2,7 @@
 //! -0 orders below +0.
 
 use super::format::FloatFormat;
+use super::order::total_key;
 
 /// The smaller of `a` and `b` (-0 < +0); the canonical NaN if either is NaN.
 #[inline]
@@ -26,17 +27,5 @@ fn pick(fmt: FloatFormat, a: u64, b: u64, smaller: bool) -> u64 {
         a
     } else {
         b
-    }
-}
-
-/// A signed integer in the order of the non-NaN values with -0 < +0:
-/// `+magnitude`, or `-magnitude - 1` for negative values.
-#[inline]
-fn total_key(fmt: FloatFormat, bits: u64) -> i64 {
-    let magnitude = (bits & !fmt.sign_bit()) as i64;
-    if bits & fmt.sign_bit() != 0 {
-        -magnitude - 1
-    } else {
-        magnitude
     }
 }
