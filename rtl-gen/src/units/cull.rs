@@ -35,7 +35,7 @@
 //! 5. `keep` = every check holds and no parallel plane has `D < 0`, or
 //!    `invalid`.
 //!
-//! Pipelining: `stages` registers are spread ([`spread`]) over the 13
+//! Pipelining: `stages` registers are spread ([`spread_over`]) over the 13
 //! logical steps of [`STEPS`]; one register goes to the outputs first. The
 //! latency is `stages`.
 //!
@@ -49,7 +49,7 @@ use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_mixed_raw, MUL_RAW_STEPS};
 use crate::arith::float::round::{round, ROUND_STEPS};
 use crate::arith::float::unpack::{normalize, unpack};
-use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
@@ -524,7 +524,7 @@ impl Bound {
 /// reciprocal with the multiplier's unpacking, then its significand
 /// product ([`MUL_RAW_STEPS`]); the product's rounder, whose last step also
 /// holds the comparisons and the verdict. The steps are of about equal
-/// logic depth, so [`spread`] balances the stages (at 4: the widening and
+/// logic depth, so [`spread_over`] balances the stages (at 4: the widening and
 /// exact sum | the sum's rounding | the product | its rounding and the
 /// comparisons).
 pub const STEPS: u32 = 1 + ADD_RAW_STEPS + ROUND_STEPS + 1 + MUL_RAW_STEPS + ROUND_STEPS;
@@ -547,24 +547,29 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
     pub fn new(stages: u32) -> StagePlan {
-        let c = spread(stages, STEPS);
-        let r = ADD_RAW_STEPS as usize;
-        let n = ROUND_STEPS as usize;
-        let sum = |s: &[u32]| s.iter().sum::<u32>();
-        let (widen, rest) = c.split_at(1);
-        let (add_raw, rest) = rest.split_at(r);
-        let (add_round, rest) = rest.split_at(n);
-        let (mul_raw, rest) = rest.split_at(1 + MUL_RAW_STEPS as usize);
-        let (mul_round, last) = rest.split_at(n - 1);
+        // the exact sum's steps one by one (its registers are placed per step)
+        let [widen, add_0, add_1, add_2, add_round, mul_raw, mul_round, out] = spread_over(
+            stages,
+            [
+                1,
+                1,
+                1,
+                1,
+                ROUND_STEPS,
+                1 + MUL_RAW_STEPS,
+                ROUND_STEPS - 1,
+                1,
+            ],
+        );
         StagePlan {
-            widen: widen[0],
-            add_raw: [add_raw[0], add_raw[1], add_raw[2]],
-            add_round: sum(add_round),
-            mul_raw: sum(mul_raw),
-            mul_round: sum(mul_round),
-            out: last[0],
+            widen,
+            add_raw: [add_0, add_1, add_2],
+            add_round,
+            mul_raw,
+            mul_round,
+            out,
         }
     }
 

@@ -23,7 +23,7 @@
 //! 4. a NaN or infinity in `o`, `d`, `r` or a normal (`invalid`) makes
 //!    every `no_lo` the canonical NaN (so `cull` keeps).
 //!
-//! Pipelining: `stages` registers are spread ([`spread`]) over the steps
+//! Pipelining: `stages` registers are spread ([`spread_over`]) over the steps
 //! of the longer path, the crossing one: the difference (6), the dot product
 //! (7), the reciprocal ([`recip_steps`]: its rounder's 3 and one per two of
 //! its normalisation and Fc + 4 division steps). One register goes to the
@@ -37,7 +37,7 @@ use crate::arith::float::dot3_floor::{
     dot3_floor_instance, dot3_floor_module, DOT3_FLOOR_RAW_STEPS,
 };
 use crate::arith::float::round::ROUND_STEPS;
-use crate::arith::float::{spread, Format};
+use crate::arith::float::{spread_over, Format};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -54,7 +54,7 @@ pub const DOT_STEPS: u32 = DOT3_FLOOR_RAW_STEPS + ROUND_STEPS;
 /// Logical steps the reciprocal in the crossing format `cf` counts for:
 /// its rounder's, and one per two of its division steps (a division step,
 /// one compare-and-subtract of Fc + 2 bits, is about half as deep as an
-/// adder's step), so that [`spread`] balances the stages.
+/// adder's step), so that [`spread_over`] balances the stages.
 pub fn recip_steps(cf: Format) -> u32 {
     recip_raw_steps(cf).div_ceil(2) + ROUND_STEPS
 }
@@ -73,14 +73,7 @@ pub struct StagePlan {
 impl StagePlan {
     /// The plan for `stages` registers over the steps of crossing format `cf`.
     pub fn new(stages: u32, cf: Format) -> StagePlan {
-        let segs = [DIFF_STEPS, DOT_STEPS, recip_steps(cf)];
-        let c = spread(stages, segs.iter().sum());
-        let mut at = 0usize;
-        let [diff, dot, recip] = segs.map(|n| {
-            let s = c[at..at + n as usize].iter().sum();
-            at += n as usize;
-            s
-        });
+        let [diff, dot, recip] = spread_over(stages, [DIFF_STEPS, DOT_STEPS, recip_steps(cf)]);
         StagePlan { diff, dot, recip }
     }
 }

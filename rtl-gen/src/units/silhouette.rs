@@ -52,7 +52,7 @@ use crate::arith::float::product_compare::{
     factor, product_term, single_term, start_product, term_le, Factor, ProductStart, Term,
 };
 use crate::arith::float::round::ROUND_STEPS;
-use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{InstanceOutputs, ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
@@ -168,18 +168,16 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
     pub fn new(stages: u32) -> StagePlan {
-        let cuts = spread(stages, STEPS);
-        let d = DIFF_STEPS as usize;
-        let n = d + NORM_STEPS as usize;
-        let p = n + PRODUCT_STEPS as usize;
+        let [diff, norm, product, compare, reduce] =
+            spread_over(stages, [DIFF_STEPS, NORM_STEPS, PRODUCT_STEPS, 1, 1]);
         StagePlan {
-            diff: cuts[..d].iter().sum(),
-            norm: cuts[d..n].iter().sum(),
-            product: cuts[n..p].iter().sum(),
-            compare: cuts[p],
-            reduce: cuts[p + 1],
+            diff,
+            norm,
+            product,
+            compare,
+            reduce,
         }
     }
 }

@@ -35,7 +35,7 @@ use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
 use crate::arith::float::mul::{mul_module, MUL_RAW_STEPS};
 use crate::arith::float::round::ROUND_STEPS;
-use crate::arith::float::{spread, Format, Rounding};
+use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
@@ -117,16 +117,16 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread`] over [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
     pub fn new(stages: u32) -> StagePlan {
-        let cuts = spread(stages, STEPS);
-        let (d, p) = (DIFF_STEPS as usize, PRODUCT_STEPS as usize);
+        let [diff, product, min_max, reduce, compare] =
+            spread_over(stages, [DIFF_STEPS, PRODUCT_STEPS, 1, 1, 1]);
         StagePlan {
-            diff: cuts[..d].iter().sum(),
-            product: cuts[d..d + p].iter().sum(),
-            min_max: cuts[d + p],
-            reduce: cuts[d + p + 1],
-            compare: cuts[d + p + 2],
+            diff,
+            product,
+            min_max,
+            reduce,
+            compare,
         }
     }
 }

@@ -306,6 +306,19 @@ pub fn spread(stages: u32, steps: u32) -> Vec<u32> {
     after
 }
 
+/// [`spread`] over consecutive segments of steps: element `i` is the number
+/// of registers placed inside or after segment `i` (`segments[i]` steps),
+/// so a unit names its phases instead of slicing the step list.
+pub fn spread_over<const N: usize>(stages: u32, segments: [u32; N]) -> [u32; N] {
+    let after = spread(stages, segments.iter().sum());
+    let mut at = 0usize;
+    segments.map(|n| {
+        let sum = after[at..at + n as usize].iter().sum();
+        at += n as usize;
+        sum
+    })
+}
+
 /// `x` (an encoding of `fmt`) with its sign bit flipped: exact negation, a
 /// NaN stays a NaN.
 pub fn negate(m: &mut ModuleBuilder, fmt: Format, x: crate::builder::Sig) -> crate::builder::Sig {
@@ -347,6 +360,8 @@ mod tests {
         assert_eq!(spread(2, 6), vec![0, 0, 1, 0, 0, 1]);
         assert_eq!(spread(3, 3), vec![1, 1, 1]);
         assert_eq!(spread(5, 3), vec![1, 1, 3]);
+        assert_eq!(spread_over(2, [2, 3, 1]), [0, 1, 1]);
+        assert_eq!(spread_over(5, [1, 1, 1]), [1, 1, 3]);
         for steps in 1..8 {
             for stages in 0..12 {
                 assert_eq!(spread(stages, steps).iter().sum::<u32>(), stages);
