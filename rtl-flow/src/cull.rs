@@ -21,8 +21,8 @@
 //! infinite bounds; 14 random `dir` codes (3 included) and parallel planes
 //! with `no_lo` near `w`; 15 extreme scales and subnormal distances.
 
-use super::cull_ray::{configs, from_f64, parallel, scale, scene, specials, tiny, Gen};
-use super::stimulus::{mask, VectorRng};
+use super::cull_ray::{configs, from_f64, parallel, scale, scene, tiny, Gen};
+use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,

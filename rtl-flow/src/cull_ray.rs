@@ -16,7 +16,7 @@
 //! 10 subnormal and signed-zero inputs throughout; 11 origins and corners
 //! near the top of the range (`o − r` overflows, `no_lo = ±∞`).
 
-use super::stimulus::{mask, VectorRng};
+use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
@@ -76,28 +76,6 @@ pub(super) fn from_f64(fmt: FloatFormat, v: f64) -> u64 {
     } else {
         r
     }
-}
-
-/// Special values of `fmt`: zeros, infinities, NaNs (with payload and
-/// sign), the smallest and largest subnormal, the smallest normal, the
-/// largest finite value, ±1.
-pub(super) fn specials(fmt: FloatFormat) -> Vec<u64> {
-    let one = from_f64(fmt, 1.0);
-    let mut v = Vec::new();
-    for neg in [false, true] {
-        v.extend([
-            fmt.zero(neg),
-            fmt.inf(neg),
-            fmt.min_subnormal(neg),
-            fmt.max_subnormal(neg),
-            fmt.min_normal(neg),
-            fmt.max_finite(neg),
-            fmt.with_sign(neg, one),
-        ]);
-    }
-    v.push(fmt.canonical_nan());
-    v.push(fmt.canonical_nan() | fmt.sign_bit() | 1);
-    v
 }
 
 /// A random subnormal or zero of `fmt`, either sign.

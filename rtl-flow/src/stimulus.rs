@@ -2,6 +2,7 @@
 //! is computed directly, so any vector can be regenerated alone (replay,
 //! sharding) and generation parallelises without shared state.
 
+use golden_model::float::{from_f64, FloatFormat};
 use sim::mix64;
 
 /// A small generator for one vector, seeded by (seed, index).
@@ -53,5 +54,27 @@ pub fn unsigned_corners(width: u32) -> Vec<u64> {
     v.iter_mut().for_each(|x| *x &= m);
     v.sort_unstable();
     v.dedup();
+    v
+}
+
+/// Special values of `fmt`: zeros, infinities, NaNs (with payload and
+/// sign), the smallest and largest subnormal, the smallest normal, the
+/// largest finite value, ±1.
+pub fn specials(fmt: FloatFormat) -> Vec<u64> {
+    let one = from_f64(fmt, 1.0);
+    let mut v = Vec::new();
+    for neg in [false, true] {
+        v.extend([
+            fmt.zero(neg),
+            fmt.inf(neg),
+            fmt.min_subnormal(neg),
+            fmt.max_subnormal(neg),
+            fmt.min_normal(neg),
+            fmt.max_finite(neg),
+            fmt.with_sign(neg, one),
+        ]);
+    }
+    v.push(fmt.canonical_nan());
+    v.push(fmt.canonical_nan() | fmt.sign_bit() | 1);
     v
 }

@@ -16,9 +16,8 @@
 //! stimulus and much cheaper.
 
 use super::fstim::{golden_format, golden_mode};
-use super::stimulus::{mask, VectorRng};
+use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
-use golden_model::float::FloatFormat;
 use golden_model::transform::accuracy::{forward, from_f64, rotation, Placement, SEED_MATRICES};
 use golden_model::transform::exact::scene_builder_inverse;
 use golden_model::transform::{
@@ -112,26 +111,6 @@ impl Ports {
             out: OutPorts::of(u),
         }
     }
-}
-
-/// Special values of `fmt`: ±0, ±inf, NaNs, smallest and largest subnormal, smallest normal, largest finite, ±1.
-fn specials(fmt: FloatFormat) -> Vec<u64> {
-    let one = from_f64(fmt, 1.0);
-    let mut v = Vec::new();
-    for neg in [false, true] {
-        v.extend([
-            fmt.zero(neg),
-            fmt.inf(neg),
-            fmt.min_subnormal(neg),
-            fmt.max_subnormal(neg),
-            fmt.min_normal(neg),
-            fmt.max_finite(neg),
-            fmt.with_sign(neg, one),
-        ]);
-    }
-    v.push(fmt.canonical_nan());
-    v.push(fmt.canonical_nan() | fmt.sign_bit() | 1); // a NaN with sign and payload
-    v
 }
 
 impl TransformBench {
