@@ -1,0 +1,143 @@
+//! Whole streams and files: conversion both ways, format detection, writing
+//! a file only when it is complete.
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read, Write};
+use std::path::Path;
+
+use super::*;
+use crate::error::SimError;
+use crate::ports::Port;
+
+/// Converts a text stream to a binary one; returns the record count. With
+/// `expected`, the text must have exactly those ports and the binary
+/// records follow their order.
+pub fn text_to_binary<R: BufRead, W: Write>(
+    input: R,
+    input_name: &str,
+    output: W,
+    output_name: &str,
+    expected: Option<&[Port]>,
+) -> Result<u64, SimError> {
+    let mut r = TextReader::new(input, input_name, expected)?;
+    let mut w = BinWriter::new(output, output_name, r.ports())?;
+    let mut values = vec![0; r.ports().len()];
+    while r.read_record(&mut values)? {
+        w.write_record(&values)?;
+    }
+    let n = w.records();
+    w.finish()?;
+    Ok(n)
+}
+
+/// Converts a binary stream to text; returns the record count. With
+/// `expected`, the stream's ports must be exactly those.
+pub fn binary_to_text<R: Read, W: Write>(
+    input: R,
+    input_name: &str,
+    output: W,
+    output_name: &str,
+    expected: Option<&[Port]>,
+) -> Result<u64, SimError> {
+    let mut r = BinReader::new(input, input_name)?;
+    if let Some(expected) = expected {
+        r.expect_ports(expected)?;
+    }
+    let mut w = TextWriter::new(output, output_name, r.ports())?;
+    let mut values = vec![0; r.ports().len()];
+    while r.read_record(&mut values)? {
+        w.write_record(&values)?;
+    }
+    let n = r.records();
+    w.finish()?;
+    Ok(n)
+}
+
+/// The two encodings of a vector file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VecFormat {
+    /// The `rtlvec 1` binary stream.
+    Binary,
+    /// The text form.
+    Text,
+}
+
+/// Tells a file's format from its first bytes: binary streams start with
+/// `rtlvec 1 `, anything else is taken as text.
+pub fn detect_format(path: &Path) -> Result<VecFormat, SimError> {
+    let name = path.display().to_string();
+    let mut f = File::open(path).map_err(|e| SimError::io(format!("opening {name}"), e))?;
+    let prefix = format!("{MAGIC} {VERSION} ");
+    let mut head = vec![0; prefix.len()];
+    let mut got = 0;
+    while got < head.len() {
+        match f.read(&mut head[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(SimError::io(format!("reading {name}"), e)),
+        }
+    }
+    Ok(if head[..got] == *prefix.as_bytes() {
+        VecFormat::Binary
+    } else {
+        VecFormat::Text
+    })
+}
+
+/// Writes `dst` all or nothing: `write` gets a temporary file beside `dst`
+/// (and `dst`'s name for messages); on success the temporary file is
+/// renamed to `dst`, on failure it is removed and `dst` is left as it was,
+/// so a reader never sees a half-written file.
+pub fn write_atomically<T>(
+    dst: &Path,
+    write: impl FnOnce(File, &str) -> Result<T, SimError>,
+) -> Result<T, SimError> {
+    let dst_name = dst.display().to_string();
+    let file_name = dst
+        .file_name()
+        .ok_or_else(|| SimError::Invalid(format!("{dst_name}: not a file name")))?;
+    let tmp = dst.with_file_name(format!(
+        ".{}.tmp-{}",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let f = File::create(&tmp).map_err(|e| SimError::io(format!("creating {dst_name}"), e))?;
+    let result = write(f, &dst_name).and_then(|v| {
+        std::fs::rename(&tmp, dst)
+            .map(|()| v)
+            .map_err(|e| SimError::io(format!("renaming the finished {dst_name} into place"), e))
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Converts `src` to the other format into `dst`; returns the format
+/// written and the record count. `dst` is written all or nothing
+/// ([`write_atomically`]).
+pub fn convert_file(
+    src: &Path,
+    dst: &Path,
+    expected: Option<&[Port]>,
+) -> Result<(VecFormat, u64), SimError> {
+    let src_name = src.display().to_string();
+    let open = |p: &Path| File::open(p).map_err(|e| SimError::io(format!("opening {src_name}"), e));
+    match detect_format(src)? {
+        VecFormat::Binary => {
+            let input = open(src)?;
+            let n = write_atomically(dst, |out, dst_name| {
+                binary_to_text(input, &src_name, out, dst_name, expected)
+            })?;
+            Ok((VecFormat::Text, n))
+        }
+        VecFormat::Text => {
+            let input = BufReader::with_capacity(BLOCK, open(src)?);
+            let n = write_atomically(dst, |out, dst_name| {
+                text_to_binary(input, &src_name, out, dst_name, expected)
+            })?;
+            Ok((VecFormat::Binary, n))
+        }
+    }
+}
