@@ -21,10 +21,10 @@
 //! unbounded one); another product with an infinite factor is ±∞, and the
 //! result that infinity (both signs: NaN).
 
-use super::bits::{abs, sadd, ssub, to_sint};
+use super::bits::{abs, add_const, sadd, ssub, to_sint};
 use super::mul::mixed_format_params;
 use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
-use super::unpack::{lsb_exp, lsb_exp_width, unpack};
+use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, Rounding};
 use crate::arith::int::umul_module;
 use crate::builder::{ModuleBuilder, Sig};
@@ -100,12 +100,17 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
         .collect();
     let plan = spread(stages, DOT3_FLOOR_RAW_STEPS + ROUND_STEPS);
 
-    // specials and the product exponents
+    // specials and the product exponents. Product i's lsb exponent is
+    // e_i = eff_a + eff_b − C, one constant C (biases and fraction widths)
+    // for all three, so the window is chosen and the shifts computed on the
+    // sums s_i = eff_a + eff_b alone (one adder before the comparisons, not
+    // three); C enters once, after the selection. A zero product takes
+    // s = 1, below every real sum (each eff_exp >= 1): e = lo − 1.
     let lo = fa.emin() - fa.frac_bits as i64 + fb.emin() - fb.frac_bits as i64;
     let hi = fa.emax() - fa.frac_bits as i64 + fb.emax() - fb.frac_bits as i64;
     let xw = sint_width(lo - 1, hi);
-    let ew = lsb_exp_width(fa).max(lsb_exp_width(fb)) + 1;
-    let below_all = m.sint(xw, (lo - 1) as i128);
+    let c = fa.bias() + fa.frac_bits as i64 + fb.bias() + fb.frac_bits as i64;
+    let below_all = m.uint(fa.exp_bits.max(fb.exp_bits) + 1, 1);
     let mut nan = m.bool(false);
     let mut pos_inf = m.bool(false);
     let mut neg_inf = m.bool(false);
@@ -125,13 +130,9 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
         let ni = m.and(inf, sign);
         pos_inf = m.or(pos_inf, pi);
         neg_inf = m.or(neg_inf, ni);
-        let ea = lsb_exp(&mut m, fa, &ua);
-        let eb = lsb_exp(&mut m, fb, &ub);
-        let ea = to_sint(&mut m, ea, ew);
-        let eb = to_sint(&mut m, eb, ew);
-        let e = sadd(&mut m, ea, eb, xw);
+        let e = m.add(ua.eff_exp, ub.eff_exp);
         let e = m.mux(zero, below_all, e);
-        let e = m.name(e, &format!("lsb_exp{i}"));
+        let e = m.name(e, &format!("exp_sum{i}"));
         terms.push((sign, ua.sig, ub.sig, e));
     }
     let both = m.and(pos_inf, neg_inf);
@@ -149,7 +150,7 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     let e1_top = m.and(lt01, ge12);
     let e12 = m.mux(e1_top, e1, e2);
     let lsb = m.mux(e0_top, e0, e12);
-    let lsb = m.name(lsb, "window_lsb_exp");
+    let lsb = m.name(lsb, "window_exp_sum");
 
     // step 1: the exact products
     let mul_stages = plan[0] + plan[1];
@@ -199,10 +200,12 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     let mag = abs(&mut m, sum, w + 2);
     let sign = m.mux(inf, neg_inf, negative);
     let no_sticky = m.bool(false);
+    let lsb_exp = add_const(&mut m, lsb, -c, xw);
+    let lsb_exp = m.name(lsb_exp, "window_lsb_exp");
     let raw = Raw {
         sign,
         class,
-        exp: lsb,
+        exp: lsb_exp,
         sig: mag,
         sticky: no_sticky,
     };
