@@ -20,36 +20,10 @@ use golden_model::float::{add, nudge, sub, to_f64, total_key, FloatFormat, Round
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
-#[derive(Clone)]
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        ((self.next() as u128 * n as u128) >> 64) as u64
-    }
-    fn chance(&mut self, num: u64, den: u64) -> bool {
-        self.below(den) < num
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + self.below((hi - lo + 1) as u64) as i64
-    }
-}
+mod silhouette_gen;
+use silhouette_gen::{between, Random, Rng};
 
 use golden_model::float::from_f64;
-
-fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    golden_model::float::between(fmt, lo, hi, |n| rng.below(n))
-}
 
 fn rand_val(fmt: FloatFormat, rng: &mut Rng, scale: i32, spread: i32) -> u64 {
     if rng.chance(1, 30) {

@@ -18,7 +18,7 @@ use golden_model::silhouette::{
     any_hit, eval, eval_generic, BundleIn, Config, OriginMode, Rounding,
 };
 use golden_model::transform::{recip, recip_generic};
-use silhouette_gen::{gen_bundle, realistic_scene_case, Rng, KINDS};
+use silhouette_gen::{gen_bundle, realistic_scene_case, Random, Rng, KINDS};
 
 /// Vectors per unit and format class.
 fn cases() -> u64 {

@@ -17,53 +17,13 @@
 //! relatively, sometimes straddling zero; origin boxes in bounded mode).
 
 use super::stimulus::VectorRng;
-use golden_model::float::{add, between, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
+use golden_model::float::random::{point_of_box, rand_box, rand_scale, rand_val, Random};
+use golden_model::float::{add, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
 use golden_model::silhouette::BundleIn;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
 pub use golden_model::float::from_f64;
-
-pub(crate) fn chance(rng: &mut VectorRng, num: u64, den: u64) -> bool {
-    rng.below(den) < num
-}
-
-fn unit(rng: &mut VectorRng) -> f64 {
-    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-}
-
-fn range(rng: &mut VectorRng, lo: i64, hi: i64) -> i64 {
-    lo + rng.below((hi - lo + 1) as u64) as i64
-}
-
-/// A finite value around `2^scale` (± `spread` binades), random sign,
-/// sometimes a zero of either sign; saturates at the largest finite value.
-pub fn rand_val(fmt: FloatFormat, rng: &mut VectorRng, scale: i32, spread: i32) -> u64 {
-    if chance(rng, 1, 40) {
-        return fmt.zero(chance(rng, 1, 2));
-    }
-    let k = scale + range(rng, -(spread as i64), spread as i64) as i32;
-    let v = (1.0 + unit(rng)) * 2f64.powi(k.clamp(-1070, 1020));
-    let negative = chance(rng, 1, 2);
-    let r = from_f64(fmt, if negative { -v } else { v });
-    if r & !fmt.sign_bit() == fmt.inf(false) {
-        fmt.max_finite(negative)
-    } else {
-        r
-    }
-}
-
-/// The scale of one case: mostly moderate, sometimes near overflow, in the
-/// subnormals or around the smallest normal.
-fn rand_scale(fmt: FloatFormat, rng: &mut VectorRng) -> i32 {
-    let lowest = fmt.emin() - fmt.frac_bits() as i32;
-    match rng.below(10) {
-        0 => fmt.emax() - range(rng, 0, 3) as i32,
-        1 => lowest + range(rng, 0, 6) as i32,
-        2 => fmt.emin() + range(rng, -2, 4) as i32,
-        _ => range(rng, -6, 6) as i32,
-    }
-}
 
 /// Kinds of random single-ray cases.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -118,42 +78,6 @@ pub struct RayCase {
     pub t_max: u64,
 }
 
-fn rand_box(fmt: FloatFormat, rng: &mut VectorRng, scale: i32) -> ([u64; 3], [u64; 3]) {
-    let mut lo = [0; 3];
-    let mut hi = [0; 3];
-    for i in 0..3 {
-        let a = rand_val(fmt, rng, scale, 2);
-        let b = if chance(rng, 1, 12) {
-            a
-        } else {
-            rand_val(fmt, rng, scale, 2)
-        };
-        let (x, y) = if total_key(fmt, a) <= total_key(fmt, b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
-        lo[i] = x;
-        hi[i] = y;
-    }
-    (lo, hi)
-}
-
-/// A point of the box: on its boundary along the axes set in `boundary`.
-fn point_on_box(fmt: FloatFormat, rng: &mut VectorRng, c: &RayCase, boundary: u32) -> [u64; 3] {
-    [0, 1, 2].map(|i| {
-        if boundary >> i & 1 == 1 {
-            if chance(rng, 1, 2) {
-                c.p_min[i]
-            } else {
-                c.p_max[i]
-            }
-        } else {
-            between(fmt, c.p_min[i], c.p_max[i], |n| rng.below(n))
-        }
-    })
-}
-
 /// Sprinkles one to three special values on a case.
 fn sprinkle(fmt: FloatFormat, rng: &mut VectorRng, c: &mut RayCase) {
     for _ in 0..1 + rng.below(3) {
@@ -162,16 +86,16 @@ fn sprinkle(fmt: FloatFormat, rng: &mut VectorRng, c: &mut RayCase) {
         match rng.below(14) {
             0 => c.p_min[i] = fmt.inf(true),
             1 => c.p_max[i] = fmt.inf(false),
-            2 => c.p_min[i] = fmt.inf(chance(rng, 1, 2)),
-            3 => c.p_max[i] = fmt.inf(chance(rng, 1, 2)),
+            2 => c.p_min[i] = fmt.inf(rng.chance(1, 2)),
+            3 => c.p_max[i] = fmt.inf(rng.chance(1, 2)),
             4 => std::mem::swap(&mut c.p_min[i], &mut c.p_max[i]),
             5 => c.p_max[i] = c.p_min[i],
-            6 => c.o[i] = fmt.inf(chance(rng, 1, 2)),
-            7 => c.d[i] = fmt.inf(chance(rng, 1, 2)),
-            8 => c.t_max = fmt.inf(chance(rng, 1, 2)),
-            9 => c.t_min = fmt.inf(chance(rng, 1, 2)),
+            6 => c.o[i] = fmt.inf(rng.chance(1, 2)),
+            7 => c.d[i] = fmt.inf(rng.chance(1, 2)),
+            8 => c.t_max = fmt.inf(rng.chance(1, 2)),
+            9 => c.t_min = fmt.inf(rng.chance(1, 2)),
             10 => std::mem::swap(&mut c.t_min, &mut c.t_max),
-            11 => c.d = [fmt.zero(false), fmt.zero(true), fmt.zero(chance(rng, 1, 2))],
+            11 => c.d = [fmt.zero(false), fmt.zero(true), fmt.zero(rng.chance(1, 2))],
             12 => {
                 let k = rng.below(14) as usize;
                 match k {
@@ -224,8 +148,8 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
         }
         Kind::Realistic => {
             for i in 0..3 {
-                let a = from_f64(fmt, unit(rng) * 2.0 - 1.0);
-                let b = from_f64(fmt, unit(rng) * 2.0 - 1.0);
+                let a = from_f64(fmt, rng.unit() * 2.0 - 1.0);
+                let b = from_f64(fmt, rng.unit() * 2.0 - 1.0);
                 let (a, b) = if total_key(fmt, a) <= total_key(fmt, b) {
                     (a, b)
                 } else {
@@ -233,16 +157,16 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
                 };
                 c.p_min[i] = a;
                 c.p_max[i] = b;
-                c.o[i] = from_f64(fmt, unit(rng) * 8.0 - 4.0);
+                c.o[i] = from_f64(fmt, rng.unit() * 8.0 - 4.0);
             }
-            let v = [0, 1, 2].map(|_| unit(rng) * 2.0 - 1.0);
+            let v = [0, 1, 2].map(|_| rng.unit() * 2.0 - 1.0);
             let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
             c.d = v.map(|x| from_f64(fmt, x / len));
             c.t_min = fmt.zero(false);
-            c.t_max = if chance(rng, 1, 2) {
+            c.t_max = if rng.chance(1, 2) {
                 fmt.inf(false)
             } else {
-                from_f64(fmt, unit(rng) * 10.0)
+                from_f64(fmt, rng.unit() * 10.0)
             };
             return c;
         }
@@ -250,20 +174,20 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
     }
     let scale = rand_scale(fmt, rng);
     (c.p_min, c.p_max) = rand_box(fmt, rng, scale);
-    let far = scale + range(rng, -1, 3) as i32;
+    let far = scale + rng.range(-1, 3) as i32;
     c.o = [0, 1, 2].map(|_| rand_val(fmt, rng, far, 2));
     c.d = [0, 1, 2].map(|_| {
-        let s = range(rng, -4, 4) as i32;
+        let s = rng.range(-4, 4) as i32;
         rand_val(fmt, rng, s, 3)
     });
     match kind {
         Kind::Grazing => {
             let axes = [3u32, 5, 6, 7][rng.below(4) as usize];
-            let target = point_on_box(fmt, rng, &c, axes);
+            let target = point_of_box(fmt, rng, &c.p_min, &c.p_max, axes);
             for i in 0..3 {
                 c.d[i] = sub(fmt, target[i], c.o[i], RNE);
             }
-            if chance(rng, 1, 3) {
+            if rng.chance(1, 3) {
                 // an exact aim: o = target − d with a small d
                 for i in 0..3 {
                     c.d[i] = rand_val(fmt, rng, scale - 2, 1);
@@ -271,22 +195,22 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
                 }
             }
             for i in 0..3 {
-                if chance(rng, 1, 2) {
-                    c.d[i] = nudge(fmt, c.d[i], range(rng, -2, 2));
+                if rng.chance(1, 2) {
+                    c.d[i] = nudge(fmt, c.d[i], rng.range(-2, 2));
                 }
-                if chance(rng, 1, 4) {
-                    c.o[i] = nudge(fmt, c.o[i], range(rng, -1, 1));
+                if rng.chance(1, 4) {
+                    c.o[i] = nudge(fmt, c.o[i], rng.range(-1, 1));
                 }
             }
         }
         Kind::AlongFace => {
             let i = rng.below(3) as usize;
-            c.d[i] = fmt.zero(chance(rng, 1, 2));
-            if chance(rng, 1, 3) {
+            c.d[i] = fmt.zero(rng.chance(1, 2));
+            if rng.chance(1, 3) {
                 let j = (i + 1 + rng.below(2) as usize) % 3;
-                c.d[j] = fmt.zero(chance(rng, 1, 2));
+                c.d[j] = fmt.zero(rng.chance(1, 2));
             }
-            let on = if chance(rng, 1, 2) {
+            let on = if rng.chance(1, 2) {
                 c.p_min[i]
             } else {
                 c.p_max[i]
@@ -295,14 +219,14 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
         }
         Kind::OriginOnBox => {
             let axes = 1 + rng.below(7) as u32;
-            c.o = point_on_box(fmt, rng, &c, axes);
+            c.o = point_of_box(fmt, rng, &c.p_min, &c.p_max, axes);
         }
-        Kind::OriginInside => c.o = point_on_box(fmt, rng, &c, 0),
+        Kind::OriginInside => c.o = point_of_box(fmt, rng, &c.p_min, &c.p_max, 0),
         _ => {}
     }
-    if chance(rng, 1, 10) {
+    if rng.chance(1, 10) {
         let i = rng.below(3) as usize;
-        c.d[i] = fmt.zero(chance(rng, 1, 2));
+        c.d[i] = fmt.zero(rng.chance(1, 2));
     }
     c.t_min = match rng.below(8) {
         0 => fmt.inf(true),
@@ -312,7 +236,7 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
     };
     c.t_max = match rng.below(6) {
         0 | 1 => {
-            let s = range(rng, -3, 6) as i32;
+            let s = rng.range(-3, 6) as i32;
             rand_val(fmt, rng, s, 2) & !fmt.sign_bit()
         }
         2 => rand_val(fmt, rng, 0, 8),
@@ -345,8 +269,8 @@ pub fn bundle_of(
                 nudge(fmt, d, rng.below(4) as i64),
             ),
             _ => {
-                let k = range(rng, 1, 8) as i32;
-                let delta = from_f64(fmt, to_f64(fmt, d).abs() * 2f64.powi(-k) * unit(rng));
+                let k = rng.range(1, 8) as i32;
+                let delta = from_f64(fmt, to_f64(fmt, d).abs() * 2f64.powi(-k) * rng.unit());
                 (sub(fmt, d, delta, RNE), add(fmt, d, delta, RNE))
             }
         };
@@ -355,7 +279,7 @@ pub fn bundle_of(
         } else {
             (hi, lo)
         };
-        if allow_mixed && chance(rng, 1, 10) {
+        if allow_mixed && rng.chance(1, 10) {
             lo = nudge(fmt, fmt.zero(true), -(rng.below(3) as i64) - 1);
             hi = nudge(fmt, fmt.zero(false), rng.below(3) as i64 + 1);
         } else {
@@ -370,11 +294,11 @@ pub fn bundle_of(
         }
         b.d_lo[i] = lo;
         b.d_hi[i] = hi;
-        if bounded && chance(rng, 2, 3) {
+        if bounded && rng.chance(2, 3) {
             let ov = to_f64(fmt, c.o[i]);
             let width = (to_f64(fmt, c.p_max[i]) - to_f64(fmt, c.p_min[i])).abs();
-            let k = range(rng, 2, 20) as i32;
-            let eps = (ov.abs() * 2f64.powi(-k) + width * 0.1) * unit(rng);
+            let k = rng.range(2, 20) as i32;
+            let eps = (ov.abs() * 2f64.powi(-k) + width * 0.1) * rng.unit();
             let eps = from_f64(fmt, if eps.is_finite() { eps } else { 1.0 });
             let (a, z) = match rng.below(4) {
                 0 => (c.o[i], add(fmt, c.o[i], eps, RNE)),

@@ -3,9 +3,10 @@
 //! of them widened into bundles) in the unit's port order.
 
 use super::fstim::golden_format;
-use super::rays::{bundle_of, chance, coprime_stride, corner_cases, gen_ray, Kind, KINDS};
+use super::rays::{bundle_of, coprime_stride, corner_cases, gen_ray, Kind, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
+use golden_model::float::random::Random;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
 use rtl_gen::params::Params;
 use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
@@ -133,19 +134,19 @@ impl SilhouetteBench {
         let kind = KINDS[rng.below(KINDS.len() as u64) as usize];
         let c = gen_ray(fmt, &mut rng, kind);
         let bundle_share = if self.bounded() { 3 } else { 2 };
-        if kind != Kind::AnyBits && chance(&mut rng, bundle_share, 4) {
+        if kind != Kind::AnyBits && rng.chance(bundle_share, 4) {
             bundle_of(fmt, &mut rng, &c, self.bounded(), true)
         } else {
             let mut b = BundleIn::ray(c.p_min, c.p_max, c.o, c.d, c.t_min, c.t_max);
             if kind == Kind::AnyBits {
                 let w = fmt.width();
                 for i in 0..3 {
-                    b.o_hi[i] = if chance(&mut rng, 1, 2) {
+                    b.o_hi[i] = if rng.chance(1, 2) {
                         rng.bits(w)
                     } else {
                         b.o_lo[i]
                     };
-                    b.d_hi[i] = if chance(&mut rng, 1, 2) {
+                    b.d_hi[i] = if rng.chance(1, 2) {
                         rng.bits(w)
                     } else {
                         b.d_lo[i]

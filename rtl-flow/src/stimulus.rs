@@ -2,6 +2,7 @@
 //! is computed directly, so any vector can be regenerated alone (replay,
 //! sharding) and generation parallelises without shared state.
 
+use golden_model::float::random::Random;
 use golden_model::float::{from_f64, FloatFormat};
 use sim::mix64;
 
@@ -55,6 +56,15 @@ pub fn unsigned_corners(width: u32) -> Vec<u64> {
     v.sort_unstable();
     v.dedup();
     v
+}
+
+impl Random for VectorRng {
+    fn next_u64(&mut self) -> u64 {
+        VectorRng::next_u64(self)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        VectorRng::below(self, n)
+    }
 }
 
 /// Special values of `fmt`: zeros, infinities, NaNs (with payload and

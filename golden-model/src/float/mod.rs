@@ -27,6 +27,7 @@ mod mul;
 mod mul_exact;
 pub mod native;
 mod order;
+pub mod random;
 mod raw;
 mod round;
 mod unpack;

@@ -3,6 +3,9 @@
 #![allow(dead_code)]
 
 use golden_model::exact::ray_box::{corner_rays, BoxIn, RayIn};
+use golden_model::float::random;
+pub use golden_model::float::random::Random;
+pub use golden_model::float::random::{rand_scale, rand_val};
 use golden_model::float::{add, mul, sub, FloatFormat, RoundingMode};
 pub use golden_model::float::{nudge, to_f64, total_key};
 use golden_model::silhouette::BundleIn;
@@ -22,15 +25,26 @@ impl Rng {
     pub fn below(&mut self, n: u64) -> u64 {
         ((self.next() as u128 * n as u128) >> 64) as u64
     }
-    pub fn chance(&mut self, num: u64, den: u64) -> bool {
-        self.below(den) < num
+}
+
+impl Random for Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.next()
     }
-    pub fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    fn below(&mut self, n: u64) -> u64 {
+        Rng::below(self, n)
     }
-    pub fn range(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + self.below((hi - lo + 1) as u64) as i64
-    }
+}
+
+/// A random nonempty box at `scale` (sometimes flat on an axis).
+pub fn rand_box(fmt: FloatFormat, rng: &mut Rng, scale: i32) -> BoxIn {
+    let (p_min, p_max) = random::rand_box(fmt, rng, scale);
+    BoxIn { p_min, p_max }
+}
+
+/// A point chosen on the box: each coordinate a bound, or a value inside.
+pub fn point_on_box(fmt: FloatFormat, rng: &mut Rng, bx: &BoxIn, boundary_axes: u32) -> [u64; 3] {
+    random::point_of_box(fmt, rng, &bx.p_min, &bx.p_max, boundary_axes)
 }
 
 pub const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -40,75 +54,6 @@ pub use golden_model::float::from_f64;
 /// A uniformly chosen float between `lo <= hi` in the total order.
 pub fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
     golden_model::float::between(fmt, lo, hi, |n| rng.below(n))
-}
-
-/// A random finite value: random sign, magnitude `2^k · (1 + u)` with `k`
-/// around `scale` (so tiny, huge and subnormal values appear), sometimes 0.
-pub fn rand_val(fmt: FloatFormat, rng: &mut Rng, scale: i32, spread: i32) -> u64 {
-    if rng.chance(1, 40) {
-        return fmt.zero(rng.chance(1, 2));
-    }
-    let k = scale + rng.range(-(spread as i64), spread as i64) as i32;
-    let m = 1.0 + rng.unit();
-    let v = m * 2f64.powi(k.clamp(-1070, 1020));
-    let negative = rng.chance(1, 2);
-    let r = from_f64(fmt, if negative { -v } else { v });
-    if r & !fmt.sign_bit() == fmt.inf(false) {
-        fmt.max_finite(negative)
-    } else {
-        r
-    }
-}
-
-/// A "scale" exponent for one case: usually moderate, sometimes extreme.
-pub fn rand_scale(fmt: FloatFormat, rng: &mut Rng) -> i32 {
-    let emax = fmt.emax();
-    let emin = fmt.emin() - fmt.frac_bits() as i32;
-    match rng.below(10) {
-        0 => emax - rng.range(0, 3) as i32,        // near overflow
-        1 => emin + rng.range(0, 6) as i32,        // subnormal territory
-        2 => fmt.emin() + rng.range(-2, 4) as i32, // around the normal/subnormal border
-        _ => rng.range(-6, 6) as i32,
-    }
-}
-
-/// A random nonempty box at `scale` (sometimes flat on an axis).
-pub fn rand_box(fmt: FloatFormat, rng: &mut Rng, scale: i32) -> BoxIn {
-    let mut bx = BoxIn {
-        p_min: [0; 3],
-        p_max: [0; 3],
-    };
-    for i in 0..3 {
-        let a = rand_val(fmt, rng, scale, 2);
-        let b = if rng.chance(1, 12) {
-            a
-        } else {
-            rand_val(fmt, rng, scale, 2)
-        };
-        let (lo, hi) = if total_key(fmt, a) <= total_key(fmt, b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
-        bx.p_min[i] = lo;
-        bx.p_max[i] = hi;
-    }
-    bx
-}
-
-/// A point chosen on the box: each coordinate a bound, or a value inside.
-pub fn point_on_box(fmt: FloatFormat, rng: &mut Rng, bx: &BoxIn, boundary_axes: u32) -> [u64; 3] {
-    [0, 1, 2].map(|i| {
-        if boundary_axes >> i & 1 == 1 {
-            if rng.chance(1, 2) {
-                bx.p_min[i]
-            } else {
-                bx.p_max[i]
-            }
-        } else {
-            between(fmt, rng, bx.p_min[i], bx.p_max[i])
-        }
-    })
 }
 
 /// The kinds of single-ray cases.
