@@ -34,7 +34,7 @@ pub mod triangle;
 use rtl_gen::emit::{emit, VerilogFile};
 use rtl_gen::ir::{control, Module, Ty};
 use rtl_gen::params::{ParamError, ParamKind, ParamSpec, Params};
-use rtl_gen::units::Unit;
+use rtl_gen::units::{self, Unit};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -72,81 +72,42 @@ pub struct Entry {
     pub testbench: fn(&Params) -> Box<dyn Testbench>,
 }
 
-/// Every unit, in the order `rtl-gen list` shows them.
+/// One line of the catalog: the unit (from `rtl_gen::units`) and its
+/// testbench type (built by `Bench::new(&Params)`).
+macro_rules! entry {
+    ($unit:expr, $bench:path) => {
+        Entry {
+            unit: &$unit,
+            testbench: |p| Box::new(<$bench>::new(p)),
+        }
+    };
+}
+
+/// Every unit, in the order `rtl-gen list` shows them: registering a unit
+/// is its line here.
 pub fn catalog() -> Vec<Entry> {
     vec![
-        Entry {
-            unit: &rtl_gen::units::mulcmp::MulCmp,
-            testbench: |p| Box::new(mulcmp::MulCmpBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::silhouette::Silhouette,
-            testbench: |p| Box::new(silhouette::SilhouetteBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::slab::Slab,
-            testbench: |p| Box::new(slab::SlabBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::cull::Cull,
-            testbench: |p| Box::new(cull::CullBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::cull_ray::CullRay,
-            testbench: |p| Box::new(cull_ray::CullRayBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::transform::Transform,
-            testbench: |p| Box::new(transform::TransformBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::triangle::Triangle,
-            testbench: |p| Box::new(triangle::TriangleBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FADD,
-            testbench: |p| Box::new(fadd::FAddBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FADD_DOWN_UP,
-            testbench: |p| Box::new(fadd_down_up::FAddDownUpBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FMUL,
-            testbench: |p| Box::new(fmul::FMulBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FMUL_EXACT,
-            testbench: |p| Box::new(fmul_exact::FMulExactBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FCMP,
-            testbench: |p| Box::new(fcmp::FCmpBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FMINMAX,
-            testbench: |p| Box::new(fminmax::FMinMaxBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FCVT,
-            testbench: |p| Box::new(fcvt::FCvtBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FFMA,
-            testbench: |p| Box::new(ffma::FFmaBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FDOT3,
-            testbench: |p| Box::new(fdot3::FDot3Bench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FRECIP,
-            testbench: |p| Box::new(frecip::FRecipBench::new(p)),
-        },
-        Entry {
-            unit: &rtl_gen::units::float_ops::FUNPACK,
-            testbench: |p| Box::new(funpack::FUnpackBench::new(p)),
-        },
+        entry!(units::mulcmp::MulCmp, mulcmp::MulCmpBench),
+        entry!(units::silhouette::Silhouette, silhouette::SilhouetteBench),
+        entry!(units::slab::Slab, slab::SlabBench),
+        entry!(units::cull::Cull, cull::CullBench),
+        entry!(units::cull_ray::CullRay, cull_ray::CullRayBench),
+        entry!(units::transform::Transform, transform::TransformBench),
+        entry!(units::triangle::Triangle, triangle::TriangleBench),
+        entry!(units::float_ops::FADD, fadd::FAddBench),
+        entry!(
+            units::float_ops::FADD_DOWN_UP,
+            fadd_down_up::FAddDownUpBench
+        ),
+        entry!(units::float_ops::FMUL, fmul::FMulBench),
+        entry!(units::float_ops::FMUL_EXACT, fmul_exact::FMulExactBench),
+        entry!(units::float_ops::FCMP, fcmp::FCmpBench),
+        entry!(units::float_ops::FMINMAX, fminmax::FMinMaxBench),
+        entry!(units::float_ops::FCVT, fcvt::FCvtBench),
+        entry!(units::float_ops::FFMA, ffma::FFmaBench),
+        entry!(units::float_ops::FDOT3, fdot3::FDot3Bench),
+        entry!(units::float_ops::FRECIP, frecip::FRecipBench),
+        entry!(units::float_ops::FUNPACK, funpack::FUnpackBench),
     ]
 }
 
