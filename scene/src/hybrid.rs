@@ -33,12 +33,11 @@
 //! final surfaces, trace, combine. Both produce the same bits for every
 //! primitive order and interleaving (test `hybrid_identical.rs`).
 
-use crate::bundle::build_bundles;
 use crate::bvh::Accel;
-use crate::render::{combine, emit, make_surface, Cam, Frame, SecRay, Surface};
+use crate::render::{combine, emit, make_surface, trace_secondary, Cam, Frame, SecRay, Surface};
 use crate::scene::Scene;
 use crate::tester::BoxTester;
-use crate::trace::{intersect, RayKind, Stats, TRay, TraceOpts, Tracer, NONE};
+use crate::trace::{intersect, Stats, TraceOpts, Tracer, NONE};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -216,20 +215,6 @@ fn frame(w: u32, h: u32, bg: [f32; 3]) -> Frame {
     }
 }
 
-fn trace_batch(tracer: &Tracer, scale: f32, rays: &[SecRay], st: &mut Stats) -> Vec<bool> {
-    let mut tr: Vec<TRay> = rays
-        .iter()
-        .map(|s| TRay::new(s.o, s.d, s.t_max, true))
-        .collect();
-    for kind in [RayKind::Shadow, RayKind::Ao] {
-        let idx: Vec<usize> = (0..rays.len()).filter(|&i| rays[i].kind == kind).collect();
-        for b in build_bundles(&tr, &idx, &tracer.opts.bundles, scale) {
-            tracer.trace(&mut tr, &b, kind, st);
-        }
-    }
-    tr.iter().map(|r| r.hit.is_hit()).collect()
-}
-
 /// Synchronous reference: rasterise everything, shade the final surfaces, trace, combine.
 pub fn render_sync(
     scene: &Scene,
@@ -265,7 +250,7 @@ pub fn render_sync(
             f.t[p] = t.to_bits();
         }
     }
-    let occ = trace_batch(&tracer, accel.scale, &sec, &mut f.stats);
+    let occ = trace_secondary(&tracer, accel.scale, &sec, &mut f.stats);
     for (p, s, first, n) in owners {
         f.color[p] = combine(scene, &s, &sec[first..first + n], &occ[first..first + n]);
     }
@@ -348,7 +333,7 @@ pub fn render_async(
         }
         c.traced += batch.len() as u64;
         let rays: Vec<SecRay> = batch.iter().map(|q| q.ray).collect();
-        let occ = trace_batch(&tracer, accel.scale, &rays, st);
+        let occ = trace_secondary(&tracer, accel.scale, &rays, st);
         batch.into_iter().zip(occ).collect::<Vec<_>>()
     };
     // contribution check, when a batch's results arrive: the full surface id,
