@@ -134,48 +134,23 @@ fn split(
     }
     // best binned SAH split over the three axes
     let parent_area = area(&bx.0, &bx.1).max(1e-300);
-    let mut best: Option<(f64, usize, f32, f32)> = None; // cost, axis, cmin, scale
+    let mut best: Option<(f64, usize, f32, f32, usize)> = None; // cost, axis, cmin, scale, bin
     for axis in 0..3 {
         let (cmin, cmax) = (cb.0[axis], cb.1[axis]);
         if cmax <= cmin {
             continue;
         }
         let scale = BINS as f32 / (cmax - cmin);
-        let mut bins = [(EMPTY, 0usize); BINS];
-        for &p in order.iter() {
-            let p = &prims[p as usize];
-            let b = (((p.c[axis] - cmin) * scale) as usize).min(BINS - 1);
-            merge(&mut bins[b].0, p);
-            bins[b].1 += 1;
-        }
-        let mut right = [(0.0f64, 0usize); BINS];
-        let mut acc = (EMPTY, 0usize);
-        for b in (1..BINS).rev() {
-            acc.0 .0 = [0, 1, 2].map(|i| acc.0 .0[i].min(bins[b].0 .0[i]));
-            acc.0 .1 = [0, 1, 2].map(|i| acc.0 .1[i].max(bins[b].0 .1[i]));
-            acc.1 += bins[b].1;
-            right[b] = (area(&acc.0 .0, &acc.0 .1), acc.1);
-        }
-        let mut left = (EMPTY, 0usize);
-        for b in 0..BINS - 1 {
-            left.0 .0 = [0, 1, 2].map(|i| left.0 .0[i].min(bins[b].0 .0[i]));
-            left.0 .1 = [0, 1, 2].map(|i| left.0 .1[i].max(bins[b].0 .1[i]));
-            left.1 += bins[b].1;
-            let (ra, rn) = right[b + 1];
-            if left.1 == 0 || rn == 0 {
-                continue;
-            }
-            let cost =
-                1.0 + (area(&left.0 .0, &left.0 .1) * left.1 as f64 + ra * rn as f64) / parent_area;
+        if let Some((sah, bin)) = cheapest_bin(prims, order, axis, cmin, scale) {
+            let cost = 1.0 + sah / parent_area;
             if best.is_none_or(|(c, ..)| cost < c) {
-                best = Some((cost, axis, cmin, scale));
+                best = Some((cost, axis, cmin, scale, bin));
             }
         }
     }
     let mid = match best {
-        Some((cost, axis, cmin, scale)) if cost < n as f64 || n > max_leaf => {
+        Some((cost, axis, cmin, scale, best_bin)) if cost < n as f64 || n > max_leaf => {
             // partition by the chosen bin boundary
-            let best_bin = best_bin_for(prims, order, axis, cmin, scale);
             let mut i = 0;
             for j in 0..n {
                 let c = prims[order[j] as usize].c[axis];
@@ -204,8 +179,17 @@ fn split(
     me
 }
 
-/// The split bin of the cheapest SAH partition on `axis` (recomputed; cheap).
-fn best_bin_for(prims: &[Prim], order: &[u32], axis: usize, cmin: f32, scale: f32) -> usize {
+/// The cheapest binned SAH partition of `order` on `axis` (bins of width
+/// `1 / scale` from `cmin`): its cost `area_l · n_l + area_r · n_r` and the
+/// last bin on its left side (the first such bin among equal costs); `None`
+/// when every partition leaves a side empty.
+fn cheapest_bin(
+    prims: &[Prim],
+    order: &[u32],
+    axis: usize,
+    cmin: f32,
+    scale: f32,
+) -> Option<(f64, usize)> {
     let mut bins = [(EMPTY, 0usize); BINS];
     for &p in order {
         let p = &prims[p as usize];
@@ -222,7 +206,7 @@ fn best_bin_for(prims: &[Prim], order: &[u32], axis: usize, cmin: f32, scale: f3
         right[b] = (area(&acc.0 .0, &acc.0 .1), acc.1);
     }
     let mut left = (EMPTY, 0usize);
-    let mut best = (f64::INFINITY, BINS / 2);
+    let mut best: Option<(f64, usize)> = None;
     for b in 0..BINS - 1 {
         left.0 .0 = [0, 1, 2].map(|i| left.0 .0[i].min(bins[b].0 .0[i]));
         left.0 .1 = [0, 1, 2].map(|i| left.0 .1[i].max(bins[b].0 .1[i]));
@@ -232,11 +216,11 @@ fn best_bin_for(prims: &[Prim], order: &[u32], axis: usize, cmin: f32, scale: f3
             continue;
         }
         let cost = area(&left.0 .0, &left.0 .1) * left.1 as f64 + ra * rn as f64;
-        if cost < best.0 {
-            best = (cost, b);
+        if best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, b));
         }
     }
-    best.1
+    best
 }
 
 /// A bottom-level tree: BVH over one mesh, cull planes in the shared-normal
