@@ -130,6 +130,10 @@ pub enum Command {
     Bench {
         #[command(flatten)]
         c: Common,
+        /// rounds: each round renders with every renderer once, in turn; each renderer's time
+        /// is its median over the rounds (short renders vary by tens of percent)
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=99))]
+        rounds: u32,
     },
 }
 
@@ -368,10 +372,9 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 return Ok(ExitCode::from(1));
             }
         }
-        Command::Bench { c } => {
+        Command::Bench { c, rounds } => {
             let (s, w, h, opts) = setup(&c)?;
             let acc = build(&s, opts.planes);
-            let g = render(&s, &acc, &Golden::default(), opts, w, h, true);
             let singles = TraceOpts {
                 bundles: BundleOpts {
                     enabled: false,
@@ -379,18 +382,33 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 },
                 ..opts
             };
-            let g1 = render(&s, &acc, &Golden::default(), singles, w, h, true);
             let slab_opts = TraceOpts {
                 planes: false,
                 bundles: singles.bundles,
                 f32_transform: true,
                 tri: TriTest::F64,
             };
-            let f = render(&s, &acc, &Slab, slab_opts, w, h, true);
+            let run = |k: usize| match k {
+                0 => render(&s, &acc, &Golden::default(), opts, w, h, true),
+                1 => render(&s, &acc, &Golden::default(), singles, w, h, true),
+                _ => render(&s, &acc, &Slab, slab_opts, w, h, true),
+            };
+            // every renderer once per round, in turn, so that a slow spell of the machine
+            // falls on all of them; each keeps the frame of its median time
+            let mut frames: [Vec<crate::render::Frame>; 3] = Default::default();
+            for _ in 0..rounds {
+                for (k, f) in frames.iter_mut().enumerate() {
+                    f.push(run(k));
+                }
+            }
+            let [g, g1, f] = frames.map(|mut v| {
+                v.sort_by_key(|f| f.time);
+                v.swap_remove(v.len() / 2)
+            });
             let rate = |f: &crate::render::Frame| f.rays() as f64 / f.time.as_secs_f64();
             let diff = f.ids.iter().zip(&g.ids).filter(|(a, b)| a != b).count();
             println!(
-                "{} {}x{}, {} threads\n\n| renderer | rays | seconds | rays/s | box tests/ray |\n|---|---|---|---|---|",
+                "{} {}x{}, {} threads, median of {rounds} rounds\n\n| renderer | rays | seconds | rays/s | box tests/ray |\n|---|---|---|---|---|",
                 s.path.display(),
                 w,
                 h,
