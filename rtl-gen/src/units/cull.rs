@@ -45,6 +45,7 @@
 use super::{input_at, input_at3, Unit};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
+use crate::arith::float::classify::{all_of, any_of, is_nan, is_special, is_zero};
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_mixed_raw, MUL_RAW_STEPS};
 use crate::arith::float::round::{round, ROUND_STEPS};
@@ -397,31 +398,6 @@ pub fn widen(m: &mut ModuleBuilder, from: Format, to: Format, x: Sig, inst: &str
     m.name(v, "widened")
 }
 
-/// `v` is ±0 in `fmt`.
-#[track_caller]
-pub fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let mag = m.slice(v, fmt.width() - 2, 0);
-    let any = m.any_set(mag);
-    m.not(any)
-}
-
-/// `v` is a NaN in `fmt` (exponent all ones, fraction not zero: two
-/// reductions, no comparison).
-#[track_caller]
-pub fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let special = is_special(m, fmt, v);
-    let frac = m.slice(v, fmt.frac_bits - 1, 0);
-    let any = m.any_set(frac);
-    m.and(special, any)
-}
-
-/// `v` is a NaN or an infinity in `fmt` (exponent field all ones).
-#[track_caller]
-pub fn is_special(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let e = m.slice(v, fmt.width() - 2, fmt.frac_bits);
-    m.all_ones(e)
-}
-
 /// `v < 0` (false for NaN and both zeros).
 #[track_caller]
 fn is_neg(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
@@ -445,24 +421,6 @@ fn is_pos(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     let ok = m.not(nan);
     let r = m.and(ns, nz);
     m.and(r, ok)
-}
-
-/// OR of `flags` (Bool), one reduction, named `name`.
-#[track_caller]
-pub fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
-    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
-    let v = m.cat(&bits);
-    let r = m.any_set(v);
-    m.name(r, name)
-}
-
-/// AND of `flags` (Bool), one reduction, named `name`.
-#[track_caller]
-fn all_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
-    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
-    let v = m.cat(&bits);
-    let r = m.all_ones(v);
-    m.name(r, name)
 }
 
 /// `!cond | invalid`: a check that does not apply.

@@ -29,10 +29,11 @@
 //! its normalisation and Fc + 4 division steps). One register goes to the
 //! outputs first. The latency is `stages`.
 
-use super::cull::{any_of, config, is_special, is_zero, Config, TermField, DIR_WIDTH, PARAMS};
+use super::cull::{config, Config, TermField, DIR_WIDTH, PARAMS};
 use super::Unit;
 use crate::arith::float::add::ADD_RAW_STEPS;
 use crate::arith::float::add_down_up::add_down_up_module;
+use crate::arith::float::classify::{any_of, is_special, is_zero};
 use crate::arith::float::dot3_floor::{
     dot3_floor_instance, dot3_floor_module, DOT3_FLOOR_RAW_STEPS,
 };

@@ -45,6 +45,7 @@
 use super::Unit;
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
+use crate::arith::float::classify::{all_of, any_of, is_any_inf, is_inf, is_nan, is_zero};
 use crate::arith::float::compare::compare;
 use crate::arith::float::mul::MUL_RAW_STEPS;
 use crate::arith::float::mul_exact::exact_product_format;
@@ -253,63 +254,6 @@ pub const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), 
 /// The sign bit of `fmt` as a constant of its width.
 fn sign_bit(m: &mut ModuleBuilder, fmt: Format) -> Sig {
     m.uint(fmt.width(), 1u128 << (fmt.width() - 1))
-}
-
-/// `v` is ±0.
-#[track_caller]
-fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let mag = m.slice(v, fmt.width() - 2, 0);
-    let any = m.any_set(mag);
-    m.not(any)
-}
-
-/// OR of `flags` (Bool), one reduction, named `name`.
-#[track_caller]
-fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
-    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
-    let v = m.cat(&bits);
-    let v = m.name(v, &format!("{name}_flags"));
-    let r = m.any_set(v);
-    m.name(r, name)
-}
-
-/// AND of `flags` (Bool), one reduction, named `name`.
-#[track_caller]
-fn all_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
-    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
-    let v = m.cat(&bits);
-    let v = m.name(v, &format!("{name}_flags"));
-    let r = m.all_ones(v);
-    m.name(r, name)
-}
-
-/// `v` is a NaN.
-#[track_caller]
-fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let mag = m.slice(v, fmt.width() - 2, 0);
-    let inf = m.uint(fmt.width() - 1, fmt.inf_bits());
-    m.gt(mag, inf)
-}
-
-/// `v` is +∞ (`negative = false`) or −∞.
-#[track_caller]
-fn is_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -> Sig {
-    let bits = fmt.inf_bits()
-        | if negative {
-            1u128 << (fmt.width() - 1)
-        } else {
-            0
-        };
-    let k = m.uint(fmt.width(), bits);
-    m.eq(v, k)
-}
-
-/// `v` is ±∞.
-#[track_caller]
-fn is_any_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let mag = m.slice(v, fmt.width() - 2, 0);
-    let inf = m.uint(fmt.width() - 1, fmt.inf_bits());
-    m.eq(mag, inf)
 }
 
 /// IEEE quiet `a <= b` (false if either is NaN), its comparator's values

@@ -25,6 +25,7 @@
 
 use super::Unit;
 use crate::arith::float::add::add_module;
+use crate::arith::float::classify::{is_special, is_zero};
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
@@ -468,19 +469,6 @@ fn det2s(
     }
 }
 
-/// True if the encoding `x` is an infinity or a NaN (exponent all ones).
-fn not_finite(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
-    let e = m.slice(x, fmt.exp_bits + fmt.frac_bits - 1, fmt.frac_bits);
-    m.all_ones(e)
-}
-
-/// True if the encoding `x` is ±0.
-fn is_zero(m: &mut ModuleBuilder, fmt: Format, x: Sig) -> Sig {
-    let mag = m.slice(x, fmt.exp_bits + fmt.frac_bits - 1, 0);
-    let any = m.any_set(mag);
-    m.not(any)
-}
-
 /// `R⁻¹` from `R` (row-major) and the "inversion failed" bit, as
 /// `golden_model::transform::invert_hw`; starts in the current stage and
 /// closes `plan[..det2_depth + depth + 2]`.
@@ -535,11 +523,11 @@ fn invert(
         .collect();
     close(m, plan[k + 1]);
     // det must be finite and nonzero, every entry of the inverse finite
-    let det_nf = not_finite(m, fmt, det);
+    let det_nf = is_special(m, fmt, det);
     let det_zero = is_zero(m, fmt, det);
     let mut failed = m.or(det_nf, det_zero);
     for x in &inv {
-        let nf = not_finite(m, fmt, *x);
+        let nf = is_special(m, fmt, *x);
         failed = m.or(failed, nf);
     }
     let use_inv = m.not(hint);
@@ -603,7 +591,7 @@ pub fn build(cfg: &Config) -> Module {
 
     let mut bad_in = m.bool(false);
     for x in lin.iter().chain(t.iter()) {
-        let nf = not_finite(&mut m, fmt, *x);
+        let nf = is_special(&mut m, fmt, *x);
         bad_in = m.or(bad_in, nf);
     }
     let plan = spread(cfg.stages, cfg.chain());

@@ -18,6 +18,7 @@
 pub mod add;
 pub mod add_down_up;
 pub mod bits;
+pub mod classify;
 pub mod compare;
 pub mod convert;
 pub mod dot3;

@@ -1,0 +1,71 @@
+//! Predicates on a float encoding, for units that test a value's class
+//! without unpacking it: bit reductions over the fields, no comparison.
+
+use super::Format;
+use crate::builder::{ModuleBuilder, Sig};
+
+/// `v` is ±0 (no magnitude bit set).
+#[track_caller]
+pub fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let mag = m.slice(v, fmt.width() - 2, 0);
+    let any = m.any_set(mag);
+    m.not(any)
+}
+
+/// `v` is a NaN or an infinity (exponent field all ones).
+#[track_caller]
+pub fn is_special(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let e = m.slice(v, fmt.width() - 2, fmt.frac_bits);
+    m.all_ones(e)
+}
+
+/// `v` is a NaN (exponent all ones, fraction not zero).
+#[track_caller]
+pub fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let special = is_special(m, fmt, v);
+    let frac = m.slice(v, fmt.frac_bits - 1, 0);
+    let any = m.any_set(frac);
+    m.and(special, any)
+}
+
+/// `v` is ±∞ (exponent all ones, fraction zero).
+#[track_caller]
+pub fn is_any_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let special = is_special(m, fmt, v);
+    let frac = m.slice(v, fmt.frac_bits - 1, 0);
+    let any = m.any_set(frac);
+    let none = m.not(any);
+    m.and(special, none)
+}
+
+/// `v` is +∞ (`negative = false`) or −∞.
+#[track_caller]
+pub fn is_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -> Sig {
+    let inf = is_any_inf(m, fmt, v);
+    let sign = m.msb(v);
+    let sign = if negative { sign } else { m.not(sign) };
+    m.and(inf, sign)
+}
+
+/// OR of `flags` (Bool): one reduction over their concatenation `{name}_flags`, named `name`.
+#[track_caller]
+pub fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let v = flags_of(m, flags, name);
+    let r = m.any_set(v);
+    m.name(r, name)
+}
+
+/// AND of `flags` (Bool): one reduction over their concatenation `{name}_flags`, named `name`.
+#[track_caller]
+pub fn all_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let v = flags_of(m, flags, name);
+    let r = m.all_ones(v);
+    m.name(r, name)
+}
+
+#[track_caller]
+fn flags_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {
+    let bits: Vec<Sig> = flags.iter().map(|&f| m.as_uint(f)).collect();
+    let v = m.cat(&bits);
+    m.name(v, &format!("{name}_flags"))
+}
