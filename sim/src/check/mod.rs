@@ -275,6 +275,7 @@ fn run_worker(
             mismatches: compared.mismatches,
             elapsed: started.elapsed(),
             cycles: stats.cycles,
+            golden: compared.golden,
         },
         bubbles: stats.bubbles,
         kept: compared.kept,
@@ -340,6 +341,8 @@ struct Compared {
     results: u64,
     mismatches: u64,
     kept: Vec<Mismatch>,
+    /// time spent in the golden model alone
+    golden: Duration,
 }
 
 fn compare(
@@ -362,6 +365,7 @@ fn compare(
         results: 0,
         mismatches: 0,
         kept: Vec::new(),
+        golden: Duration::ZERO,
     };
     loop {
         if shared.abort.load(Ordering::Relaxed) {
@@ -388,7 +392,9 @@ fn compare(
         );
         let first = slice.first + k0 * slice.stride;
         stim.vectors_strided(opts.seed, first, slice.stride, n_in, inp);
+        let golden_start = Instant::now();
         golden.eval_batch(inp, n_in, exp, n_out);
+        out.golden += golden_start.elapsed();
         let before = out.mismatches;
         // The whole batch in one comparison; per-vector work only on failure.
         if exp != got {

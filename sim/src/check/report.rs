@@ -172,12 +172,20 @@ pub struct WorkerReport {
     pub elapsed: Duration,
     /// Clock cycles its harness simulated.
     pub cycles: u64,
+    /// Time its golden model took alone (its share of `elapsed`).
+    pub golden: Duration,
 }
 
 impl WorkerReport {
     /// This worker's throughput.
     pub fn vectors_per_sec(&self) -> f64 {
         self.vectors as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+
+    /// The golden model's own rate in this worker: its vectors over the
+    /// time spent in it alone.
+    pub fn golden_vectors_per_sec(&self) -> f64 {
+        self.vectors as f64 / self.golden.as_secs_f64().max(1e-9)
     }
 }
 
@@ -246,6 +254,15 @@ impl fmt::Display for CheckReport {
             self.bubbles,
             self.elapsed.as_secs_f64(),
             self.vectors_per_sec() / 1e6
+        )?;
+        // which side limits the check: the golden model alone against the whole
+        let golden = self.workers.iter().map(|w| w.golden).sum::<Duration>();
+        let worker_time = self.workers.iter().map(|w| w.elapsed).sum::<Duration>();
+        writeln!(
+            f,
+            "  golden model alone: {:.2} M vectors/s per worker ({:.0} % of the workers' time)",
+            self.vectors as f64 / golden.as_secs_f64().max(1e-9) / 1e6,
+            100.0 * golden.as_secs_f64() / worker_time.as_secs_f64().max(1e-9)
         )?;
         if self.workers.len() > 1 {
             let each: Vec<String> = self
