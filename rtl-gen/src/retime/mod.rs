@@ -161,6 +161,12 @@ const DSP_BITS: u32 = 18;
 /// 3.2 ns: the blocks sit in rows of their own), in LUT levels.
 const DSP_ROUTE: f64 = 1.8;
 
+/// Widest remainder pieces of a split product whose block is summed in LUTs
+/// instead of a DSP block: a 24x24 product's 6x6 corner is a few dozen LUT4s
+/// of partial products, against a quarter of its four blocks (Yosys would
+/// put a written `*` of it on a block).
+const CORNER_BITS: u32 = 6;
+
 /// True when a `wa x wb` product goes to a DSP block rather than LUTs.
 fn on_dsp(wa: u32, wb: u32) -> bool {
     wa.min(wb) > 4
@@ -216,17 +222,23 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
     let mut terms: Vec<(usize, u32)> = Vec::new();
     for &(x, wx) in &pa {
         for &(y, wy) in &pb {
-            let w = nodes[x].ty.width() + nodes[y].ty.width();
-            let p = dsp_block(
-                nodes,
-                x,
-                y,
-                Ty::UInt(w),
-                &format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS),
-            );
+            let (xw, yw) = (nodes[x].ty.width(), nodes[y].ty.width());
+            let block = format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS);
+            let p = if xw.max(yw) <= CORNER_BITS {
+                lut_product(nodes, x, y, Ty::UInt(xw + yw), &block)
+            } else {
+                dsp_block(nodes, x, y, Ty::UInt(xw + yw), &block)
+            };
             terms.push((p, wx + wy));
         }
     }
+    sum_terms(nodes, terms, ty, name)
+}
+
+/// The sum of `terms` (node, weight in bits) as a `ty` value: pairwise, each
+/// heavier term shifted onto the lighter one's weight; the lightest term has
+/// weight 0 and the sum fits `ty`.
+fn sum_terms(nodes: &mut Vec<FlatNode>, mut terms: Vec<(usize, u32)>, ty: Ty, name: &str) -> usize {
     let total = ty.width();
     let mut level = 0;
     while terms.len() > 1 {
@@ -309,6 +321,46 @@ fn split_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &s
             )
         }
     }
+}
+
+/// `a · b` (unsigned) as its partial products `a · b_i · 2^i` summed in the
+/// fabric ([`CORNER_BITS`]).
+fn lut_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &str) -> usize {
+    let wa = nodes[a].ty.width();
+    let wb = nodes[b].ty.width();
+    let terms = (0..wb)
+        .map(|i| {
+            // (a one-bit piece is its own bit: Verilog cannot select from a scalar)
+            let bit = if wb == 1 {
+                b
+            } else {
+                push(
+                    nodes,
+                    Op::Slice(NodeId(b as u32), i, i),
+                    Ty::UInt(1),
+                    format!("{name}_b{i}"),
+                )
+            };
+            let spread = push(
+                nodes,
+                Op::Concat(vec![NodeId(bit as u32); wa as usize]),
+                Ty::UInt(wa),
+                format!("{name}_b{i}_all"),
+            );
+            let pp = push(
+                nodes,
+                Op::Bit(
+                    crate::ir::BitOp::And,
+                    NodeId(a as u32),
+                    NodeId(spread as u32),
+                ),
+                Ty::UInt(wa),
+                format!("{name}_pp{i}"),
+            );
+            (pp, i)
+        })
+        .collect();
+    sum_terms(nodes, terms, ty, name)
 }
 
 fn flatten(m: &Module) -> Result<Flat, String> {
