@@ -80,7 +80,7 @@ impl CullBench {
         let at = unit.child_ports();
         let out = |name: &str| {
             let names = CHILD_OUTPUT_NAMES.map(String::from);
-            rtl_gen::units::input_at(&names, name)
+            rtl_gen::units::port_at(&names, name)
         };
         CullBench {
             cfg,

@@ -4,6 +4,7 @@ use super::stimulus::{mask, unsigned_corners, VectorRng};
 use super::Testbench;
 use rtl_gen::params::Params;
 use rtl_gen::units::mulcmp::{INPUT_NAMES, OUTPUT_NAMES};
+use rtl_gen::units::port_at;
 
 /// Vectors: first every combination of corner values of a, b, c, d; then
 /// random vectors mixing uniform operands, equal products (swapped or
@@ -19,14 +20,6 @@ pub struct MulCmpBench {
     outs: [usize; 3],
 }
 
-/// The position of `name` in `names`.
-fn at(names: &[&str], name: &str) -> usize {
-    names
-        .iter()
-        .position(|n| *n == name)
-        .expect("a port of mulcmp")
-}
-
 impl MulCmpBench {
     /// The testbench for resolved `mulcmp` parameters.
     pub fn new(p: &Params) -> Self {
@@ -36,8 +29,8 @@ impl MulCmpBench {
             b_width,
             corners_a: unsigned_corners(a_width),
             corners_b: unsigned_corners(b_width),
-            ins: ["a", "b", "c", "d"].map(|n| at(&INPUT_NAMES, n)),
-            outs: ["lt", "eq", "ab"].map(|n| at(&OUTPUT_NAMES, n)),
+            ins: ["a", "b", "c", "d"].map(|n| port_at(&INPUT_NAMES, n)),
+            outs: ["lt", "eq", "ab"].map(|n| port_at(&OUTPUT_NAMES, n)),
         }
     }
 

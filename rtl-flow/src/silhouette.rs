@@ -10,7 +10,7 @@ use golden_model::float::random::Random;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
 use rtl_gen::params::Params;
 use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
-use rtl_gen::units::{input_at, input_at3};
+use rtl_gen::units::{port_at, port_at3};
 
 /// Vectors and golden model of one `silhouette` configuration.
 pub struct SilhouetteBench {
@@ -64,7 +64,7 @@ struct Ports {
 impl Ports {
     fn of(u: &unit::Config) -> Ports {
         let names = u.input_names();
-        let three = |g: &str| input_at3(&names, g);
+        let three = |g: &str| port_at3(&names, g);
         let (o_lo, o_hi, d_lo, d_hi) = match (u.mode, u.origin) {
             (Mode::Ray, _) => (three("o"), three("o"), three("d"), three("d")),
             (Mode::Bundle, Origin::Shared) => {
@@ -81,8 +81,8 @@ impl Ports {
             o_hi,
             d_lo,
             d_hi,
-            t_min: input_at(&names, "t_min"),
-            t_max: input_at(&names, "t_max"),
+            t_min: port_at(&names, "t_min"),
+            t_max: port_at(&names, "t_max"),
         }
     }
 }

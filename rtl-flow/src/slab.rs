@@ -15,7 +15,7 @@ use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
 use rtl_gen::params::Params;
 use rtl_gen::units::slab::{input_names, OUTPUT_NAMES};
-use rtl_gen::units::{input_at, input_at3};
+use rtl_gen::units::{port_at, port_at3};
 
 /// Vectors and golden model of one `slab` configuration.
 pub struct SlabBench {
@@ -42,17 +42,14 @@ struct Ports {
 impl Ports {
     fn new() -> Ports {
         let names = input_names();
-        let out = |name: &str| {
-            let outs = OUTPUT_NAMES.map(String::from);
-            input_at(&outs, name)
-        };
+        let out = |name: &str| port_at(&OUTPUT_NAMES, name);
         Ports {
-            p_min: input_at3(&names, "p_min"),
-            p_max: input_at3(&names, "p_max"),
-            o: input_at3(&names, "o"),
-            inv_d: input_at3(&names, "inv_d"),
-            t_min: input_at(&names, "t_min"),
-            t_max: input_at(&names, "t_max"),
+            p_min: port_at3(&names, "p_min"),
+            p_max: port_at3(&names, "p_max"),
+            o: port_at3(&names, "o"),
+            inv_d: port_at3(&names, "inv_d"),
+            t_min: port_at(&names, "t_min"),
+            t_max: port_at(&names, "t_max"),
             hit: out("hit"),
             t_enter: out("t_enter"),
             t_exit: out("t_exit"),

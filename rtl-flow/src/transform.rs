@@ -25,7 +25,7 @@ use golden_model::transform::{
 };
 use rtl_gen::params::Params;
 use rtl_gen::units::transform::{self as unit, Dot};
-use rtl_gen::units::{input_at, input_at3};
+use rtl_gen::units::{port_at, port_at3};
 
 /// One transaction before packing into ports.
 #[derive(Debug, Clone, Copy)]
@@ -80,8 +80,8 @@ struct OutPorts {
 impl OutPorts {
     fn of(u: &unit::Config) -> OutPorts {
         let names = u.output_names();
-        let at = |n: &str| input_at(&names, n);
-        let three = |g: &str| input_at3(&names, g);
+        let at = |n: &str| port_at(&names, n);
+        let three = |g: &str| port_at3(&names, g);
         OutPorts {
             first: three(if u.full { "om" } else { "vm" }),
             dir: u.full.then(|| three("dm")),
@@ -96,8 +96,8 @@ impl OutPorts {
 impl Ports {
     fn of(u: &unit::Config) -> Ports {
         let names = u.input_names();
-        let at = |n: &str| input_at(&names, n);
-        let three = |g: &str| input_at3(&names, g);
+        let at = |n: &str| port_at(&names, n);
+        let three = |g: &str| port_at3(&names, g);
         Ports {
             first: three(if u.full { "ow" } else { "v" }),
             dir: u.full.then(|| three("dw")),

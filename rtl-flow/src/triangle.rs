@@ -17,7 +17,7 @@ use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
 use rtl_gen::params::Params;
 use rtl_gen::units::triangle::{config, input_names, output_names};
-use rtl_gen::units::{input_at, input_at3};
+use rtl_gen::units::{port_at, port_at3};
 use std::sync::LazyLock;
 
 /// Vectors and golden model of one `triangle` configuration.
@@ -187,10 +187,10 @@ struct Ports {
 static PORTS: LazyLock<Ports> = LazyLock::new(|| {
     let names = input_names();
     assert_eq!(names.len(), INPUTS, "triangle inputs");
-    let outs: Vec<String> = output_names(true).iter().map(|n| n.to_string()).collect();
-    let i = |n: &str| input_at(&names, n);
-    let i3 = |g: &str| input_at3(&names, g);
-    let o = |n: &str| input_at(&outs, n);
+    let outs = output_names(true);
+    let i = |n: &str| port_at(&names, n);
+    let i3 = |g: &str| port_at3(&names, g);
+    let o = |n: &str| port_at(&outs, n);
     Ports {
         o: i3("o"),
         kz: i("kz"),

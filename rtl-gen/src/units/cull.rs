@@ -42,7 +42,7 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::{input_at, input_at3, Unit};
+use super::{port_at, port_at3, Unit};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
 use crate::arith::float::classify::{all_of, any_of, is_nan, is_special, is_zero};
@@ -218,7 +218,7 @@ fn port_names(ports: &[(String, u32)]) -> Vec<String> {
 /// Per normal `j < k`, the positions of its [`TermField`] ports.
 fn term_ports(names: &[String], k: usize) -> Vec<[usize; 4]> {
     (0..k)
-        .map(|j| TermField::ALL.map(|t| input_at(names, &t.port(j))))
+        .map(|j| TermField::ALL.map(|t| port_at(names, &t.port(j))))
         .collect()
 }
 
@@ -303,9 +303,9 @@ impl Config {
         let names = port_names(&self.child_inputs());
         let k = self.k as usize;
         ChildPorts {
-            t_lo: input_at(&names, "t_lo"),
-            t_hi: input_at(&names, "t_hi"),
-            w: (0..k).map(|j| input_at(&names, &format!("w{j}"))).collect(),
+            t_lo: port_at(&names, "t_lo"),
+            t_hi: port_at(&names, "t_hi"),
+            w: (0..k).map(|j| port_at(&names, &format!("w{j}"))).collect(),
             terms: term_ports(&names, k),
         }
     }
@@ -316,12 +316,10 @@ impl Config {
         let names = port_names(&self.ray_inputs());
         let k = self.k as usize;
         RayPorts {
-            o: input_at3(&names, "o"),
-            d: input_at3(&names, "d"),
-            r: input_at3(&names, "r"),
-            n: (0..k)
-                .map(|j| input_at3(&names, &format!("n{j}")))
-                .collect(),
+            o: port_at3(&names, "o"),
+            d: port_at3(&names, "d"),
+            r: port_at3(&names, "r"),
+            n: (0..k).map(|j| port_at3(&names, &format!("n{j}"))).collect(),
             terms: term_ports(&port_names(&self.ray_outputs()), k),
         }
     }

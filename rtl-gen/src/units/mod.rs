@@ -24,17 +24,20 @@ pub trait Unit: Sync {
     fn build(&self, params: &Params) -> Result<Module, ParamError>;
 }
 
-/// Ports by name: the position of input `name` in a unit's list of input
-/// names (the order it declares them in), so neither the generator nor a
-/// testbench counts positions.
-pub fn input_at(names: &[String], name: &str) -> usize {
+/// Ports by name: the position of port `name` in a unit's list of input or
+/// output names (the order it declares them in), so neither the generator
+/// nor a testbench counts positions.
+pub fn port_at<S: AsRef<str>>(names: &[S], name: &str) -> usize {
     names
         .iter()
-        .position(|n| n == name)
-        .unwrap_or_else(|| panic!("no input `{name}` (inputs: {names:?})"))
+        .position(|n| n.as_ref() == name)
+        .unwrap_or_else(|| {
+            let all: Vec<&str> = names.iter().map(|n| n.as_ref()).collect();
+            panic!("no port `{name}` (ports: {all:?})")
+        })
 }
 
-/// The positions of the vector inputs `{group}_x`, `{group}_y`, `{group}_z`.
-pub fn input_at3(names: &[String], group: &str) -> [usize; 3] {
-    ["x", "y", "z"].map(|a| input_at(names, &format!("{group}_{a}")))
+/// The positions of the vector ports `{group}_x`, `{group}_y`, `{group}_z`.
+pub fn port_at3<S: AsRef<str>>(names: &[S], group: &str) -> [usize; 3] {
+    ["x", "y", "z"].map(|a| port_at(names, &format!("{group}_{a}")))
 }

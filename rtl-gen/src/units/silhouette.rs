@@ -665,9 +665,9 @@ pub fn build(cfg: &Config) -> Module {
     let bounded = cfg.bounded();
     let names = cfg.input_names();
     let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
-    let port = |name: &str| ins[super::input_at(&names, name)];
+    let port = |name: &str| ins[super::port_at(&names, name)];
     let vec3 = |group: &str| -> Vec<Sig> {
-        super::input_at3(&names, group)
+        super::port_at3(&names, group)
             .iter()
             .map(|&k| ins[k])
             .collect()

@@ -29,7 +29,7 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::{input_at, input_at3, Unit};
+use super::{port_at, port_at3, Unit};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
@@ -338,10 +338,10 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
     let names = input_names();
     let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
     let vec3 =
-        |group: &str| -> Vec<Sig> { input_at3(&names, group).iter().map(|&k| ins[k]).collect() };
+        |group: &str| -> Vec<Sig> { port_at3(&names, group).iter().map(|&k| ins[k]).collect() };
     let (p_min, p_max, o, inv_d) = (vec3("p_min"), vec3("p_max"), vec3("o"), vec3("inv_d"));
-    let t_min = ins[input_at(&names, "t_min")];
-    let t_max = ins[input_at(&names, "t_max")];
+    let t_min = ins[port_at(&names, "t_min")];
+    let t_max = ins[port_at(&names, "t_max")];
 
     let axis = match rounding {
         SlabRounding::Nearest => slab_axis_module(fmt, plan.diff, plan.product),

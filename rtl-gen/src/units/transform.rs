@@ -577,8 +577,8 @@ pub fn build(cfg: &Config) -> Module {
             _ => m.input(n, ty),
         })
         .collect();
-    let port = |name: &str| ins[super::input_at(&names, name)];
-    let three = |g: &str| super::input_at3(&names, g).map(|k| ins[k]);
+    let port = |name: &str| ins[super::port_at(&names, name)];
+    let three = |g: &str| super::port_at3(&names, g).map(|k| ins[k]);
     let (vw, dw, is_origin) = if cfg.full {
         (three("ow"), Some(three("dw")), None)
     } else {

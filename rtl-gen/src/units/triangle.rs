@@ -31,7 +31,7 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::{input_at, input_at3, Unit};
+use super::{port_at, port_at3, Unit};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
 use crate::arith::float::dot3::dot3_module;
@@ -162,12 +162,12 @@ pub fn build(cfg: &Config) -> Module {
         .iter()
         .map(|n| m.input(n, if n == "kz" { Ty::UInt(2) } else { ty }))
         .collect();
-    let vec3 = |group: &str| input_at3(&names, group).map(|k| ins[k]);
+    let vec3 = |group: &str| port_at3(&names, group).map(|k| ins[k]);
     let (o, s) = (vec3("o"), vec3("s"));
     let verts = ["a", "b", "c"].map(vec3);
-    let kz = ins[input_at(&names, "kz")];
-    let t_min = ins[input_at(&names, "t_min")];
-    let t_max = ins[input_at(&names, "t_max")];
+    let kz = ins[port_at(&names, "kz")];
+    let t_min = ins[port_at(&names, "t_min")];
+    let t_max = ins[port_at(&names, "t_max")];
 
     // invalid: a non-finite o, s or vertex, a NaN bound, kz = 3
     let mut invalid = m.all_ones(kz);
