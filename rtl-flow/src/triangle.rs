@@ -190,7 +190,7 @@ static PORTS: LazyLock<Ports> = LazyLock::new(|| {
     let outs = output_names(true);
     let i = |n: &str| port_at(&names, n);
     let i3 = |g: &str| port_at3(&names, g);
-    let o = |n: &str| port_at(&outs, n);
+    let o = |n: &str| port_at(outs, n);
     Ports {
         o: i3("o"),
         kz: i("kz"),
