@@ -36,7 +36,7 @@
 //!    `invalid`.
 //!
 //! Pipelining: `stages` registers are spread ([`spread_over`]) over the 13
-//! logical steps of [`STEPS`]; one register goes to the outputs first. The
+//! logical steps of [`PHASES`]; one register goes to the outputs first. The
 //! latency is `stages`.
 //!
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
@@ -475,15 +475,27 @@ impl Bound {
     }
 }
 
-/// Logical steps of `cull`: the widening of `w`; the adder's exact sum
+/// The logical steps of `cull`: the widening of `w`; the adder's exact sum
 /// ([`ADD_RAW_STEPS`]) and its rounder ([`ROUND_STEPS`]); the pick of the
 /// reciprocal with the multiplier's unpacking, then its significand
 /// product ([`MUL_RAW_STEPS`]); the product's rounder, whose last step also
 /// holds the comparisons and the verdict. The steps are of about equal
 /// logic depth, so [`spread_over`] balances the stages (at 4: the widening and
 /// exact sum | the sum's rounding | the product | its rounding and the
-/// comparisons).
-pub const STEPS: u32 = 1 + ADD_RAW_STEPS + ROUND_STEPS + 1 + MUL_RAW_STEPS + ROUND_STEPS;
+/// comparisons). Per phase, in the order of [`StagePlan`]'s fields: the
+/// widening, each of the exact sum's steps (its registers are placed per
+/// step), the sum's rounder, the pick and the product, the product's rounder
+/// but its last step, and that step (the outputs).
+pub const PHASES: [u32; 8] = [
+    1,
+    1,
+    1,
+    1,
+    ROUND_STEPS,
+    1 + MUL_RAW_STEPS,
+    ROUND_STEPS - 1,
+    1,
+];
 
 /// How `cull`'s `stages` registers are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -503,22 +515,10 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`PHASES`]).
     pub fn new(stages: u32) -> StagePlan {
-        // the exact sum's steps one by one (its registers are placed per step)
-        let [widen, add_0, add_1, add_2, add_round, mul_raw, mul_round, out] = spread_over(
-            stages,
-            [
-                1,
-                1,
-                1,
-                1,
-                ROUND_STEPS,
-                1 + MUL_RAW_STEPS,
-                ROUND_STEPS - 1,
-                1,
-            ],
-        );
+        let [widen, add_0, add_1, add_2, add_round, mul_raw, mul_round, out] =
+            spread_over(stages, PHASES);
         StagePlan {
             widen,
             add_raw: [add_0, add_1, add_2],

@@ -150,8 +150,9 @@ pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
 pub const NORM_STEPS: u32 = 1;
 /// Logical steps of the significand products (the integer multiplier).
 pub const PRODUCT_STEPS: u32 = MUL_RAW_STEPS;
-/// All logical steps: differences, normalisation, products, comparisons, reduction.
-pub const STEPS: u32 = DIFF_STEPS + NORM_STEPS + PRODUCT_STEPS + 2;
+/// Logical steps per phase, in the order of [`StagePlan`]'s fields:
+/// differences, normalisation, products, comparisons, reduction.
+pub const PHASES: [u32; 5] = [DIFF_STEPS, NORM_STEPS, PRODUCT_STEPS, 1, 1];
 
 /// How the `stages` registers are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -169,10 +170,9 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`PHASES`]).
     pub fn new(stages: u32) -> StagePlan {
-        let [diff, norm, product, compare, reduce] =
-            spread_over(stages, [DIFF_STEPS, NORM_STEPS, PRODUCT_STEPS, 1, 1]);
+        let [diff, norm, product, compare, reduce] = spread_over(stages, PHASES);
         StagePlan {
             diff,
             norm,

@@ -98,8 +98,9 @@ const PARAMS: &[ParamSpec] = &[
 pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
 /// Logical steps of a product (multiplier and rounder).
 pub const PRODUCT_STEPS: u32 = MUL_RAW_STEPS + ROUND_STEPS;
-/// All logical steps: differences, products, min/max, reduction tree, comparison.
-pub const STEPS: u32 = DIFF_STEPS + PRODUCT_STEPS + 3;
+/// Logical steps per phase, in the order of [`StagePlan`]'s fields:
+/// differences, products, min/max, reduction tree, comparison.
+pub const PHASES: [u32; 5] = [DIFF_STEPS, PRODUCT_STEPS, 1, 1, 1];
 
 /// How the `stages` registers are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,10 +118,9 @@ pub struct StagePlan {
 }
 
 impl StagePlan {
-    /// The plan for `stages` registers ([`spread_over`] the [`STEPS`] steps).
+    /// The plan for `stages` registers ([`spread_over`] the [`PHASES`]).
     pub fn new(stages: u32) -> StagePlan {
-        let [diff, product, min_max, reduce, compare] =
-            spread_over(stages, [DIFF_STEPS, PRODUCT_STEPS, 1, 1, 1]);
+        let [diff, product, min_max, reduce, compare] = spread_over(stages, PHASES);
         StagePlan {
             diff,
             product,
