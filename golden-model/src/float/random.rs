@@ -3,7 +3,7 @@
 //! random source ([`Random`]), so the same helper draws the caller's stream.
 
 use super::format::FloatFormat;
-use super::order::{between, from_f64, total_key};
+use super::order::{self, from_f64, total_key};
 
 /// A source of random bits.
 pub trait Random {
@@ -23,6 +23,12 @@ pub trait Random {
     fn range(&mut self, lo: i64, hi: i64) -> i64 {
         lo + self.below((hi - lo + 1) as u64) as i64
     }
+}
+
+/// A uniform draw among the encodings from `lo` to `hi` in the total order
+/// ([`order::between`] with `rng`).
+pub fn between(fmt: FloatFormat, rng: &mut impl Random, lo: u64, hi: u64) -> u64 {
+    order::between(fmt, lo, hi, |n| rng.below(n))
 }
 
 /// A finite value around `2^scale` (± `spread` binades), random sign,
@@ -93,7 +99,7 @@ pub fn point_of_box(
                 hi[i]
             }
         } else {
-            between(fmt, lo[i], hi[i], |n| rng.below(n))
+            between(fmt, rng, lo[i], hi[i])
         }
     })
 }

@@ -5,7 +5,7 @@
 use golden_model::exact::ray_box::{corner_rays, BoxIn, RayIn};
 use golden_model::float::random;
 pub use golden_model::float::random::Random;
-pub use golden_model::float::random::{rand_scale, rand_val};
+pub use golden_model::float::random::{between, rand_scale, rand_val};
 use golden_model::float::{add, mul, sub, FloatFormat, RoundingMode};
 pub use golden_model::float::{nudge, to_f64, total_key};
 use golden_model::silhouette::BundleIn;
@@ -50,11 +50,6 @@ pub fn point_on_box(fmt: FloatFormat, rng: &mut Rng, bx: &BoxIn, boundary_axes: 
 pub const RNE: RoundingMode = RoundingMode::NearestEven;
 
 pub use golden_model::float::from_f64;
-
-/// A uniformly chosen float between `lo <= hi` in the total order.
-pub fn between(fmt: FloatFormat, rng: &mut Rng, lo: u64, hi: u64) -> u64 {
-    golden_model::float::between(fmt, lo, hi, |n| rng.below(n))
-}
 
 /// The kinds of single-ray cases.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
