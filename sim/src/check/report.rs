@@ -181,12 +181,6 @@ impl WorkerReport {
     pub fn vectors_per_sec(&self) -> f64 {
         self.vectors as f64 / self.elapsed.as_secs_f64().max(1e-9)
     }
-
-    /// The golden model's own rate in this worker: its vectors over the
-    /// time spent in it alone.
-    pub fn golden_vectors_per_sec(&self) -> f64 {
-        self.vectors as f64 / self.golden.as_secs_f64().max(1e-9)
-    }
 }
 
 /// Result of a completed cross-check.
