@@ -25,7 +25,10 @@
 //! widened by one ulp, and a zero direction component (`inv_d = ±∞`) handled
 //! as a parallel slab instead of `0·∞`.
 
-use crate::float::{le, lt, max, min, mul, sub, FloatFormat, RoundingMode};
+use crate::float::native::{add_down_up_f32, f32_bits, mul_f32, select_u32};
+use crate::float::{
+    add_generic, le, lt, max, min, mul, mul_generic, sub, FloatFormat, RoundingMode,
+};
 
 /// One slab-test transaction, raw bits of one format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -99,17 +102,69 @@ pub fn eval(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
 /// minimum, NaN propagates, `hit = t_enter <= t_exit`).
 pub fn eval_conservative(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
     if fmt == FloatFormat::BINARY32 {
-        // the cull unit's slab: the same code with a constant format (the
-        // float operators then take their binary32 paths without dispatch)
-        eval_conservative_in(FloatFormat::BINARY32, x)
+        // the cull unit's slab, beside every cull test of the renderer
+        eval_conservative_b32(x)
     } else {
-        eval_conservative_in(fmt, x)
+        eval_conservative_generic(fmt, x)
     }
 }
 
-/// [`eval_conservative`] in `fmt`.
-#[inline(always)]
-fn eval_conservative_in(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
+/// [`eval_conservative`] for binary32 on `f32` values, bit-identical to
+/// [`eval_conservative_generic`] (`tests/fast_paths.rs`): the directed sums
+/// by the two-sum adder, the products exact in `f64` and rounded once,
+/// comparisons as IEEE comparisons (NaN unordered, −0 = +0); `maximum` /
+/// `minimum` by the total order (−0 < +0) with any NaN winning, and a NaN
+/// result written as the canonical NaN, as the generic operators do.
+/// Branch-free: the mirror, the reciprocal bound and the parallel slab are
+/// selected by masks (their conditions follow the data and would be
+/// mispredicted).
+fn eval_conservative_b32(x: &SlabIn) -> SlabOut {
+    const INF: u32 = 0x7f80_0000;
+    const NEG_INF: u32 = 0xff80_0000;
+    let sel = select_u32;
+    // IEEE 754-2019 maximum / minimum (a NaN result is some NaN)
+    let key = |a: u32| a ^ (((a as i32) >> 31) as u32 | 1 << 31);
+    let extreme = |a: u32, b: u32, larger: bool| {
+        let nan = f32::from_bits(a).is_nan() | f32::from_bits(b).is_nan();
+        let a_wins = (key(a) > key(b)) == larger;
+        sel(nan, f32::NAN.to_bits(), sel(a_wins, a, b))
+    };
+    let mut t_enter = x.t_min as u32;
+    let mut t_exit = x.t_max as u32;
+    for i in 0..3 {
+        let c = x.inv_d[i] as u32;
+        let mirror = c >> 31 != 0;
+        let sign = c & 1 << 31;
+        let (p_min, p_max) = (x.p_min[i] as u32, x.p_max[i] as u32);
+        let lo = f32::from_bits(sel(mirror, p_max, p_min) ^ sign);
+        let hi = f32::from_bits(sel(mirror, p_min, p_max) ^ sign);
+        let o = f32::from_bits(x.o[i] as u32 ^ sign);
+        let a = c & !(1 << 31);
+        let parallel = a == INF;
+        // the next float above `a` (`a` itself for ∞ and NaN)
+        let b = a + (a < INF) as u32;
+        let u = add_down_up_f32(lo, -o).0;
+        let w = add_down_up_f32(hi, -o).1;
+        let ru = f32::from_bits(sel(u < 0.0, b, a));
+        let rw = f32::from_bits(sel(0.0 < w, b, a));
+        let near = mul_f32(u, ru, RoundingMode::Down).to_bits();
+        let far = mul_f32(w, rw, RoundingMode::Up).to_bits();
+        let inside = (u <= 0.0) & (0.0 <= w);
+        let near = sel(parallel, sel(inside, NEG_INF, INF), near);
+        let far = sel(parallel, sel(inside, INF, NEG_INF), far);
+        t_enter = extreme(t_enter, near, true);
+        t_exit = extreme(t_exit, far, false);
+    }
+    let (t_enter, t_exit) = (f32::from_bits(t_enter), f32::from_bits(t_exit));
+    SlabOut {
+        hit: t_enter <= t_exit,
+        t_enter: f32_bits(t_enter),
+        t_exit: f32_bits(t_exit),
+    }
+}
+
+/// The reference [`eval_conservative`]: the generic float operators, any format.
+pub fn eval_conservative_generic(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
     let (down, up) = (RoundingMode::Down, RoundingMode::Up);
     let sign = fmt.sign_bit();
     let zero = fmt.zero(false);
@@ -126,8 +181,8 @@ fn eval_conservative_in(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
         };
         let a = c & !sign;
         let b = if a < inf { a + 1 } else { a };
-        let u = sub(fmt, lo, o, down);
-        let v = sub(fmt, hi, o, up);
+        let u = add_generic(fmt, lo, o ^ sign, down);
+        let v = add_generic(fmt, hi, o ^ sign, up);
         let (near, far) = if a == inf {
             if le(fmt, u, zero) && le(fmt, zero, v) {
                 (fmt.inf(true), inf)
@@ -137,7 +192,7 @@ fn eval_conservative_in(fmt: FloatFormat, x: &SlabIn) -> SlabOut {
         } else {
             let ru = if lt(fmt, u, zero) { b } else { a };
             let rv = if lt(fmt, zero, v) { b } else { a };
-            (mul(fmt, u, ru, down), mul(fmt, v, rv, up))
+            (mul_generic(fmt, u, ru, down), mul_generic(fmt, v, rv, up))
         };
         t_enter = max(fmt, t_enter, near);
         t_exit = min(fmt, t_exit, far);

@@ -17,6 +17,7 @@ use golden_model::float::{
 use golden_model::silhouette::{
     any_hit, eval, eval_generic, BundleIn, Config, OriginMode, Rounding,
 };
+use golden_model::slab::{self, SlabIn};
 use golden_model::transform::{recip, recip_generic};
 use silhouette_gen::{gen_bundle, realistic_scene_case, Random, Rng, KINDS};
 
@@ -272,6 +273,54 @@ fn fma_binary32_nearest() {
         };
         one(a, b, c);
     }
+    eq.finish();
+}
+
+#[test]
+fn slab_conservative_binary32() {
+    let f = FloatFormat::BINARY32;
+    let sp = specials(f);
+    let mut rng = common::Rng::new(70);
+    let mut eq = Equal::new("conservative slab, binary32");
+    let (mut hits, mut parallel) = (0u64, 0u64);
+    for _ in 0..cases() {
+        let mut v = |rng: &mut common::Rng| operand(rng, f, &sp);
+        let mut x = SlabIn {
+            p_min: [v(&mut rng), v(&mut rng), v(&mut rng)],
+            p_max: [v(&mut rng), v(&mut rng), v(&mut rng)],
+            o: [v(&mut rng), v(&mut rng), v(&mut rng)],
+            inv_d: [v(&mut rng), v(&mut rng), v(&mut rng)],
+            t_min: v(&mut rng),
+            t_max: v(&mut rng),
+        };
+        for i in 0..3 {
+            match rng.below(6) {
+                // the origin on or near a slab plane: cancellation in p − o
+                0 => x.o[i] = x.p_min[i],
+                1 => x.o[i] = operand_near(&mut rng, f, x.p_max[i], 2),
+                // a zero direction component: the parallel slab
+                2 => x.inv_d[i] = f.inf(rng.bool()),
+                // an ordered box around the origin
+                3 => {
+                    x.p_min[i] = operand_near(&mut rng, f, x.o[i], 3) | f.sign_bit();
+                    x.p_max[i] = operand_near(&mut rng, f, x.o[i], 3) & !f.sign_bit();
+                }
+                _ => {}
+            }
+            parallel += (x.inv_d[i] & !f.sign_bit() == f.inf(false)) as u64;
+        }
+        if rng.below(2) == 0 {
+            // a usual segment [0, t_max]
+            x.t_min = 0;
+            x.t_max = operand(&mut rng, f, &sp) & !f.sign_bit();
+        }
+        let generic = slab::eval_conservative_generic(f, &x);
+        hits += generic.hit as u64;
+        eq.check(slab::eval_conservative(f, &x), generic, || {
+            format!("{x:#x?}")
+        });
+    }
+    println!("conservative slab: {hits} hits, {parallel} parallel slabs");
     eq.finish();
 }
 

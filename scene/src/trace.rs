@@ -310,13 +310,17 @@ struct LazyTerms<'n> {
     on: bool,
     /// the first ray's terms, then the others' (ray index, terms)
     first: Option<(usize, [NormalTerm; 8])>,
-    more: Vec<(usize, [NormalTerm; 8])>,
+    /// from the thread's [`Scratch`], returned by [`LazyTerms::finish`]
+    more: TermsList,
 }
 
 impl LazyTerms<'_> {
-    /// How many rays' terms were computed (`cull_ray` transactions).
-    fn computed(&self) -> u64 {
-        self.first.is_some() as u64 + self.more.len() as u64
+    /// How many rays' terms were computed (`cull_ray` transactions); the
+    /// list goes back to `scratch`.
+    fn finish(self, scratch: &mut Scratch) -> u64 {
+        let n = self.first.is_some() as u64 + self.more.len() as u64;
+        scratch.terms.push(self.more);
+        n
     }
 
     /// The terms of ray `i` (`r`), the first `k` entries.
@@ -350,9 +354,22 @@ impl LazyTerms<'_> {
     }
 }
 
+/// The ray terms of a node's normals for several rays (ray index, terms).
+type TermsList = Vec<(usize, [NormalTerm; 8])>;
+
+/// Spare lists of one thread's traversals, recycled so that a traversal
+/// allocates nothing once the lists have grown.
+#[derive(Default)]
+struct Scratch {
+    /// ray lists
+    rays: Vec<Vec<usize>>,
+    /// [`LazyTerms`]' lists beyond the first ray
+    terms: Vec<TermsList>,
+}
+
 thread_local! {
-    /// Spare ray lists of the BLAS traversals of this thread.
-    static POOL: std::cell::RefCell<Vec<Vec<usize>>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// This thread's spare lists.
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
 /// Traces rays through a scene.
@@ -488,10 +505,10 @@ impl<'a> Tracer<'a> {
         let ks = &mut st.kinds[kind as usize];
         ks.rays += idxs.len() as u64;
         if !self.accel.tlas.nodes.is_empty() {
-            // ray lists are recycled across the traversals of one thread
-            let mut pool = POOL.with(|p| std::mem::take(&mut *p.borrow_mut()));
-            self.visit_tlas(0, idxs.to_vec(), rays, ks, &mut pool);
-            POOL.with(|p| *p.borrow_mut() = pool);
+            // lists are recycled across the traversals of one thread
+            let mut scratch = SCRATCH.with(|p| std::mem::take(&mut *p.borrow_mut()));
+            self.visit_tlas(0, idxs.to_vec(), rays, ks, &mut scratch);
+            SCRATCH.with(|p| *p.borrow_mut() = scratch);
         }
         ks.hits += idxs.iter().filter(|&&i| rays[i].hit.is_hit()).count() as u64;
     }
@@ -530,7 +547,7 @@ impl<'a> Tracer<'a> {
         idxs: Vec<usize>,
         rays: &mut [TRay],
         st: &mut KindStats,
-        pool: &mut Vec<Vec<usize>>,
+        scratch: &mut Scratch,
     ) {
         let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
         if idxs.is_empty() {
@@ -545,7 +562,7 @@ impl<'a> Tracer<'a> {
         match n.kind {
             NodeKind::Leaf { .. } => {
                 for &inst in self.accel.tlas.leaf_tris(node) {
-                    self.enter_instance(inst as usize, &surv, rays, st, pool);
+                    self.enter_instance(inst as usize, &surv, rays, st, scratch);
                 }
             }
             NodeKind::Inner { left, right } => {
@@ -557,7 +574,7 @@ impl<'a> Tracer<'a> {
                     Space::World,
                 );
                 for c in ord {
-                    self.visit_tlas(c, surv.clone(), rays, st, pool);
+                    self.visit_tlas(c, surv.clone(), rays, st, scratch);
                 }
             }
         }
@@ -569,10 +586,10 @@ impl<'a> Tracer<'a> {
         idxs: &[usize],
         rays: &mut [TRay],
         st: &mut KindStats,
-        pool: &mut Vec<Vec<usize>>,
+        scratch: &mut Scratch,
     ) {
         let x = &self.accel.instances[inst];
-        let mut live = pool.pop().unwrap_or_default();
+        let mut live = scratch.rays.pop().unwrap_or_default();
         live.clear();
         live.extend(idxs.iter().copied().filter(|&i| !rays[i].done));
         for &i in &live {
@@ -613,8 +630,8 @@ impl<'a> Tracer<'a> {
             }
         }
         let blas = &self.accel.blas[x.mesh];
-        let mut root_terms = self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min);
-        // the thread's pool: the BLAS lists outlive this instance entry
+        let mut root_terms =
+            self.lazy_terms(&blas.planes.root_normals, &blas.bvh.nodes[0].min, scratch);
         self.visit_blas(
             inst as u32,
             x.mesh,
@@ -623,21 +640,28 @@ impl<'a> Tracer<'a> {
             &mut root_terms,
             rays,
             st,
-            pool,
+            scratch,
         );
-        st.cull_ray_terms += root_terms.computed();
+        st.cull_ray_terms += root_terms.finish(scratch);
     }
 
     /// The lazily computed ray terms (unit `cull_ray`) of a node's shared
     /// normals for its rays (model space); off when the planes are off or
     /// there are no normals.
-    fn lazy_terms<'n>(&self, normals: &'n [[u64; 3]], r_min: &[f32; 3]) -> LazyTerms<'n> {
+    fn lazy_terms<'n>(
+        &self,
+        normals: &'n [[u64; 3]],
+        r_min: &[f32; 3],
+        scratch: &mut Scratch,
+    ) -> LazyTerms<'n> {
+        let mut more = scratch.terms.pop().unwrap_or_default();
+        more.clear();
         LazyTerms {
             normals,
             r_min: r_min.map(bits),
             on: self.opts.planes && !normals.is_empty(),
             first: None,
-            more: Vec::new(),
+            more,
         }
     }
 
@@ -653,15 +677,15 @@ impl<'a> Tracer<'a> {
         parent_terms: &mut LazyTerms,
         rays: &mut [TRay],
         st: &mut KindStats,
-        pool: &mut Vec<Vec<usize>>,
+        scratch: &mut Scratch,
     ) {
         let mut idxs = idxs;
-        self.visit_blas_in(inst, mesh, node, &mut idxs, parent_terms, rays, st, pool);
-        pool.push(idxs);
+        self.visit_blas_in(inst, mesh, node, &mut idxs, parent_terms, rays, st, scratch);
+        scratch.rays.push(idxs);
     }
 
     /// [`Tracer::visit_blas`] on a borrowed ray list (filtered in place);
-    /// the children's lists come from `pool`.
+    /// the children's lists come from `scratch`.
     #[allow(clippy::too_many_arguments)]
     fn visit_blas_in(
         &self,
@@ -672,7 +696,7 @@ impl<'a> Tracer<'a> {
         parent_terms: &mut LazyTerms,
         rays: &mut [TRay],
         st: &mut KindStats,
-        pool: &mut Vec<Vec<usize>>,
+        scratch: &mut Scratch,
     ) {
         idxs.retain(|&i| !rays[i].done);
         if idxs.is_empty() {
@@ -765,14 +789,14 @@ impl<'a> Tracer<'a> {
                     &rays[surv[0]],
                     Space::Model,
                 );
-                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min);
+                let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min, scratch);
                 for c in ord {
-                    let mut v = pool.pop().unwrap_or_default();
+                    let mut v = scratch.rays.pop().unwrap_or_default();
                     v.clear();
                     v.extend_from_slice(surv);
-                    self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, pool);
+                    self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, scratch);
                 }
-                st.cull_ray_terms += terms.computed();
+                st.cull_ray_terms += terms.finish(scratch);
             }
         }
     }

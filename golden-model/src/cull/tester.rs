@@ -19,7 +19,7 @@
 //! so `keep = 0` only when the exact segment misses the region.
 
 use crate::float::native::{
-    add_down_up_f32, add_down_up_f32_n, mul_f32, round_exact_f64_down_up, to_f32,
+    add_down_up_f32, add_down_up_f32_n, mul_f32, round_exact_f64_down_up, select_f32, to_f32,
 };
 use crate::float::{
     add_down_up, add_down_up_generic, add_generic, classify, convert, dot3_floor,
@@ -566,16 +566,14 @@ fn eval_f32_in(
     let planes_on = !(t_lo < 0.0);
     let (mut lo, mut hi) = (t_lo, t_hi);
     let mut par_cull = false;
+    // branch-free: the selections follow the data (mispredicted as branches)
     for &(wj, no_lo, rcp_lo, rcp_hi, dir) in &p[..k] {
         let dist = add_down_up_f32(wj, -no_lo).1;
-        let q = mul_f32(dist, if 0.0 < dist { rcp_hi } else { rcp_lo }, RUP);
-        par_cull |= dir == Crossing::Parallel && dist < 0.0;
-        match dir {
-            // a NaN q (inf · 0) compares false: the plane is left out
-            Crossing::Exit if q < hi => hi = q,
-            Crossing::Entry if lo < -q => lo = -q,
-            _ => {}
-        }
+        let q = mul_f32(dist, select_f32(0.0 < dist, rcp_hi, rcp_lo), RUP);
+        par_cull |= (dir == Crossing::Parallel) & (dist < 0.0);
+        // a NaN q (inf · 0) compares false: the plane is left out
+        hi = select_f32((dir == Crossing::Exit) & (q < hi), q, hi);
+        lo = select_f32((dir == Crossing::Entry) & (lo < -q), -q, lo);
     }
     let keep = if planes_on {
         !par_cull && lo <= hi
