@@ -367,6 +367,16 @@ struct Scratch {
     terms: Vec<TermsList>,
 }
 
+impl Scratch {
+    /// A spare ray list holding `idxs`.
+    fn list_of(&mut self, idxs: &[usize]) -> Vec<usize> {
+        let mut v = self.rays.pop().unwrap_or_default();
+        v.clear();
+        v.extend_from_slice(idxs);
+        v
+    }
+}
+
 thread_local! {
     /// This thread's spare lists.
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
@@ -507,7 +517,8 @@ impl<'a> Tracer<'a> {
         if !self.accel.tlas.nodes.is_empty() {
             // lists are recycled across the traversals of one thread
             let mut scratch = SCRATCH.with(|p| std::mem::take(&mut *p.borrow_mut()));
-            self.visit_tlas(0, idxs.to_vec(), rays, ks, &mut scratch);
+            let list = scratch.list_of(idxs);
+            self.visit_tlas(0, list, rays, ks, &mut scratch);
             SCRATCH.with(|p| *p.borrow_mut() = scratch);
         }
         ks.hits += idxs.iter().filter(|&&i| rays[i].hit.is_hit()).count() as u64;
@@ -541,28 +552,42 @@ impl<'a> Tracer<'a> {
         }
     }
 
+    /// Visits a TLAS node with the ray list `idxs` (from the thread's
+    /// scratch, returned to it).
     fn visit_tlas(
         &self,
         node: usize,
-        idxs: Vec<usize>,
+        mut idxs: Vec<usize>,
         rays: &mut [TRay],
         st: &mut KindStats,
         scratch: &mut Scratch,
     ) {
-        let idxs: Vec<usize> = idxs.into_iter().filter(|&i| !rays[i].done).collect();
-        if idxs.is_empty() {
+        self.visit_tlas_in(node, &mut idxs, rays, st, scratch);
+        scratch.rays.push(idxs);
+    }
+
+    /// [`Tracer::visit_tlas`] on a borrowed ray list (filtered in place).
+    fn visit_tlas_in(
+        &self,
+        node: usize,
+        surv: &mut Vec<usize>,
+        rays: &mut [TRay],
+        st: &mut KindStats,
+        scratch: &mut Scratch,
+    ) {
+        surv.retain(|&i| !rays[i].done);
+        if surv.is_empty() {
             return;
         }
         let n = self.accel.tlas.nodes[node];
-        let mut surv = idxs;
-        self.test_box(&n.min, &n.max, &mut surv, rays, Space::World, st);
+        self.test_box(&n.min, &n.max, surv, rays, Space::World, st);
         if surv.is_empty() {
             return;
         }
         match n.kind {
             NodeKind::Leaf { .. } => {
                 for &inst in self.accel.tlas.leaf_tris(node) {
-                    self.enter_instance(inst as usize, &surv, rays, st, scratch);
+                    self.enter_instance(inst as usize, surv, rays, st, scratch);
                 }
             }
             NodeKind::Inner { left, right } => {
@@ -574,7 +599,8 @@ impl<'a> Tracer<'a> {
                     Space::World,
                 );
                 for c in ord {
-                    self.visit_tlas(c, surv.clone(), rays, st, scratch);
+                    let v = scratch.list_of(surv);
+                    self.visit_tlas(c, v, rays, st, scratch);
                 }
             }
         }
@@ -589,9 +615,8 @@ impl<'a> Tracer<'a> {
         scratch: &mut Scratch,
     ) {
         let x = &self.accel.instances[inst];
-        let mut live = scratch.rays.pop().unwrap_or_default();
-        live.clear();
-        live.extend(idxs.iter().copied().filter(|&i| !rays[i].done));
+        let mut live = scratch.list_of(idxs);
+        live.retain(|&i| !rays[i].done);
         for &i in &live {
             let r = &mut rays[i];
             st.transforms += 1;
@@ -791,9 +816,7 @@ impl<'a> Tracer<'a> {
                 );
                 let mut terms = self.lazy_terms(&blas.planes.normals[node], &n.min, scratch);
                 for c in ord {
-                    let mut v = scratch.rays.pop().unwrap_or_default();
-                    v.clear();
-                    v.extend_from_slice(surv);
+                    let v = scratch.list_of(surv);
                     self.visit_blas(inst, mesh, c, v, &mut terms, rays, st, scratch);
                 }
                 st.cull_ray_terms += terms.finish(scratch);
