@@ -8,18 +8,8 @@ pub mod byo;
 pub mod cli;
 pub mod cull;
 pub mod cull_ray;
-pub mod fadd;
-pub mod fadd_down_up;
-pub mod fcmp;
-pub mod fcvt;
-pub mod fdot3;
-pub mod ffma;
-pub mod fminmax;
-pub mod fmul;
-pub mod fmul_exact;
-pub mod frecip;
+pub mod float_ops;
 pub mod fstim;
-pub mod funpack;
 pub mod mulcmp;
 pub mod rays;
 pub mod regress;
@@ -73,12 +63,19 @@ pub struct Entry {
 }
 
 /// One line of the catalog: the unit (from `rtl_gen::units`) and its
-/// testbench type (built by `Bench::new(&Params)`).
+/// testbench type (built by `Bench::new(&Params)`); a float operator alone
+/// (its testbench is [`float_ops::FloatOpBench`]).
 macro_rules! entry {
     ($unit:expr, $bench:path) => {
         Entry {
             unit: &$unit,
             testbench: |p| Box::new(<$bench>::new(p)),
+        }
+    };
+    ($op:expr) => {
+        Entry {
+            unit: &$op,
+            testbench: |p| Box::new(float_ops::FloatOpBench::new($op.name, p)),
         }
     };
 }
@@ -94,20 +91,17 @@ pub fn catalog() -> Vec<Entry> {
         entry!(units::cull_ray::CullRay, cull_ray::CullRayBench),
         entry!(units::transform::Transform, transform::TransformBench),
         entry!(units::triangle::Triangle, triangle::TriangleBench),
-        entry!(units::float_ops::FADD, fadd::FAddBench),
-        entry!(
-            units::float_ops::FADD_DOWN_UP,
-            fadd_down_up::FAddDownUpBench
-        ),
-        entry!(units::float_ops::FMUL, fmul::FMulBench),
-        entry!(units::float_ops::FMUL_EXACT, fmul_exact::FMulExactBench),
-        entry!(units::float_ops::FCMP, fcmp::FCmpBench),
-        entry!(units::float_ops::FMINMAX, fminmax::FMinMaxBench),
-        entry!(units::float_ops::FCVT, fcvt::FCvtBench),
-        entry!(units::float_ops::FFMA, ffma::FFmaBench),
-        entry!(units::float_ops::FDOT3, fdot3::FDot3Bench),
-        entry!(units::float_ops::FRECIP, frecip::FRecipBench),
-        entry!(units::float_ops::FUNPACK, funpack::FUnpackBench),
+        entry!(units::float_ops::FADD),
+        entry!(units::float_ops::FADD_DOWN_UP),
+        entry!(units::float_ops::FMUL),
+        entry!(units::float_ops::FMUL_EXACT),
+        entry!(units::float_ops::FCMP),
+        entry!(units::float_ops::FMINMAX),
+        entry!(units::float_ops::FCVT),
+        entry!(units::float_ops::FFMA),
+        entry!(units::float_ops::FDOT3),
+        entry!(units::float_ops::FRECIP),
+        entry!(units::float_ops::FUNPACK),
     ]
 }
 
