@@ -47,7 +47,7 @@ fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
         let unit = rtl_gen::units::triangle::Triangle;
         let p = rtl_gen::params::Params::resolve("triangle", unit.params(), &given)
             .expect("valid parameters");
-        let bench = TriangleBench::new(&p);
+        let bench = TriangleBench::new(&rtl_flow::configured(&unit, &p));
         let fmt = FloatFormat::new(e, f).expect("format");
         let (mut hits, mut invalid, mut misses, mut repeated) = (0u32, 0u32, 0u32, 0u32);
         let n = 20_000;

@@ -21,14 +21,13 @@
 //! infinite bounds; 14 random `dir` codes (3 included) and parallel planes
 //! with `no_lo` near `w`; 15 extreme scales and subnormal distances.
 
-use super::cull_ray::{configs, from_f64, parallel, scale, scene, tiny, Gen};
+use super::cull_ray::{from_f64, golden_config, parallel, scale, scene, tiny, Gen};
 use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
 };
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
-use rtl_gen::params::Params;
 use rtl_gen::units::cull::{ChildPorts, Config as UnitConfig, TermField, CHILD_OUTPUT_NAMES};
 
 /// Testbench of one `cull` configuration.
@@ -74,9 +73,9 @@ fn point(g: &mut Gen, f: FloatFormat, lo: &[u64; 3], hi: &[u64; 3]) -> [u64; 3] 
 }
 
 impl CullBench {
-    /// The testbench for resolved `cull` parameters.
-    pub fn new(p: &Params) -> Self {
-        let (cfg, unit) = configs(p);
+    /// The testbench of a `cull` configuration.
+    pub fn new(unit: &UnitConfig) -> Self {
+        let cfg = golden_config(unit);
         let at = unit.child_ports();
         let out = |name: &str| {
             let names = CHILD_OUTPUT_NAMES.map(String::from);
@@ -84,7 +83,7 @@ impl CullBench {
         };
         CullBench {
             cfg,
-            unit,
+            unit: unit.clone(),
             at,
             keep: out("keep"),
             invalid: out("invalid"),

@@ -20,14 +20,12 @@ use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
-use rtl_gen::params::Params;
 use rtl_gen::units::cull::{Config as UnitConfig, RayPorts, TermField};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
-/// The golden configuration and the port layout of resolved parameters.
-pub(super) fn configs(p: &Params) -> (Config, UnitConfig) {
-    let unit = rtl_gen::units::cull::config(p).expect("parameters checked by the unit");
+/// The golden configuration of a unit configuration.
+pub(super) fn golden_config(unit: &UnitConfig) -> Config {
     let g = |f: rtl_gen::arith::float::Format| {
         FloatFormat::new(f.exp_bits, f.frac_bits).expect("a unit format is a golden format")
     };
@@ -37,7 +35,7 @@ pub(super) fn configs(p: &Params) -> (Config, UnitConfig) {
         cfg.crossing(),
         "the generator's crossing format (units::cull::CROSSING_GUARD_BITS) is the golden model's"
     );
-    (cfg, unit)
+    cfg
 }
 
 /// Random helpers for one vector.
@@ -255,11 +253,14 @@ pub struct CullRayBench {
 }
 
 impl CullRayBench {
-    /// The testbench for resolved `cull_ray` parameters.
-    pub fn new(p: &Params) -> Self {
-        let (cfg, unit) = configs(p);
+    /// The testbench of a `cull_ray` configuration (the `cull` unit's).
+    pub fn new(unit: &UnitConfig) -> Self {
         let at = unit.ray_ports();
-        CullRayBench { cfg, unit, at }
+        CullRayBench {
+            cfg: golden_config(unit),
+            unit: unit.clone(),
+            at,
+        }
     }
 
     /// The golden model's input from port values.

@@ -24,7 +24,7 @@ pub mod triangle;
 use rtl_gen::emit::{emit, VerilogFile};
 use rtl_gen::ir::{control, Module, Ty};
 use rtl_gen::params::{ParamError, ParamKind, ParamSpec, Params};
-use rtl_gen::units::{self, Unit};
+use rtl_gen::units::{self, Description, Unit};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -62,14 +62,15 @@ pub struct Entry {
     pub testbench: fn(&Params) -> Box<dyn Testbench>,
 }
 
-/// One line of the catalog: the unit (from `rtl_gen::units`) and its
-/// testbench type (built by `Bench::new(&Params)`); a float operator alone
-/// (its testbench is [`float_ops::FloatOpBench`]).
+/// One line of the catalog: the unit's description (from `rtl_gen::units`)
+/// and its testbench type, built by `Bench::new(&config)` from the
+/// description's one parse of the parameters; a float operator alone (its
+/// testbench is [`float_ops::FloatOpBench`]).
 macro_rules! entry {
     ($unit:expr, $bench:path) => {
         Entry {
             unit: &$unit,
-            testbench: |p| Box::new(<$bench>::new(p)),
+            testbench: |p| Box::new(<$bench>::new(&configured(&$unit, p))),
         }
     };
     ($op:expr) => {
@@ -78,6 +79,13 @@ macro_rules! entry {
             testbench: |p| Box::new(float_ops::FloatOpBench::new($op.name, p)),
         }
     };
+}
+
+/// The configuration of parameters the unit has accepted (a testbench is
+/// made only for a unit that was built from the same parameters).
+pub fn configured<D: Description>(unit: &D, p: &Params) -> D::Config {
+    unit.config(p)
+        .unwrap_or_else(|e| panic!("{}: parameters the unit accepted: {e}", D::NAME))
 }
 
 /// Every unit, in the order `rtl-gen list` shows them: registering a unit

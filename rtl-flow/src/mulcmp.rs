@@ -2,8 +2,7 @@
 
 use super::stimulus::{mask, unsigned_corners, VectorRng};
 use super::Testbench;
-use rtl_gen::params::Params;
-use rtl_gen::units::mulcmp::{INPUT_NAMES, OUTPUT_NAMES};
+use rtl_gen::units::mulcmp::{Config, INPUT_NAMES, OUTPUT_NAMES};
 use rtl_gen::units::port_at;
 
 /// Vectors: first every combination of corner values of a, b, c, d; then
@@ -21,9 +20,9 @@ pub struct MulCmpBench {
 }
 
 impl MulCmpBench {
-    /// The testbench for resolved `mulcmp` parameters.
-    pub fn new(p: &Params) -> Self {
-        let (a_width, b_width) = (p.u32("a_width"), p.u32("b_width"));
+    /// The testbench of a `mulcmp` configuration.
+    pub fn new(u: &Config) -> Self {
+        let (a_width, b_width) = (u.a_width, u.b_width);
         MulCmpBench {
             a_width,
             b_width,

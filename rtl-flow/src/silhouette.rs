@@ -8,7 +8,6 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::random::Random;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
-use rtl_gen::params::Params;
 use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
 use rtl_gen::units::{port_at, port_at3};
 
@@ -88,10 +87,9 @@ impl Ports {
 }
 
 impl SilhouetteBench {
-    /// The testbench for resolved `silhouette` parameters.
-    pub fn new(p: &Params) -> Self {
-        // the unit's one parse of the parameters, mapped onto the golden model's
-        let u = unit::config(p).expect("parameters checked by the unit");
+    /// The testbench of a `silhouette` configuration (mapped onto the
+    /// golden model's).
+    pub fn new(u: &unit::Config) -> Self {
         let fmt = golden_format(u.fmt);
         let origin = match u.origin {
             Origin::Bounded => OriginMode::Bounded,
@@ -109,7 +107,7 @@ impl SilhouetteBench {
             cfg,
             corners,
             stride,
-            ports: Ports::of(&u),
+            ports: Ports::of(u),
             outputs: u.output_names().iter().map(|n| Verdict::of(n)).collect(),
         }
     }

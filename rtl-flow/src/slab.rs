@@ -7,14 +7,14 @@
 //! widened interval ends at ∞ or starts at 0). The golden
 //! model is `golden_model::slab::eval` or `eval_conservative`.
 
+use super::fstim::golden_format;
 use super::rays::{corner_cases, from_f64, gen_ray, RayCase, KINDS};
 use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
-use rtl_gen::params::Params;
-use rtl_gen::units::slab::{input_names, OUTPUT_NAMES};
+use rtl_gen::units::slab::{input_names, Config, SlabRounding, OUTPUT_NAMES};
 use rtl_gen::units::{port_at, port_at3};
 
 /// Vectors and golden model of one `slab` configuration.
@@ -69,11 +69,10 @@ pub fn recip_rtz(fmt: FloatFormat, d: u64) -> u64 {
 }
 
 impl SlabBench {
-    /// The testbench for resolved `slab` parameters.
-    pub fn new(p: &Params) -> Self {
-        let fmt = FloatFormat::new(p.u32("exp_bits"), p.u32("frac_bits"))
-            .expect("format checked by the unit");
-        let conservative = p.word("rounding") == "conservative";
+    /// The testbench of a `slab` configuration.
+    pub fn new(u: &Config) -> Self {
+        let fmt = golden_format(u.fmt);
+        let conservative = u.rounding == SlabRounding::Conservative;
         let recip = if conservative { recip_rtz } else { recip };
         // the single rays of the silhouette corner list (bundles dropped)
         let corners = corner_cases(fmt, false)

@@ -23,7 +23,6 @@ use golden_model::transform::exact::scene_builder_inverse;
 use golden_model::transform::{
     transform, Config, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
-use rtl_gen::params::Params;
 use rtl_gen::units::transform::{self as unit, Dot};
 use rtl_gen::units::{port_at, port_at3};
 
@@ -114,10 +113,9 @@ impl Ports {
 }
 
 impl TransformBench {
-    /// The testbench for resolved `transform` parameters.
-    pub fn new(p: &Params) -> Self {
-        // the unit's one parse of the parameters, mapped onto the golden model's
-        let u = unit::Config::from_params(p).expect("parameters checked by the unit");
+    /// The testbench of a `transform` configuration (mapped onto the
+    /// golden model's).
+    pub fn new(u: &unit::Config) -> Self {
         let cfg = Config {
             fmt: golden_format(u.fmt),
             mode: golden_mode(u.mode),
@@ -561,11 +559,15 @@ mod tests {
         for given in [&["inverse=pre"][..], &["inverse=hw", "throughput=half"][..]] {
             let given: Vec<String> = given.iter().map(|s| s.to_string()).collect();
             let spec = rtl_gen::units::transform::Transform;
-            let p =
-                Params::resolve("transform", rtl_gen::units::Unit::params(&spec), &given).unwrap();
-            let tb = TransformBench::new(&p);
-            let fmt = tb.cfg.fmt;
+            let p = rtl_gen::params::Params::resolve(
+                "transform",
+                rtl_gen::units::Unit::params(&spec),
+                &given,
+            )
+            .unwrap();
             let unit = rtl_gen::units::transform::Config::from_params(&p).unwrap();
+            let tb = TransformBench::new(&unit);
+            let fmt = tb.cfg.fmt;
             let n_in = unit.input_names().len();
             let n_out = unit.output_names().len();
             let (mut v, mut o) = (vec![0u64; n_in], vec![0u64; n_out]);

@@ -15,8 +15,7 @@ use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
-use rtl_gen::params::Params;
-use rtl_gen::units::triangle::{config, input_names, output_names};
+use rtl_gen::units::triangle::{input_names, output_names, Config};
 use rtl_gen::units::{port_at, port_at3};
 use std::sync::LazyLock;
 
@@ -31,9 +30,8 @@ pub struct TriangleBench {
 pub const INPUTS: usize = 18;
 
 impl TriangleBench {
-    /// The testbench for resolved parameters.
-    pub fn new(p: &Params) -> Self {
-        let cfg = config(p).expect("parameters were checked when building");
+    /// The testbench of a `triangle` configuration.
+    pub fn new(cfg: &Config) -> Self {
         TriangleBench {
             fmt: FloatFormat::new(cfg.fmt.exp_bits, cfg.fmt.frac_bits)
                 .expect("format checked by the unit"),

@@ -48,7 +48,10 @@ use rtl_flow::cull_ray::CullRayBench;
 use rtl_flow::silhouette::SilhouetteBench;
 use rtl_flow::transform::TransformBench;
 use rtl_flow::triangle::{self as tri_flow, TriangleBench};
-use rtl_flow::{self, Generated};
+use rtl_flow::{self, configured, Generated};
+use rtl_gen::units::{
+    cull::Cull, cull_ray::CullRay, silhouette::Silhouette, transform::Transform, triangle::Triangle,
+};
 use sim::Harness;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -176,14 +179,15 @@ impl LoopUnits {
             }
             generated.push(g);
         }
+        // each unit's configuration as its description parses it
         let p = |s: Stream| &generated[s as usize].params;
         let units = LoopUnits {
-            shared: SilhouetteBench::new(p(Stream::BoxShared)),
-            bounded: SilhouetteBench::new(p(Stream::BoxBounded)),
-            transform: TransformBench::new(p(Stream::Transform)),
-            cull_ray: CullRayBench::new(p(Stream::CullRay)),
-            cull: CullBench::new(p(Stream::Cull)),
-            triangle: TriangleBench::new(p(Stream::Triangle)),
+            shared: SilhouetteBench::new(&configured(&Silhouette, p(Stream::BoxShared))),
+            bounded: SilhouetteBench::new(&configured(&Silhouette, p(Stream::BoxBounded))),
+            transform: TransformBench::new(&configured(&Transform, p(Stream::Transform))),
+            cull_ray: CullRayBench::new(&configured(&CullRay, p(Stream::CullRay))),
+            cull: CullBench::new(&configured(&Cull, p(Stream::Cull))),
+            triangle: TriangleBench::new(&configured(&Triangle, p(Stream::Triangle))),
             generated,
         };
         units.check()?;

@@ -42,7 +42,7 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::{port_at, port_at3, Unit};
+use super::{port_at, port_at3, Description};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
 use crate::arith::float::classify::{all_of, any_of, is_nan, is_special, is_zero};
@@ -753,18 +753,16 @@ pub fn build(cfg: &Config) -> Module {
         .expect("cull generator is type-correct for every accepted configuration")
 }
 
-impl Unit for Cull {
-    fn name(&self) -> &'static str {
-        "cull"
+impl Description for Cull {
+    type Config = Config;
+    const NAME: &'static str = "cull";
+    const SUMMARY: &'static str = "cull-plane tester per child: box interval folded with K planes' crossings from the parent's ray terms (keep, invalid)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        config(p)
     }
-    fn summary(&self) -> &'static str {
-        "cull-plane tester per child: box interval folded with K planes' crossings from the parent's ray terms (keep, invalid)"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(&config(p)?))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
     }
 }
 

@@ -30,7 +30,7 @@
 //! outputs first. The latency is `stages`.
 
 use super::cull::{config, Config, TermField, DIR_WIDTH, PARAMS};
-use super::Unit;
+use super::Description;
 use crate::arith::float::add::ADD_RAW_STEPS;
 use crate::arith::float::add_down_up::add_down_up_module;
 use crate::arith::float::classify::{any_of, is_special, is_zero};
@@ -203,18 +203,16 @@ pub fn build(cfg: &Config) -> Module {
         .expect("cull_ray generator is type-correct for every accepted configuration")
 }
 
-impl Unit for CullRay {
-    fn name(&self) -> &'static str {
-        "cull_ray"
+impl Description for CullRay {
+    type Config = Config;
+    const NAME: &'static str = "cull_ray";
+    const SUMMARY: &'static str = "cull-plane ray terms per ray and parent: no_lo, crossing direction and reciprocal bounds for K shared normals";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        config(p)
     }
-    fn summary(&self) -> &'static str {
-        "cull-plane ray terms per ray and parent: no_lo, crossing direction and reciprocal bounds for K shared normals"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(&config(p)?))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
     }
 }
 

@@ -4,7 +4,7 @@
 //! comparisons the intersection units are made of. Two multiplier instances
 //! (hierarchy) feed a comparator; `stages` registers are spread over them.
 
-use super::Unit;
+use super::Description;
 use crate::arith::int::umul_module;
 use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
@@ -12,6 +12,17 @@ use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 
 /// The `mulcmp` unit.
 pub struct MulCmp;
+
+/// A multiply-compare unit's configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// width of `a` and `c`
+    pub a_width: u32,
+    /// width of `b` and `d`
+    pub b_width: u32,
+    /// pipeline stages
+    pub stages: u32,
+}
 
 const PARAMS: &[ParamSpec] = &[
     ParamSpec { name: "a_width", doc: "width of a and c", kind: ParamKind::Int { min: 1, max: 32 }, default: "16" },
@@ -73,17 +84,20 @@ pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
         .expect("mulcmp generator is type-correct for every accepted width")
 }
 
-impl Unit for MulCmp {
-    fn name(&self) -> &'static str {
-        "mulcmp"
+impl Description for MulCmp {
+    type Config = Config;
+    const NAME: &'static str = "mulcmp";
+    const SUMMARY: &'static str =
+        "pipelined unsigned multiply-compare: lt = a*b < c*d, eq = a*b == c*d, ab = a*b";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        Ok(Config {
+            a_width: p.u32("a_width"),
+            b_width: p.u32("b_width"),
+            stages: p.u32("stages"),
+        })
     }
-    fn summary(&self) -> &'static str {
-        "pipelined unsigned multiply-compare: lt = a*b < c*d, eq = a*b == c*d, ab = a*b"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(p.u32("a_width"), p.u32("b_width"), p.u32("stages")))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg.a_width, cfg.b_width, cfg.stages)
     }
 }

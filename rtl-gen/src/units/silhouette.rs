@@ -42,7 +42,7 @@
 //! normalisation (1), the significand multipliers (2), the comparisons and
 //! the reduction. One register goes to the outputs first.
 
-use super::Unit;
+use super::Description;
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
 use crate::arith::float::classify::{all_of, any_of, is_any_inf, is_inf, is_nan, is_zero};
@@ -870,18 +870,16 @@ pub fn config(p: &Params) -> Result<Config, ParamError> {
     })
 }
 
-impl Unit for Silhouette {
-    fn name(&self) -> &'static str {
-        "silhouette"
+impl Description for Silhouette {
+    type Config = Config;
+    const NAME: &'static str = "silhouette";
+    const SUMMARY: &'static str = "silhouette-edge box tester: bundles (all_hit, any_hit, three-valued) or single rays (hit); exact product comparisons, conservative differences";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        config(p)
     }
-    fn summary(&self) -> &'static str {
-        "silhouette-edge box tester: bundles (all_hit, any_hit, three-valued) or single rays (hit); exact product comparisons, conservative differences"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(&config(p)?))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
     }
 }
 

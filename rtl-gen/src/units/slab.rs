@@ -29,7 +29,7 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::{port_at, port_at3, Unit};
+use super::{port_at, port_at3, Description};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
@@ -43,6 +43,17 @@ use std::sync::Arc;
 
 /// The `slab` unit.
 pub struct Slab;
+
+/// A slab unit's configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// the float format
+    pub fmt: Format,
+    /// nearest or conservative
+    pub rounding: SlabRounding,
+    /// pipeline stages
+    pub stages: u32,
+}
 
 /// Rounding policy of the slab.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -391,22 +402,24 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
         .expect("slab generator is type-correct for every format")
 }
 
-impl Unit for Slab {
-    fn name(&self) -> &'static str {
-        "slab"
-    }
-    fn summary(&self) -> &'static str {
-        "slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE or conservative, hit/t_enter/t_exit"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
+impl Description for Slab {
+    type Config = Config;
+    const NAME: &'static str = "slab";
+    const SUMMARY: &'static str = "slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE or conservative, hit/t_enter/t_exit";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
         let fmt =
             Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
         let rounding = SlabRounding::parse(p.word("rounding"))
             .expect("the parameter parser accepts only the declared words");
-        Ok(build(fmt, rounding, p.u32("stages")))
+        Ok(Config {
+            fmt,
+            rounding,
+            stages: p.u32("stages"),
+        })
+    }
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg.fmt, cfg.rounding, cfg.stages)
     }
 }
 

@@ -23,7 +23,7 @@
 //! vector output is the canonical NaN: the first component of each vector
 //! entering an engine is replaced by NaN, and every row's dot product reads it.
 
-use super::Unit;
+use super::Description;
 use crate::arith::float::add::add_module;
 use crate::arith::float::classify::{is_special, is_zero};
 use crate::arith::float::convert::convert_module;
@@ -668,17 +668,15 @@ pub fn build(cfg: &Config) -> Module {
         .expect("transform generator is type-correct for every accepted configuration")
 }
 
-impl Unit for Transform {
-    fn name(&self) -> &'static str {
-        "transform"
+impl Description for Transform {
+    type Config = Config;
+    const NAME: &'static str = "transform";
+    const SUMMARY: &'static str = "two-step inverse transform: world ray to model space, Rinv * (O - T) and Rinv * D (seed 003)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        Config::from_params(p)
     }
-    fn summary(&self) -> &'static str {
-        "two-step inverse transform: world ray to model space, Rinv * (O - T) and Rinv * D (seed 003)"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(&Config::from_params(p)?))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
     }
 }

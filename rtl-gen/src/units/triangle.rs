@@ -31,7 +31,7 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::{port_at, port_at3, Unit};
+use super::{port_at, port_at3, Description};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
 use crate::arith::float::dot3::dot3_module;
@@ -335,17 +335,15 @@ pub fn build(cfg: &Config) -> Module {
     module
 }
 
-impl Unit for Triangle {
-    fn name(&self) -> &'static str {
-        "triangle"
+impl Description for Triangle {
+    type Config = Config;
+    const NAME: &'static str = "triangle";
+    const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
+    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+        config(p)
     }
-    fn summary(&self) -> &'static str {
-        "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-    fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(build(&config(p)?))
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
     }
 }
