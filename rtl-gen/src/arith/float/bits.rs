@@ -67,20 +67,14 @@ fn lzc_tree(m: &mut ModuleBuilder, x: Sig, at: &str) -> (Sig, Sig) {
 }
 
 /// `x >> amount` (logical, width of `x`) with every bit shifted out ORed into
-/// the result's least significant bit ("jamming"). `amount` is any UInt; an
-/// amount of `width(x)` or more leaves only the sticky bit.
+/// the result's least significant bit ("jamming": [`shr_sticky`]'s sticky bit).
+/// `amount` is any UInt; an amount of `width(x)` or more leaves only the
+/// sticky bit.
 #[track_caller]
 pub fn shr_jam(m: &mut ModuleBuilder, x: Sig, amount: Sig) -> Sig {
-    let x = m.as_uint(x);
-    let w = x.width();
-    let shifted = m.shr(x, amount);
-    let ones = m.uint(w, crate::eval::mask(u128::MAX, w));
-    let kept_mask = m.shl(ones, amount);
-    let lost_mask = m.not(kept_mask);
-    let lost = m.and(x, lost_mask);
-    let sticky = m.any_set(lost);
+    let (shifted, sticky) = shr_sticky(m, x, amount);
     let sticky = m.as_uint(sticky);
-    let sticky = zext(m, sticky, w);
+    let sticky = zext(m, sticky, shifted.width());
     let r = m.or(shifted, sticky);
     m.name(r, "jam")
 }
