@@ -29,7 +29,7 @@
 
 use super::bits::{add_const, lzc, to_sint};
 use super::fma::{fused_exp_width, zero_term_exp};
-use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{normalize, unpack, Unpacked};
 use super::{spread, Format, Rm, RoundSel, Rounding};
@@ -273,15 +273,7 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let zero_sign = m.mux(zero_same, signs[0], zero_sign);
     let sign = m.mux(sum_zero, zero_sign, s.sign);
     let sign = m.mux(inf, neg_inf, sign);
-    let exp = add_const(&mut m, s.top, -(w2 as i64 - 1), xw + 1);
-    let sticky = m.bool(false);
-    let raw = Raw {
-        sign,
-        class,
-        exp,
-        sig: s.sig,
-        sticky,
-    };
+    let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[7] {
         m.stage();
     }

@@ -13,7 +13,7 @@
 //! DSL's 128-bit values.
 
 use super::bits::add_const;
-use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, ROUND_STEPS};
 use super::sum::{sum_two, Term};
 use super::unpack::{norm_exp_width, normalize, unpack};
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
@@ -136,15 +136,7 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     // an infinite result has the sign of the infinite term
     let inf_sign = m.mux(p_inf, sp, uc.sign);
     let sign = m.mux(inf, inf_sign, sign);
-    let exp = add_const(&mut m, s.top, -(window as i64 - 1), xw + 1);
-    let sticky = m.bool(false);
-    let raw = Raw {
-        sign,
-        class,
-        exp,
-        sig: s.sig,
-        sticky,
-    };
+    let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[4] {
         m.stage();
     }

@@ -15,6 +15,7 @@
 //! later step of `dot3`) keeps the property, since the intervals nest.
 
 use super::bits::{abs, add_const, shr_jam, to_sint};
+use super::round::Raw;
 use super::sint_width;
 use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
@@ -41,6 +42,27 @@ pub struct Sum {
     pub top: Sig,
     /// Bool: the terms have opposite signs
     pub eff_sub: Sig,
+}
+
+impl Sum {
+    /// The sum as the rounder's raw value, with the `sign` and `class` the
+    /// caller settles (the fused operators sign zero and infinite results
+    /// differently). Bit 0 of the window weighs `top - (window - 1)`; no
+    /// sticky bit, since what fell below the window is jammed into it.
+    /// `exp_width` as given to [`sum_two`].
+    #[track_caller]
+    pub fn to_raw(&self, m: &mut ModuleBuilder, sign: Sig, class: Sig, exp_width: u32) -> Raw {
+        let window = self.sig.width();
+        let exp = add_const(m, self.top, -(window as i64 - 1), exp_width + 1);
+        let sticky = m.bool(false);
+        Raw {
+            sign,
+            class,
+            exp,
+            sig: self.sig,
+            sticky,
+        }
+    }
 }
 
 /// Adds `x` and `y` in a `window`-bit field whose top bit is a carry bit and
