@@ -317,6 +317,16 @@ fn small(fmt: FloatFormat, v: f64) -> u64 {
     from_f64(fmt, v)
 }
 
+/// Every `[x, y, z]` with each coordinate from `values`, in the order three
+/// nested loops visit them (`x` slowest): the corner cases' grids.
+fn grid3<T: Copy>(values: &[T]) -> impl Iterator<Item = [T; 3]> + '_ {
+    values.iter().flat_map(move |&x| {
+        values
+            .iter()
+            .flat_map(move |&y| values.iter().map(move |&z| [x, y, z]))
+    })
+}
+
 /// The corner cases, in a fixed order.
 pub fn corner_cases(fmt: FloatFormat, bounded: bool) -> Vec<BundleIn> {
     let s = |v: f64| small(fmt, v);
@@ -331,24 +341,9 @@ pub fn corner_cases(fmt: FloatFormat, bounded: bool) -> Vec<BundleIn> {
     //    through edges and corners, along faces, with ±0 components.
     let os = [-1.0, -0.0, 0.0, 0.5, 1.0, 2.0].map(s);
     let ds = [-1.0, -0.0, 0.0, 1.0].map(s);
-    for ox in os {
-        for oy in os {
-            for oz in os {
-                for dx in ds {
-                    for dy in ds {
-                        for dz in ds {
-                            out.push(ray(
-                                zero3,
-                                one3,
-                                [ox, oy, oz],
-                                [dx, dy, dz],
-                                s(0.0),
-                                inf(false),
-                            ));
-                        }
-                    }
-                }
-            }
+    for o in grid3(&os) {
+        for d in grid3(&ds) {
+            out.push(ray(zero3, one3, o, d, s(0.0), inf(false)));
         }
     }
     // 2. Segments that start or end on the box, lines, reversed segments.
@@ -389,24 +384,9 @@ pub fn corner_cases(fmt: FloatFormat, bounded: bool) -> Vec<BundleIn> {
     ];
     let os3 = [-1.0, 0.5, 2.0].map(s);
     for (lo, hi) in boxes {
-        for ox in os3 {
-            for oy in os3 {
-                for oz in os3 {
-                    for dx in ds2 {
-                        for dy in ds2 {
-                            for dz in ds2 {
-                                out.push(ray(
-                                    lo,
-                                    hi,
-                                    [ox, oy, oz],
-                                    [dx, dy, dz],
-                                    s(0.0),
-                                    inf(false),
-                                ));
-                            }
-                        }
-                    }
-                }
+        for o in grid3(&os3) {
+            for d in grid3(&ds2) {
+                out.push(ray(lo, hi, o, d, s(0.0), inf(false)));
             }
         }
     }
@@ -507,15 +487,11 @@ pub fn corner_cases(fmt: FloatFormat, bounded: bool) -> Vec<BundleIn> {
     ]
     .map(|o| o.map(s));
     for o in origins {
-        for dx in dint {
-            for dy in dint {
-                for dz in dint {
-                    let mut b = ray(zero3, one3, o, zero3, s(0.0), inf(false));
-                    b.d_lo = [dx.0, dy.0, dz.0];
-                    b.d_hi = [dx.1, dy.1, dz.1];
-                    out.push(b);
-                }
-            }
+        for d in grid3(&dint) {
+            let mut b = ray(zero3, one3, o, zero3, s(0.0), inf(false));
+            b.d_lo = d.map(|(lo, _)| lo);
+            b.d_hi = d.map(|(_, hi)| hi);
+            out.push(b);
         }
     }
     if bounded {
@@ -536,18 +512,14 @@ pub fn corner_cases(fmt: FloatFormat, bounded: bool) -> Vec<BundleIn> {
             ([-1.0, 0.5, -1.0], [1.0, 1.0, -0.5]),
         ]
         .map(|(a, b)| (a.map(s), b.map(s)));
-        for ox in oint {
-            for oy in oint {
-                for oz in oint {
-                    for (dl, dh) in dsets {
-                        let mut b = ray(zero3, one3, zero3, zero3, s(0.0), inf(false));
-                        b.o_lo = [ox.0, oy.0, oz.0];
-                        b.o_hi = [ox.1, oy.1, oz.1];
-                        b.d_lo = dl;
-                        b.d_hi = dh;
-                        out.push(b);
-                    }
-                }
+        for o in grid3(&oint) {
+            for (dl, dh) in dsets {
+                let mut b = ray(zero3, one3, zero3, zero3, s(0.0), inf(false));
+                b.o_lo = o.map(|(lo, _)| lo);
+                b.o_hi = o.map(|(_, hi)| hi);
+                b.d_lo = dl;
+                b.d_hi = dh;
+                out.push(b);
             }
         }
     }
