@@ -441,6 +441,7 @@ struct Writer<'a> {
     names: &'a Names,
     same: &'a [NodeId],
     inline: &'a [bool],
+    lv: &'a Liveness,
 }
 
 impl Writer<'_> {
@@ -572,174 +573,215 @@ pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOpti
     let (lv, same) = used_values(m);
     let inline = inlined(m, &lv, &same);
     let names = assign_names(m, &lv, &same, &inline);
-    let sequential = m.is_sequential();
-    let needs_reset = m.uses_reset();
-    let has_clk = sequential || is_top;
-    let has_rst = needs_reset || is_top;
-
     let writer = Writer {
         m,
         names: &names,
         same: &same,
         inline: &inline,
+        lv: &lv,
     };
-    let r = |id: NodeId| writer.reference(id);
+    let mut items = writer.declarations_and_assigns(options);
+    items.extend(writer.register_blocks());
+    writer.instances(&mut items);
+    if let Some(cell) = &m.vendor_cell {
+        items = vec![writer.vendor_cell(cell, items)];
+    }
+    VModule {
+        header: header(m, generator, is_top),
+        name: m.name.clone(),
+        ports: writer.ports(is_top),
+        items,
+    }
+}
 
-    let mut ports = Vec::new();
-    let no_regs =
-        "clk and rst keep one interface for every configuration; this one has no registers";
-    if has_clk {
-        let unused = (!sequential).then(|| no_regs.to_string());
-        ports.push((Dir::Input, decl(control::CLOCK, Ty::Bool, unused)));
-    }
-    if has_rst {
-        let unused = (!needs_reset).then(|| no_regs.to_string());
-        ports.push((Dir::Input, decl(control::RESET, Ty::Bool, unused)));
-    }
-    for (i, node) in m.nodes.iter().enumerate() {
-        if let Op::Input(p) = node.op {
-            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "input");
-            ports.push((Dir::Input, decl(&m.inputs[p].name, node.ty, unused)));
+impl Writer<'_> {
+    /// The port list: `clk` and `rst` (always on a top module), the inputs
+    /// in their order, the outputs.
+    fn ports(&self, is_top: bool) -> Vec<(Dir, Decl)> {
+        let m = self.m;
+        let sequential = m.is_sequential();
+        let needs_reset = m.uses_reset();
+        let mut ports = Vec::new();
+        let no_regs =
+            "clk and rst keep one interface for every configuration; this one has no registers";
+        if sequential || is_top {
+            let unused = (!sequential).then(|| no_regs.to_string());
+            ports.push((Dir::Input, decl(control::CLOCK, Ty::Bool, unused)));
         }
-    }
-    for (p, _) in &m.outputs {
-        ports.push((Dir::Output, decl(&p.name, p.ty, None)));
+        if needs_reset || is_top {
+            let unused = (!needs_reset).then(|| no_regs.to_string());
+            ports.push((Dir::Input, decl(control::RESET, Ty::Bool, unused)));
+        }
+        for (i, node) in m.nodes.iter().enumerate() {
+            if let Op::Input(p) = node.op {
+                let unused = unused_reason(node.ty.width(), self.lv.used_bits[i], "input");
+                ports.push((Dir::Input, decl(&m.inputs[p].name, node.ty, unused)));
+            }
+        }
+        for (p, _) in &m.outputs {
+            ports.push((Dir::Output, decl(&p.name, p.ty, None)));
+        }
+        ports
     }
 
-    let mut items = Vec::new();
-    let mut assigns = Vec::new();
-    for (i, node) in m.nodes.iter().enumerate() {
-        let id = NodeId(i as u32);
-        if !lv.live[i] || same[i].0 as usize != i {
-            continue;
-        }
-        let rhs = match &node.op {
-            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) => continue,
-            Op::InstOut { .. } => {
-                let unused = unused_reason(node.ty.width(), lv.used_bits[i], "instance output");
-                items.push(Item::Wire(decl(&names.node[&id], node.ty, unused)));
+    /// The wire and register declarations, then the continuous assignments
+    /// of the named values and of the outputs.
+    fn declarations_and_assigns(&self, options: super::EmitOptions) -> Vec<Item> {
+        let (m, lv, names) = (self.m, self.lv, self.names);
+        let mut items = Vec::new();
+        let mut assigns = Vec::new();
+        for (i, node) in m.nodes.iter().enumerate() {
+            let id = NodeId(i as u32);
+            if !lv.live[i] || self.same[i].0 as usize != i {
                 continue;
             }
-            _ if inline[i] => continue,
-            _ => writer.expression(id),
-        };
-        let name = names.node[&id].clone();
-        let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
-        items.push(Item::Wire(decl(&name, node.ty, unused)));
-        if options.source_lines {
-            let at = node.location;
-            assigns.push(Item::Comment(format!("src: {}:{}", at.file(), at.line())));
+            let rhs = match &node.op {
+                Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) => continue,
+                Op::InstOut { .. } => {
+                    let unused = unused_reason(node.ty.width(), lv.used_bits[i], "instance output");
+                    items.push(Item::Wire(decl(&names.node[&id], node.ty, unused)));
+                    continue;
+                }
+                _ if self.inline[i] => continue,
+                _ => self.expression(id),
+            };
+            let name = names.node[&id].clone();
+            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
+            items.push(Item::Wire(decl(&name, node.ty, unused)));
+            if options.source_lines {
+                let at = node.location;
+                assigns.push(Item::Comment(format!("src: {}:{}", at.file(), at.line())));
+            }
+            assigns.push(Item::Assign(name, rhs));
         }
-        assigns.push(Item::Assign(name, rhs));
-    }
-    for (ri, reg) in m.registers.iter().enumerate() {
-        if !lv.regs[ri] {
-            continue;
+        for (ri, reg) in m.registers.iter().enumerate() {
+            if !lv.regs[ri] {
+                continue;
+            }
+            let q = m
+                .nodes
+                .iter()
+                .position(|n| n.op == Op::Reg(ri))
+                .unwrap_or(0);
+            let unused = unused_reason(reg.ty.width(), lv.used_bits[q], "register");
+            items.push(Item::Reg(decl(&names.reg[ri], reg.ty, unused)));
         }
-        let q = m
-            .nodes
-            .iter()
-            .position(|n| n.op == Op::Reg(ri))
-            .unwrap_or(0);
-        let unused = unused_reason(reg.ty.width(), lv.used_bits[q], "register");
-        items.push(Item::Reg(decl(&names.reg[ri], reg.ty, unused)));
-    }
-    items.push(Item::Blank);
-    items.extend(assigns);
-    for (p, id) in &m.outputs {
-        items.push(Item::Assign(p.name.clone(), r(*id)));
+        items.push(Item::Blank);
+        items.extend(assigns);
+        for (p, id) in &m.outputs {
+            items.push(Item::Assign(p.name.clone(), self.reference(*id)));
+        }
+        items
     }
 
-    let load = |reg: &Register, ri: usize| {
-        let set = Stmt::NonBlocking(names.reg[ri].clone(), r(reg.next));
-        match reg.enable {
-            Some(e) => Stmt::If(r(e), vec![set], vec![]),
-            None => set,
-        }
-    };
-    let (mut resets, mut loads_after_reset, mut plain) = (Vec::new(), Vec::new(), Vec::new());
-    for (ri, reg) in m
-        .registers
-        .iter()
-        .enumerate()
-        .filter(|(ri, _)| lv.regs[*ri])
-    {
-        match reg.reset {
-            Some(v) => {
-                resets.push(Stmt::NonBlocking(
-                    names.reg[ri].clone(),
-                    Expr::Literal {
-                        width: reg.ty.width(),
-                        value: v,
-                    },
-                ));
-                loads_after_reset.push(load(reg, ri));
+    /// The clocked blocks: registers with a reset value in one block under
+    /// `rst`, the others in a block of their own.
+    fn register_blocks(&self) -> Vec<Item> {
+        let names = self.names;
+        let load = |reg: &Register, ri: usize| {
+            let set = Stmt::NonBlocking(names.reg[ri].clone(), self.reference(reg.next));
+            match reg.enable {
+                Some(e) => Stmt::If(self.reference(e), vec![set], vec![]),
+                None => set,
             }
-            None => plain.push(load(reg, ri)),
+        };
+        let (mut resets, mut loads_after_reset, mut plain) = (Vec::new(), Vec::new(), Vec::new());
+        for (ri, reg) in self
+            .m
+            .registers
+            .iter()
+            .enumerate()
+            .filter(|(ri, _)| self.lv.regs[*ri])
+        {
+            match reg.reset {
+                Some(v) => {
+                    resets.push(Stmt::NonBlocking(
+                        names.reg[ri].clone(),
+                        Expr::Literal {
+                            width: reg.ty.width(),
+                            value: v,
+                        },
+                    ));
+                    loads_after_reset.push(load(reg, ri));
+                }
+                None => plain.push(load(reg, ri)),
+            }
         }
-    }
-    if !resets.is_empty() {
-        items.push(Item::Blank);
-        let rst = Expr::Ident(control::RESET.into());
-        items.push(Item::AlwaysPosedge(
-            control::CLOCK.into(),
-            vec![Stmt::If(rst, resets, loads_after_reset)],
-        ));
-    }
-    if !plain.is_empty() {
-        items.push(Item::Blank);
-        items.push(Item::AlwaysPosedge(control::CLOCK.into(), plain));
-    }
-    for (ii, inst) in m.instances.iter().enumerate() {
-        if !lv.instances[ii] {
-            continue;
-        }
-        let sub = &inst.module;
-        let mut connections = Vec::new();
-        if sub.is_sequential() {
-            connections.push((
-                control::CLOCK.to_string(),
-                Expr::Ident(control::CLOCK.into()),
+        let mut items = Vec::new();
+        if !resets.is_empty() {
+            items.push(Item::Blank);
+            let rst = Expr::Ident(control::RESET.into());
+            items.push(Item::AlwaysPosedge(
+                control::CLOCK.into(),
+                vec![Stmt::If(rst, resets, loads_after_reset)],
             ));
         }
-        if sub.uses_reset() {
-            connections.push((
-                control::RESET.to_string(),
-                Expr::Ident(control::RESET.into()),
-            ));
+        if !plain.is_empty() {
+            items.push(Item::Blank);
+            items.push(Item::AlwaysPosedge(control::CLOCK.into(), plain));
         }
-        for (p, id) in sub.inputs.iter().zip(&inst.inputs) {
-            connections.push((p.name.clone(), r(*id)));
-        }
-        for (port, (p, _)) in sub.outputs.iter().enumerate() {
-            let wire = match names.dead_outputs.get(&(ii, port)) {
-                Some(w) => {
-                    items.insert(
-                        0,
-                        Item::Wire(decl(w, p.ty, Some("instance output not used here".into()))),
-                    );
-                    w.clone()
-                }
-                None => {
-                    // the builder creates exactly one node per instance output, live here
-                    let k = m
-                        .nodes
-                        .iter()
-                        .position(|n| n.op == Op::InstOut { inst: ii, port });
-                    names.node[&NodeId(k.expect("instance output node") as u32)].clone()
-                }
-            };
-            connections.push((p.name.clone(), Expr::Ident(wire)));
-        }
-        items.push(Item::Blank);
-        items.push(Item::Instance {
-            module: sub.name.clone(),
-            params: Vec::new(),
-            name: names.instance[ii].clone(),
-            connections,
-        });
+        items
     }
-    if let Some(cell) = &m.vendor_cell {
+
+    /// The submodule instances, appended to `items`; a wire for each
+    /// instance output nothing reads goes first.
+    fn instances(&self, items: &mut Vec<Item>) {
+        let (m, names) = (self.m, self.names);
+        for (ii, inst) in m.instances.iter().enumerate() {
+            if !self.lv.instances[ii] {
+                continue;
+            }
+            let sub = &inst.module;
+            let mut connections = Vec::new();
+            if sub.is_sequential() {
+                connections.push((
+                    control::CLOCK.to_string(),
+                    Expr::Ident(control::CLOCK.into()),
+                ));
+            }
+            if sub.uses_reset() {
+                connections.push((
+                    control::RESET.to_string(),
+                    Expr::Ident(control::RESET.into()),
+                ));
+            }
+            for (p, id) in sub.inputs.iter().zip(&inst.inputs) {
+                connections.push((p.name.clone(), self.reference(*id)));
+            }
+            for (port, (p, _)) in sub.outputs.iter().enumerate() {
+                let wire = match names.dead_outputs.get(&(ii, port)) {
+                    Some(w) => {
+                        items.insert(
+                            0,
+                            Item::Wire(decl(w, p.ty, Some("instance output not used here".into()))),
+                        );
+                        w.clone()
+                    }
+                    None => {
+                        // the builder creates exactly one node per instance output, live here
+                        let k = m
+                            .nodes
+                            .iter()
+                            .position(|n| n.op == Op::InstOut { inst: ii, port });
+                        names.node[&NodeId(k.expect("instance output node") as u32)].clone()
+                    }
+                };
+                connections.push((p.name.clone(), Expr::Ident(wire)));
+            }
+            items.push(Item::Blank);
+            items.push(Item::Instance {
+                module: sub.name.clone(),
+                params: Vec::new(),
+                name: names.instance[ii].clone(),
+                connections,
+            });
+        }
+    }
+
+    /// The module body for synthesis: the vendor cell on its ports, wired
+    /// pin by pin; `items` (the generic logic) stays for simulation.
+    fn vendor_cell(&self, cell: &VendorCell, items: Vec<Item>) -> Item {
+        let m = self.m;
         let bit = |name: &str, ty: Ty, bit: u32| match ty.width() {
             1 => Expr::Ident(name.to_string()),
             _ => Expr::Select(name.to_string(), bit, bit),
@@ -771,16 +813,10 @@ pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOpti
             name: "hard_block".into(),
             connections,
         };
-        items = vec![Item::Ifdef {
+        Item::Ifdef {
             symbol: "SYNTHESIS".into(),
             then: vec![hard],
             otherwise: items,
-        }];
-    }
-    VModule {
-        header: header(m, generator, is_top),
-        name: m.name.clone(),
-        ports,
-        items,
+        }
     }
 }
