@@ -12,14 +12,14 @@
 # to slab e5m7, 6 stages (the default reduced-precision unit; 4 stages route at 10.75 MHz on the
 # UP5K, below the iCEBreaker's 12 MHz, 6 at 15.85 MHz); UNIT is any unit of `rtl-gen list`.
 #
-# Emits the UART bring-up wrapper with its board top (rtl-bringup, lint with verilator -Wall) at
+# Emits the UART bring-up wrapper with its board top (rtl-gen bringup, lint with verilator -Wall) at
 # CPB clock cycles a bit (default: the board clock / 115200 baud: 104, 217, 417), synthesises,
 # places and routes at the board clock with --timing-allow-fail and packs, with the pinned yowasp
 # toolchain of scripts/fpga-requirements.txt installed by scripts/setup.sh in
 # ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv} (RTL_GEN_YOSYS, RTL_GEN_NEXTPNR_ICE40,
 # RTL_GEN_ICEPACK, RTL_GEN_NEXTPNR_ECP5, RTL_GEN_ECPPACK override the programs; RTL_GEN names a
 # built rtl-gen whose `bringup` runs instead of `cargo run --release --bin rtl-gen -- bringup`, as
-# `rtl-gen fpga` sets it; RTL_BRINGUP a built rtl-bringup, the same command's earlier name).
+# `rtl-gen fpga` sets it).
 # Prints the routed utilisation, then ends with exactly one line
 #   timing: met at <routed MHz> MHz (target <board MHz> MHz)      exit status 0
 #   timing: FAILED at <routed MHz> MHz (target <board MHz> MHz)   exit status 3 (bitstream still written)
@@ -81,9 +81,7 @@ rm -rf "$OUT/rtl"
 mkdir -p "$OUT"
 rm -f "$OUT"/bringup.{json,asc,bin,config,bit} "$OUT"/{yosys,nextpnr}.log
 echo "== $board ($part, $mhz MHz, $CPB cycles a bit): emit + lint: $*"
-if [ -n "${RTL_BRINGUP:-}" ]; then
-    bringup=("$RTL_BRINGUP")
-elif [ -n "${RTL_GEN:-}" ]; then
+if [ -n "${RTL_GEN:-}" ]; then
     bringup=("$RTL_GEN" bringup)
 else
     bringup=(cargo run -q --release --bin rtl-gen -- bringup)

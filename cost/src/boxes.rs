@@ -3,7 +3,7 @@
 //! conservative slab (the equal-accuracy competitor) and the slab's per-ray
 //! reciprocal, counted per box test as `3 · frecip / N` with N the box tests
 //! per ray measured on the shipped scenes; RAABB's published figures as
-//! references. Printed by `rtl-cost boxes`; the targets of the issue are
+//! references. Printed by `rtl-gen boxes`; the targets of the issue are
 //! checked and printed, never asserted in a timed test.
 
 use crate::synth::{self, SynthOptions, SynthReport};

@@ -1,8 +1,8 @@
 //! The cull-plane units' cost (issue #13): `cull` (per child, beside the
 //! box test) and `cull_ray` (per ray and parent, shared by both children),
 //! binary32 rays and boxes, against the plane format and K, in one run with
-//! one Yosys. Printed by `rtl-cost cull`; the issue's targets are printed
-//! with `rtl-cost boxes` (same run as the slab and silhouette figures),
+//! one Yosys. Printed by `rtl-gen cull`; the issue's targets are printed
+//! with `rtl-gen boxes` (same run as the slab and silhouette figures),
 //! never asserted in a timed test.
 
 use crate::synth::{self, SynthOptions, SynthReport};

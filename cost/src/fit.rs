@@ -126,7 +126,7 @@ impl Fit {
             .find(|c| c.format == self.format && c.rejected.is_none())
             .expect("the picked format was accepted")
     }
-    /// The result as JSON (`rtl-cost fit --json`).
+    /// The result as JSON (`rtl-gen fit --json`).
     pub fn json(&self, scene: &str) -> serde_json::Value {
         let p = self.picked();
         serde_json::json!({

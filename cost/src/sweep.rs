@@ -153,7 +153,7 @@ fn finite(x: f64) -> f64 {
 /// Runs the sweep, printing progress to stderr. The generic gate-level
 /// `synth` is not run (nothing charted uses it; it is a third of the Yosys
 /// time, and without it the box testers share their cache entries with
-/// `rtl-cost boxes`): the table's `cells` and `depth` columns stay empty.
+/// `rtl-gen boxes`): the table's `cells` and `depth` columns stay empty.
 pub fn run(o: &SweepOptions) -> Result<Sweep, Box<dyn std::error::Error>> {
     let mut s = Sweep::default();
     if !o.no_synth {

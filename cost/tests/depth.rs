@@ -1,4 +1,4 @@
-//! `rtl-cost depth` end to end on a small unit, so that the Fmax-against-depth
+//! `rtl-gen depth` end to end on a small unit, so that the Fmax-against-depth
 //! flow (synth_ecp5 and nextpnr-ecp5 of the timing shell, both register
 //! placements) cannot rot. Needs the toolchain of `bash scripts/setup.sh`.
 
@@ -7,7 +7,7 @@ fn depth_sweep_routes_both_placements_of_fadd_e5m4() {
     let params = vec!["exp_bits=5".to_string(), "frac_bits=4".to_string()];
     let pipelines = vec!["plan".to_string(), "balanced".to_string()];
     let rows = cost::depth::sweep("fadd", &params, &[3], &pipelines, 100.0, None, 1)
-        .unwrap_or_else(|e| panic!("rtl-cost depth (run `bash scripts/setup.sh`): {e}"));
+        .unwrap_or_else(|e| panic!("rtl-gen depth (run `bash scripts/setup.sh`): {e}"));
     let table = cost::depth::table("fadd", &params, &rows, None, 1);
     eprintln!("{table}");
     assert_eq!(rows.len(), 2);

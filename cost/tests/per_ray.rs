@@ -1,4 +1,4 @@
-//! `rtl-cost per-ray`'s workload side: the transactions per unit of a
+//! `rtl-gen per-ray`'s workload side: the transactions per unit of a
 //! golden render follow the switches (no cull tests without planes, no
 //! bundle tests without bundles) and every unit of the sum is exercised.
 

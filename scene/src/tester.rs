@@ -200,7 +200,7 @@ impl BoxTester for Slab {
 }
 
 /// The silhouette unit in a reduced format (`render --box-format eXmY`,
-/// `rtl-cost fit`), as the hardware would see a binary32 ray and box:
+/// `rtl-gen fit`), as the hardware would see a binary32 ray and box:
 ///
 /// * the box is rounded outward (`p_min` down, `p_max` up);
 /// * the ray enters the format **as an interval**: each origin and

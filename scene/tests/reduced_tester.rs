@@ -1,4 +1,4 @@
-//! The reduced-format box tester (`render --box-format`, `rtl-cost fit`)
+//! The reduced-format box tester (`rtl-gen render --box-format`, `rtl-gen fit`)
 //! against the exact test of the unrounded binary32 ray: never a miss for a
 //! ray that hits (random, grazing, axis-parallel, far and overflowing
 //! cases, top-level tests relative to an anchor), bundles' AllMiss only when

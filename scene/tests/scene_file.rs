@@ -166,27 +166,3 @@ fn non_finite_vertex_names_the_mesh_and_the_vertex() {
         "{m}"
     );
 }
-
-/// The render CLI exits 2 with the message and writes no image.
-#[test]
-fn render_cli_rejects_a_non_finite_vertex() {
-    let p = bad_vertex_scene("cli", "nan 0 1");
-    let out = p.with_file_name("out.png");
-    let _ = std::fs::remove_file(&out);
-    let r = std::process::Command::new(env!("CARGO_BIN_EXE_render"))
-        .arg("render")
-        .arg(&p)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(r.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("error: ")
-            && err.contains("field `meshes.thing.obj`")
-            && err.contains("vertex 2 (0-based) is (NaN, 0, 1)"),
-        "{err}"
-    );
-    assert!(!out.exists(), "wrote {}", out.display());
-}

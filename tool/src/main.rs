@@ -3,9 +3,8 @@
 //! convert, merge-reports, replay, transform-accuracy), the renderer's
 //! (`scene::cli`: render, hybrid, rtl-loop, bench), the cost tools'
 //! (`cost::cli`: synth, fit, boxes, cull, depth, per-ray, dot-styles,
-//! charts, bringup) and `fpga`, which runs `scripts/fpga.sh`. The earlier
-//! commands `render`, `rtl-cost` and `rtl-bringup` remain as aliases of
-//! their groups.
+//! charts, bringup) and `fpga`, which runs `scripts/fpga.sh`. It is the
+//! workspace's only binary.
 
 use clap::{Parser, Subcommand};
 use std::path::Path;

@@ -133,7 +133,7 @@ impl Default for SynthOptions {
 
 impl SynthOptions {
     /// `synth_ecp5` and `nextpnr-ecp5` at `target_mhz` only: the routed ECP5
-    /// figures of `rtl-cost depth` and of `fit --device ecp5-*`.
+    /// figures of `rtl-gen depth` and of `fit --device ecp5-*`.
     pub fn ecp5_routed(target_mhz: f64) -> Self {
         SynthOptions {
             generic: false,
@@ -406,7 +406,7 @@ pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
 }
 
 /// The `synth_xilinx -flatten` estimate of `g`: from the cache of a run
-/// with every technology but without place and route (`rtl-cost cull`'s
+/// with every technology but without place and route (`rtl-gen cull`'s
 /// options) when it holds one, else by `synth_xilinx` alone (cached under
 /// its own options; `cached_only`: never run Yosys).
 pub fn xilinx_estimate(g: &Generated, cached_only: bool) -> Result<Xilinx, String> {

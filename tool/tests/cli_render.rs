@@ -1,14 +1,16 @@
-//! `render --box-format eXmY --dump-hits FILE` (issue #15): the reduced-format
-//! box tester renders the binary32 image (the dumps agree line for line), the
-//! dump is one line per pixel with a documented header, and a bad format is
-//! an error (exit 2) that writes nothing.
+//! `rtl-gen render` from the command line. `--box-format eXmY --dump-hits
+//! FILE` (issue #15): the reduced-format box tester renders the binary32
+//! image (the dumps agree line for line), the dump is one line per pixel
+//! with a documented header, and a bad format is an error (exit 2) that
+//! writes nothing. A scene with a non-finite vertex: exit 2 with the message,
+//! no image.
 
 use std::path::Path;
 use std::process::Command;
 
 fn render(args: &[&str], png: &Path) -> std::process::Output {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
-    Command::new(env!("CARGO_BIN_EXE_render"))
+    Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
         .arg("render")
         .arg(scene)
         .args(["--width", "32", "-o"])
@@ -74,4 +76,49 @@ fn a_bad_box_format_is_an_error_and_writes_nothing() {
         assert!(err.contains(says), "{arg:?}: {err}");
         assert!(!png.exists(), "{arg:?} wrote {}", png.display());
     }
+}
+
+/// The render CLI exits 2 with the message and writes no image.
+#[test]
+fn a_non_finite_vertex_is_an_error_and_writes_nothing() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("render-bad-vertex");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("bad.obj"),
+        "v 0 0 0\nv 1 0 0\nv nan 0 1\nv 0 0 1\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        r#"
+[camera]
+position = [0.0, 1.0, 3.0]
+look_at = [0.0, 1.0, 0.0]
+[meshes.thing]
+obj = "bad.obj"
+[[instances]]
+mesh = "thing"
+transform = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]
+"#,
+    )
+    .unwrap();
+    let out = dir.join("out.png");
+    let r = Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+        .arg("render")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("error: ")
+            && err.contains("field `meshes.thing.obj`")
+            && err.contains("vertex 2 (0-based) is (NaN, 0, 1)"),
+        "{err}"
+    );
+    assert!(!out.exists(), "wrote {}", out.display());
 }

@@ -24,7 +24,7 @@ fn fpga(tag: &str, args: &[&str]) -> (String, std::path::PathBuf) {
         .args(args)
         .env("OUT", &out)
         // the binary cargo built for this test: no nested `cargo run`
-        .env("RTL_BRINGUP", env!("CARGO_BIN_EXE_rtl-bringup"))
+        .env("RTL_GEN", env!("CARGO_BIN_EXE_rtl-gen"))
         .current_dir(root)
         .output()
         .expect("bash runs");
