@@ -18,10 +18,9 @@ use super::Testbench;
 use golden_model::float as g;
 use rtl_gen::arith::float::unpack::lsb_exp_width;
 use rtl_gen::arith::float::{Format, Rounding};
-use rtl_gen::params::Params;
-use rtl_gen::units::float_ops::{format, format_of, recip_mode, rounding};
+use rtl_gen::units::float_ops::{FloatConfig, OpConfig};
 
-/// An operator and what its testbench reads from the parameters.
+/// An operator, with what its golden evaluation and its draws need.
 #[derive(Debug, Clone, Copy)]
 enum Op {
     /// `fadd`; `sub`: `op=sub`
@@ -56,51 +55,30 @@ pub struct FloatOpBench {
     op: Op,
 }
 
-const CHECKED: &str = "parameters were checked when building";
-
 impl FloatOpBench {
-    /// The testbench of the operator `name` (a `float_ops` unit) for
-    /// resolved parameters.
-    pub fn new(name: &str, p: &Params) -> Self {
-        // the operands' format (`fcvt`: the source format)
-        let fmt = || format(p, name).expect(CHECKED);
-        let (operands, op) = match name {
-            "fadd" => (
-                fmt(),
-                Op::Add {
-                    sub: p.word("op") == "sub",
-                },
+    /// The testbench of a float operator's configuration.
+    pub fn new(c: &FloatConfig) -> Self {
+        let op = match c.op {
+            OpConfig::Unpack => Op::Unpack {
+                exp_width: lsb_exp_width(c.fmt),
+            },
+            OpConfig::Add { sub, .. } => Op::Add { sub },
+            OpConfig::AddDownUp => Op::AddDownUp,
+            OpConfig::Mul { .. } => Op::Mul,
+            OpConfig::MulExact => Op::MulExact(
+                g::ExactProductFormat::new(golden_format(c.fmt))
+                    .expect("the exact-product format was checked when building"),
             ),
-            "fadd_down_up" => (fmt(), Op::AddDownUp),
-            "fmul" => (fmt(), Op::Mul),
-            "fmul_exact" => {
-                let pair = g::ExactProductFormat::new(golden_format(fmt())).expect(CHECKED);
-                (fmt(), Op::MulExact(pair))
-            }
-            "fcmp" => (fmt(), Op::Cmp),
-            "fminmax" => (fmt(), Op::MinMax),
-            "fcvt" => {
-                let to = format_of(p, name, "to_exp_bits", "to_frac_bits").expect(CHECKED);
-                (fmt(), Op::Cvt { to })
-            }
-            "ffma" => (fmt(), Op::Fma),
-            "fdot3" => (fmt(), Op::Dot3),
-            "frecip" => (fmt(), Op::Recip(recip_mode(p))),
-            "funpack" => (
-                fmt(),
-                Op::Unpack {
-                    exp_width: lsb_exp_width(fmt()),
-                },
-            ),
-            _ => panic!("no float operator `{name}`"),
+            OpConfig::Cmp => Op::Cmp,
+            OpConfig::MinMax => Op::MinMax,
+            OpConfig::Cvt { to, .. } => Op::Cvt { to },
+            OpConfig::Fma { .. } => Op::Fma,
+            OpConfig::Dot3 { .. } => Op::Dot3,
+            OpConfig::Recip { round } => Op::Recip(round),
         };
-        let rounds = matches!(
-            op,
-            Op::Add { .. } | Op::Mul | Op::Cvt { .. } | Op::Fma | Op::Dot3
-        );
         FloatOpBench {
-            stim: FloatStim::new(operands),
-            mode: rounds.then(|| ModeIn { sel: rounding(p) }),
+            stim: FloatStim::new(c.fmt),
+            mode: c.op.round().map(|sel| ModeIn { sel }),
             op,
         }
     }

@@ -76,7 +76,10 @@ macro_rules! entry {
     ($op:expr) => {
         Entry {
             unit: &$op,
-            testbench: |p| Box::new(float_ops::FloatOpBench::new($op.name, p)),
+            testbench: |p| {
+                let c = $op.config(p).expect("parameters the operator accepted");
+                Box::new(float_ops::FloatOpBench::new(&c))
+            },
         }
     };
 }

@@ -15,8 +15,8 @@ use crate::ir::Module;
 use crate::params::{ParamError, ParamKind, ParamSpec, Params};
 use std::sync::Arc;
 
-/// A float operator as a unit: its parameters and the operator module it
-/// wraps with the handshake.
+/// A float operator as a unit: its parameters, their one parse into a
+/// [`FloatConfig`], and the operator module it wraps with the handshake.
 pub struct FloatOp {
     /// unit name
     pub name: &'static str,
@@ -24,9 +24,96 @@ pub struct FloatOp {
     pub summary: &'static str,
     /// the parameters
     pub params: &'static [ParamSpec],
-    /// the operator module for checked parameters and their format
-    /// (`exp_bits`, `frac_bits`)
-    pub operator: fn(&Params, Format) -> Result<Arc<Module>, ParamError>,
+    /// the operator's own parameters (besides format and stages)
+    pub op: fn(&Params) -> Result<OpConfig, ParamError>,
+}
+
+/// A float operator's configuration, parsed once from its parameters; the
+/// testbench (`rtl_flow::float_ops`) takes the same value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FloatConfig {
+    /// the operands' format (`fcvt`: the source format)
+    pub fmt: Format,
+    /// pipeline stages
+    pub stages: u32,
+    /// the operator and its own parameters
+    pub op: OpConfig,
+}
+
+/// Which operator, with the parameters only it has (`round`: the rounding
+/// mode, fixed or the `rm` input).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpConfig {
+    /// `funpack`
+    Unpack,
+    /// `fadd`
+    Add {
+        /// rounding
+        round: RoundSel,
+        /// `a - b` instead of `a + b`
+        sub: bool,
+    },
+    /// `fadd_down_up`
+    AddDownUp,
+    /// `fmul`
+    Mul {
+        /// rounding
+        round: RoundSel,
+    },
+    /// `fmul_exact`
+    MulExact,
+    /// `fcmp`
+    Cmp,
+    /// `fminmax`
+    MinMax,
+    /// `fcvt`
+    Cvt {
+        /// the result format
+        to: Format,
+        /// rounding
+        round: RoundSel,
+    },
+    /// `ffma`
+    Fma {
+        /// rounding
+        round: RoundSel,
+    },
+    /// `fdot3`
+    Dot3 {
+        /// rounding
+        round: RoundSel,
+    },
+    /// `frecip`
+    Recip {
+        /// the fixed rounding mode (no `rm` input)
+        round: Rounding,
+    },
+}
+
+impl OpConfig {
+    /// The rounding of an operator that rounds once in a mode chosen by
+    /// `round` (fixed, or the `rm` input); `None` for the others.
+    pub fn round(&self) -> Option<RoundSel> {
+        match *self {
+            OpConfig::Add { round, .. }
+            | OpConfig::Mul { round }
+            | OpConfig::Cvt { round, .. }
+            | OpConfig::Fma { round }
+            | OpConfig::Dot3 { round } => Some(round),
+            _ => None,
+        }
+    }
+}
+
+impl FloatOp {
+    /// The configuration of resolved parameters, or why they are impossible.
+    pub fn config(&self, p: &Params) -> Result<FloatConfig, ParamError> {
+        Ok(FloatConfig {
+            fmt: format(p, self.name)?,
+            stages: p.u32("stages"),
+            op: (self.op)(p)?,
+        })
+    }
 }
 
 impl Unit for FloatOp {
@@ -40,13 +127,30 @@ impl Unit for FloatOp {
         self.params
     }
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        let fmt = format(p, self.name)?;
-        Ok(wrap((self.operator)(p, fmt)?))
+        Ok(wrap(operator(&self.config(p)?)?))
     }
 }
 
-fn stages(p: &Params) -> u32 {
-    p.u32("stages")
+/// The operator module of a configuration.
+fn operator(c: &FloatConfig) -> Result<Arc<Module>, ParamError> {
+    let (f, s) = (c.fmt, c.stages);
+    Ok(match c.op {
+        OpConfig::Unpack => unpack::unpack_module(f, s),
+        OpConfig::Add { round, sub } => add::add_module(f, round, sub, s),
+        OpConfig::AddDownUp => add_down_up::add_down_up_module(f, s),
+        OpConfig::Mul { round } => mul::mul_module(f, round, s),
+        OpConfig::MulExact => {
+            mul_exact::exact_product_format(f)
+                .map_err(|e| ParamError::Combination(format!("fmul_exact: {e}")))?;
+            mul_exact::mul_exact_module(f, s)
+        }
+        OpConfig::Cmp => compare::compare_module(f, s),
+        OpConfig::MinMax => minmax::min_max_module(f, s),
+        OpConfig::Cvt { to, round } => convert::convert_module(f, to, round, s),
+        OpConfig::Fma { round } => fma::fma_module(f, round, s),
+        OpConfig::Dot3 { round } => dot3::dot3_module(f, round, s),
+        OpConfig::Recip { round } => recip_module(f, round, s),
+    })
 }
 
 /// `funpack`.
@@ -54,7 +158,7 @@ pub static FUNPACK: FloatOp = FloatOp {
     name: "funpack",
     summary: "float unpack/classify: sign, class (0 zero, 1 finite, 2 inf, 3 NaN), exponent of the lsb, significand",
     params: &[EXP_BITS, FRAC_BITS, STAGES],
-    operator: |p, f| Ok(unpack::unpack_module(f, stages(p))),
+    op: |_| Ok(OpConfig::Unpack),
 };
 
 /// `fadd`: `a + b`, or `a - b` with `op=sub`.
@@ -73,9 +177,11 @@ pub static FADD: FloatOp = FloatOp {
         },
         STAGES,
     ],
-    operator: |p, f| {
-        let sub = p.word("op") == "sub";
-        Ok(add::add_module(f, rounding(p), sub, stages(p)))
+    op: |p| {
+        Ok(OpConfig::Add {
+            round: rounding(p),
+            sub: p.word("op") == "sub",
+        })
     },
 };
 
@@ -84,7 +190,7 @@ pub static FADD_DOWN_UP: FloatOp = FloatOp {
     name: "fadd_down_up",
     summary: "float a + b rounded toward -inf (down) and +inf (up) from one exact sum",
     params: &[EXP_BITS, FRAC_BITS, STAGES],
-    operator: |p, f| Ok(add_down_up::add_down_up_module(f, stages(p))),
+    op: |_| Ok(OpConfig::AddDownUp),
 };
 
 /// `fmul`.
@@ -92,7 +198,7 @@ pub static FMUL: FloatOp = FloatOp {
     name: "fmul",
     summary: "float a * b, rounded once",
     params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    operator: |p, f| Ok(mul::mul_module(f, rounding(p), stages(p))),
+    op: |p| Ok(OpConfig::Mul { round: rounding(p) }),
 };
 
 /// `fmul_exact`.
@@ -100,11 +206,7 @@ pub static FMUL_EXACT: FloatOp = FloatOp {
     name: "fmul_exact",
     summary: "exact float product a * b as a value of the format (E + 2, 2F + 1)",
     params: &[EXP_BITS, FRAC_BITS, STAGES],
-    operator: |p, f| {
-        mul_exact::exact_product_format(f)
-            .map_err(|e| ParamError::Combination(format!("fmul_exact: {e}")))?;
-        Ok(mul_exact::mul_exact_module(f, stages(p)))
-    },
+    op: |_| Ok(OpConfig::MulExact),
 };
 
 /// `fcmp`.
@@ -112,7 +214,7 @@ pub static FCMP: FloatOp = FloatOp {
     name: "fcmp",
     summary: "float comparisons lt, le, eq (IEEE quiet: NaN unordered, -0 == +0)",
     params: &[EXP_BITS, FRAC_BITS, STAGES],
-    operator: |p, f| Ok(compare::compare_module(f, stages(p))),
+    op: |_| Ok(OpConfig::Cmp),
 };
 
 /// `fminmax`.
@@ -120,7 +222,7 @@ pub static FMINMAX: FloatOp = FloatOp {
     name: "fminmax",
     summary: "float minimum and maximum (IEEE 754-2019: NaN if either is NaN, -0 < +0)",
     params: &[EXP_BITS, FRAC_BITS, STAGES],
-    operator: |p, f| Ok(minmax::min_max_module(f, stages(p))),
+    op: |_| Ok(OpConfig::MinMax),
 };
 
 /// `fcvt`: from (`exp_bits`, `frac_bits`) to (`to_exp_bits`, `to_frac_bits`).
@@ -145,9 +247,11 @@ pub static FCVT: FloatOp = FloatOp {
         ROUND,
         STAGES,
     ],
-    operator: |p, from| {
-        let to = format_of(p, "fcvt", "to_exp_bits", "to_frac_bits")?;
-        Ok(convert::convert_module(from, to, rounding(p), stages(p)))
+    op: |p| {
+        Ok(OpConfig::Cvt {
+            to: format_of(p, "fcvt", "to_exp_bits", "to_frac_bits")?,
+            round: rounding(p),
+        })
     },
 };
 
@@ -156,7 +260,7 @@ pub static FFMA: FloatOp = FloatOp {
     name: "ffma",
     summary: "fused float multiply-add a * b + c, rounded once",
     params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    operator: |p, f| Ok(fma::fma_module(f, rounding(p), stages(p))),
+    op: |p| Ok(OpConfig::Fma { round: rounding(p) }),
 };
 
 /// `fdot3`.
@@ -164,7 +268,7 @@ pub static FDOT3: FloatOp = FloatOp {
     name: "fdot3",
     summary: "fused float dot product a0*b0 + a1*b1 + a2*b2, exact, rounded once",
     params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    operator: |p, f| Ok(dot3::dot3_module(f, rounding(p), stages(p))),
+    op: |p| Ok(OpConfig::Dot3 { round: rounding(p) }),
 };
 
 /// `round` of `frecip`: the four modes (no `dyn`).
@@ -175,18 +279,17 @@ const RECIP_ROUND: ParamSpec = ParamSpec {
     default: "rne",
 };
 
-/// The rounding mode of `frecip`'s `round`.
-pub fn recip_mode(p: &Params) -> Rounding {
-    Rounding::parse(p.word("round")).expect("round is a declared choice")
-}
-
 /// `frecip`: the slab tester's per-ray reciprocal, so its cost can be
 /// charted beside the box test (issue #19).
 pub static FRECIP: FloatOp = FloatOp {
     name: "frecip",
     summary: "float 1 / x, rounded once (restoring division)",
     params: &[EXP_BITS, FRAC_BITS, RECIP_ROUND, STAGES],
-    operator: |p, f| Ok(recip_module(f, recip_mode(p), stages(p))),
+    op: |p| {
+        Ok(OpConfig::Recip {
+            round: Rounding::parse(p.word("round")).expect("round is a declared choice"),
+        })
+    },
 };
 
 /// `exp_bits`: E.
@@ -238,7 +341,7 @@ pub fn format(p: &Params, unit: &str) -> Result<Format, ParamError> {
 }
 
 /// The rounding mode of `round` (fixed, or the `rm` port for `dyn`).
-pub fn rounding(p: &Params) -> RoundSel {
+fn rounding(p: &Params) -> RoundSel {
     RoundSel::parse(p.word("round")).expect("round is a declared choice")
 }
 
