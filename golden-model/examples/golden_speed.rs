@@ -9,6 +9,7 @@
 use golden_model::cull::{self, ChildIn, RayIn as CullRay};
 use golden_model::float::FloatFormat;
 use golden_model::silhouette::{self, BundleIn, Config, OriginMode, Rounding};
+use golden_model::slab::{self, SlabIn};
 use golden_model::transform::{self, DotStyle, InstanceTransform, InverseSource, WorldRay};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -95,6 +96,38 @@ fn main() {
         line(
             what,
             rate(&rays, secs, |x| silhouette::eval_generic(&sil, x).any_hit),
+        );
+    }
+
+    // the conservative slab beside every cull test: the same boxes and rays,
+    // the reciprocal direction rounded toward zero as the contract says
+    let slabs: Vec<SlabIn> = rays
+        .iter()
+        .map(|x| SlabIn {
+            p_min: x.p_min,
+            p_max: x.p_max,
+            o: x.o_lo,
+            inv_d: x
+                .d_lo
+                .map(|d| transform::recip(F32, d, golden_model::float::RoundingMode::TowardZero)),
+            t_min: 0,
+            t_max: x.t_max,
+        })
+        .collect();
+    let what = "conservative slab binary32, eval_conservative";
+    if run(what) {
+        line(
+            what,
+            rate(&slabs, secs, |x| slab::eval_conservative(F32, x).hit),
+        );
+    }
+    let what = "conservative slab binary32, eval_conservative_generic";
+    if run(what) {
+        line(
+            what,
+            rate(&slabs, secs, |x| {
+                slab::eval_conservative_generic(F32, x).hit
+            }),
         );
     }
 
