@@ -6,13 +6,15 @@
 #    `rtl-gen check --jobs --report --junit`;
 # 2. the exact-reference property tests at 10^7 cases (silhouette rays and bundles, cull, the
 #    transform unit's hardware inverse against the exact rational inverse);
-# 3. the mutation check (scripts/mutants.sh), unless RELEASE_MUTANTS=0.
+# 3. the golden models' fast paths against the generic models at 10^8 vectors per unit and
+#    format class (issue #20; RELEASE_FAST_CASES), unless RELEASE_FAST=0;
+# 4. the mutation check (scripts/mutants.sh), unless RELEASE_MUTANTS=0.
 #
 #   bash scripts/release.sh                        # everything, reports in out/release/
 #   RELEASE_SHARD=2/4 bash scripts/release.sh      # shard 2 of 4 of the vector checks only
 #
 # On a CI matrix: N jobs, job K runs `RELEASE_SHARD=K/N RELEASE_EXACT=0 RELEASE_MUTANTS=0
-# bash scripts/release.sh`, one more job runs the exact and mutation parts
+# bash scripts/release.sh`, one more job runs the exact, fast-path and mutation parts
 # (`RELEASE_VECTORS=0 bash scripts/release.sh`); `rtl-gen merge-reports` combines the JSON
 # reports of one configuration. Knobs: RELEASE_SCALE (vectors multiplier, default 1),
 # RELEASE_JOBS (harness processes, default all cores), RELEASE_CASES (exact cases, 10^7).
@@ -65,6 +67,14 @@ if [ "${RELEASE_EXACT:-1}" != 0 ]; then
         cargo test --release -p golden-model --test silhouette_props --test cull_props \
         --test transform -- --nocapture >"$out/exact.log" 2>&1
     echo "exact reference: $cases cases each (silhouette rays, bundles, cull, transform inverse), 0 errors, $(( $(date +%s) - t0 )) s (log $out/exact.log)"
+fi
+if [ "${RELEASE_FAST:-1}" != 0 ]; then
+    t0=$(date +%s)
+    fast="${RELEASE_FAST_CASES:-100000000}"
+    FAST_CASES="$fast" cargo test --release -p golden-model --test fast_paths -- --nocapture \
+        >"$out/fast_paths.log" 2>&1
+    classes=$(grep -c "fast == generic" "$out/fast_paths.log")
+    echo "fast paths: $classes classes, at least $fast vectors each, fast == generic, $(( $(date +%s) - t0 )) s (log $out/fast_paths.log)"
 fi
 if [ "${RELEASE_MUTANTS:-1}" != 0 ]; then
     bash scripts/mutants.sh | tee "$out/mutants.log" | tail -1
