@@ -149,23 +149,9 @@ fn score(
     max: &[f32; 3],
     samples: usize,
 ) -> f64 {
-    let s = samples.max(1);
-    let coord = |i: usize, j: usize| {
-        min[i] as f64 + (max[i] as f64 - min[i] as f64) * (j as f64 + 0.5) / s as f64 - r[i]
-    };
     let mut cut = 0usize;
-    for a in 0..s {
-        let ha = n[0] * coord(0, a);
-        for b in 0..s {
-            let hb = ha + n[1] * coord(1, b);
-            for k in 0..s {
-                if hb + n[2] * coord(2, k) > w {
-                    cut += 1;
-                }
-            }
-        }
-    }
-    cut as f64 / (s * s * s) as f64
+    for_each_sample(n, r, w, min, max, samples, |is_cut| cut += is_cut as usize);
+    cut as f64 / samples.max(1).pow(3) as f64
 }
 
 /// The grid sample points of the box strictly on the empty side, as a bit set.
@@ -177,25 +163,41 @@ fn cut_mask(
     max: &[f32; 3],
     samples: usize,
 ) -> Vec<u64> {
+    let mut mask = vec![0u64; samples.max(1).pow(3).div_ceil(64)];
+    let mut bit = 0usize;
+    for_each_sample(n, r, w, min, max, samples, |is_cut| {
+        mask[bit / 64] |= (is_cut as u64) << (bit % 64);
+        bit += 1;
+    });
+    mask
+}
+
+/// Walks the `samples`³ grid points of the box `[min, max]` (cell centres,
+/// x slowest) and tells `visit` whether each is strictly on the empty side
+/// of `n·(x − r) > w`: the one sampling [`score`] and [`cut_mask`] share.
+#[inline(always)]
+fn for_each_sample(
+    n: &[f64; 3],
+    r: &[f64; 3],
+    w: f64,
+    min: &[f32; 3],
+    max: &[f32; 3],
+    samples: usize,
+    mut visit: impl FnMut(bool),
+) {
     let s = samples.max(1);
     let coord = |i: usize, j: usize| {
         min[i] as f64 + (max[i] as f64 - min[i] as f64) * (j as f64 + 0.5) / s as f64 - r[i]
     };
-    let mut mask = vec![0u64; (s * s * s).div_ceil(64)];
-    let mut bit = 0usize;
     for a in 0..s {
         let ha = n[0] * coord(0, a);
         for b in 0..s {
             let hb = ha + n[1] * coord(1, b);
             for k in 0..s {
-                if hb + n[2] * coord(2, k) > w {
-                    mask[bit / 64] |= 1 << (bit % 64);
-                }
-                bit += 1;
+                visit(hb + n[2] * coord(2, k) > w);
             }
         }
     }
-    mask
 }
 
 fn area(min: &[f32; 3], max: &[f32; 3]) -> f64 {
