@@ -34,7 +34,9 @@
 //! primitive order and interleaving (test `hybrid_identical.rs`).
 
 use crate::bvh::Accel;
-use crate::render::{combine, emit, make_surface, trace_secondary, Cam, Frame, SecRay, Surface};
+use crate::render::{
+    combine, emit, face_normal64, make_surface, trace_secondary, Cam, Frame, SecRay, Surface,
+};
 use crate::scene::Scene;
 use crate::tester::BoxTester;
 use crate::trace::{intersect, Stats, TraceOpts, Tracer, NONE};
@@ -130,14 +132,7 @@ pub fn rasterize(cam: &Cam, tri: &WorldTri, w: u32, h: u32) -> Vec<(u32, f64)> {
 
 fn surface(cam: &Cam, tri: &WorldTri, pix: u32, w: u32, t: f64) -> Surface {
     let d = cam.dir(pix % w, pix / w);
-    let v = tri.v.map(|p| p.map(|c| c as f64));
-    let e1 = [0, 1, 2].map(|i| v[1][i] - v[0][i]);
-    let e2 = [0, 1, 2].map(|i| v[2][i] - v[0][i]);
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
+    let n = face_normal64(&tri.v);
     let pos = [0, 1, 2].map(|i| cam.o[i] as f64 + t * d[i] as f64);
     make_surface(pos, n, d, tri.color, tri.size, tri.key)
 }

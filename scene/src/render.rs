@@ -52,6 +52,22 @@ fn norm64(a: [f64; 3]) -> [f64; 3] {
     let l = dot64(a, a).sqrt();
     a.map(|x| x / l)
 }
+fn cross64(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The unnormalised face normal `(v1 − v0) × (v2 − v0)` of a triangle in
+/// f64: what an RT hit and a rasterised sample shade with alike.
+pub(crate) fn face_normal64(v: &[[f32; 3]; 3]) -> [f64; 3] {
+    let v = v.map(|p| p.map(|c| c as f64));
+    let e1 = [0, 1, 2].map(|i| v[1][i] - v[0][i]);
+    let e2 = [0, 1, 2].map(|i| v[2][i] - v[0][i]);
+    cross64(e1, e2)
+}
 
 impl Cam {
     /// The scene's camera for a `w`×`h` image.
@@ -125,15 +141,7 @@ pub fn surface_of_hit(
     prim: u32,
 ) -> Surface {
     let x = &accel.instances[inst as usize];
-    let v = scene.meshes[x.mesh].1.corners(prim);
-    let v64 = v.map(|p| p.map(|c| c as f64));
-    let e1 = [0, 1, 2].map(|i| v64[1][i] - v64[0][i]);
-    let e2 = [0, 1, 2].map(|i| v64[2][i] - v64[0][i]);
-    let nm = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
+    let nm = face_normal64(&scene.meshes[x.mesh].1.corners(prim));
     let nw = [0, 1, 2].map(|i| dot64(x.normal_m[i], nm));
     let pos = [0, 1, 2].map(|i| o[i] as f64 + t * d[i] as f64);
     make_surface(pos, nw, d, x.color, x.size, (inst, prim))
@@ -200,11 +208,7 @@ pub fn emit(scene: &Scene, s: &Surface, pix: u64) -> Vec<SecRay> {
             } => {
                 let eu = edge_u.map(|x| x as f64);
                 let ev = edge_v.map(|x| x as f64);
-                let ln = [
-                    eu[1] * ev[2] - eu[2] * ev[1],
-                    eu[2] * ev[0] - eu[0] * ev[2],
-                    eu[0] * ev[1] - eu[1] * ev[0],
-                ];
+                let ln = cross64(eu, ev);
                 let area = dot64(ln, ln).sqrt();
                 let ln = ln.map(|x| x / area);
                 for k in 0..*samples as u64 {
@@ -241,16 +245,8 @@ pub fn emit(scene: &Scene, s: &Surface, pix: u64) -> Vec<SecRay> {
     } else {
         [1.0, 0.0, 0.0]
     };
-    let t1 = norm64([
-        a[1] * n[2] - a[2] * n[1],
-        a[2] * n[0] - a[0] * n[2],
-        a[0] * n[1] - a[1] * n[0],
-    ]);
-    let t2 = [
-        n[1] * t1[2] - n[2] * t1[1],
-        n[2] * t1[0] - n[0] * t1[2],
-        n[0] * t1[1] - n[1] * t1[0],
-    ];
+    let t1 = norm64(cross64(a, n));
+    let t2 = cross64(n, t1);
     for k in 0..r.ao_rays as u64 {
         let key = pix << 16 | 0xF000 | k;
         // cosine-weighted hemisphere, stratified in the angle
