@@ -15,6 +15,7 @@ use std::cmp::Ordering;
 use dashu::base::BitTest;
 use dashu::integer::IBig;
 
+use crate::exact::extended::{ExactCmp, Extended};
 use crate::exact::ray_box::{decode, Exact};
 use crate::float::{round, Class, FloatFormat, RawFloat, RoundingMode};
 
@@ -146,51 +147,42 @@ impl Dyadic {
     }
 }
 
-/// An extended rational `num / den` (`den > 0`), or ±infinity.
+/// `num / den` with `den > 0`, unreduced: the exact parameter where a
+/// segment crosses a slab or plane.
 #[derive(Debug, Clone)]
-pub enum Ext {
-    /// −infinity
-    NegInf,
-    /// `num / den`, `den > 0`
-    Fin(Dyadic, Dyadic),
-    /// +infinity
-    PosInf,
+pub struct DyadicRatio {
+    /// numerator
+    pub num: Dyadic,
+    /// denominator, positive
+    pub den: Dyadic,
 }
+
+impl ExactCmp for DyadicRatio {
+    fn exact_cmp(&self, other: &DyadicRatio) -> Ordering {
+        self.num.mul(&other.den).cmp(&other.num.mul(&self.den))
+    }
+}
+
+/// A segment parameter: −∞, a ratio of dyadics, or +∞.
+pub type Ext = Extended<DyadicRatio>;
 
 impl Ext {
     /// A dyadic value.
     pub fn of(d: Dyadic) -> Ext {
-        Ext::Fin(d, Dyadic { m: IBig::ONE, e: 0 })
+        Ext::Fin(DyadicRatio {
+            num: d,
+            den: Dyadic { m: IBig::ONE, e: 0 },
+        })
     }
     /// `num / den` for `den != 0`.
     pub fn ratio(num: Dyadic, den: Dyadic) -> Ext {
         if den.signum() == Ordering::Less {
-            Ext::Fin(num.neg(), den.neg())
+            Ext::Fin(DyadicRatio {
+                num: num.neg(),
+                den: den.neg(),
+            })
         } else {
-            Ext::Fin(num, den)
-        }
-    }
-    /// Exact comparison.
-    pub fn cmp(&self, other: &Ext) -> Ordering {
-        match (self, other) {
-            (Ext::NegInf, Ext::NegInf) | (Ext::PosInf, Ext::PosInf) => Ordering::Equal,
-            (Ext::NegInf, _) | (_, Ext::PosInf) => Ordering::Less,
-            (_, Ext::NegInf) | (Ext::PosInf, _) => Ordering::Greater,
-            (Ext::Fin(a, b), Ext::Fin(c, d)) => a.mul(d).cmp(&c.mul(b)),
-        }
-    }
-    fn max(self, other: Ext) -> Ext {
-        if self.cmp(&other) == Ordering::Less {
-            other
-        } else {
-            self
-        }
-    }
-    fn min(self, other: Ext) -> Ext {
-        if self.cmp(&other) == Ordering::Greater {
-            other
-        } else {
-            self
+            Ext::Fin(DyadicRatio { num, den })
         }
     }
 }
@@ -304,10 +296,7 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &RegionIn) -> RegionResu
             }
         }
     }
-    let nonempty = |lo: &Ext, hi: &Ext| {
-        lo.cmp(hi) != Ordering::Greater && !matches!(lo, Ext::PosInf) && !matches!(hi, Ext::NegInf)
-    };
-    let box_hit = !empty && nonempty(&lo, &hi);
+    let box_hit = !empty && Ext::interval_nonempty(&lo, &hi);
     if !box_hit {
         return RegionResult {
             invalid: false,
@@ -336,7 +325,7 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &RegionIn) -> RegionResu
     RegionResult {
         invalid: false,
         box_hit: true,
-        region_hit: !empty && nonempty(&lo, &hi),
+        region_hit: !empty && Ext::interval_nonempty(&lo, &hi),
     }
 }
 
@@ -378,11 +367,11 @@ pub fn segment_hits_triangle(
     }
     // t = num / den must lie in [t_min, t_max].
     let t = Ext::ratio(num, den);
-    if t.cmp(&Ext::of(t_min.clone())) == Ordering::Less {
+    if t.exact_cmp(&Ext::of(t_min.clone())) == Ordering::Less {
         return false;
     }
     if let Some(tm) = t_max {
-        if t.cmp(&Ext::of(tm.clone())) == Ordering::Greater {
+        if t.exact_cmp(&Ext::of(tm.clone())) == Ordering::Greater {
             return false;
         }
     }

@@ -4,4 +4,5 @@
 //! Slow, simple and independent, so the bit-accurate models can be checked
 //! against them.
 
+pub mod extended;
 pub mod ray_box;

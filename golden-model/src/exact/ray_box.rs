@@ -12,6 +12,7 @@ use std::cmp::Ordering;
 
 use dashu::integer::IBig;
 
+use super::extended::{ExactCmp, Extended};
 use crate::float::FloatFormat;
 
 /// A float input decoded exactly.
@@ -131,43 +132,16 @@ impl Q {
             }
         }
     }
-    fn cmp(&self, other: &Q) -> Ordering {
+}
+
+impl ExactCmp for Q {
+    fn exact_cmp(&self, other: &Q) -> Ordering {
         (&self.num * &other.den).cmp(&(&other.num * &self.den))
     }
 }
 
 /// An extended rational: -inf, a rational, or +inf.
-#[derive(Debug, Clone)]
-enum Ext {
-    NegInf,
-    Fin(Q),
-    PosInf,
-}
-
-impl Ext {
-    fn cmp(&self, other: &Ext) -> Ordering {
-        match (self, other) {
-            (Ext::NegInf, Ext::NegInf) | (Ext::PosInf, Ext::PosInf) => Ordering::Equal,
-            (Ext::NegInf, _) | (_, Ext::PosInf) => Ordering::Less,
-            (_, Ext::NegInf) | (Ext::PosInf, _) => Ordering::Greater,
-            (Ext::Fin(a), Ext::Fin(b)) => a.cmp(b),
-        }
-    }
-    fn max(self, other: Ext) -> Ext {
-        if self.cmp(&other) == Ordering::Less {
-            other
-        } else {
-            self
-        }
-    }
-    fn min(self, other: Ext) -> Ext {
-        if self.cmp(&other) == Ordering::Greater {
-            other
-        } else {
-            self
-        }
-    }
-}
+type Ext = Extended<Q>;
 
 /// `(p - o) / d` for finite `o`, nonzero finite `d`, any non-NaN `p`.
 fn param(p: &Exact, o: &Exact, d: &Exact) -> Ext {
@@ -273,8 +247,8 @@ pub fn ray_hits_box(fmt: FloatFormat, bx: &BoxIn, ray: &RayIn) -> ExactResult {
     let mut hi = t_max.to_ext();
     for i in 0..3 {
         if d[i].sign() == Ordering::Equal {
-            let inside = p_min[i].to_ext().cmp(&o[i].to_ext()) != Ordering::Greater
-                && o[i].to_ext().cmp(&p_max[i].to_ext()) != Ordering::Greater;
+            let inside = p_min[i].to_ext().exact_cmp(&o[i].to_ext()) != Ordering::Greater
+                && o[i].to_ext().exact_cmp(&p_max[i].to_ext()) != Ordering::Greater;
             if !inside {
                 return miss;
             }
@@ -294,7 +268,7 @@ pub fn ray_hits_box(fmt: FloatFormat, bx: &BoxIn, ray: &RayIn) -> ExactResult {
     // Redundant with the interval logic (an inverted or infinitely far slab
     // gives an empty interval), but the empty-box rule stated directly.
     for i in 0..3 {
-        if p_min[i].to_ext().cmp(&p_max[i].to_ext()) == Ordering::Greater
+        if p_min[i].to_ext().exact_cmp(&p_max[i].to_ext()) == Ordering::Greater
             || p_min[i] == Exact::PosInf
             || p_max[i] == Exact::NegInf
         {
@@ -302,9 +276,7 @@ pub fn ray_hits_box(fmt: FloatFormat, bx: &BoxIn, ray: &RayIn) -> ExactResult {
         }
     }
     // A real parameter must exist: lo ≤ hi with lo < +inf and hi > -inf.
-    let hit = lo.cmp(&hi) != Ordering::Greater
-        && !matches!(lo, Ext::PosInf)
-        && !matches!(hi, Ext::NegInf);
+    let hit = Ext::interval_nonempty(&lo, &hi);
     ExactResult {
         hit,
         nan: false,
