@@ -2,6 +2,7 @@
 //! system font: DejaVu Sans is embedded and registered with ab_glyph).
 
 use crate::sweep::{self, Sweep};
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
@@ -245,6 +246,35 @@ where
         .log_scale()
         .with_key_points(yb)
         .with_light_points(yl);
+    if c.x_log {
+        let (xb, xl) = log_ticks(x0, x1, 12);
+        let x_range = (x0..x1)
+            .log_scale()
+            .with_key_points(xb)
+            .with_light_points(xl);
+        let mut ch = chart.build_cartesian_2d(x_range, y_range)?;
+        axes_series_legend(&mut ch, c, (y0, y1))?;
+    } else {
+        let mut ch = chart.build_cartesian_2d(x0..x1, y_range)?;
+        axes_series_legend(&mut ch, c, (y0, y1))?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// Everything drawn inside a built chart: the labelled axes, the series
+/// and the legend; generic because a log and a linear x axis are
+/// different coordinate types.
+fn axes_series_legend<'a, DB: DrawingBackend + 'a, X, Y>(
+    ch: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    c: &Chart,
+    y_span: (f64, f64),
+) -> Result<(), Box<dyn std::error::Error>>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    DB::ErrorType: 'static,
+{
     // on a rate axis the floor stands for zero
     let zero_floor = c.y_floor == RATE_FLOOR;
     let fmt = |v: &f64| tick_label(*v);
@@ -255,36 +285,15 @@ where
             tick_label(*v)
         }
     };
-    if c.x_log {
-        let (xb, xl) = log_ticks(x0, x1, 12);
-        let x_range = (x0..x1)
-            .log_scale()
-            .with_key_points(xb)
-            .with_light_points(xl);
-        let mut ch = chart.build_cartesian_2d(x_range, y_range)?;
-        ch.configure_mesh()
-            .x_desc(&c.x_label)
-            .y_desc(&c.y_label)
-            .x_label_formatter(&fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(("sans-serif", 14))
-            .draw()?;
-        plot(&mut ch, c, (y0, y1))?;
-        legend(&mut ch, c)?;
-    } else {
-        let mut ch = chart.build_cartesian_2d(x0..x1, y_range)?;
-        ch.configure_mesh()
-            .x_desc(&c.x_label)
-            .y_desc(&c.y_label)
-            .x_label_formatter(&fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(("sans-serif", 14))
-            .draw()?;
-        plot(&mut ch, c, (y0, y1))?;
-        legend(&mut ch, c)?;
-    }
-    root.present()?;
-    Ok(())
+    ch.configure_mesh()
+        .x_desc(&c.x_label)
+        .y_desc(&c.y_label)
+        .x_label_formatter(&fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    plot(ch, c, y_span)?;
+    legend(ch, c)
 }
 
 fn legend<'a, DB: DrawingBackend + 'a, X, Y>(
