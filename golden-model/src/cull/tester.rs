@@ -39,6 +39,16 @@ const RNE: RoundingMode = RoundingMode::NearestEven;
 /// with 6; docs/cull.md §3).
 pub const CROSSING_GUARD_BITS: u32 = 8;
 
+/// The renderer's plane format (binary16) and the crossing format it gives
+/// with binary32 rays (e8m18): the binary32 fast paths are called with
+/// these as constants, so that the compiler specialises them for the
+/// renderer.
+const B16: FloatFormat = FloatFormat::BINARY16;
+const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
+    Ok(f) => f,
+    Err(_) => panic!("e8m18"),
+};
+
 /// The parameters of one tester instance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Config {
@@ -409,11 +419,6 @@ fn normal_terms_f32(
     terms: &mut [NormalTerm],
     b_los: &mut [u64],
 ) -> bool {
-    const B16: FloatFormat = FloatFormat::BINARY16;
-    const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
-        Ok(f) => f,
-        Err(_) => panic!("e8m18"),
-    };
     let (pf, cf) = (cfg.plane, cfg.crossing());
     let k = cfg.k;
     if (pf, cf) == (B16, E8M18) {
@@ -517,11 +522,6 @@ pub fn eval_generic(cfg: &Config, x: &ChildIn) -> CullOut {
 /// input returns before any arithmetic (the generic `keep` is forced to 1
 /// then); afterwards no value is NaN, `w` is finite and `no_lo < +inf`.
 fn eval_f32(cfg: &Config, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullOut {
-    const B16: FloatFormat = FloatFormat::BINARY16;
-    const E8M18: FloatFormat = match FloatFormat::new(8, 18) {
-        Ok(f) => f,
-        Err(_) => panic!("e8m18"),
-    };
     let (pf, cf) = (cfg.plane, cfg.crossing());
     if (pf, cf) == (B16, E8M18) {
         // the renderer's planes: the same code with constant formats
