@@ -16,7 +16,7 @@
 use crate::arith::float::bits::{add_const, to_sint};
 use crate::arith::float::round::{class_of, round, round_down_up, Raw, ROUND_STEPS};
 use crate::arith::float::unpack::{normalize, unpack};
-use crate::arith::float::{sint_width, spread, Format, Rounding};
+use crate::arith::float::{finish_operator, sint_width, spread, Format, Rounding};
 use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -121,14 +121,7 @@ pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
     let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
     let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("reciprocal generator is type-correct for every format"),
-    )
+    finish_operator(m, rs, &[("z", z)], "reciprocal")
 }
 
 /// Module name of the down/up reciprocal.
@@ -155,15 +148,7 @@ pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
     let (down, up) = round_down_up(&mut m, fmt, &raw, raw.sign, raw.sign, rs, "u_round");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("down", down);
-    m.output("up", up);
-    Arc::new(
-        m.finish()
-            .expect("down/up reciprocal generator is type-correct for every format"),
-    )
+    finish_operator(m, rs, &[("down", down), ("up", up)], "down/up reciprocal")
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 
 use super::add::{add_raw, ADD_RAW_STEPS};
 use super::round::{round_down_up, ROUND_STEPS};
-use super::{spread, Format, Rounding};
+use super::{finish_operator, spread, Format, Rounding};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -42,13 +42,5 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
         rs,
         "u_round",
     );
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("down", down);
-    m.output("up", up);
-    Arc::new(
-        m.finish()
-            .expect("down/up adder generator is type-correct for every format"),
-    )
+    finish_operator(m, rs, &[("down", down), ("up", up)], "down/up adder")
 }

@@ -2,7 +2,7 @@
 //! comparison false (unordered); -0 == +0. Compares the encodings as
 //! sign-magnitude integers; no unpacking is needed.
 
-use super::{spread, Format};
+use super::{finish_operator, Format};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -105,14 +105,10 @@ pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let (lt, le, eq) = compare(&mut m, fmt, a, b);
-    for _ in 0..spread(stages, 1)[0] {
-        m.stage();
-    }
-    m.output("lt", lt);
-    m.output("le", le);
-    m.output("eq", eq);
-    Arc::new(
-        m.finish()
-            .expect("comparator generator is type-correct for every format"),
+    finish_operator(
+        m,
+        stages,
+        &[("lt", lt), ("le", le), ("eq", eq)],
+        "comparator",
     )
 }

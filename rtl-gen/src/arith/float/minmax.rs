@@ -2,7 +2,7 @@
 //! is NaN; otherwise the smaller (larger) operand with -0 ordered below +0.
 
 use super::compare::SignMagnitude;
-use super::{spread, Format};
+use super::{finish_operator, Format};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -61,13 +61,5 @@ pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
     let (min, max) = min_max(&mut m, fmt, a, b);
-    for _ in 0..spread(stages, 1)[0] {
-        m.stage();
-    }
-    m.output("min", min);
-    m.output("max", max);
-    Arc::new(
-        m.finish()
-            .expect("min/max generator is type-correct for every format"),
-    )
+    finish_operator(m, stages, &[("min", min), ("max", max)], "min/max")
 }

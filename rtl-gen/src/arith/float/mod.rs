@@ -32,8 +32,10 @@ pub mod round;
 pub mod sum;
 pub mod unpack;
 
-use crate::builder::ModuleBuilder;
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::Module;
 use std::fmt;
+use std::sync::Arc;
 
 /// A binary floating-point format: `exp_bits` exponent bits and `frac_bits`
 /// stored fraction bits (the hidden bit is not counted).
@@ -282,6 +284,29 @@ impl Rm {
             (RoundSel::Port, None) => unreachable!("a dyn mode has its port"),
         }
     }
+}
+
+/// The common end of an operator's module: `stages` registers carry the
+/// pipeline to the `outputs` (in port order), then the module is finished;
+/// `what` names the generator in the message of a type error, which would
+/// be a bug of the generator.
+#[track_caller]
+pub fn finish_operator(
+    mut m: ModuleBuilder,
+    stages: u32,
+    outputs: &[(&str, Sig)],
+    what: &str,
+) -> Arc<Module> {
+    for _ in 0..stages {
+        m.stage();
+    }
+    for &(name, value) in outputs {
+        m.output(name, value);
+    }
+    Arc::new(
+        m.finish()
+            .unwrap_or_else(|e| panic!("{what} generator is type-correct for every format: {e}")),
+    )
 }
 
 /// Spreads `stages` pipeline registers over the boundaries after `steps`

@@ -11,7 +11,7 @@
 
 use super::mul::{mul_raw, MUL_RAW_STEPS};
 use super::round::{round, ROUND_STEPS};
-use super::{spread, Format, Rounding};
+use super::{finish_operator, spread, Format, Rounding};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
 
@@ -46,12 +46,5 @@ pub fn mul_exact_module(fmt: Format, stages: u32) -> Arc<Module> {
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
     let z = round(&mut m, wide, Rounding::Rne, &raw, rs, "u_pack");
-    for _ in 0..rs {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("exact multiplier generator is type-correct for every format"),
-    )
+    finish_operator(m, rs, &[("z", z)], "exact multiplier")
 }

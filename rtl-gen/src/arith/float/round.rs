@@ -33,7 +33,7 @@
 
 use super::bits::{add_const, lzc, lzc_width, shr_sticky, to_sint};
 use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
-use super::{sint_width, spread, Format, Rm, RoundSel, Rounding, RM_PORT};
+use super::{finish_operator, sint_width, spread, Format, Rm, RoundSel, Rounding, RM_PORT};
 use crate::arith::int::zext;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -129,14 +129,7 @@ pub fn round_module(
     let rm = Rm::declare(&mut m, mode);
     let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
     let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n);
-    for _ in 0..plan[2] {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .expect("rounder generator is type-correct for every format"),
-    )
+    finish_operator(m, plan[2], &[("z", z)], "rounder")
 }
 
 /// Module name of the down/up rounder.
@@ -190,15 +183,7 @@ pub fn round_down_up_module(
     let up = m.scope("up", |m| {
         round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n)
     });
-    for _ in 0..plan[2] {
-        m.stage();
-    }
-    m.output("down", down);
-    m.output("up", up);
-    Arc::new(
-        m.finish()
-            .expect("down/up rounder generator is type-correct for every format"),
-    )
+    finish_operator(m, plan[2], &[("down", down), ("up", up)], "down/up rounder")
 }
 
 /// A raw significand moved onto the result's grid (steps 1 and 2 of the
@@ -441,14 +426,7 @@ pub fn finish_rounded(
     what: &str,
 ) -> Arc<Module> {
     let z = round_rm(&mut m, fmt, rm, raw, stages, "u_round");
-    for _ in 0..stages {
-        m.stage();
-    }
-    m.output("z", z);
-    Arc::new(
-        m.finish()
-            .unwrap_or_else(|e| panic!("{what} generator is type-correct for every format: {e}")),
-    )
+    finish_operator(m, stages, &[("z", z)], what)
 }
 
 /// [`round`] in the mode `rm` (fixed, or the module's `rm` port, which is

@@ -3,7 +3,7 @@
 //! operators use.
 
 use super::bits::{add_const, lzc, ssub, to_sint};
-use super::{sint_width, spread, Format};
+use super::{finish_operator, sint_width, Format};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use std::sync::Arc;
@@ -167,15 +167,6 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
     let exp = m.mux(special, e0, e);
     let s0 = m.uint(fmt.frac_bits + 1, 0);
     let sig = m.mux(special, s0, u.sig);
-    for _ in 0..spread(stages, 1)[0] {
-        m.stage();
-    }
-    m.output("sign", u.sign);
-    m.output("cls", class);
-    m.output("exp", exp);
-    m.output("sig", sig);
-    Arc::new(
-        m.finish()
-            .expect("unpack generator is type-correct for every format"),
-    )
+    let outputs = [("sign", u.sign), ("cls", class), ("exp", exp), ("sig", sig)];
+    finish_operator(m, stages, &outputs, "unpack")
 }
