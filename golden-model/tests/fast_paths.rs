@@ -284,7 +284,7 @@ fn slab_conservative_binary32() {
     let mut eq = Equal::new("conservative slab, binary32");
     let (mut hits, mut parallel) = (0u64, 0u64);
     for _ in 0..cases() {
-        let mut v = |rng: &mut common::Rng| operand(rng, f, &sp);
+        let v = |rng: &mut common::Rng| operand(rng, f, &sp);
         let mut x = SlabIn {
             p_min: [v(&mut rng), v(&mut rng), v(&mut rng)],
             p_max: [v(&mut rng), v(&mut rng), v(&mut rng)],
