@@ -277,7 +277,7 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     )?;
     writeln!(
         r,
-        "Box tests where the hardware does them: the instance boxes relative to the scene anchor {anchor:?} (centre of the top-level root box), everything below in the instance's model space. A candidate `eXmY` is the silhouette unit with ray and box rounded outward (`render --box-format eXmY`; bounded origin, direction intervals, conservative).\n"
+        "Box tests where the hardware does them: the instance boxes relative to the scene anchor {anchor:?} (centre of the top-level root box), everything below in the instance's model space. A candidate `eXmY` is the silhouette unit with ray and box rounded outward (`rtl-gen render --box-format eXmY`; bounded origin, direction intervals, conservative).\n"
     )?;
     writeln!(
         r,
