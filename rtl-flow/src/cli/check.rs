@@ -4,10 +4,10 @@
 use super::args::{FileArgs, ReportArgs, ScaleArgs, UnitArgs};
 use super::{bad_usage, cache_dir, format_word, out_dir};
 use crate::report::{RunReport, Shard};
-use crate::{byo, regress, FlowError};
+use crate::{byo, regress, FlowError, Generated};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Vectors also run through the (slow) IR evaluator, as a third opinion.
@@ -46,6 +46,25 @@ fn with_reports(
             Err(e)
         }
     }
+}
+
+/// Writes the unit's files into `dir`, says what is checked (`what` after
+/// the parameters) and lints the Verilog: the start of every check.
+fn write_and_lint(g: &Generated, dir: &Path, what: &str) -> Result<(), FlowError> {
+    g.write(dir, 10.0)?;
+    println!(
+        "rtl-gen check {} ({}){what}",
+        g.unit,
+        rtl_gen::emit::lower::params_line(g.params.values())
+    );
+    println!(
+        "  module      {} (latency {} cycle(s), II 1)",
+        g.module.name, g.module.latency
+    );
+    println!("  files       {}", dir.display());
+    sim::lint(&g.ports, dir)?;
+    println!("  lint        verilator --lint-only -Wall: clean");
+    Ok(())
 }
 
 /// A progress bar on stderr, or a hidden one with --no-progress or when
@@ -92,19 +111,7 @@ pub(super) fn check(
     base.shard = shard;
     with_reports(base, reports, |report| {
         let dir = out_dir(&g, out);
-        g.write(&dir, 10.0)?;
-        println!(
-            "rtl-gen check {} ({})",
-            g.unit,
-            rtl_gen::emit::lower::params_line(g.params.values())
-        );
-        println!(
-            "  module      {} (latency {} cycle(s), II 1)",
-            g.module.name, g.module.latency
-        );
-        println!("  files       {}", dir.display());
-        sim::lint(&g.ports, &dir)?;
-        println!("  lint        verilator --lint-only -Wall: clean");
+        write_and_lint(&g, &dir, "")?;
         let t = Instant::now();
         let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
         println!("  harness     ready in {:.1} s", t.elapsed().as_secs_f64());
@@ -179,18 +186,7 @@ pub(super) fn check_testfloat(
             testfloat::read_cases(r, name, &g.ports.inputs, result_port)?
         };
         let dir = out_dir(&g, out);
-        g.write(&dir, 10.0)?;
-        println!(
-            "rtl-gen check {} ({}) --testfloat {name}",
-            g.unit,
-            rtl_gen::emit::lower::params_line(g.params.values())
-        );
-        println!(
-            "  module      {} (latency {} cycle(s), II 1)",
-            g.module.name, g.module.latency
-        );
-        sim::lint(&g.ports, &dir)?;
-        println!("  lint        verilator --lint-only -Wall: clean");
+        write_and_lint(&g, &dir, &format!(" --testfloat {name}"))?;
         let harness = sim::Harness::build(&g.ports, &dir, &cache_dir(cache))?;
         let tb = g.testbench();
         let o = testfloat::run(&g, &harness, tb.as_ref(), &map, &cases, name, nan_exact)?;
