@@ -135,7 +135,7 @@ pub fn scene_loads(scenes: &[&Path], width: u32) -> Result<Vec<SceneLoad>, Strin
         };
         let acc = Accel::build(&s, false);
         let f = render(&s, &acc, &scene::tester::Slab, opts, width, h, false);
-        let mut total = scene::trace::KindStats::default();
+        let mut total = scene::stats::KindStats::default();
         for k in &f.stats.kinds {
             total.add(k);
         }

@@ -10,8 +10,9 @@ use crate::synth;
 use scene::bvh::Accel;
 use scene::render::render;
 use scene::scene::Scene;
+use scene::stats::KindStats;
 use scene::tester::Golden;
-use scene::trace::{BundleOpts, KindStats, TraceOpts};
+use scene::trace::{BundleOpts, TraceOpts};
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -38,8 +38,9 @@ use crate::render::{
     combine, emit, face_normal64, make_surface, trace_secondary, Cam, Frame, SecRay, Surface,
 };
 use crate::scene::Scene;
+use crate::stats::Stats;
 use crate::tester::BoxTester;
-use crate::trace::{intersect, Stats, TraceOpts, Tracer, NONE};
+use crate::trace::{intersect, TraceOpts, Tracer, NONE};
 use std::collections::VecDeque;
 use std::time::Instant;
 

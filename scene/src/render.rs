@@ -10,8 +10,9 @@ use crate::bundle::build_bundles;
 use crate::bvh::Accel;
 use crate::mesh::unit;
 use crate::scene::{Light, Scene};
+use crate::stats::{RayKind, Stats};
 use crate::tester::BoxTester;
-use crate::trace::{RayKind, Stats, TRay, TraceOpts, Tracer};
+use crate::trace::{TRay, TraceOpts, Tracer};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 

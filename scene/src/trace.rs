@@ -14,6 +14,7 @@
 
 use crate::bvh::{f32_up, Accel, PLANES_K};
 use crate::scene::Scene;
+use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use crate::units::{ChildTestIn, RayTermsIn, Units};
 use golden_model::cull::bvh::{Mesh, NodeKind};
@@ -22,30 +23,6 @@ use golden_model::float::FloatFormat;
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{InstanceTransform, WorldRay};
 use golden_model::triangle as golden_triangle;
-
-/// Ray types, for statistics.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RayKind {
-    /// camera rays
-    Primary = 0,
-    /// shadow rays to point and area lights
-    Shadow = 1,
-    /// ambient-occlusion rays
-    Ao = 2,
-}
-
-impl RayKind {
-    /// All kinds, in report order.
-    pub const ALL: [RayKind; 3] = [RayKind::Primary, RayKind::Shadow, RayKind::Ao];
-    /// Report name.
-    pub fn name(self) -> &'static str {
-        match self {
-            RayKind::Primary => "primary",
-            RayKind::Shadow => "shadow",
-            RayKind::Ao => "ao",
-        }
-    }
-}
 
 /// Closest hit so far (`inst == NONE`: none).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -133,101 +110,6 @@ impl TRay {
         } else {
             f32_up(t)
         })
-    }
-}
-
-/// Counters for one ray type.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct KindStats {
-    /// rays traced
-    pub rays: u64,
-    /// rays that hit something
-    pub hits: u64,
-    /// single-ray box tests
-    pub ray_box_tests: u64,
-    /// bundle box tests
-    pub bundle_tests: u64,
-    /// bundle tests that ended AllHit
-    pub all_hit: u64,
-    /// ... AllMiss
-    pub all_miss: u64,
-    /// ... Mixed (the bundle is split and its rays tested one by one)
-    pub mixed: u64,
-    /// rays in all bundle tests
-    pub bundle_rays: u64,
-    /// box tests saved by bundles: Σ(n − 1) over decided tests − 1 per Mixed test
-    pub saved_box_tests: i64,
-    /// bundles split by the splitting metric before a test (too few rays,
-    /// mixed direction signs, too much spread)
-    pub split_by_metric: u64,
-    /// leaves entered (per ray)
-    pub leaf_visits: u64,
-    /// triangle tests
-    pub tri_tests: u64,
-    /// cull-plane tests
-    pub cull_tests: u64,
-    /// per-ray terms of a node's shared normals computed (unit `cull_ray`,
-    /// once per ray and inner node whose children are cull-tested)
-    pub cull_ray_terms: u64,
-    /// nodes culled by their planes (per ray)
-    pub culled_nodes: u64,
-    /// of which leaves
-    pub culled_leaves: u64,
-    /// triangle tests skipped in culled leaves
-    pub culled_leaf_tris: u64,
-    /// instance transforms (per ray)
-    pub transforms: u64,
-}
-
-impl KindStats {
-    /// Adds another set of counters.
-    pub fn add(&mut self, o: &KindStats) {
-        self.rays += o.rays;
-        self.hits += o.hits;
-        self.ray_box_tests += o.ray_box_tests;
-        self.bundle_tests += o.bundle_tests;
-        self.all_hit += o.all_hit;
-        self.all_miss += o.all_miss;
-        self.mixed += o.mixed;
-        self.bundle_rays += o.bundle_rays;
-        self.saved_box_tests += o.saved_box_tests;
-        self.split_by_metric += o.split_by_metric;
-        self.leaf_visits += o.leaf_visits;
-        self.tri_tests += o.tri_tests;
-        self.cull_tests += o.cull_tests;
-        self.cull_ray_terms += o.cull_ray_terms;
-        self.culled_nodes += o.culled_nodes;
-        self.culled_leaves += o.culled_leaves;
-        self.culled_leaf_tris += o.culled_leaf_tris;
-        self.transforms += o.transforms;
-    }
-    /// Box tests (single and bundle) per ray.
-    pub fn box_tests_per_ray(&self) -> f64 {
-        (self.ray_box_tests + self.bundle_tests) as f64 / self.rays.max(1) as f64
-    }
-}
-
-/// Counters per ray type.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Stats {
-    /// indexed by `RayKind as usize`
-    pub kinds: [KindStats; 3],
-}
-
-impl Stats {
-    /// Adds another set.
-    pub fn add(&mut self, o: &Stats) {
-        for k in 0..3 {
-            self.kinds[k].add(&o.kinds[k]);
-        }
-    }
-    /// Sum over the ray types.
-    pub fn total(&self) -> KindStats {
-        let mut t = KindStats::default();
-        for k in &self.kinds {
-            t.add(k);
-        }
-        t
     }
 }
 

@@ -104,7 +104,7 @@ fn bundle_savings_are_reported_net() {
     let without = render(&s, &acc, &Golden::default(), single, w, h, false);
     same(&with, &without, "bundles vs single rays");
     let tests = |f: &Frame| {
-        let k = &f.stats.kinds[scene::trace::RayKind::Primary as usize];
+        let k = &f.stats.kinds[scene::stats::RayKind::Primary as usize];
         k.ray_box_tests + k.bundle_tests
     };
     assert!(
