@@ -35,7 +35,8 @@
 
 use crate::bvh::Accel;
 use crate::render::{
-    combine, emit, face_normal64, make_surface, trace_secondary, Cam, Frame, SecRay, Surface,
+    combine, emit, emit_into, face_normal64, make_surface, trace_secondary, Cam, Frame, SecRay,
+    Surface,
 };
 use crate::scene::Scene;
 use crate::stats::Stats;
@@ -239,9 +240,9 @@ pub fn render_sync(
     for (p, e) in depth.iter().enumerate() {
         if let Some((t, key, k)) = *e {
             let s = surface(&cam, &tris[k], p as u32, w, t);
-            let rays = emit(scene, &s, p as u64);
-            owners.push((p, s, sec.len(), rays.len()));
-            sec.extend(rays);
+            let first = sec.len();
+            emit_into(scene, &s, p as u64, &mut sec);
+            owners.push((p, s, first, sec.len() - first));
             f.ids[p] = key;
             f.t[p] = t.to_bits();
         }

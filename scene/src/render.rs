@@ -177,6 +177,12 @@ pub fn make_surface(
 /// the pixel and the sample index).
 pub fn emit(scene: &Scene, s: &Surface, pix: u64) -> Vec<SecRay> {
     let mut out = Vec::new();
+    emit_into(scene, s, pix, &mut out);
+    out
+}
+
+/// [`emit`], appending to `out` (a tile's list: no allocation per pixel).
+pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
     let mag = s.pos.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let eps = 1e-4 * s.size as f64 + mag * 1e-6;
     let o64 = [0, 1, 2].map(|i| s.pos[i] + s.normal[i] * eps);
@@ -264,7 +270,6 @@ pub fn emit(scene: &Scene, s: &Surface, pix: u64) -> Vec<SecRay> {
             weight: alb.map(|c| c * r.ambient / r.ao_rays as f32),
         });
     }
-    out
 }
 
 /// The pixel colour from its emitted rays and whether each was occluded
@@ -492,9 +497,9 @@ fn render_tile(
         ts[k] = r.hit.t.to_bits();
         let pix = ((y0 + k as u32 / tw) * w + x0 + k as u32 % tw) as u64;
         let s = surface_of_hit(scene, accel, r.o_w, r.d_w, r.hit.t, r.hit.inst, r.hit.prim);
-        let e = emit(scene, &s, pix);
-        owners.push((k, sec.len(), e.len()));
-        sec.extend(e);
+        let first = sec.len();
+        emit_into(scene, &s, pix, &mut sec);
+        owners.push((k, first, sec.len() - first));
         surfs.push(s);
     }
     let occ = trace_secondary(tracer, accel.scale, &sec, &mut st);
