@@ -83,7 +83,7 @@ impl CullBench {
         };
         CullBench {
             cfg,
-            unit: unit.clone(),
+            unit: *unit,
             at,
             keep: out("keep"),
             invalid: out("invalid"),

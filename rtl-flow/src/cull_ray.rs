@@ -258,7 +258,7 @@ impl CullRayBench {
         let at = unit.ray_ports();
         CullRayBench {
             cfg: golden_config(unit),
-            unit: unit.clone(),
+            unit: *unit,
             at,
         }
     }

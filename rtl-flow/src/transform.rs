@@ -137,7 +137,7 @@ impl TransformBench {
             id_bits: u.id_bits,
             instances: Vec::new(),
             rays: Vec::new(),
-            ports: Ports::of(&u),
+            ports: Ports::of(u),
         };
         bench.instances = bench.corner_instances();
         bench.rays = bench.corner_rays();

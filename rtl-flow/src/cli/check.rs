@@ -268,7 +268,7 @@ pub(super) fn replay(
     unit: &UnitArgs,
     seed: u64,
     index: u64,
-    vcd: &PathBuf,
+    vcd: &Path,
     out: Option<PathBuf>,
     cache: Option<PathBuf>,
 ) -> Result<bool, FlowError> {
