@@ -1,0 +1,158 @@
+//! The axis block of the silhouette tester: one axis mirrored so that its
+//! directions are `>= 0`, and its numerators (the only rounded values).
+
+use super::*;
+
+/// Module name of the axis block.
+pub fn axis_name(cfg: &Config, stages: u32) -> String {
+    let c = Config { stages, ..*cfg };
+    format!("silhouette_axis_{}", c.tag())
+}
+
+/// The axis block: mirrors one axis so that its directions are `>= 0`
+/// (sign flips only) and forms the numerators; `stages` registers inside
+/// the difference operators.
+///
+/// Bundle mode: inputs `p_min p_max o_lo [o_hi] d_lo d_hi`; outputs (all
+/// `stages` cycles later) `neg` (`d_lo < 0`: the axis is mirrored), `pos`
+/// (`d_hi > 0`), `a`/`b` (smallest / largest `|d|`), `n_any x_any n_all
+/// x_all`. Ray mode: inputs `p_min p_max o d`; outputs `a` (`|d|`), `n`
+/// (entry numerator, rounded down) and `x` (exit numerator, rounded up).
+pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
+    let f = cfg.fmt;
+    let mut m = ModuleBuilder::new(axis_name(cfg, stages));
+    m.describe(if cfg.ray() {
+        "One axis of the silhouette ray tester: mirror so that the direction is >= 0, then the \
+         entry numerator n = near - o (rounded down) and the exit numerator x = far - o (rounded up)."
+    } else {
+        "One axis of the silhouette tester: mirror so that directions are >= 0, then the entry \
+         numerators n = near - o and exit numerators x = far - o for AnyHit (n down, x up) and \
+         AllHit (n up, x down)."
+    });
+    cfg.describe_params(&mut m, stages);
+    let ty = Ty::UInt(f.width());
+    let p_min = m.input("p_min", ty);
+    let p_max = m.input("p_max", ty);
+    let (o_lo, o_hi, d_lo, d_hi) = if cfg.ray() {
+        let o = m.input("o", ty);
+        let d = m.input("d", ty);
+        (o, o, d, d)
+    } else {
+        let o_lo = m.input("o_lo", ty);
+        let o_hi = if cfg.bounded() {
+            m.input("o_hi", ty)
+        } else {
+            o_lo
+        };
+        (o_lo, o_hi, m.input("d_lo", ty), m.input("d_hi", ty))
+    };
+
+    // Classify the direction interval (by value: -0 is not negative).
+    // d_lo < +0: negative sign bit, nonzero, not NaN; +0 < d_hi likewise
+    let strictly = |m: &mut ModuleBuilder, v: Sig, negative: bool| {
+        let s = m.msb(v);
+        let s = if negative { s } else { m.not(s) };
+        let z = is_zero(m, f, v);
+        let nz = m.not(z);
+        let n = is_nan(m, f, v);
+        let nn = m.not(n);
+        let r = m.and(s, nz);
+        m.and(r, nn)
+    };
+    let neg = strictly(&mut m, d_lo, true);
+    let neg = m.name(neg, "neg");
+
+    // Mirror: sign flips and swaps only, exact.
+    let sb = sign_bit(&mut m, f);
+    let abs_mask = m.uint(f.width(), (1u128 << (f.width() - 1)) - 1);
+    let p_max_n = m.xor(p_max, sb);
+    let p_min_n = m.xor(p_min, sb);
+    let near = m.mux(neg, p_max_n, p_min);
+    let near = m.name(near, "plane_near");
+    let far = m.mux(neg, p_min_n, p_max);
+    let far = m.name(far, "plane_far");
+    let o_lo_n = m.xor(o_lo, sb);
+    let o_hi_n = m.xor(o_hi, sb);
+    // m = -ô: the negated origin bounds in mirrored coordinates
+    let m_lo = m.mux(neg, o_hi, o_lo_n);
+    let m_lo = m.name(m_lo, "m_lo");
+    let m_hi = m.mux(neg, o_lo, o_hi_n);
+    let m_hi = m.name(m_hi, "m_hi");
+    let d_lo_abs = m.and(d_lo, abs_mask);
+    let d_hi_abs = m.and(d_hi, abs_mask);
+    let a = m.mux(neg, d_hi_abs, d_lo_abs);
+
+    // The numerators (the only rounded values).
+    let z = |io: InstanceOutputs| io.get("z").expect("adder has output z");
+    let outputs = if cfg.ray() {
+        let (entry, exit) = match cfg.policy {
+            Policy::Conservative => (Rounding::Rdn, Rounding::Rup),
+            Policy::Nearest => (Rounding::Rne, Rounding::Rne),
+        };
+        let entry = add_module(f, entry, false, stages);
+        let exit = add_module(f, exit, false, stages);
+        let n = z(m.instance("u_entry", &entry, &[("a", near), ("b", m_lo)]));
+        let x = z(m.instance("u_exit", &exit, &[("a", far), ("b", m_lo)]));
+        vec![("a", a), ("n", n), ("x", x)]
+    } else {
+        let pos = strictly(&mut m, d_hi, false);
+        let pos = m.name(pos, "pos");
+        let b = m.mux(neg, d_lo_abs, d_hi_abs);
+        let (n_any, x_any, n_all, x_all) = match (cfg.origin, cfg.policy) {
+            (Origin::Shared, Policy::Conservative) => {
+                // one exact sum per plane, rounded both ways
+                let adu = add_down_up_module(f, stages);
+                let n = m.instance("u_entry", &adu, &[("a", near), ("b", m_lo)]);
+                let x = m.instance("u_exit", &adu, &[("a", far), ("b", m_lo)]);
+                let n_any = n.get("down").expect("down");
+                let n_all = n.get("up").expect("up");
+                let x_any = x.get("up").expect("up");
+                let x_all = x.get("down").expect("down");
+                (n_any, x_any, n_all, x_all)
+            }
+            (Origin::Bounded, Policy::Conservative) => {
+                let dn = add_module(f, Rounding::Rdn, false, stages);
+                let up = add_module(f, Rounding::Rup, false, stages);
+                let n_any = z(m.instance("u_n_any", &dn, &[("a", near), ("b", m_hi)]));
+                let x_any = z(m.instance("u_x_any", &up, &[("a", far), ("b", m_lo)]));
+                let n_all = z(m.instance("u_n_all", &up, &[("a", near), ("b", m_lo)]));
+                let x_all = z(m.instance("u_x_all", &dn, &[("a", far), ("b", m_hi)]));
+                (n_any, x_any, n_all, x_all)
+            }
+            (Origin::Shared, Policy::Nearest) => {
+                let rne = add_module(f, Rounding::Rne, false, stages);
+                let n = z(m.instance("u_entry", &rne, &[("a", near), ("b", m_lo)]));
+                let x = z(m.instance("u_exit", &rne, &[("a", far), ("b", m_lo)]));
+                (n, x, n, x)
+            }
+            (Origin::Bounded, Policy::Nearest) => {
+                let rne = add_module(f, Rounding::Rne, false, stages);
+                let n_any = z(m.instance("u_n_any", &rne, &[("a", near), ("b", m_hi)]));
+                let x_any = z(m.instance("u_x_any", &rne, &[("a", far), ("b", m_lo)]));
+                let n_all = z(m.instance("u_n_all", &rne, &[("a", near), ("b", m_lo)]));
+                let x_all = z(m.instance("u_x_all", &rne, &[("a", far), ("b", m_hi)]));
+                (n_any, x_any, n_all, x_all)
+            }
+        };
+        vec![
+            ("neg", neg),
+            ("pos", pos),
+            ("a", a),
+            ("b", b),
+            ("n_any", n_any),
+            ("x_any", x_any),
+            ("n_all", n_all),
+            ("x_all", x_all),
+        ]
+    };
+    for _ in 0..stages {
+        m.stage();
+    }
+    for (name, value) in outputs {
+        m.output(name, value);
+    }
+    Arc::new(
+        m.finish()
+            .expect("silhouette axis generator is type-correct for every accepted format"),
+    )
+}
