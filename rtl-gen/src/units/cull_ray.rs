@@ -108,7 +108,7 @@ pub fn build(cfg: &Config) -> Module {
     let d: [Sig; 3] = at.d.map(|i| ports[i]);
     let r: Vec<Sig> = at.r.iter().map(|&i| ports[i]).collect();
     let n: Vec<[Sig; 3]> = at.n.iter().map(|v| v.map(|i| ports[i])).collect();
-    let ax = super::cull::AXES;
+    let ax = super::AXES;
 
     // Step 1: classify; u = o − r down and up.
     let mut bad: Vec<Sig> = o

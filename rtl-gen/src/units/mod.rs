@@ -74,7 +74,15 @@ pub fn port_at<S: AsRef<str>>(names: &[S], name: &str) -> usize {
         })
 }
 
-/// The positions of the vector ports `{group}_x`, `{group}_y`, `{group}_z`.
+/// The axes of a vector, in port order.
+pub const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The port names of the vector `group`: `{group}_x`, `{group}_y`, `{group}_z`.
+pub fn xyz(group: &str) -> [String; 3] {
+    AXES.map(|a| format!("{group}_{a}"))
+}
+
+/// The positions of the vector ports [`xyz`]`(group)`.
 pub fn port_at3<S: AsRef<str>>(names: &[S], group: &str) -> [usize; 3] {
-    ["x", "y", "z"].map(|a| port_at(names, &format!("{group}_{a}")))
+    xyz(group).map(|n| port_at(names, &n))
 }

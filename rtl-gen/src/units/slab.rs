@@ -29,7 +29,7 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::{port_at, port_at3, Description};
+use super::{port_at, port_at3, xyz, Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
@@ -142,14 +142,12 @@ impl StagePlan {
     }
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
-
 /// The data inputs in port order, by name: `p_min_* p_max_* o_* inv_d_*
 /// t_min t_max` (`*` = x, y, z); the module and the testbench both read it.
 pub fn input_names() -> Vec<String> {
     let mut names: Vec<String> = ["p_min", "p_max", "o", "inv_d"]
         .iter()
-        .flat_map(|g| AXES.iter().map(move |a| format!("{g}_{a}")))
+        .flat_map(|g| xyz(g))
         .collect();
     names.extend(["t_min".to_string(), "t_max".to_string()]);
     names

@@ -23,7 +23,7 @@
 //! vector output is the canonical NaN: the first component of each vector
 //! entering an engine is replaced by NaN, and every row's dot product reads it.
 
-use super::Description;
+use super::{xyz, Description};
 use crate::arith::float::add::add_module;
 use crate::arith::float::classify::{is_special, is_zero};
 use crate::arith::float::convert::convert_module;
@@ -206,18 +206,17 @@ impl Config {
     /// `rinv_RC` (pre-inverted) or `r_RC` (`inverse=hw`, R, C in 0..3); the
     /// translation `t_*`; `rot_hint` with `inverse=hw`.
     pub fn input_names(&self) -> Vec<String> {
-        let three = |g: &str| ["x", "y", "z"].map(|a| format!("{g}_{a}"));
         let mut names: Vec<String> = Vec::new();
         if self.full {
-            names.extend(three("ow"));
-            names.extend(three("dw"));
+            names.extend(xyz("ow"));
+            names.extend(xyz("dw"));
         } else {
-            names.extend(three("v"));
+            names.extend(xyz("v"));
             names.push("is_origin".into());
         }
         names.extend(["tmin_w", "tmax_w", "id_w"].map(String::from));
         names.extend((0..9).map(|k| self.matrix_input(k)));
-        names.extend(three("t"));
+        names.extend(xyz("t"));
         if self.hw {
             names.push("rot_hint".into());
         }
@@ -228,13 +227,12 @@ impl Config {
     /// direction `om_* dm_*` (full throughput) or the one vector `vm_*`
     /// (half); `tmin_m tmax_m id_m singular`.
     pub fn output_names(&self) -> Vec<String> {
-        let three = |g: &str| ["x", "y", "z"].map(|a| format!("{g}_{a}"));
         let mut names: Vec<String> = Vec::new();
         if self.full {
-            names.extend(three("om"));
-            names.extend(three("dm"));
+            names.extend(xyz("om"));
+            names.extend(xyz("dm"));
         } else {
-            names.extend(three("vm"));
+            names.extend(xyz("vm"));
         }
         names.extend(["tmin_m", "tmax_m", "id_m", "singular"].map(String::from));
         names

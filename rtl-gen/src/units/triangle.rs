@@ -31,7 +31,7 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::{port_at, port_at3, Description};
+use super::{port_at, port_at3, xyz, Description, AXES};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
 use crate::arith::float::dot3::dot3_module;
@@ -111,17 +111,14 @@ pub fn triangle_name(cfg: &Config) -> String {
     format!("triangle_{}{round}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
-
 /// The data inputs in port order, by name: `o_* kz s_* a_* b_* c_* t_min
 /// t_max` (`*` = x, y, z; `kz` is 2 bits, the others floats); the module
 /// and the testbench both read it.
 pub fn input_names() -> Vec<String> {
-    let three = |g: &str| AXES.map(|a| format!("{g}_{a}"));
-    let mut names: Vec<String> = three("o").into();
+    let mut names: Vec<String> = xyz("o").into();
     names.push("kz".to_string());
     for g in ["s", "a", "b", "c"] {
-        names.extend(three(g));
+        names.extend(xyz(g));
     }
     names.extend(["t_min".to_string(), "t_max".to_string()]);
     names

@@ -42,7 +42,7 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::{port_at, port_at3, Description};
+use super::{port_at, port_at3, xyz, Description};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
 use crate::arith::float::classify::{all_of, any_of, is_nan, is_special, is_zero};
@@ -155,9 +155,6 @@ pub const DIR_PARALLEL: u128 = 0;
 pub const DIR_EXIT: u128 = 1;
 /// `dir` code: entry (`b_lo < 0`).
 pub const DIR_ENTRY: u128 = 2;
-
-/// The axis suffixes of vector ports.
-pub const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// Fraction bits the crossing format has beyond the plane format (at most
 /// the ray format's): `golden_model::cull::tester::CROSSING_GUARD_BITS`,
@@ -282,10 +279,10 @@ impl Config {
     pub fn ray_inputs(&self) -> Vec<(String, u32)> {
         let mut v = Vec::new();
         for p in ["o", "d", "r"] {
-            v.extend(AXES.map(|a| (format!("{p}_{a}"), self.ray.width())));
+            v.extend(xyz(p).map(|n| (n, self.ray.width())));
         }
         for j in 0..self.k as usize {
-            v.extend(AXES.map(|a| (format!("n{j}_{a}"), self.plane.width())));
+            v.extend(xyz(&format!("n{j}")).map(|n| (n, self.plane.width())));
         }
         v
     }

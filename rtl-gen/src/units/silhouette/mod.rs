@@ -42,7 +42,7 @@
 //! normalisation (1), the significand multipliers (2), the comparisons and
 //! the reduction. One register goes to the outputs first.
 
-use super::Description;
+use super::{xyz, Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
 use crate::arith::float::classify::{all_of, any_of, is_any_inf, is_inf, is_nan, is_zero};
@@ -194,10 +194,7 @@ impl Config {
             (false, false) => &["p_min", "p_max", "o_lo", "d_lo", "d_hi"],
             (false, true) => &["p_min", "p_max", "o_lo", "o_hi", "d_lo", "d_hi"],
         };
-        let mut names: Vec<String> = groups
-            .iter()
-            .flat_map(|g| AXES.iter().map(move |a| format!("{g}_{a}")))
-            .collect();
+        let mut names: Vec<String> = groups.iter().flat_map(|g| xyz(g)).collect();
         names.extend(["t_min".to_string(), "t_max".to_string()]);
         names
     }
@@ -244,8 +241,6 @@ impl Config {
             .param("stages", stages);
     }
 }
-
-const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// The six silhouette edges `(i, j)`: entry plane of axis `i` against the
 /// exit plane of axis `j`, in the golden model's order.
