@@ -27,7 +27,7 @@
 
 use crate::float::native::{add_down_up_f32, f32_bits, mul_f32, select_u32};
 use crate::float::{
-    add_generic, le, lt, max, min, mul, mul_generic, sub, FloatFormat, RoundingMode,
+    add_generic, le, lt, max, min, mul, mul_generic, sub, total_key, FloatFormat, RoundingMode,
 };
 
 /// One slab-test transaction, raw bits of one format.
@@ -123,7 +123,7 @@ fn eval_conservative_b32(x: &SlabIn) -> SlabOut {
     const NEG_INF: u32 = 0xff80_0000;
     let sel = select_u32;
     // IEEE 754-2019 maximum / minimum (a NaN result is some NaN)
-    let key = |a: u32| a ^ (((a as i32) >> 31) as u32 | 1 << 31);
+    let key = |a: u32| total_key(FloatFormat::BINARY32, a as u64);
     let extreme = |a: u32, b: u32, larger: bool| {
         let nan = f32::from_bits(a).is_nan() | f32::from_bits(b).is_nan();
         let a_wins = (key(a) > key(b)) == larger;
