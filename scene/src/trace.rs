@@ -183,25 +183,25 @@ impl Default for TraceOpts {
 
 /// The ray terms of one node's shared normals, per ray, computed when a
 /// child's cull test first asks for them (a ray that never reaches a cull
-/// test below the node costs nothing), without allocation for the first ray.
+/// test below the node costs nothing), in a list from the thread's
+/// [`Scratch`] (no allocation once the lists have grown).
 struct LazyTerms<'n> {
     normals: &'n [[u64; 3]],
     /// the node's lower corner (binary32 bits)
     r_min: [u64; 3],
     /// planes on and the node has normals
     on: bool,
-    /// the first ray's terms, then the others' (ray index, terms)
-    first: Option<(usize, [NormalTerm; 8])>,
-    /// from the thread's [`Scratch`], returned by [`LazyTerms::finish`]
-    more: TermsList,
+    /// the terms computed so far (ray index, terms), returned to the
+    /// scratch by [`LazyTerms::finish`]
+    computed: TermsList,
 }
 
 impl LazyTerms<'_> {
     /// How many rays' terms were computed (`cull_ray` transactions); the
     /// list goes back to `scratch`.
     fn finish(self, scratch: &mut Scratch) -> u64 {
-        let n = self.first.is_some() as u64 + self.more.len() as u64;
-        scratch.terms.push(self.more);
+        let n = self.computed.len() as u64;
+        scratch.terms.push(self.computed);
         n
     }
 
@@ -215,23 +215,14 @@ impl LazyTerms<'_> {
             r_min: &r_min,
             normals,
         };
-        let compute = |t: &mut [NormalTerm; 8]| units.cull_ray(&x, t);
-        match self.first {
+        match self.computed.iter().position(|x| x.0 == i) {
+            Some(p) => &self.computed[p].1,
             None => {
-                let t = &mut self.first.insert((i, [NormalTerm::default(); 8])).1;
-                compute(t);
+                self.computed.push((i, [NormalTerm::default(); 8]));
+                let t = &mut self.computed.last_mut().unwrap().1;
+                units.cull_ray(&x, t);
                 t
             }
-            Some((j, _)) if j == i => &self.first.as_ref().unwrap().1,
-            Some(_) => match self.more.iter().position(|x| x.0 == i) {
-                Some(p) => &self.more[p].1,
-                None => {
-                    self.more.push((i, [NormalTerm::default(); 8]));
-                    let t = &mut self.more.last_mut().unwrap().1;
-                    compute(t);
-                    t
-                }
-            },
         }
     }
 }
@@ -245,7 +236,7 @@ type TermsList = Vec<(usize, [NormalTerm; 8])>;
 struct Scratch {
     /// ray lists
     rays: Vec<Vec<usize>>,
-    /// [`LazyTerms`]' lists beyond the first ray
+    /// [`LazyTerms`]' lists
     terms: Vec<TermsList>,
 }
 
@@ -561,14 +552,13 @@ impl<'a> Tracer<'a> {
         r_min: &[f32; 3],
         scratch: &mut Scratch,
     ) -> LazyTerms<'n> {
-        let mut more = scratch.terms.pop().unwrap_or_default();
-        more.clear();
+        let mut computed = scratch.terms.pop().unwrap_or_default();
+        computed.clear();
         LazyTerms {
             normals,
             r_min: r_min.map(bits),
             on: self.opts.planes && !normals.is_empty(),
-            first: None,
-            more,
+            computed,
         }
     }
 
