@@ -1,7 +1,7 @@
 //! One testbench for every float operator (`rtl_gen::units::float_ops`):
 //! corner vectors first ([`FloatStim::corner`], repeated in the four modes
 //! when the rounding is an input), then seeded random vectors drawn for the
-//! operator ([`Op::draw`]); the golden model is `golden_model::float` (and
+//! operator ([`FloatOpBench::draw`]); the golden model is `golden_model::float` (and
 //! `golden_model::transform::recip`).
 //!
 //! Random operands per operator: sums take a second operand with a close
@@ -17,69 +17,34 @@ use super::stimulus::{mask, VectorRng};
 use super::Testbench;
 use golden_model::float as g;
 use rtl_gen::arith::float::unpack::lsb_exp_width;
-use rtl_gen::arith::float::{Format, Rounding};
 use rtl_gen::units::float_ops::{FloatConfig, OpConfig};
-
-/// An operator, with what its golden evaluation and its draws need.
-#[derive(Debug, Clone, Copy)]
-enum Op {
-    /// `fadd`; `sub`: `op=sub`
-    Add { sub: bool },
-    /// `fadd_down_up`
-    AddDownUp,
-    /// `fmul`
-    Mul,
-    /// `fmul_exact` into its exact-product format
-    MulExact(g::ExactProductFormat),
-    /// `fcmp`
-    Cmp,
-    /// `fminmax`
-    MinMax,
-    /// `fcvt` to the format `to`
-    Cvt { to: Format },
-    /// `ffma`
-    Fma,
-    /// `fdot3`
-    Dot3,
-    /// `frecip` rounded in a fixed mode
-    Recip(Rounding),
-    /// `funpack`, its exponent output `exp_width` bits wide
-    Unpack { exp_width: u32 },
-}
 
 /// The testbench of one float operator.
 pub struct FloatOpBench {
     stim: FloatStim,
+    /// the operator and its own parameters (the unit's configuration)
+    op: OpConfig,
     /// the rounding, for operators that round (fixed or an input)
     mode: Option<ModeIn>,
-    op: Op,
+    /// `fmul_exact`'s exact-product format
+    exact_product: Option<g::ExactProductFormat>,
+    /// `funpack`: the width of its exponent output
+    exp_width: u32,
 }
 
 impl FloatOpBench {
     /// The testbench of a float operator's configuration.
     pub fn new(c: &FloatConfig) -> Self {
-        let op = match c.op {
-            OpConfig::Unpack => Op::Unpack {
-                exp_width: lsb_exp_width(c.fmt),
-            },
-            OpConfig::Add { sub, .. } => Op::Add { sub },
-            OpConfig::AddDownUp => Op::AddDownUp,
-            OpConfig::Mul { .. } => Op::Mul,
-            OpConfig::MulExact => Op::MulExact(
-                g::ExactProductFormat::new(golden_format(c.fmt))
-                    .expect("the exact-product format was checked when building"),
-            ),
-            OpConfig::Cmp => Op::Cmp,
-            OpConfig::MinMax => Op::MinMax,
-            OpConfig::Cvt { to, .. } => Op::Cvt { to },
-            OpConfig::Fma { .. } => Op::Fma,
-            OpConfig::Dot3 { .. } => Op::Dot3,
-            OpConfig::Recip { round } => Op::Recip(round),
-        };
+        let exact_product = (c.op == OpConfig::MulExact).then(|| {
+            g::ExactProductFormat::new(golden_format(c.fmt))
+                .expect("the exact-product format was checked when building")
+        });
         FloatOpBench {
             stim: FloatStim::new(c.fmt),
+            op: c.op,
             mode: c.op.round().map(|sel| ModeIn { sel }),
-            op,
+            exact_product,
+            exp_width: lsb_exp_width(c.fmt),
         }
     }
 }
@@ -89,29 +54,36 @@ impl sim::Golden for FloatOpBench {
         let f = golden_format(self.stim.fmt);
         let mode = || self.mode.expect("a rounding operator").golden(i);
         match self.op {
-            Op::Add { sub: false } => o[0] = g::add(f, i[0], i[1], mode()),
-            Op::Add { sub: true } => o[0] = g::sub(f, i[0], i[1], mode()),
-            Op::AddDownUp => {
+            OpConfig::Add { sub: false, .. } => o[0] = g::add(f, i[0], i[1], mode()),
+            OpConfig::Add { sub: true, .. } => o[0] = g::sub(f, i[0], i[1], mode()),
+            OpConfig::AddDownUp => {
                 let r = g::add_down_up(f, i[0], i[1]);
                 (o[0], o[1]) = (r.down, r.up);
             }
-            Op::Mul => o[0] = g::mul(f, i[0], i[1], mode()),
-            Op::MulExact(pair) => o[0] = g::mul_exact(pair, i[0], i[1]),
-            Op::Cmp => {
+            OpConfig::Mul { .. } => o[0] = g::mul(f, i[0], i[1], mode()),
+            OpConfig::MulExact => {
+                let pair = self.exact_product.expect("made for fmul_exact");
+                o[0] = g::mul_exact(pair, i[0], i[1]);
+            }
+            OpConfig::Cmp => {
                 o[0] = g::lt(f, i[0], i[1]) as u64;
                 o[1] = g::le(f, i[0], i[1]) as u64;
                 o[2] = g::eq(f, i[0], i[1]) as u64;
             }
-            Op::MinMax => (o[0], o[1]) = (g::min(f, i[0], i[1]), g::max(f, i[0], i[1])),
-            Op::Cvt { to } => o[0] = g::convert(f, golden_format(to), i[0], mode()),
-            Op::Fma => o[0] = g::fma(f, i[0], i[1], i[2], mode()),
-            Op::Dot3 => o[0] = g::dot3(f, [i[0], i[2], i[4]], [i[1], i[3], i[5]], mode()),
-            Op::Recip(m) => o[0] = golden_model::transform::recip(f, i[0], golden_mode(m)),
-            Op::Unpack { exp_width } => {
+            OpConfig::MinMax => (o[0], o[1]) = (g::min(f, i[0], i[1]), g::max(f, i[0], i[1])),
+            OpConfig::Cvt { to, .. } => o[0] = g::convert(f, golden_format(to), i[0], mode()),
+            OpConfig::Fma { .. } => o[0] = g::fma(f, i[0], i[1], i[2], mode()),
+            OpConfig::Dot3 { .. } => {
+                o[0] = g::dot3(f, [i[0], i[2], i[4]], [i[1], i[3], i[5]], mode())
+            }
+            OpConfig::Recip { round } => {
+                o[0] = golden_model::transform::recip(f, i[0], golden_mode(round))
+            }
+            OpConfig::Unpack => {
                 let r = g::unpack(f, i[0]);
                 o[0] = r.sign as u64;
                 o[1] = r.class as u64;
-                o[2] = r.exp as i64 as u64 & mask(exp_width);
+                o[2] = r.exp as i64 as u64 & mask(self.exp_width);
                 o[3] = r.sig as u64;
             }
         }
@@ -125,7 +97,7 @@ impl sim::Stimulus for FloatOpBench {
             None => (v, index),
         };
         let corner = match self.op {
-            Op::Dot3 => dot3_corner(&self.stim, data_index, v),
+            OpConfig::Dot3 { .. } => dot3_corner(&self.stim, data_index, v),
             _ => self.stim.corner(data_index, v),
         };
         if !corner {
@@ -139,28 +111,28 @@ impl FloatOpBench {
     fn draw(&self, r: &mut VectorRng, v: &mut [u64]) {
         let s = &self.stim;
         match self.op {
-            Op::Add { sub } => {
+            OpConfig::Add { sub, .. } => {
                 let a = s.any(r);
                 let b = s.addend_for(r, a);
                 v[0] = a;
                 v[1] = if sub { s.neg(b) } else { b };
             }
-            Op::AddDownUp => {
+            OpConfig::AddDownUp => {
                 let a = s.any(r);
                 v[0] = a;
                 v[1] = s.addend_for(r, a);
             }
-            Op::Mul | Op::MulExact(_) => {
+            OpConfig::Mul { .. } | OpConfig::MulExact => {
                 let a = s.any(r);
                 v[0] = a;
                 v[1] = s.factor_for(r, a);
             }
-            Op::Cmp | Op::MinMax => {
+            OpConfig::Cmp | OpConfig::MinMax => {
                 let a = s.any(r);
                 v[0] = a;
                 v[1] = compare_partner(s, r, a);
             }
-            Op::Cvt { to } => {
+            OpConfig::Cvt { to, .. } => {
                 let target = match r.below(6) {
                     0 => to.emax() + 1 - r.below(3) as i64,
                     1 => to.emin() + 1 - r.below(3) as i64,
@@ -173,15 +145,15 @@ impl FloatOpBench {
                 };
                 v[0] = s.near(r, target + s.fmt.bias(), 0);
             }
-            Op::Fma => {
+            OpConfig::Fma { .. } => {
                 let a = s.any(r);
                 let b = s.factor_for(r, a);
                 v[0] = a;
                 v[1] = b;
                 v[2] = addend_for_product(s, r, a, b);
             }
-            Op::Dot3 => dot3_draw(s, r, v),
-            Op::Recip(_) | Op::Unpack { .. } => v[0] = s.any(r),
+            OpConfig::Dot3 { .. } => dot3_draw(s, r, v),
+            OpConfig::Recip { .. } | OpConfig::Unpack => v[0] = s.any(r),
         }
     }
 }
