@@ -14,24 +14,23 @@ pub(super) fn transform_accuracy(
     inverse: &str,
 ) -> Result<bool, FlowError> {
     use golden_model::transform::{accuracy, DotStyle};
-    let bad = bad_usage;
     let fmt = format
         .strip_prefix('e')
         .and_then(|r| r.split_once('m'))
         .and_then(|(e, f)| Some((e.parse().ok()?, f.parse().ok()?)))
-        .ok_or_else(|| bad(format!("--format {format}: expected eEmF, e.g. e8m23")))
+        .ok_or_else(|| bad_usage(format!("--format {format}: expected eEmF, e.g. e8m23")))
         .and_then(|(e, f)| {
-            golden_model::float::FloatFormat::new(e, f).map_err(|err| bad(err.to_string()))
+            golden_model::float::FloatFormat::new(e, f).map_err(|err| bad_usage(err.to_string()))
         })?;
     let styles = match dot {
         "all" => DotStyle::ALL.to_vec(),
         w => vec![DotStyle::parse(w)
-            .ok_or_else(|| bad(format!("--dot {w}: expected separate, fma, dot3 or all")))?],
+            .ok_or_else(|| bad_usage(format!("--dot {w}: expected separate, fma, dot3 or all")))?],
     };
     let inverse = match inverse {
         "exact" => accuracy::StudyInverse::Exact,
         "hw" => accuracy::StudyInverse::Hardware,
-        w => return Err(bad(format!("--inverse {w}: expected exact or hw"))),
+        w => return Err(bad_usage(format!("--inverse {w}: expected exact or hw"))),
     };
     let opts = accuracy::StudyOptions {
         fmt,
