@@ -47,6 +47,32 @@ pub fn is_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -> Sig
     m.and(inf, sign)
 }
 
+/// `v < 0` by value: the sign bit set, not a zero (−0 is not negative),
+/// not a NaN.
+#[track_caller]
+pub fn is_negative(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    strictly_signed(m, fmt, v, true)
+}
+
+/// `0 < v` by value: the sign bit clear, not a zero, not a NaN.
+#[track_caller]
+pub fn is_positive(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    strictly_signed(m, fmt, v, false)
+}
+
+/// [`is_negative`] (`negative`) or [`is_positive`].
+#[track_caller]
+fn strictly_signed(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -> Sig {
+    let s = m.msb(v);
+    let s = if negative { s } else { m.not(s) };
+    let z = is_zero(m, fmt, v);
+    let nz = m.not(z);
+    let nan = is_nan(m, fmt, v);
+    let ok = m.not(nan);
+    let r = m.and(s, nz);
+    m.and(r, ok)
+}
+
 /// OR of `flags` (Bool): one reduction over their concatenation `{name}_flags`, named `name`.
 #[track_caller]
 pub fn any_of(m: &mut ModuleBuilder, flags: &[Sig], name: &str) -> Sig {

@@ -49,31 +49,6 @@ pub fn widen(m: &mut ModuleBuilder, from: Format, to: Format, x: Sig, inst: &str
     m.name(v, "widened")
 }
 
-/// `v < 0` (false for NaN and both zeros).
-#[track_caller]
-fn is_neg(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let s = m.msb(v);
-    let z = is_zero(m, fmt, v);
-    let nz = m.not(z);
-    let nan = is_nan(m, fmt, v);
-    let ok = m.not(nan);
-    let r = m.and(s, nz);
-    m.and(r, ok)
-}
-
-/// `0 < v` (false for NaN and both zeros).
-#[track_caller]
-fn is_pos(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
-    let s = m.msb(v);
-    let ns = m.not(s);
-    let z = is_zero(m, fmt, v);
-    let nz = m.not(z);
-    let nan = is_nan(m, fmt, v);
-    let ok = m.not(nan);
-    let r = m.and(ns, nz);
-    m.and(r, ok)
-}
-
 /// `!cond | invalid`: a check that does not apply.
 #[track_caller]
 fn unless(m: &mut ModuleBuilder, cond: Sig, invalid: Sig) -> Sig {
@@ -252,8 +227,8 @@ pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
         m.stage();
     }
     let d = m.name(d, "dist_up");
-    let pos = is_pos(&mut m, f, d);
-    let neg = is_neg(&mut m, f, d);
+    let pos = is_positive(&mut m, f, d);
+    let neg = is_negative(&mut m, f, d);
     let rcp = m.mux(pos, rcp_hi, rcp_lo);
     let rcp = m.name(rcp, "rcp");
     let raw = mul_mixed_raw(&mut m, f, cf, d, rcp, plan.mul_raw, "u_mul");
@@ -311,7 +286,7 @@ pub fn build(cfg: &Config) -> Module {
         bad.push(is_nan(&mut m, cf, term(j, TermField::RcpHi)));
     }
     let invalid = any_of(&mut m, &bad, "invalid");
-    let t_lo_neg = is_neg(&mut m, f, t_lo);
+    let t_lo_neg = is_negative(&mut m, f, t_lo);
     let planes_on = m.not(t_lo_neg);
     let planes_on = m.name(planes_on, "planes_on");
 

@@ -45,7 +45,9 @@
 use super::{port_at, port_at3, xyz, Description};
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
-use crate::arith::float::classify::{all_of, any_of, is_nan, is_special, is_zero};
+use crate::arith::float::classify::{
+    all_of, any_of, is_nan, is_negative, is_positive, is_special, is_zero,
+};
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_mixed_raw, MUL_RAW_STEPS};
 use crate::arith::float::round::{round, ROUND_STEPS};

@@ -48,18 +48,7 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     };
 
     // Classify the direction interval (by value: -0 is not negative).
-    // d_lo < +0: negative sign bit, nonzero, not NaN; +0 < d_hi likewise
-    let strictly = |m: &mut ModuleBuilder, v: Sig, negative: bool| {
-        let s = m.msb(v);
-        let s = if negative { s } else { m.not(s) };
-        let z = is_zero(m, f, v);
-        let nz = m.not(z);
-        let n = is_nan(m, f, v);
-        let nn = m.not(n);
-        let r = m.and(s, nz);
-        m.and(r, nn)
-    };
-    let neg = strictly(&mut m, d_lo, true);
+    let neg = is_negative(&mut m, f, d_lo);
     let neg = m.name(neg, "neg");
 
     // Mirror: sign flips and swaps only, exact.
@@ -95,7 +84,7 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
         let x = z(m.instance("u_exit", &exit, &[("a", far), ("b", m_lo)]));
         vec![("a", a), ("n", n), ("x", x)]
     } else {
-        let pos = strictly(&mut m, d_hi, false);
+        let pos = is_positive(&mut m, f, d_hi);
         let pos = m.name(pos, "pos");
         let b = m.mux(neg, d_lo_abs, d_hi_abs);
         let (n_any, x_any, n_all, x_all) = match (cfg.origin, cfg.policy) {

@@ -45,7 +45,9 @@
 use super::{xyz, Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
-use crate::arith::float::classify::{all_of, any_of, is_any_inf, is_inf, is_nan, is_zero};
+use crate::arith::float::classify::{
+    all_of, any_of, is_any_inf, is_inf, is_nan, is_negative, is_positive,
+};
 use crate::arith::float::compare::compare;
 use crate::arith::float::mul::MUL_RAW_STEPS;
 use crate::arith::float::mul_exact::exact_product_format;
