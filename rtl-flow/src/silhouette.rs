@@ -8,82 +8,15 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::random::Random;
 use golden_model::silhouette::{eval, BundleIn, Config, OriginMode, Rounding};
-use rtl_gen::units::silhouette::{self as unit, Mode, Origin, Policy};
-use rtl_gen::units::{port_at, port_at3};
+use rtl_gen::units::ports;
+use rtl_gen::units::silhouette::{self as unit, Origin, Policy, SilhouetteIn, SilhouetteOut};
 
 /// Vectors and golden model of one `silhouette` configuration.
 pub struct SilhouetteBench {
     cfg: Config,
+    unit: unit::Config,
     corners: Vec<BundleIn>,
     stride: u64,
-    ports: Ports,
-    /// the golden value of each output port, in port order
-    outputs: Vec<Verdict>,
-}
-
-/// Which field of the golden model's result an output port carries.
-#[derive(Clone, Copy)]
-enum Verdict {
-    AllHit,
-    /// also a single ray's `hit` (a ray is a bundle whose bounds coincide)
-    AnyHit,
-    Nan,
-    Invalid,
-    MixedSign,
-}
-
-impl Verdict {
-    fn of(name: &str) -> Verdict {
-        match name {
-            "hit" | "any_hit" => Verdict::AnyHit,
-            "all_hit" => Verdict::AllHit,
-            "nan" => Verdict::Nan,
-            "invalid" => Verdict::Invalid,
-            "mixed_sign" => Verdict::MixedSign,
-            other => panic!("silhouette output `{other}` has no golden value"),
-        }
-    }
-}
-
-/// Where each field of a [`BundleIn`] goes among the unit's inputs, looked
-/// up by name in the unit's own list (`Config::input_names`), so a port
-/// added to the unit cannot shift the others. A ray's lower and upper
-/// bounds share ports.
-struct Ports {
-    p_min: [usize; 3],
-    p_max: [usize; 3],
-    o_lo: [usize; 3],
-    o_hi: [usize; 3],
-    d_lo: [usize; 3],
-    d_hi: [usize; 3],
-    t_min: usize,
-    t_max: usize,
-}
-
-impl Ports {
-    fn of(u: &unit::Config) -> Ports {
-        let names = u.input_names();
-        let three = |g: &str| port_at3(&names, g);
-        let (o_lo, o_hi, d_lo, d_hi) = match (u.mode, u.origin) {
-            (Mode::Ray, _) => (three("o"), three("o"), three("d"), three("d")),
-            (Mode::Bundle, Origin::Shared) => {
-                (three("o_lo"), three("o_lo"), three("d_lo"), three("d_hi"))
-            }
-            (Mode::Bundle, Origin::Bounded) => {
-                (three("o_lo"), three("o_hi"), three("d_lo"), three("d_hi"))
-            }
-        };
-        Ports {
-            p_min: three("p_min"),
-            p_max: three("p_max"),
-            o_lo,
-            o_hi,
-            d_lo,
-            d_hi,
-            t_min: port_at(&names, "t_min"),
-            t_max: port_at(&names, "t_max"),
-        }
-    }
 }
 
 impl SilhouetteBench {
@@ -107,8 +40,7 @@ impl SilhouetteBench {
             cfg,
             corners,
             stride,
-            ports: Ports::of(u),
-            outputs: u.output_names().iter().map(|n| Verdict::of(n)).collect(),
+            unit: *u,
         }
     }
 
@@ -158,32 +90,31 @@ impl SilhouetteBench {
     /// Writes a transaction into port order (ray mode: the lower bounds are
     /// the ray).
     pub fn to_ports(&self, b: &BundleIn, v: &mut [u64]) {
-        let p = &self.ports;
-        let mut put3 = |at: &[usize; 3], x: &[u64; 3]| (0..3).for_each(|i| v[at[i]] = x[i]);
-        // the upper bounds first: in ray mode the lower ones overwrite them
-        put3(&p.o_hi, &b.o_hi);
-        put3(&p.d_hi, &b.d_hi);
-        put3(&p.p_min, &b.p_min);
-        put3(&p.p_max, &b.p_max);
-        put3(&p.o_lo, &b.o_lo);
-        put3(&p.d_lo, &b.d_lo);
-        v[p.t_min] = b.t_min;
-        v[p.t_max] = b.t_max;
+        let record = SilhouetteIn {
+            p_min: b.p_min,
+            p_max: b.p_max,
+            o_lo: b.o_lo,
+            o_hi: b.o_hi,
+            d_lo: b.d_lo,
+            d_hi: b.d_hi,
+            t_min: b.t_min,
+            t_max: b.t_max,
+        };
+        ports::pack(&self.unit, &record, v)
     }
 
     /// Reads a transaction from port order.
     pub fn from_ports(&self, v: &[u64]) -> BundleIn {
-        let p = &self.ports;
-        let three = |at: &[usize; 3]| at.map(|k| v[k]);
+        let r: SilhouetteIn<u64> = ports::unpack(&self.unit, v);
         BundleIn {
-            p_min: three(&p.p_min),
-            p_max: three(&p.p_max),
-            o_lo: three(&p.o_lo),
-            o_hi: three(&p.o_hi),
-            d_lo: three(&p.d_lo),
-            d_hi: three(&p.d_hi),
-            t_min: v[p.t_min],
-            t_max: v[p.t_max],
+            p_min: r.p_min,
+            p_max: r.p_max,
+            o_lo: r.o_lo,
+            o_hi: r.o_hi,
+            d_lo: r.d_lo,
+            d_hi: r.d_hi,
+            t_min: r.t_min,
+            t_max: r.t_max,
         }
     }
 
@@ -196,15 +127,14 @@ impl SilhouetteBench {
 impl sim::Golden for SilhouetteBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.from_ports(inputs));
-        for (o, v) in outputs.iter_mut().zip(&self.outputs) {
-            *o = match v {
-                Verdict::AllHit => out.all_hit,
-                Verdict::AnyHit => out.any_hit,
-                Verdict::Nan => out.nan,
-                Verdict::Invalid => out.invalid,
-                Verdict::MixedSign => out.mixed_sign,
-            } as u64;
-        }
+        let record = SilhouetteOut {
+            all_hit: Some(out.all_hit as u64),
+            any_hit: out.any_hit as u64,
+            nan: out.nan as u64,
+            invalid: out.invalid as u64,
+            mixed_sign: Some(out.mixed_sign as u64),
+        };
+        ports::pack(&self.unit, &record, outputs)
     }
 }
 

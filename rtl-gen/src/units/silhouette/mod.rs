@@ -42,7 +42,8 @@
 //! normalisation (1), the significand multipliers (2), the comparisons and
 //! the reduction. One register goes to the outputs first.
 
-use super::{xyz, Description, AXES};
+use super::ports::{self, Record, Walk};
+use super::{Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
 use crate::arith::float::classify::{
@@ -185,32 +186,105 @@ impl StagePlan {
     }
 }
 
-impl Config {
-    /// The data inputs in port order, by name: the module's ports, its
-    /// `ports.json` and the testbench's packing all come from this list.
-    /// Ray: `p_min_* p_max_* o_* d_* t_min t_max`; bundle: `p_min_* p_max_*
-    /// o_lo_* [o_hi_*] d_lo_* d_hi_* t_min t_max` (`*` = x, y, z).
-    pub fn input_names(&self) -> Vec<String> {
-        let groups: &[&str] = match (self.ray(), self.bounded()) {
-            (true, _) => &["p_min", "p_max", "o", "d"],
-            (false, false) => &["p_min", "p_max", "o_lo", "d_lo", "d_hi"],
-            (false, true) => &["p_min", "p_max", "o_lo", "o_hi", "d_lo", "d_hi"],
-        };
-        let mut names: Vec<String> = groups.iter().flat_map(|g| xyz(g)).collect();
-        names.extend(["t_min".to_string(), "t_max".to_string()]);
-        names
-    }
+/// The data inputs (`*` = x, y, z). Ray: `p_min_* p_max_* o_* d_* t_min
+/// t_max`, whose upper bounds are its lower ones; bundle: `p_min_* p_max_*
+/// o_lo_* [o_hi_* if bounded] d_lo_* d_hi_* t_min t_max` (shared: `o_hi` is
+/// `o_lo`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SilhouetteIn<T> {
+    /// the box's lower corner
+    pub p_min: [T; 3],
+    /// the box's upper corner
+    pub p_max: [T; 3],
+    /// the origins' lower bounds (a ray's origin)
+    pub o_lo: [T; 3],
+    /// the origins' upper bounds
+    pub o_hi: [T; 3],
+    /// the directions' lower bounds (a ray's direction)
+    pub d_lo: [T; 3],
+    /// the directions' upper bounds
+    pub d_hi: [T; 3],
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
+}
 
-    /// The data outputs in port order, by name: ray `hit nan invalid`;
-    /// bundle `all_hit any_hit nan invalid mixed_sign`.
-    pub fn output_names(&self) -> &'static [&'static str] {
-        if self.ray() {
-            &["hit", "nan", "invalid"]
+impl<T: Copy> Record<T> for SilhouetteIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let ray = cfg.ray();
+        let p_min = w.xyz("p_min", ty, |r| r.p_min);
+        let p_max = w.xyz("p_max", ty, |r| r.p_max);
+        let o_lo = w.xyz(if ray { "o" } else { "o_lo" }, ty, |r| r.o_lo);
+        let o_hi = if cfg.bounded() {
+            w.xyz("o_hi", ty, |r| r.o_hi)
         } else {
-            &["all_hit", "any_hit", "nan", "invalid", "mixed_sign"]
+            o_lo
+        };
+        let d_lo = w.xyz(if ray { "d" } else { "d_lo" }, ty, |r| r.d_lo);
+        let d_hi = if ray {
+            d_lo
+        } else {
+            w.xyz("d_hi", ty, |r| r.d_hi)
+        };
+        SilhouetteIn {
+            p_min,
+            p_max,
+            o_lo,
+            o_hi,
+            d_lo,
+            d_hi,
+            t_min: w.one("t_min", ty, |r| r.t_min),
+            t_max: w.one("t_max", ty, |r| r.t_max),
         }
     }
+}
 
+/// The data outputs. Ray: `hit nan invalid` (`hit` is `any_hit`); bundle:
+/// `all_hit any_hit nan invalid mixed_sign`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SilhouetteOut<T> {
+    /// every ray of the bundle hits the box (bundle only)
+    pub all_hit: Option<T>,
+    /// 0 only if every ray misses the box (a ray's `hit`)
+    pub any_hit: T,
+    /// a NaN input
+    pub nan: T,
+    /// an infinite or unordered origin or direction
+    pub invalid: T,
+    /// the direction bounds straddle 0 on an axis (bundle only)
+    pub mixed_sign: Option<T>,
+}
+
+impl<T: Copy> Record<T> for SilhouetteOut<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let bundle_only = "a bundle's record has every output";
+        if cfg.ray() {
+            SilhouetteOut {
+                any_hit: w.one("hit", Ty::Bool, |r| r.any_hit),
+                all_hit: None,
+                nan: w.one("nan", Ty::Bool, |r| r.nan),
+                invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
+                mixed_sign: None,
+            }
+        } else {
+            SilhouetteOut {
+                all_hit: Some(w.one("all_hit", Ty::Bool, |r| r.all_hit.expect(bundle_only))),
+                any_hit: w.one("any_hit", Ty::Bool, |r| r.any_hit),
+                nan: w.one("nan", Ty::Bool, |r| r.nan),
+                invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
+                mixed_sign: Some(
+                    w.one("mixed_sign", Ty::Bool, |r| r.mixed_sign.expect(bundle_only)),
+                ),
+            }
+        }
+    }
+}
+
+impl Config {
     /// The parameter tags of module names, e.g. `e8m23_shared_cons_s4`
     /// (bundle) or `e8m23_ray_cons_s4`.
     pub fn tag(&self) -> String {
@@ -287,24 +361,17 @@ pub fn build(cfg: &Config) -> Module {
          mixed_sign = direction bounds straddle 0 on an axis (all_hit = 0, any_hit = nonempty)."
     });
     cfg.describe_params(&mut m, cfg.stages);
-    let ty = Ty::UInt(f.width());
     let bounded = cfg.bounded();
-    let names = cfg.input_names();
-    let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
-    let port = |name: &str| ins[super::port_at(&names, name)];
-    let vec3 = |group: &str| -> Vec<Sig> {
-        super::port_at3(&names, group)
-            .iter()
-            .map(|&k| ins[k])
-            .collect()
-    };
-    let (p_min, p_max) = (vec3("p_min"), vec3("p_max"));
-    let (o_lo, o_hi, d_lo, d_hi) = match (cfg.ray(), bounded) {
-        (true, _) => (vec3("o"), vec3("o"), vec3("d"), vec3("d")),
-        (false, false) => (vec3("o_lo"), vec3("o_lo"), vec3("d_lo"), vec3("d_hi")),
-        (false, true) => (vec3("o_lo"), vec3("o_hi"), vec3("d_lo"), vec3("d_hi")),
-    };
-    let (t_min, t_max) = (port("t_min"), port("t_max"));
+    let SilhouetteIn {
+        p_min,
+        p_max,
+        o_lo,
+        o_hi,
+        d_lo,
+        d_hi,
+        t_min,
+        t_max,
+    } = ports::declare_inputs(&mut m, cfg);
 
     // Step 1: classify the inputs (no arithmetic).
     let mut read: Vec<Sig> = Vec::new();
@@ -420,8 +487,13 @@ pub fn build(cfg: &Config) -> Module {
     let ok = m.and(valid, not_empty);
     let outputs = if cfg.ray() {
         let pass = passes.get("pass").expect("tests block has output pass");
-        let hit = m.and(ok, pass);
-        vec![("hit", hit), ("nan", nan), ("invalid", invalid)]
+        SilhouetteOut {
+            all_hit: None,
+            any_hit: m.and(ok, pass),
+            nan,
+            invalid,
+            mixed_sign: None,
+        }
     } else {
         let pass_any = passes
             .get("pass_any")
@@ -442,21 +514,18 @@ pub fn build(cfg: &Config) -> Module {
         let any_pass = m.or(mixed, pass_any);
         let any_hit = m.and(ok, any_pass);
         let mixed_sign = m.and(valid, mixed);
-        vec![
-            ("all_hit", all_hit),
-            ("any_hit", any_hit),
-            ("nan", nan),
-            ("invalid", invalid),
-            ("mixed_sign", mixed_sign),
-        ]
+        SilhouetteOut {
+            all_hit: Some(all_hit),
+            any_hit,
+            nan,
+            invalid,
+            mixed_sign: Some(mixed_sign),
+        }
     };
     for _ in 0..plan.reduce {
         m.stage();
     }
-    for &name in cfg.output_names() {
-        let value = outputs.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
-        m.output(name, value.expect("every output is computed"));
-    }
+    ports::declare_outputs(&mut m, cfg, &outputs);
     m.finish()
         .expect("silhouette generator is type-correct for every accepted configuration")
 }

@@ -1,0 +1,129 @@
+//! A unit's ports as typed records: one `In` and one `Out` struct per unit,
+//! generic over what a port carries — a [`Sig`] in the generator, a `u64`
+//! word in a testbench, `()` for the list of names. The record's one
+//! [`Record::walk`] names its ports in order, so the module's ports, its
+//! `ports.json` and every testbench's packing come from the same lines and
+//! a port added to a unit cannot shift the others.
+
+use super::AXES;
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::Ty;
+use std::fmt::Display;
+
+/// What a walk's visitor is given for each port: its name (formatted only
+/// where it is needed, so packing a vector allocates nothing), type, and
+/// the record's value when a record is read.
+type Visit<'a, T> = dyn FnMut(&dyn Display, Ty, Option<T>) -> T + 'a;
+
+/// What a record's [`Record::walk`] visits its ports with, in port order.
+///
+/// Making a record (`from` is `None`): each port's value comes from the
+/// visitor (an input it declares, a word it reads). Reading one (`from` is
+/// the record): each field's value is handed to the visitor (an output to
+/// declare, a word to write) and kept.
+pub struct Walk<'a, T, R> {
+    from: Option<&'a R>,
+    visit: &'a mut Visit<'a, T>,
+}
+
+impl<T: Copy, R> Walk<'_, T, R> {
+    /// Port `name` of type `ty` (a `&str`, or `format_args!` for a
+    /// numbered port): the record's `field`.
+    pub fn one(&mut self, name: impl Display, ty: Ty, field: impl Fn(&R) -> T) -> T {
+        let have = self.from.map(field);
+        (self.visit)(&name, ty, have)
+    }
+
+    /// The vector ports `{group}_x`, `{group}_y`, `{group}_z` of type `ty`:
+    /// the record's `field`.
+    pub fn xyz(&mut self, group: impl Display, ty: Ty, field: impl Fn(&R) -> [T; 3]) -> [T; 3] {
+        let have = self.from.map(field);
+        [0, 1, 2].map(|i| {
+            let name = format_args!("{group}_{}", AXES[i]);
+            (self.visit)(&name, ty, have.map(|h| h[i]))
+        })
+    }
+}
+
+/// A record of a unit's input or output ports.
+pub trait Record<T: Copy>: Sized {
+    /// What decides which ports exist and their types.
+    type Config;
+    /// Visits every port of `cfg` in port order (see [`Walk`]) and returns
+    /// the record of the values it gave or kept. A field without a port in
+    /// `cfg` takes the value the unit gives it (a ray's upper bounds are its
+    /// lower ones) or `None`.
+    fn walk(cfg: &Self::Config, w: &mut Walk<'_, T, Self>) -> Self;
+}
+
+fn make<T: Copy, R: Record<T>>(
+    cfg: &R::Config,
+    mut visit: impl FnMut(&dyn Display, Ty, Option<T>) -> T,
+) -> R {
+    R::walk(
+        cfg,
+        &mut Walk {
+            from: None,
+            visit: &mut visit,
+        },
+    )
+}
+
+fn read<T: Copy, R: Record<T>>(
+    cfg: &R::Config,
+    rec: &R,
+    mut visit: impl FnMut(&dyn Display, Ty, Option<T>) -> T,
+) {
+    R::walk(
+        cfg,
+        &mut Walk {
+            from: Some(rec),
+            visit: &mut visit,
+        },
+    );
+}
+
+/// The ports of record type `R` in `cfg`, in port order: name and type
+/// (`R` is the record of `()`, e.g. `SilhouetteIn<()>`).
+pub fn list<R: Record<()>>(cfg: &R::Config) -> Vec<(String, Ty)> {
+    let mut ports = Vec::new();
+    make::<(), R>(cfg, |name, ty, _| ports.push((name.to_string(), ty)));
+    ports
+}
+
+/// Declares the record's ports as the module's inputs, in port order.
+pub fn declare_inputs<R: Record<Sig>>(m: &mut ModuleBuilder, cfg: &R::Config) -> R {
+    make(cfg, |name, ty, _| m.input(&name.to_string(), ty))
+}
+
+/// Declares the record's values as the module's outputs, in port order.
+/// Panics if a value's type is not its port's (a generator bug).
+pub fn declare_outputs<R: Record<Sig>>(m: &mut ModuleBuilder, cfg: &R::Config, outputs: &R) {
+    read(cfg, outputs, |name, ty, value| {
+        let value = value.expect("reading a record gives every value");
+        assert_eq!(value.ty(), ty, "output `{name}` has the wrong type");
+        m.output(&name.to_string(), value);
+        value
+    })
+}
+
+/// Writes the record's words into `words` in port order (a vector's inputs,
+/// or the golden model's outputs).
+pub fn pack<R: Record<u64>>(cfg: &R::Config, rec: &R, words: &mut [u64]) {
+    let mut k = 0;
+    read(cfg, rec, |_, _, value| {
+        let value = value.expect("reading a record gives every value");
+        words[k] = value;
+        k += 1;
+        value
+    })
+}
+
+/// The record of the words in `words`, in port order.
+pub fn unpack<R: Record<u64>>(cfg: &R::Config, words: &[u64]) -> R {
+    let mut k = 0;
+    make(cfg, |_, _, _| {
+        k += 1;
+        words[k - 1]
+    })
+}
