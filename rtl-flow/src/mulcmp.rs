@@ -2,8 +2,8 @@
 
 use super::stimulus::{mask, unsigned_corners, VectorRng};
 use super::Testbench;
-use rtl_gen::units::mulcmp::{Config, INPUT_NAMES, OUTPUT_NAMES};
-use rtl_gen::units::port_at;
+use rtl_gen::units::mulcmp::{Config, MulCmpIn, MulCmpOut};
+use rtl_gen::units::ports;
 
 /// Vectors: first every combination of corner values of a, b, c, d; then
 /// random vectors mixing uniform operands, equal products (swapped or
@@ -13,10 +13,7 @@ pub struct MulCmpBench {
     b_width: u32,
     corners_a: Vec<u64>,
     corners_b: Vec<u64>,
-    /// the positions of `a`, `b`, `c`, `d` among the inputs
-    ins: [usize; 4],
-    /// the positions of `lt`, `eq`, `ab` among the outputs
-    outs: [usize; 3],
+    unit: Config,
 }
 
 impl MulCmpBench {
@@ -28,8 +25,7 @@ impl MulCmpBench {
             b_width,
             corners_a: unsigned_corners(a_width),
             corners_b: unsigned_corners(b_width),
-            ins: ["a", "b", "c", "d"].map(|n| port_at(&INPUT_NAMES, n)),
-            outs: ["lt", "eq", "ab"].map(|n| port_at(&OUTPUT_NAMES, n)),
+            unit: *u,
         }
     }
 
@@ -40,12 +36,14 @@ impl MulCmpBench {
 
 impl sim::Golden for MulCmpBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
-        let [a, b, c, d] = self.ins.map(|i| inputs[i]);
+        let MulCmpIn { a, b, c, d } = ports::unpack(&self.unit, inputs);
         let r = golden_model::mulcmp::eval(a, b, c, d);
-        let [lt, eq, ab] = self.outs;
-        outputs[lt] = r.lt as u64;
-        outputs[eq] = r.eq as u64;
-        outputs[ab] = r.ab as u64;
+        let out = MulCmpOut {
+            lt: r.lt as u64,
+            eq: r.eq as u64,
+            ab: r.ab as u64,
+        };
+        ports::pack(&self.unit, &out, outputs)
     }
 }
 
@@ -55,19 +53,18 @@ impl sim::Stimulus for MulCmpBench {
         if index < self.corner_count() {
             let (na, nb) = (self.corners_a.len() as u64, self.corners_b.len() as u64);
             let mut k = index;
-            for (slot, (n, corners)) in [
+            let [a, b, c, d] = [
                 (na, &self.corners_a),
                 (nb, &self.corners_b),
                 (na, &self.corners_a),
                 (nb, &self.corners_b),
             ]
-            .into_iter()
-            .enumerate()
-            {
-                v[self.ins[slot]] = corners[(k % n) as usize];
+            .map(|(n, corners)| {
+                let x = corners[(k % n) as usize];
                 k /= n;
-            }
-            return;
+                x
+            });
+            return ports::pack(&self.unit, &MulCmpIn { a, b, c, d }, v);
         }
         let mut rng = VectorRng::new(seed, index);
         let (a, b) = (rng.bits(aw), rng.bits(bw));
@@ -80,17 +77,12 @@ impl sim::Stimulus for MulCmpBench {
             3 => (a, b.wrapping_sub(1) & mask(bw)),
             // small operands, many equal products
             4 => {
-                let small = |r: &mut VectorRng, w: u32| r.bits(w.min(3));
-                for (k, w) in [aw, bw, aw, bw].into_iter().enumerate() {
-                    v[self.ins[k]] = small(&mut rng, w);
-                }
-                return;
+                let [a, b, c, d] = [aw, bw, aw, bw].map(|w| rng.bits(w.min(3)));
+                return ports::pack(&self.unit, &MulCmpIn { a, b, c, d }, v);
             }
             _ => (rng.bits(aw), rng.bits(bw)),
         };
-        for (k, x) in [a, b, c, d].into_iter().enumerate() {
-            v[self.ins[k]] = x;
-        }
+        ports::pack(&self.unit, &MulCmpIn { a, b, c, d }, v)
     }
 }
 

@@ -14,47 +14,16 @@ use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::slab::{eval, eval_conservative, SlabIn, SlabOut};
-use rtl_gen::units::slab::{input_names, Config, SlabRounding, OUTPUT_NAMES};
-use rtl_gen::units::{port_at, port_at3};
+use rtl_gen::arith::float::Format;
+use rtl_gen::units::ports;
+use rtl_gen::units::slab::{self, Config, SlabRounding};
 
 /// Vectors and golden model of one `slab` configuration.
 pub struct SlabBench {
     fmt: FloatFormat,
     conservative: bool,
     corners: Vec<SlabIn>,
-    ports: Ports,
-}
-
-/// Where each field of a [`SlabIn`] and [`SlabOut`] goes among the unit's
-/// ports, looked up by name in the unit's own lists.
-struct Ports {
-    p_min: [usize; 3],
-    p_max: [usize; 3],
-    o: [usize; 3],
-    inv_d: [usize; 3],
-    t_min: usize,
-    t_max: usize,
-    hit: usize,
-    t_enter: usize,
-    t_exit: usize,
-}
-
-impl Ports {
-    fn new() -> Ports {
-        let names = input_names();
-        let out = |name: &str| port_at(&OUTPUT_NAMES, name);
-        Ports {
-            p_min: port_at3(&names, "p_min"),
-            p_max: port_at3(&names, "p_max"),
-            o: port_at3(&names, "o"),
-            inv_d: port_at3(&names, "inv_d"),
-            t_min: port_at(&names, "t_min"),
-            t_max: port_at(&names, "t_max"),
-            hit: out("hit"),
-            t_enter: out("t_enter"),
-            t_exit: out("t_exit"),
-        }
-    }
+    unit: Format,
 }
 
 /// `1/d` in `fmt` (±∞ for ±0, NaN for NaN).
@@ -91,7 +60,7 @@ impl SlabBench {
             fmt,
             conservative,
             corners,
-            ports: Ports::new(),
+            unit: u.fmt,
         }
     }
 
@@ -144,35 +113,37 @@ impl SlabBench {
 
 impl sim::Golden for SlabBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let at = &self.ports;
-        let three = |k: [usize; 3]| k.map(|i| v[i]);
+        let x: slab::SlabIn<u64> = ports::unpack(&self.unit, v);
         let x = SlabIn {
-            p_min: three(at.p_min),
-            p_max: three(at.p_max),
-            o: three(at.o),
-            inv_d: three(at.inv_d),
-            t_min: v[at.t_min],
-            t_max: v[at.t_max],
+            p_min: x.p_min,
+            p_max: x.p_max,
+            o: x.o,
+            inv_d: x.inv_d,
+            t_min: x.t_min,
+            t_max: x.t_max,
         };
         let out = self.golden(&x);
-        outputs[at.hit] = out.hit as u64;
-        outputs[at.t_enter] = out.t_enter;
-        outputs[at.t_exit] = out.t_exit;
+        let out = slab::SlabOut {
+            hit: out.hit as u64,
+            t_enter: out.t_enter,
+            t_exit: out.t_exit,
+        };
+        ports::pack(&self.unit, &out, outputs)
     }
 }
 
 impl sim::Stimulus for SlabBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
         let x = self.case(seed, index);
-        let at = &self.ports;
-        for i in 0..3 {
-            v[at.p_min[i]] = x.p_min[i];
-            v[at.p_max[i]] = x.p_max[i];
-            v[at.o[i]] = x.o[i];
-            v[at.inv_d[i]] = x.inv_d[i];
-        }
-        v[at.t_min] = x.t_min;
-        v[at.t_max] = x.t_max;
+        let x = slab::SlabIn {
+            p_min: x.p_min,
+            p_max: x.p_max,
+            o: x.o,
+            inv_d: x.inv_d,
+            t_min: x.t_min,
+            t_max: x.t_max,
+        };
+        ports::pack(&self.unit, &x, v)
     }
 }
 

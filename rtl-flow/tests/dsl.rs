@@ -188,7 +188,11 @@ fn mulcmp_evaluator_matches_golden_model_for_every_stage_count() {
     };
     for (aw, bw) in [(16, 16), (7, 13), (1, 1), (32, 32)] {
         for stages in 0..=5 {
-            let module = rtl_gen::units::mulcmp::build(aw, bw, stages);
+            let module = rtl_gen::units::mulcmp::build(&rtl_gen::units::mulcmp::Config {
+                a_width: aw,
+                b_width: bw,
+                stages,
+            });
             assert_eq!(module.latency, stages);
             let mut ev = Evaluator::new(&module);
             ev.set_reset(true);

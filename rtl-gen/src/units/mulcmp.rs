@@ -4,6 +4,7 @@
 //! comparisons the intersection units are made of. Two multiplier instances
 //! (hierarchy) feed a comparator; `stages` registers are spread over them.
 
+use super::ports::{self, Record, Walk};
 use super::Description;
 use crate::arith::int::umul_module;
 use crate::builder::ModuleBuilder;
@@ -35,28 +36,68 @@ const PARAMS: &[ParamSpec] = &[
     },
 ];
 
-/// The data inputs in port order: `a` and `c` of `a_width` bits, `b` and
-/// `d` of `b_width` bits; the module and the testbench both read it.
-pub const INPUT_NAMES: [&str; 4] = ["a", "b", "c", "d"];
+/// The data inputs: `a` and `c` of `a_width` bits, `b` and `d` of
+/// `b_width` bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MulCmpIn<T> {
+    /// first factor of the left product
+    pub a: T,
+    /// second factor of the left product
+    pub b: T,
+    /// first factor of the right product
+    pub c: T,
+    /// second factor of the right product
+    pub d: T,
+}
 
-/// The data outputs in port order.
-pub const OUTPUT_NAMES: [&str; 3] = ["lt", "eq", "ab"];
+impl<T: Copy> Record<T> for MulCmpIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let (ta, tb) = (Ty::UInt(cfg.a_width), Ty::UInt(cfg.b_width));
+        MulCmpIn {
+            a: w.one("a", ta, |r| r.a),
+            b: w.one("b", tb, |r| r.b),
+            c: w.one("c", ta, |r| r.c),
+            d: w.one("d", tb, |r| r.d),
+        }
+    }
+}
+
+/// The data outputs: `lt eq ab`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MulCmpOut<T> {
+    /// `a*b < c*d`
+    pub lt: T,
+    /// `a*b == c*d`
+    pub eq: T,
+    /// `a*b`
+    pub ab: T,
+}
+
+impl<T: Copy> Record<T> for MulCmpOut<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        MulCmpOut {
+            lt: w.one("lt", Ty::Bool, |r| r.lt),
+            eq: w.one("eq", Ty::Bool, |r| r.eq),
+            ab: w.one("ab", Ty::UInt(cfg.a_width + cfg.b_width), |r| r.ab),
+        }
+    }
+}
 
 /// Builds `mulcmp` for `a`/`c` of `a_width` bits, `b`/`d` of `b_width` bits.
-pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
+pub fn build(cfg: &Config) -> Module {
+    let Config {
+        a_width,
+        b_width,
+        stages,
+    } = *cfg;
     let mut m = ModuleBuilder::with_handshake(format!("mulcmp_a{a_width}_b{b_width}_s{stages}"));
     m.describe("Compares two unsigned products: lt = a*b < c*d, eq = a*b == c*d; ab = a*b.");
     m.param("a_width", a_width)
         .param("b_width", b_width)
         .param("stages", stages);
-    let [a, b, c, d] = INPUT_NAMES.map(|n| {
-        let w = if matches!(n, "a" | "c") {
-            a_width
-        } else {
-            b_width
-        };
-        m.input(n, Ty::UInt(w))
-    });
+    let MulCmpIn { a, b, c, d } = ports::declare_inputs(&mut m, cfg);
     let mul_stages = stages.saturating_sub(1);
     let mul = umul_module(a_width, b_width, mul_stages);
     let ab = m
@@ -77,9 +118,7 @@ pub fn build(a_width: u32, b_width: u32, stages: u32) -> Module {
     if stages > 0 {
         m.stage();
     }
-    for (name, v) in OUTPUT_NAMES.into_iter().zip([lt, eq, ab]) {
-        m.output(name, v);
-    }
+    ports::declare_outputs(&mut m, cfg, &MulCmpOut { lt, eq, ab });
     m.finish()
         .expect("mulcmp generator is type-correct for every accepted width")
 }
@@ -98,6 +137,6 @@ impl Description for MulCmp {
         })
     }
     fn generate(&self, cfg: &Config) -> Module {
-        build(cfg.a_width, cfg.b_width, cfg.stages)
+        build(cfg)
     }
 }

@@ -29,7 +29,8 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::{port_at, port_at3, xyz, Description, AXES};
+use super::ports::{self, Record, Walk};
+use super::{Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
 use crate::arith::float::minmax::min_max;
@@ -142,19 +143,60 @@ impl StagePlan {
     }
 }
 
-/// The data inputs in port order, by name: `p_min_* p_max_* o_* inv_d_*
-/// t_min t_max` (`*` = x, y, z); the module and the testbench both read it.
-pub fn input_names() -> Vec<String> {
-    let mut names: Vec<String> = ["p_min", "p_max", "o", "inv_d"]
-        .iter()
-        .flat_map(|g| xyz(g))
-        .collect();
-    names.extend(["t_min".to_string(), "t_max".to_string()]);
-    names
+/// The data inputs: `p_min_* p_max_* o_* inv_d_* t_min t_max` (`*` = x, y, z).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabIn<T> {
+    /// the box's lower corner
+    pub p_min: [T; 3],
+    /// the box's upper corner
+    pub p_max: [T; 3],
+    /// the ray's origin
+    pub o: [T; 3],
+    /// the reciprocal of the ray's direction
+    pub inv_d: [T; 3],
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
 }
 
-/// The data outputs in port order.
-pub const OUTPUT_NAMES: [&str; 3] = ["hit", "t_enter", "t_exit"];
+impl<T: Copy> Record<T> for SlabIn<T> {
+    type Config = Format;
+    fn walk(fmt: &Format, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(fmt.width());
+        SlabIn {
+            p_min: w.xyz("p_min", ty, |r| r.p_min),
+            p_max: w.xyz("p_max", ty, |r| r.p_max),
+            o: w.xyz("o", ty, |r| r.o),
+            inv_d: w.xyz("inv_d", ty, |r| r.inv_d),
+            t_min: w.one("t_min", ty, |r| r.t_min),
+            t_max: w.one("t_max", ty, |r| r.t_max),
+        }
+    }
+}
+
+/// The data outputs: `hit t_enter t_exit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabOut<T> {
+    /// `t_enter <= t_exit`
+    pub hit: T,
+    /// the largest entry parameter (and `t_min`)
+    pub t_enter: T,
+    /// the smallest exit parameter (and `t_max`)
+    pub t_exit: T,
+}
+
+impl<T: Copy> Record<T> for SlabOut<T> {
+    type Config = Format;
+    fn walk(fmt: &Format, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(fmt.width());
+        SlabOut {
+            hit: w.one("hit", Ty::Bool, |r| r.hit),
+            t_enter: w.one("t_enter", ty, |r| r.t_enter),
+            t_exit: w.one("t_exit", ty, |r| r.t_exit),
+        }
+    }
+}
 
 /// Module name of the per-axis block.
 pub fn slab_axis_name(fmt: Format, diff: u32, product: u32) -> String {
@@ -343,14 +385,14 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
             },
         )
         .param("stages", stages);
-    let ty = Ty::UInt(fmt.width());
-    let names = input_names();
-    let ins: Vec<Sig> = names.iter().map(|n| m.input(n, ty)).collect();
-    let vec3 =
-        |group: &str| -> Vec<Sig> { port_at3(&names, group).iter().map(|&k| ins[k]).collect() };
-    let (p_min, p_max, o, inv_d) = (vec3("p_min"), vec3("p_max"), vec3("o"), vec3("inv_d"));
-    let t_min = ins[port_at(&names, "t_min")];
-    let t_max = ins[port_at(&names, "t_max")];
+    let SlabIn {
+        p_min,
+        p_max,
+        o,
+        inv_d,
+        t_min,
+        t_max,
+    } = ports::declare_inputs(&mut m, &fmt);
 
     let axis = match rounding {
         SlabRounding::Nearest => slab_axis_module(fmt, plan.diff, plan.product),
@@ -393,9 +435,12 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
     for _ in 0..plan.compare {
         m.stage();
     }
-    for (name, v) in OUTPUT_NAMES.into_iter().zip([hit, t_enter, t_exit]) {
-        m.output(name, v);
-    }
+    let outputs = SlabOut {
+        hit,
+        t_enter,
+        t_exit,
+    };
+    ports::declare_outputs(&mut m, &fmt, &outputs);
     m.finish()
         .expect("slab generator is type-correct for every format")
 }
