@@ -15,12 +15,12 @@ use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
-use rtl_gen::units::triangle::{input_names, output_names, Config};
-use rtl_gen::units::{port_at, port_at3};
-use std::sync::LazyLock;
+use rtl_gen::units::ports;
+use rtl_gen::units::triangle::{Config, TriangleIn, TriangleOut};
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
+    unit: Config,
     fmt: FloatFormat,
     mode: RoundingMode,
     full: bool,
@@ -32,7 +32,13 @@ pub const INPUTS: usize = 18;
 impl TriangleBench {
     /// The testbench of a `triangle` configuration.
     pub fn new(cfg: &Config) -> Self {
+        assert_eq!(
+            ports::list::<TriangleIn<()>>(cfg).len(),
+            INPUTS,
+            "triangle inputs"
+        );
         TriangleBench {
+            unit: *cfg,
             fmt: FloatFormat::new(cfg.fmt.exp_bits, cfg.fmt.frac_bits)
                 .expect("format checked by the unit"),
             mode: super::fstim::golden_mode(cfg.round),
@@ -138,24 +144,25 @@ impl TriangleBench {
                 ];
                 let value = specials[r.below(specials.len() as u64) as usize];
                 let slot = r.below(INPUTS as u64) as usize;
-                let mut flat = to_vector(&x);
-                if slot == PORTS.kz {
+                let mut flat = [0u64; INPUTS];
+                self.to_ports(&x, &mut flat);
+                if slot == self.kz_port() {
                     flat[slot] = r.below(4);
                 } else {
                     flat[slot] = value;
                 }
-                x = from_vector(&flat);
+                x = self.from_ports(&flat);
             }
             4 if r.below(8) == 0 => {
                 let mut flat = [0u64; INPUTS];
                 for (k, f) in flat.iter_mut().enumerate() {
-                    *f = if k == PORTS.kz {
+                    *f = if k == self.kz_port() {
                         r.below(4)
                     } else {
                         r.bits(fmt.width())
                     };
                 }
-                x = from_vector(&flat);
+                x = self.from_ports(&flat);
             }
             _ => {}
         }
@@ -163,91 +170,53 @@ impl TriangleBench {
     }
 }
 
-/// Where each field of a [`TriIn`] and [`TriOut`] goes among the unit's
-/// ports, looked up by name in the unit's own lists (`t`, `u`, `v` exist
-/// with `outputs=full` only).
-struct Ports {
-    o: [usize; 3],
-    kz: usize,
-    s: [usize; 3],
-    a: [usize; 3],
-    b: [usize; 3],
-    c: [usize; 3],
-    t_min: usize,
-    t_max: usize,
-    hit: usize,
-    invalid: usize,
-    t: usize,
-    u: usize,
-    v: usize,
-}
-
-static PORTS: LazyLock<Ports> = LazyLock::new(|| {
-    let names = input_names();
-    assert_eq!(names.len(), INPUTS, "triangle inputs");
-    let outs = output_names(true);
-    let i = |n: &str| port_at(&names, n);
-    let i3 = |g: &str| port_at3(&names, g);
-    let o = |n: &str| port_at(outs, n);
-    Ports {
-        o: i3("o"),
-        kz: i("kz"),
-        s: i3("s"),
-        a: i3("a"),
-        b: i3("b"),
-        c: i3("c"),
-        t_min: i("t_min"),
-        t_max: i("t_max"),
-        hit: o("hit"),
-        invalid: o("invalid"),
-        t: o("t"),
-        u: o("u"),
-        v: o("v"),
+impl TriangleBench {
+    /// The position of `kz` among the inputs.
+    fn kz_port(&self) -> usize {
+        ports::positions::<TriangleIn<usize>>(&self.unit).kz
     }
-});
 
-/// The ports' values in port order.
-pub fn to_vector(x: &TriIn) -> [u64; INPUTS] {
-    let at = &*PORTS;
-    let mut v = [0u64; INPUTS];
-    for i in 0..3 {
-        v[at.o[i]] = x.o[i];
-        v[at.s[i]] = x.s[i];
-        v[at.a[i]] = x.a[i];
-        v[at.b[i]] = x.b[i];
-        v[at.c[i]] = x.c[i];
+    /// Writes a transaction's values into port order.
+    pub fn to_ports(&self, x: &TriIn, v: &mut [u64]) {
+        let record = TriangleIn {
+            o: x.o,
+            kz: x.kz as u64,
+            s: x.s,
+            a: x.a,
+            b: x.b,
+            c: x.c,
+            t_min: x.t_min,
+            t_max: x.t_max,
+        };
+        ports::pack(&self.unit, &record, v)
     }
-    v[at.kz] = x.kz as u64;
-    v[at.t_min] = x.t_min;
-    v[at.t_max] = x.t_max;
-    v
-}
 
-/// The transaction of the ports' values.
-pub fn from_vector(v: &[u64]) -> TriIn {
-    let at = &*PORTS;
-    let three = |k: [usize; 3]| k.map(|i| v[i]);
-    TriIn {
-        o: three(at.o),
-        kz: (v[at.kz] & 3) as u32,
-        s: three(at.s),
-        a: three(at.a),
-        b: three(at.b),
-        c: three(at.c),
-        t_min: v[at.t_min],
-        t_max: v[at.t_max],
+    /// The transaction of the ports' values.
+    pub fn from_ports(&self, v: &[u64]) -> TriIn {
+        let x: TriangleIn<u64> = ports::unpack(&self.unit, v);
+        TriIn {
+            o: x.o,
+            kz: (x.kz & 3) as u32,
+            s: x.s,
+            a: x.a,
+            b: x.b,
+            c: x.c,
+            t_min: x.t_min,
+            t_max: x.t_max,
+        }
     }
-}
 
-/// The result of a full-output unit's output ports.
-pub fn from_outputs(out: &[u64]) -> TriOut {
-    let at = &*PORTS;
-    TriOut {
-        hit: out[at.hit] & 1 != 0,
-        invalid: out[at.invalid] & 1 != 0,
-        t: out[at.t],
-        u: out[at.u],
-        v: out[at.v],
+    /// The result of an `outputs=full` unit's output ports.
+    pub fn result_from_ports(&self, out: &[u64]) -> TriOut {
+        let r: TriangleOut<u64> = ports::unpack(&self.unit, out);
+        let [t, u, v] = r.t_u_v.expect("t, u, v need outputs=full");
+        TriOut {
+            hit: r.hit & 1 != 0,
+            invalid: r.invalid & 1 != 0,
+            t,
+            u,
+            v,
+        }
     }
 }
 
@@ -268,21 +237,19 @@ impl TriangleBench {
 
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let out = eval_with(self.fmt, self.mode, &from_vector(v));
-        let at = &*PORTS;
-        outputs[at.hit] = out.hit as u64;
-        outputs[at.invalid] = out.invalid as u64;
-        if self.full {
-            outputs[at.t] = out.t;
-            outputs[at.u] = out.u;
-            outputs[at.v] = out.v;
-        }
+        let out = eval_with(self.fmt, self.mode, &self.from_ports(v));
+        let record = TriangleOut {
+            hit: out.hit as u64,
+            invalid: out.invalid as u64,
+            t_u_v: Some([out.t, out.u, out.v]),
+        };
+        ports::pack(&self.unit, &record, outputs)
     }
 }
 
 impl sim::Stimulus for TriangleBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        v[..INPUTS].copy_from_slice(&to_vector(&self.case(seed, index)));
+        self.to_ports(&self.case(seed, index), v)
     }
 }
 

@@ -47,7 +47,7 @@ use rtl_flow::cull::CullBench;
 use rtl_flow::cull_ray::CullRayBench;
 use rtl_flow::silhouette::SilhouetteBench;
 use rtl_flow::transform::TransformBench;
-use rtl_flow::triangle::{self as tri_flow, TriangleBench};
+use rtl_flow::triangle::TriangleBench;
 use rtl_flow::{self, configured, Generated};
 use rtl_gen::units::{
     cull::Cull, cull_ray::CullRay, silhouette::Silhouette, transform::Transform, triangle::Triangle,
@@ -276,9 +276,7 @@ impl LoopUnits {
         })
     }
     fn pack_triangle(&self, x: &TriIn) -> Packed {
-        self.packed(Stream::Triangle, |v| {
-            v.copy_from_slice(&tri_flow::to_vector(x))
-        })
+        self.packed(Stream::Triangle, |v| self.triangle.to_ports(x, v))
     }
 }
 
@@ -457,7 +455,7 @@ impl Units for RtlTester<'_> {
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         match self.lookup(&self.units.pack_triangle(x)) {
-            Some(out) => tri_flow::from_outputs(out),
+            Some(out) => self.units.triangle.result_from_ports(out),
             None => GoldenUnits::get().triangle(x),
         }
     }

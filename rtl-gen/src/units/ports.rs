@@ -119,6 +119,16 @@ pub fn pack<R: Record<u64>>(cfg: &R::Config, rec: &R, words: &mut [u64]) {
     })
 }
 
+/// Where each field's port is: the record of the ports' positions in port
+/// order.
+pub fn positions<R: Record<usize>>(cfg: &R::Config) -> R {
+    let mut k = 0;
+    make(cfg, |_, _, _| {
+        k += 1;
+        k - 1
+    })
+}
+
 /// The record of the words in `words`, in port order.
 pub fn unpack<R: Record<u64>>(cfg: &R::Config, words: &[u64]) -> R {
     let mut k = 0;

@@ -31,7 +31,8 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::{port_at, port_at3, xyz, Description, AXES};
+use super::ports::{self, Record, Walk};
+use super::{Description, AXES};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
 use crate::arith::float::dot3::dot3_module;
@@ -111,34 +112,81 @@ pub fn triangle_name(cfg: &Config) -> String {
     format!("triangle_{}{round}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
 }
 
-/// The data inputs in port order, by name: `o_* kz s_* a_* b_* c_* t_min
-/// t_max` (`*` = x, y, z; `kz` is 2 bits, the others floats); the module
-/// and the testbench both read it.
-pub fn input_names() -> Vec<String> {
-    let mut names: Vec<String> = xyz("o").into();
-    names.push("kz".to_string());
-    for g in ["s", "a", "b", "c"] {
-        names.extend(xyz(g));
-    }
-    names.extend(["t_min".to_string(), "t_max".to_string()]);
-    names
+/// The data inputs: `o_* kz s_* a_* b_* c_* t_min t_max` (`*` = x, y, z;
+/// `kz` is 2 bits, the others floats).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TriangleIn<T> {
+    /// the ray's origin
+    pub o: [T; 3],
+    /// the direction's largest axis (the shear's z)
+    pub kz: T,
+    /// the shear constants
+    pub s: [T; 3],
+    /// first vertex
+    pub a: [T; 3],
+    /// second vertex
+    pub b: [T; 3],
+    /// third vertex
+    pub c: [T; 3],
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
 }
 
-/// The data outputs in port order: `hit`, `invalid` and, with
-/// `outputs=full`, `t`, `u`, `v`.
-pub fn output_names(full: bool) -> &'static [&'static str] {
-    const ALL: [&str; 5] = ["hit", "invalid", "t", "u", "v"];
-    if full {
-        &ALL
-    } else {
-        &ALL[..2]
+impl<T: Copy> Record<T> for TriangleIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        TriangleIn {
+            o: w.xyz("o", ty, |r| r.o),
+            kz: w.one("kz", Ty::UInt(2), |r| r.kz),
+            s: w.xyz("s", ty, |r| r.s),
+            a: w.xyz("a", ty, |r| r.a),
+            b: w.xyz("b", ty, |r| r.b),
+            c: w.xyz("c", ty, |r| r.c),
+            t_min: w.one("t_min", ty, |r| r.t_min),
+            t_max: w.one("t_max", ty, |r| r.t_max),
+        }
+    }
+}
+
+/// The data outputs: `hit invalid` and, with `outputs=full`, `t u v` (0
+/// without a hit).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TriangleOut<T> {
+    /// the segment hits the triangle
+    pub hit: T,
+    /// a non-finite input or `kz = 3`
+    pub invalid: T,
+    /// the hit's `t`, and its barycentric weights of `b` and `c`
+    /// (`outputs=full`)
+    pub t_u_v: Option<[T; 3]>,
+}
+
+impl<T: Copy> Record<T> for TriangleOut<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let field =
+            |k: usize| move |r: &Self| r.t_u_v.expect("a full unit's record has t, u, v")[k];
+        TriangleOut {
+            hit: w.one("hit", Ty::Bool, |r| r.hit),
+            invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
+            t_u_v: cfg.full.then(|| {
+                [
+                    w.one("t", ty, field(0)),
+                    w.one("u", ty, field(1)),
+                    w.one("v", ty, field(2)),
+                ]
+            }),
+        }
     }
 }
 
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
-    let ty = Ty::UInt(fmt.width());
     let mode = cfg.round;
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
@@ -154,17 +202,17 @@ pub fn build(cfg: &Config) -> Module {
         .param("round", cfg.round.word())
         .param("outputs", if cfg.full { "full" } else { "hit" })
         .param("stages", cfg.stages);
-    let names = input_names();
-    let ins: Vec<Sig> = names
-        .iter()
-        .map(|n| m.input(n, if n == "kz" { Ty::UInt(2) } else { ty }))
-        .collect();
-    let vec3 = |group: &str| port_at3(&names, group).map(|k| ins[k]);
-    let (o, s) = (vec3("o"), vec3("s"));
-    let verts = ["a", "b", "c"].map(vec3);
-    let kz = ins[port_at(&names, "kz")];
-    let t_min = ins[port_at(&names, "t_min")];
-    let t_max = ins[port_at(&names, "t_max")];
+    let TriangleIn {
+        o,
+        kz,
+        s,
+        a,
+        b,
+        c,
+        t_min,
+        t_max,
+    } = ports::declare_inputs(&mut m, cfg);
+    let verts = [a, b, c];
 
     // invalid: a non-finite o, s or vertex, a NaN bound, kz = 3
     let mut invalid = m.all_ones(kz);
@@ -311,17 +359,17 @@ pub fn build(cfg: &Config) -> Module {
     hit = m.and(hit, after_min);
     hit = m.and(hit, before_max);
     let hit = m.name(hit, "hit_found");
-    let mut outs = vec![hit, invalid];
-    if cfg.full {
+    let t_u_v = cfg.full.then(|| {
         let u = operator_result(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
         let v = operator_result(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
-        for x in [t, u, v] {
-            outs.push(m.mux(hit, x, zero));
-        }
-    }
-    for (name, x) in output_names(cfg.full).iter().zip(outs) {
-        m.output(name, x);
-    }
+        [t, u, v].map(|x| m.mux(hit, x, zero))
+    });
+    let outputs = TriangleOut {
+        hit,
+        invalid,
+        t_u_v,
+    };
+    ports::declare_outputs(&mut m, cfg, &outputs);
     let datapath = m.finish().expect("triangle datapath is well formed");
     if cfg.stages == 0 {
         return datapath;
