@@ -23,8 +23,8 @@ use golden_model::transform::exact::scene_builder_inverse;
 use golden_model::transform::{
     transform, Config, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
-use rtl_gen::units::transform::{self as unit, Dot};
-use rtl_gen::units::{port_at, port_at3};
+use rtl_gen::units::ports;
+use rtl_gen::units::transform::{self as unit, Dot, TransformIn, TransformOut};
 
 /// One transaction before packing into ports.
 #[derive(Debug, Clone, Copy)]
@@ -42,74 +42,7 @@ pub struct TransformBench {
     id_bits: u32,
     instances: Vec<InstanceTransform>,
     rays: Vec<WorldRay>,
-    ports: Ports,
-}
-
-/// Where each field of a transaction goes among the unit's inputs, looked
-/// up by name in the unit's own list (`Config::input_names`), so a port
-/// added to the unit cannot shift the others.
-struct Ports {
-    /// the origin (full throughput) or the one vector (half)
-    first: [usize; 3],
-    /// the direction (full throughput)
-    dir: Option<[usize; 3]>,
-    is_origin: Option<usize>,
-    t_min: usize,
-    t_max: usize,
-    id: usize,
-    linear: [usize; 9],
-    translation: [usize; 3],
-    rotation_hint: Option<usize>,
-    /// the outputs, looked up in `Config::output_names`
-    out: OutPorts,
-}
-
-/// Where each field of a model-space ray is among the unit's outputs.
-struct OutPorts {
-    /// the origin (full throughput) or the one vector (half)
-    first: [usize; 3],
-    /// the direction (full throughput)
-    dir: Option<[usize; 3]>,
-    t_min: usize,
-    t_max: usize,
-    id: usize,
-    singular: usize,
-}
-
-impl OutPorts {
-    fn of(u: &unit::Config) -> OutPorts {
-        let names = u.output_names();
-        let at = |n: &str| port_at(&names, n);
-        let three = |g: &str| port_at3(&names, g);
-        OutPorts {
-            first: three(if u.full { "om" } else { "vm" }),
-            dir: u.full.then(|| three("dm")),
-            t_min: at("tmin_m"),
-            t_max: at("tmax_m"),
-            id: at("id_m"),
-            singular: at("singular"),
-        }
-    }
-}
-
-impl Ports {
-    fn of(u: &unit::Config) -> Ports {
-        let names = u.input_names();
-        let at = |n: &str| port_at(&names, n);
-        let three = |g: &str| port_at3(&names, g);
-        Ports {
-            first: three(if u.full { "ow" } else { "v" }),
-            dir: u.full.then(|| three("dw")),
-            is_origin: (!u.full).then(|| at("is_origin")),
-            t_min: at("tmin_w"),
-            t_max: at("tmax_w"),
-            id: at("id_w"),
-            linear: std::array::from_fn(|k| at(&u.matrix_input(k))),
-            translation: three("t"),
-            rotation_hint: u.hw.then(|| at("rot_hint")),
-            out: OutPorts::of(u),
-        }
-    }
+    unit: unit::Config,
 }
 
 impl TransformBench {
@@ -137,7 +70,7 @@ impl TransformBench {
             id_bits: u.id_bits,
             instances: Vec::new(),
             rays: Vec::new(),
-            ports: Ports::of(u),
+            unit: *u,
         };
         bench.instances = bench.corner_instances();
         bench.rays = bench.corner_rays();
@@ -419,57 +352,43 @@ impl TransformBench {
 
     /// Packs a case in the unit's input port order.
     fn pack(&self, c: &Case, v: &mut [u64]) {
-        let p = &self.ports;
-        let put3 =
-            |v: &mut [u64], at: &[usize; 3], x: &[u64; 3]| (0..3).for_each(|i| v[at[i]] = x[i]);
-        match p.dir {
-            Some(dir) => {
-                put3(v, &p.first, &c.ray.origin);
-                put3(v, &dir, &c.ray.dir);
-            }
-            None => put3(
-                v,
-                &p.first,
-                if c.is_origin {
-                    &c.ray.origin
-                } else {
-                    &c.ray.dir
-                },
-            ),
-        }
-        if let Some(k) = p.is_origin {
-            v[k] = c.is_origin as u64;
-        }
-        v[p.t_min] = c.ray.t_min;
-        v[p.t_max] = c.ray.t_max;
-        v[p.id] = c.ray.id & mask(self.id_bits);
-        (0..9).for_each(|k| v[p.linear[k]] = c.inst.linear[k]);
-        put3(v, &p.translation, &c.inst.translation);
-        if let Some(k) = p.rotation_hint {
-            v[k] = c.inst.rotation_hint as u64;
-        }
+        let (origin_or_vector, direction) = match (self.full, c.is_origin) {
+            (true, _) => (c.ray.origin, Some(c.ray.dir)),
+            (false, true) => (c.ray.origin, None),
+            (false, false) => (c.ray.dir, None),
+        };
+        let record = TransformIn {
+            origin_or_vector,
+            direction,
+            is_origin: Some(c.is_origin as u64),
+            t_min: c.ray.t_min,
+            t_max: c.ray.t_max,
+            id: c.ray.id & mask(self.id_bits),
+            linear: c.inst.linear,
+            translation: c.inst.translation,
+            rotation_hint: Some(c.inst.rotation_hint as u64),
+        };
+        ports::pack(&self.unit, &record, v)
     }
 
     /// Unpacks the input ports into a case.
     fn unpack(&self, v: &[u64]) -> Case {
-        let p = &self.ports;
-        let three = |at: &[usize; 3]| at.map(|k| v[k]);
-        let first = three(&p.first);
-        let is_origin = p.is_origin.is_none_or(|k| v[k] != 0);
+        let r: TransformIn<u64> = ports::unpack(&self.unit, v);
+        let first = r.origin_or_vector;
         Case {
             ray: WorldRay {
                 origin: first,
-                dir: p.dir.map_or(first, |d| three(&d)),
-                t_min: v[p.t_min],
-                t_max: v[p.t_max],
-                id: v[p.id],
+                dir: r.direction.unwrap_or(first),
+                t_min: r.t_min,
+                t_max: r.t_max,
+                id: r.id,
             },
             inst: InstanceTransform {
-                linear: p.linear.map(|k| v[k]),
-                translation: three(&p.translation),
-                rotation_hint: p.rotation_hint.is_some_and(|k| v[k] != 0),
+                linear: r.linear,
+                translation: r.translation,
+                rotation_hint: r.rotation_hint.is_some_and(|x| x != 0),
             },
-            is_origin,
+            is_origin: r.is_origin.is_none_or(|x| x != 0),
         }
     }
 
@@ -490,37 +409,33 @@ impl TransformBench {
     /// The output ports of `m` (of the origin or the direction alone at
     /// half throughput).
     fn outputs_of(&self, m: &ModelRay, is_origin: bool, outputs: &mut [u64]) {
-        let out = &self.ports.out;
-        let first = if self.full || is_origin {
-            m.origin
-        } else {
-            m.dir
+        let record = TransformOut {
+            origin_or_vector: if self.full || is_origin {
+                m.origin
+            } else {
+                m.dir
+            },
+            direction: Some(m.dir),
+            t_min: m.t_min,
+            t_max: m.t_max,
+            id: m.id,
+            singular: m.singular as u64,
         };
-        for (k, v) in out.first.into_iter().zip(first) {
-            outputs[k] = v;
-        }
-        for (k, v) in out.dir.into_iter().flatten().zip(m.dir) {
-            outputs[k] = v;
-        }
-        outputs[out.t_min] = m.t_min;
-        outputs[out.t_max] = m.t_max;
-        outputs[out.id] = m.id;
-        outputs[out.singular] = m.singular as u64;
+        ports::pack(&self.unit, &record, outputs)
     }
 
     /// The model ray of a full-throughput unit's output ports (the inverse
     /// of the golden side's packing).
     pub fn model_ray_from_ports(&self, out: &[u64]) -> ModelRay {
         assert!(self.full, "one transaction per ray needs throughput=full");
-        let at = &self.ports.out;
-        let dir = at.dir.expect("full throughput has a direction output");
+        let r: TransformOut<u64> = ports::unpack(&self.unit, out);
         ModelRay {
-            origin: at.first.map(|k| out[k]),
-            dir: dir.map(|k| out[k]),
-            t_min: out[at.t_min],
-            t_max: out[at.t_max],
-            id: out[at.id],
-            singular: out[at.singular] != 0,
+            origin: r.origin_or_vector,
+            dir: r.direction.expect("full throughput has a direction output"),
+            t_min: r.t_min,
+            t_max: r.t_max,
+            id: r.id,
+            singular: r.singular != 0,
         }
     }
 
@@ -568,14 +483,15 @@ mod tests {
             let unit = rtl_gen::units::transform::Config::from_params(&p).unwrap();
             let tb = TransformBench::new(&unit);
             let fmt = tb.cfg.fmt;
-            let n_in = unit.input_names().len();
-            let n_out = unit.output_names().len();
+            let n_in = ports::list::<TransformIn<()>>(&unit).len();
+            let n_out = ports::list::<TransformOut<()>>(&unit).len();
             let (mut v, mut o) = (vec![0u64; n_in], vec![0u64; n_out]);
-            let out = &tb.ports.out;
+            let out: TransformOut<usize> = ports::positions(&unit);
+            let hint_at = ports::positions::<TransformIn<usize>>(&unit).rotation_hint;
             let vecs: Vec<usize> = out
-                .first
+                .origin_or_vector
                 .into_iter()
-                .chain(out.dir.into_iter().flatten())
+                .chain(out.direction.into_iter().flatten())
                 .collect();
             let (mut singular, mut nan, mut inf, mut zero, mut hint) = (0, 0, 0, 0, 0);
             let total = 50_000u64;
@@ -589,9 +505,12 @@ mod tests {
                     .iter()
                     .any(|&k| o[k] & !fmt.sign_bit() == fmt.inf(false))
                     as u64;
-                zero +=
-                    (!is_singular && out.first.iter().all(|&k| o[k] & !fmt.sign_bit() == 0)) as u64;
-                hint += tb.ports.rotation_hint.is_some_and(|k| v[k] == 1) as u64;
+                zero += (!is_singular
+                    && out
+                        .origin_or_vector
+                        .iter()
+                        .all(|&k| o[k] & !fmt.sign_bit() == 0)) as u64;
+                hint += hint_at.is_some_and(|k| v[k] == 1) as u64;
             }
             let pct = |x: u64| 100.0 * x as f64 / total as f64;
             eprintln!(

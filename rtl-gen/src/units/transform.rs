@@ -23,7 +23,8 @@
 //! vector output is the canonical NaN: the first component of each vector
 //! entering an engine is replaced by NaN, and every row's dot product reads it.
 
-use super::{xyz, Description};
+use super::ports::{self, Record, Walk};
+use super::Description;
 use crate::arith::float::add::add_module;
 use crate::arith::float::classify::{is_special, is_zero};
 use crate::arith::float::convert::convert_module;
@@ -179,6 +180,114 @@ pub struct Config {
     pub stages: u32,
 }
 
+/// The data inputs: the world origin and direction `ow_* dw_*` (full
+/// throughput) or one vector `v_*` and `is_origin` (half); `tmin_w tmax_w
+/// id_w`; the matrix `rinv_RC` (pre-inverted) or `r_RC` (`inverse=hw`, R, C
+/// in 0..3, row-major); the translation `t_*`; `rot_hint` with `inverse=hw`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TransformIn<T> {
+    /// the origin (full throughput) or the one vector (half)
+    pub origin_or_vector: [T; 3],
+    /// the direction (full throughput)
+    pub direction: Option<[T; 3]>,
+    /// the one vector is the origin, not the direction (half throughput)
+    pub is_origin: Option<T>,
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
+    /// the ray's id
+    pub id: T,
+    /// the matrix, row-major: its inverse, or itself with `inverse=hw`
+    pub linear: [T; 9],
+    /// the translation
+    pub translation: [T; 3],
+    /// the matrix is a rotation (`inverse=hw`)
+    pub rotation_hint: Option<T>,
+}
+
+impl<T: Copy> Record<T> for TransformIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let (origin_or_vector, direction, is_origin) = if cfg.full {
+            let o = w.xyz("ow", ty, |r| r.origin_or_vector);
+            let d = w.xyz("dw", ty, |r| r.direction.expect("full throughput"));
+            (o, Some(d), None)
+        } else {
+            let v = w.xyz("v", ty, |r| r.origin_or_vector);
+            let is_origin = w.one("is_origin", Ty::Bool, |r| {
+                r.is_origin.expect("half throughput")
+            });
+            (v, None, Some(is_origin))
+        };
+        let t_min = w.one("tmin_w", ty, |r| r.t_min);
+        let t_max = w.one("tmax_w", ty, |r| r.t_max);
+        let id = w.one("id_w", Ty::UInt(cfg.id_bits), |r| r.id);
+        let matrix = cfg.matrix();
+        let linear = std::array::from_fn(|k| {
+            let name = format_args!("{matrix}_{}{}", k / 3, k % 3);
+            w.one(name, ty, move |r| r.linear[k])
+        });
+        TransformIn {
+            origin_or_vector,
+            direction,
+            is_origin,
+            t_min,
+            t_max,
+            id,
+            linear,
+            translation: w.xyz("t", ty, |r| r.translation),
+            rotation_hint: cfg.hw.then(|| {
+                w.one("rot_hint", Ty::Bool, |r| {
+                    r.rotation_hint.expect("inverse=hw")
+                })
+            }),
+        }
+    }
+}
+
+/// The data outputs: the model-space origin and direction `om_* dm_*` (full
+/// throughput) or the one vector `vm_*` (half); `tmin_m tmax_m id_m
+/// singular`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TransformOut<T> {
+    /// the origin (full throughput) or the one vector (half)
+    pub origin_or_vector: [T; 3],
+    /// the direction (full throughput)
+    pub direction: Option<[T; 3]>,
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
+    /// the ray's id
+    pub id: T,
+    /// the instance cannot be inverted (its vectors are NaN)
+    pub singular: T,
+}
+
+impl<T: Copy> Record<T> for TransformOut<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let (origin_or_vector, direction) = if cfg.full {
+            let o = w.xyz("om", ty, |r| r.origin_or_vector);
+            let d = w.xyz("dm", ty, |r| r.direction.expect("full throughput"));
+            (o, Some(d))
+        } else {
+            (w.xyz("vm", ty, |r| r.origin_or_vector), None)
+        };
+        TransformOut {
+            origin_or_vector,
+            direction,
+            t_min: w.one("tmin_m", ty, |r| r.t_min),
+            t_max: w.one("tmax_m", ty, |r| r.t_max),
+            id: w.one("id_m", Ty::UInt(cfg.id_bits), |r| r.id),
+            singular: w.one("singular", Ty::Bool, |r| r.singular),
+        }
+    }
+}
+
 impl Config {
     /// The configuration of resolved parameters, or why it cannot be built.
     pub fn from_params(p: &Params) -> Result<Config, ParamError> {
@@ -199,50 +308,13 @@ impl Config {
         })
     }
 
-    /// The data inputs in port order, by name (the module's ports, its
-    /// `ports.json` and the testbench's packing come from this list): the
-    /// world origin and direction `ow_* dw_*` (full throughput) or one
-    /// vector `v_*` and `is_origin` (half); `tmin_w tmax_w id_w`; the matrix
-    /// `rinv_RC` (pre-inverted) or `r_RC` (`inverse=hw`, R, C in 0..3); the
-    /// translation `t_*`; `rot_hint` with `inverse=hw`.
-    pub fn input_names(&self) -> Vec<String> {
-        let mut names: Vec<String> = Vec::new();
-        if self.full {
-            names.extend(xyz("ow"));
-            names.extend(xyz("dw"));
-        } else {
-            names.extend(xyz("v"));
-            names.push("is_origin".into());
-        }
-        names.extend(["tmin_w", "tmax_w", "id_w"].map(String::from));
-        names.extend((0..9).map(|k| self.matrix_input(k)));
-        names.extend(xyz("t"));
+    /// The matrix inputs' name: `r` (`inverse=hw`) or `rinv` (pre-inverted).
+    fn matrix(&self) -> &'static str {
         if self.hw {
-            names.push("rot_hint".into());
-        }
-        names
-    }
-
-    /// The output ports, in module order: the model-space origin and
-    /// direction `om_* dm_*` (full throughput) or the one vector `vm_*`
-    /// (half); `tmin_m tmax_m id_m singular`.
-    pub fn output_names(&self) -> Vec<String> {
-        let mut names: Vec<String> = Vec::new();
-        if self.full {
-            names.extend(xyz("om"));
-            names.extend(xyz("dm"));
+            "r"
         } else {
-            names.extend(xyz("vm"));
+            "rinv"
         }
-        names.extend(["tmin_m", "tmax_m", "id_m", "singular"].map(String::from));
-        names
-    }
-
-    /// The name of matrix input `k` (row-major): `rinv_RC` pre-inverted,
-    /// `r_RC` with `inverse=hw`.
-    pub fn matrix_input(&self, k: usize) -> String {
-        let matrix = if self.hw { "r" } else { "rinv" };
-        format!("{matrix}_{}{}", k / 3, k % 3)
     }
 
     /// Module name, carrying every parameter.
@@ -537,8 +609,6 @@ fn invert(
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
-    let w = fmt.width();
-    let ty = Ty::UInt(w);
     let mut m = ModuleBuilder::with_handshake(cfg.name());
     let lin = if cfg.hw {
         "Rinv computed from r (adjugate, det, 1/det; rot_hint: transpose)"
@@ -566,26 +636,17 @@ pub fn build(cfg: &Config) -> Module {
         .param("id_bits", cfg.id_bits)
         .param("stages", cfg.stages);
     let axes = ["x", "y", "z"];
-    let names = cfg.input_names();
-    let ins: Vec<Sig> = names
-        .iter()
-        .map(|n| match n.as_str() {
-            "is_origin" | "rot_hint" => m.input(n, Ty::Bool),
-            "id_w" => m.input(n, Ty::UInt(cfg.id_bits)),
-            _ => m.input(n, ty),
-        })
-        .collect();
-    let port = |name: &str| ins[super::port_at(&names, name)];
-    let three = |g: &str| super::port_at3(&names, g).map(|k| ins[k]);
-    let (vw, dw, is_origin) = if cfg.full {
-        (three("ow"), Some(three("dw")), None)
-    } else {
-        (three("v"), None, Some(port("is_origin")))
-    };
-    let (tmin, tmax, id) = (port("tmin_w"), port("tmax_w"), port("id_w"));
-    let lin: [Sig; 9] = std::array::from_fn(|k| port(&cfg.matrix_input(k)));
-    let t = three("t");
-    let hint = cfg.hw.then(|| port("rot_hint"));
+    let TransformIn {
+        origin_or_vector: vw,
+        direction: dw,
+        is_origin,
+        t_min: tmin,
+        t_max: tmax,
+        id,
+        linear: lin,
+        translation: t,
+        rotation_hint: hint,
+    } = ports::declare_inputs(&mut m, cfg);
 
     let mut bad_in = m.bool(false);
     for x in lin.iter().chain(t.iter()) {
@@ -658,10 +719,15 @@ pub fn build(cfg: &Config) -> Module {
         }
         (None, None) => unreachable!("half throughput has is_origin"),
     };
-    let values = vectors.into_iter().chain([tmin, tmax, id, singular]);
-    for (name, v) in cfg.output_names().iter().zip(values) {
-        m.output(name, v);
-    }
+    let outputs = TransformOut {
+        origin_or_vector: [vectors[0], vectors[1], vectors[2]],
+        direction: cfg.full.then(|| [vectors[3], vectors[4], vectors[5]]),
+        t_min: tmin,
+        t_max: tmax,
+        id,
+        singular,
+    };
+    ports::declare_outputs(&mut m, cfg, &outputs);
     m.finish()
         .expect("transform generator is type-correct for every accepted configuration")
 }
