@@ -1,6 +1,6 @@
 //! Stimulus and golden-model adapter for `cull`.
 //!
-//! Ports (`units::cull::Config::child_inputs`): `t_lo`, `t_hi` (ray
+//! Ports (`units::cull::CullIn`, `CullOut`): `t_lo`, `t_hi` (ray
 //! format), `w<j>` (plane format), then per plane `no_lo<j>`, `rcp_lo<j>`,
 //! `rcp_hi<j>`, `dir<j>`; outputs `keep`, `invalid`.
 //!
@@ -28,17 +28,15 @@ use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
 };
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
-use rtl_gen::units::cull::{ChildPorts, Config as UnitConfig, TermField, CHILD_OUTPUT_NAMES};
+use rtl_gen::units::cull::{Config as UnitConfig, CullIn, CullOut, Terms};
+use rtl_gen::units::ports;
 
 /// Testbench of one `cull` configuration.
 pub struct CullBench {
     cfg: Config,
     unit: UnitConfig,
-    /// the unit's ports, by name
-    at: ChildPorts,
-    /// the positions of `keep` and `invalid` among the outputs
-    keep: usize,
-    invalid: usize,
+    /// the width of each input port, in port order
+    widths: Vec<u32>,
 }
 
 /// `n·(p − r)` in binary64 (the stimulus needs distances near the points,
@@ -75,34 +73,31 @@ fn point(g: &mut Gen, f: FloatFormat, lo: &[u64; 3], hi: &[u64; 3]) -> [u64; 3] 
 impl CullBench {
     /// The testbench of a `cull` configuration.
     pub fn new(unit: &UnitConfig) -> Self {
-        let cfg = golden_config(unit);
-        let at = unit.child_ports();
-        let out = |name: &str| {
-            let names = CHILD_OUTPUT_NAMES.map(String::from);
-            rtl_gen::units::port_at(&names, name)
-        };
         CullBench {
-            cfg,
+            cfg: golden_config(unit),
             unit: *unit,
-            at,
-            keep: out("keep"),
-            invalid: out("invalid"),
+            widths: ports::list::<CullIn<()>>(unit)
+                .iter()
+                .map(|(_, ty)| ty.width())
+                .collect(),
         }
     }
 
     /// The golden model's input from port values.
     pub fn unpack(&self, v: &[u64]) -> ChildIn {
-        let at = &self.at;
+        let x: CullIn<u64> = ports::unpack(&self.unit, v);
         ChildIn {
-            t_lo: v[at.t_lo],
-            t_hi: v[at.t_hi],
-            w: at.w.iter().map(|&i| v[i]).collect(),
-            terms: (0..self.cfg.k)
-                .map(|j| NormalTerm {
-                    no_lo: v[at.term(j, TermField::NoLo)],
-                    rcp_lo: v[at.term(j, TermField::RcpLo)],
-                    rcp_hi: v[at.term(j, TermField::RcpHi)],
-                    dir: Crossing::from_code(v[at.term(j, TermField::Dir)]),
+            t_lo: x.t_lo,
+            t_hi: x.t_hi,
+            w: x.w,
+            terms: x
+                .terms
+                .iter()
+                .map(|t| NormalTerm {
+                    no_lo: t.no_lo,
+                    rcp_lo: t.rcp_lo,
+                    rcp_hi: t.rcp_hi,
+                    dir: Crossing::from_code(t.dir),
                 })
                 .collect(),
         }
@@ -112,25 +107,37 @@ impl CullBench {
     /// `eval_parts`), each value masked to its port; distances and terms
     /// beyond the slices' lengths read as 0, as in the golden model.
     pub fn to_ports(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm], v: &mut [u64]) {
-        let at = &self.at;
+        ports::pack(&self.unit, &self.record(t_lo, t_hi, w, terms), v)
+    }
+
+    /// The record of [`CullBench::to_ports`].
+    fn record(&self, t_lo: u64, t_hi: u64, w: &[u64], terms: &[NormalTerm]) -> CullIn<u64> {
         let fm = self.cfg.ray.mask();
         let pm = self.cfg.plane.mask();
         let cm = self.cfg.crossing().mask();
-        v[at.t_lo] = t_lo & fm;
-        v[at.t_hi] = t_hi & fm;
-        for j in 0..self.cfg.k {
-            v[at.w[j]] = w.get(j).copied().unwrap_or(0) & pm;
-            let t = terms.get(j).copied().unwrap_or_default();
-            v[at.term(j, TermField::NoLo)] = t.no_lo & fm;
-            v[at.term(j, TermField::RcpLo)] = t.rcp_lo & cm;
-            v[at.term(j, TermField::RcpHi)] = t.rcp_hi & cm;
-            v[at.term(j, TermField::Dir)] = t.dir.code();
+        CullIn {
+            t_lo: t_lo & fm,
+            t_hi: t_hi & fm,
+            w: (0..self.cfg.k)
+                .map(|j| w.get(j).copied().unwrap_or(0) & pm)
+                .collect(),
+            terms: (0..self.cfg.k)
+                .map(|j| {
+                    let t = terms.get(j).copied().unwrap_or_default();
+                    Terms {
+                        no_lo: t.no_lo & fm,
+                        rcp_lo: t.rcp_lo & cm,
+                        rcp_hi: t.rcp_hi & cm,
+                        dir: t.dir.code(),
+                    }
+                })
+                .collect(),
         }
     }
 
     /// `keep` of the output ports.
     pub fn keep_from_ports(&self, out: &[u64]) -> bool {
-        out[self.keep] & 1 != 0
+        ports::unpack::<CullOut<u64>>(&self.unit, out).keep & 1 != 0
     }
 
     /// The golden configuration.
@@ -141,10 +148,11 @@ impl CullBench {
     /// [`CullBench::to_ports`] with the direction codes given (code 3 is
     /// no [`Crossing`]: the stimulus drives it too).
     fn pack(&self, x: &ChildIn, dir_codes: &[u64], v: &mut [u64]) {
-        self.to_ports(x.t_lo, x.t_hi, &x.w, &x.terms, v);
-        for (j, code) in dir_codes.iter().enumerate().take(self.cfg.k) {
-            v[self.at.term(j, TermField::Dir)] = code & 3;
+        let mut record = self.record(x.t_lo, x.t_hi, &x.w, &x.terms);
+        for (t, code) in record.terms.iter_mut().zip(dir_codes) {
+            t.dir = code & 3;
         }
+        ports::pack(&self.unit, &record, v)
     }
 
     /// The realistic composition at scale `s` (kind 7: a perpendicular ray).
@@ -250,8 +258,11 @@ impl CullBench {
 impl sim::Golden for CullBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let out = eval(&self.cfg, &self.unpack(inputs));
-        outputs[self.keep] = out.keep as u64;
-        outputs[self.invalid] = out.invalid as u64;
+        let record = CullOut {
+            keep: out.keep as u64,
+            invalid: out.invalid as u64,
+        };
+        ports::pack(&self.unit, &record, outputs)
     }
 }
 
@@ -262,8 +273,8 @@ impl sim::Stimulus for CullBench {
         let mut rng = VectorRng::new(seed, index);
         let kind = index % 16;
         if kind == 12 {
-            for (i, (_, w)) in self.unit.child_inputs().iter().enumerate() {
-                v[i] = rng.bits(*w) & mask(*w);
+            for (x, &w) in v.iter_mut().zip(&self.widths) {
+                *x = rng.bits(w) & mask(w);
             }
             return;
         }

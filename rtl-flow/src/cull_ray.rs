@@ -1,7 +1,7 @@
 //! Stimulus and golden-model adapter for `cull_ray`, and the scene
 //! generator both cull benches share.
 //!
-//! Ports (`units::cull::Config::ray_inputs` / `ray_outputs`): `o_*`, `d_*`,
+//! Ports (`units::cull::CullRayIn` / `CullRayOut`): `o_*`, `d_*`,
 //! `r_*` (ray format), `n<j>_*` (plane format); outputs per normal `no_lo<j>`,
 //! `rcp_lo<j>`, `rcp_hi<j>`, `dir<j>`.
 //!
@@ -20,7 +20,8 @@ use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
-use rtl_gen::units::cull::{Config as UnitConfig, RayPorts, TermField};
+use rtl_gen::units::cull::{Config as UnitConfig, CullRayIn, CullRayOut, Terms};
+use rtl_gen::units::ports;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -248,29 +249,31 @@ pub(super) fn parallel(
 pub struct CullRayBench {
     cfg: Config,
     unit: UnitConfig,
-    /// the unit's ports, by name
-    at: RayPorts,
+    /// the width of each input port, in port order
+    widths: Vec<u32>,
 }
 
 impl CullRayBench {
     /// The testbench of a `cull_ray` configuration (the `cull` unit's).
     pub fn new(unit: &UnitConfig) -> Self {
-        let at = unit.ray_ports();
         CullRayBench {
             cfg: golden_config(unit),
             unit: *unit,
-            at,
+            widths: ports::list::<CullRayIn<()>>(unit)
+                .iter()
+                .map(|(_, ty)| ty.width())
+                .collect(),
         }
     }
 
     /// The golden model's input from port values.
     pub fn unpack(&self, v: &[u64]) -> RayIn {
-        let at = &self.at;
+        let x: CullRayIn<u64> = ports::unpack(&self.unit, v);
         RayIn {
-            o: at.o.map(|i| v[i]),
-            d: at.d.map(|i| v[i]),
-            r: at.r.map(|i| v[i]),
-            normals: at.n.iter().map(|n| n.map(|i| v[i])).collect(),
+            o: x.o,
+            d: x.d,
+            r: x.r,
+            normals: x.n,
         }
     }
 
@@ -289,27 +292,27 @@ impl CullRayBench {
         normals: &[[u64; 3]],
         v: &mut [u64],
     ) {
-        let at = &self.at;
         let (fm, pm) = (self.cfg.ray.mask(), self.cfg.plane.mask());
-        for i in 0..3 {
-            v[at.o[i]] = o[i] & fm;
-            v[at.d[i]] = d[i] & fm;
-            v[at.r[i]] = r[i] & fm;
-            for (j, n) in at.n.iter().enumerate() {
-                v[n[i]] = normals.get(j).map_or(0, |n| n[i]) & pm;
-            }
-        }
+        let record = CullRayIn {
+            o: o.map(|x| x & fm),
+            d: d.map(|x| x & fm),
+            r: r.map(|x| x & fm),
+            n: (0..self.cfg.k)
+                .map(|j| normals.get(j).map_or([0; 3], |n| n.map(|x| x & pm)))
+                .collect(),
+        };
+        ports::pack(&self.unit, &record, v)
     }
 
     /// The per-normal terms of the output ports (the first `k` of `terms`).
     pub fn terms_from_ports(&self, out: &[u64], terms: &mut [NormalTerm]) {
-        let at = &self.at;
-        for (j, t) in terms.iter_mut().enumerate().take(self.cfg.k) {
+        let x: CullRayOut<u64> = ports::unpack(&self.unit, out);
+        for (t, x) in terms.iter_mut().zip(x.terms) {
             *t = NormalTerm {
-                no_lo: out[at.term(j, TermField::NoLo)],
-                rcp_lo: out[at.term(j, TermField::RcpLo)],
-                rcp_hi: out[at.term(j, TermField::RcpHi)],
-                dir: Crossing::from_code(out[at.term(j, TermField::Dir)]),
+                no_lo: x.no_lo,
+                rcp_lo: x.rcp_lo,
+                rcp_hi: x.rcp_hi,
+                dir: Crossing::from_code(x.dir),
             };
         }
     }
@@ -323,13 +326,19 @@ impl CullRayBench {
 impl sim::Golden for CullRayBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let t = ray_terms(&self.cfg, &self.unpack(inputs));
-        let at = &self.at;
-        for (j, term) in t.terms.iter().enumerate() {
-            outputs[at.term(j, TermField::NoLo)] = term.no_lo;
-            outputs[at.term(j, TermField::RcpLo)] = term.rcp_lo;
-            outputs[at.term(j, TermField::RcpHi)] = term.rcp_hi;
-            outputs[at.term(j, TermField::Dir)] = term.dir.code();
-        }
+        let record = CullRayOut {
+            terms: t
+                .terms
+                .iter()
+                .map(|t| Terms {
+                    no_lo: t.no_lo,
+                    rcp_lo: t.rcp_lo,
+                    rcp_hi: t.rcp_hi,
+                    dir: t.dir.code(),
+                })
+                .collect(),
+        };
+        ports::pack(&self.unit, &record, outputs)
     }
 }
 
@@ -339,8 +348,8 @@ impl sim::Stimulus for CullRayBench {
         let mut rng = VectorRng::new(seed, index);
         let kind = index % 12;
         if kind == 9 {
-            for (i, (_, w)) in self.unit.ray_inputs().iter().enumerate() {
-                v[i] = rng.bits(*w) & mask(*w);
+            for (x, &w) in v.iter_mut().zip(&self.widths) {
+                *x = rng.bits(w) & mask(w);
             }
             return;
         }

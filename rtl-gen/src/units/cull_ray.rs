@@ -29,7 +29,8 @@
 //! its normalisation and Fc + 4 division steps). One register goes to the
 //! outputs first. The latency is `stages`.
 
-use super::cull::{config, Config, TermField, DIR_WIDTH, PARAMS};
+use super::cull::{config, Config, CullRayIn, CullRayOut, Terms, DIR_WIDTH, PARAMS};
+use super::ports;
 use super::Description;
 use crate::arith::float::add::ADD_RAW_STEPS;
 use crate::arith::float::add_down_up::add_down_up_module;
@@ -41,7 +42,7 @@ use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
 use crate::params::{ParamError, ParamSpec, Params};
 
 /// The `cull_ray` unit.
@@ -98,16 +99,7 @@ pub fn build(cfg: &Config) -> Module {
          infinite input makes every no_lo NaN.",
     );
     cfg.describe_params(&mut m);
-    let ports: Vec<Sig> = cfg
-        .ray_inputs()
-        .iter()
-        .map(|(name, w)| m.input(name, Ty::UInt(*w)))
-        .collect();
-    let at = cfg.ray_ports();
-    let o: Vec<Sig> = at.o.iter().map(|&i| ports[i]).collect();
-    let d: [Sig; 3] = at.d.map(|i| ports[i]);
-    let r: Vec<Sig> = at.r.iter().map(|&i| ports[i]).collect();
-    let n: Vec<[Sig; 3]> = at.n.iter().map(|v| v.map(|i| ports[i])).collect();
+    let CullRayIn { o, d, r, n } = ports::declare_inputs(&mut m, cfg);
     let ax = super::AXES;
 
     // Step 1: classify; u = o − r down and up.
@@ -171,7 +163,7 @@ pub fn build(cfg: &Config) -> Module {
     let rcp = recip_down_up_module(cf, plan.recip);
     let abs_mask = m.uint(cf.width(), (1u128 << (cf.width() - 1)) - 1);
     let nan = m.uint(f.width(), f.nan_bits());
-    let mut outs: Vec<(TermField, usize, Sig)> = Vec::new();
+    let mut terms = Vec::new();
     for j in 0..k {
         let b = m.name(b_lo[j], &format!("b_lo{j}"));
         let mag = m.and(b, abs_mask);
@@ -188,17 +180,17 @@ pub fn build(cfg: &Config) -> Module {
         debug_assert_eq!(dir.width(), DIR_WIDTH);
         let nl = m.name(no_lo[j], &format!("no_lo_raw{j}"));
         let nl = m.mux(invalid, nan, nl);
-        outs.push((TermField::NoLo, j, nl));
-        outs.push((TermField::RcpLo, j, r.get("down").expect("down")));
-        outs.push((TermField::RcpHi, j, r.get("up").expect("up")));
-        outs.push((TermField::Dir, j, dir));
+        terms.push(Terms {
+            no_lo: nl,
+            rcp_lo: r.get("down").expect("down"),
+            rcp_hi: r.get("up").expect("up"),
+            dir,
+        });
     }
     for _ in 0..plan.recip {
         m.stage();
     }
-    for (t, j, v) in outs {
-        m.output(&t.port(j), v);
-    }
+    ports::declare_outputs(&mut m, cfg, &CullRayOut { terms });
     m.finish()
         .expect("cull_ray generator is type-correct for every accepted configuration")
 }
@@ -239,18 +231,25 @@ mod tests {
             stages: 4,
         };
         let m = build(&c);
-        let ins: Vec<(String, u32)> = m
-            .data_inputs()
+        let ins: Vec<String> = m.data_inputs().iter().map(|p| p.name.clone()).collect();
+        let mut want: Vec<String> = ["o", "d", "r", "n0", "n1", "n2"]
             .iter()
-            .map(|p| (p.name.clone(), p.ty.width()))
+            .flat_map(|g| crate::units::xyz(g))
             .collect();
-        assert_eq!(ins, c.ray_inputs());
+        assert_eq!(ins, want);
         let outs: Vec<(String, u32)> = m
             .data_outputs()
             .iter()
             .map(|(p, _)| (p.name.clone(), p.ty.width()))
             .collect();
-        assert_eq!(outs, c.ray_outputs());
+        want = (0..3)
+            .flat_map(|j| ["no_lo", "rcp_lo", "rcp_hi", "dir"].map(|t| format!("{t}{j}")))
+            .collect();
+        let names: Vec<&String> = outs.iter().map(|(n, _)| n).collect();
+        assert_eq!(names, want.iter().collect::<Vec<_>>());
+        // ray format, crossing format (e8m18: plane fraction + 8 guard bits), 2-bit code
+        let widths: Vec<u32> = outs[..4].iter().map(|(_, w)| *w).collect();
+        assert_eq!(widths, [32, 27, 27, 2]);
         assert_eq!(m.name, "cull_ray_e8m23_pe5m10_k3_s4");
         assert_eq!(m.latency, 4);
     }

@@ -263,27 +263,23 @@ pub fn build(cfg: &Config) -> Module {
          the exit, entries raise the entry; every rounding widens the interval.",
     );
     cfg.describe_params(&mut m);
-    let ports: Vec<Sig> = cfg
-        .child_inputs()
-        .iter()
-        .map(|(name, w)| m.input(name, Ty::UInt(*w)))
-        .collect();
-    let at = cfg.child_ports();
-    let t_lo = ports[at.t_lo];
-    let t_hi = ports[at.t_hi];
-    let w: Vec<Sig> = at.w.iter().map(|&i| ports[i]).collect();
-    let term = |j: usize, t: TermField| ports[at.term(j, t)];
+    let CullIn {
+        t_lo,
+        t_hi,
+        w,
+        terms,
+    } = ports::declare_inputs(&mut m, cfg);
 
     // Step 1: classify.
     let mut bad = vec![is_nan(&mut m, f, t_lo), is_nan(&mut m, f, t_hi)];
     let pinf = m.uint(f.width(), f.inf_bits());
     for j in 0..k {
         bad.push(is_special(&mut m, pf, w[j]));
-        let no_lo = term(j, TermField::NoLo);
+        let no_lo = terms[j].no_lo;
         bad.push(is_nan(&mut m, f, no_lo));
         bad.push(m.eq(no_lo, pinf));
-        bad.push(is_nan(&mut m, cf, term(j, TermField::RcpLo)));
-        bad.push(is_nan(&mut m, cf, term(j, TermField::RcpHi)));
+        bad.push(is_nan(&mut m, cf, terms[j].rcp_lo));
+        bad.push(is_nan(&mut m, cf, terms[j].rcp_hi));
     }
     let invalid = any_of(&mut m, &bad, "invalid");
     let t_lo_neg = is_negative(&mut m, f, t_lo);
@@ -300,13 +296,13 @@ pub fn build(cfg: &Config) -> Module {
             &block,
             &[
                 ("w", w[j]),
-                ("no_lo", term(j, TermField::NoLo)),
-                ("rcp_lo", term(j, TermField::RcpLo)),
-                ("rcp_hi", term(j, TermField::RcpHi)),
+                ("no_lo", terms[j].no_lo),
+                ("rcp_lo", terms[j].rcp_lo),
+                ("rcp_hi", terms[j].rcp_hi),
             ],
         );
         qs.push(out.get("q").expect("q"));
-        let dir = term(j, TermField::Dir);
+        let dir = terms[j].dir;
         let c_exit = m.uint(DIR_WIDTH, DIR_EXIT);
         let c_entry = m.uint(DIR_WIDTH, DIR_ENTRY);
         let is_exit = m.eq(dir, c_exit);
@@ -374,9 +370,7 @@ pub fn build(cfg: &Config) -> Module {
     for _ in 0..plan.out {
         m.stage();
     }
-    for (name, v) in CHILD_OUTPUT_NAMES.into_iter().zip([keep, invalid]) {
-        m.output(name, v);
-    }
+    ports::declare_outputs(&mut m, cfg, &CullOut { keep, invalid });
     m.finish()
         .expect("cull generator is type-correct for every accepted configuration")
 }

@@ -42,7 +42,8 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::{port_at, port_at3, xyz, Description};
+use super::ports::{self, Record, Walk};
+use super::Description;
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
 use crate::arith::float::classify::{
@@ -114,38 +115,139 @@ pub struct Config {
     pub stages: u32,
 }
 
-/// The fields of one normal's ray terms: what `cull_ray` outputs and `cull`
-/// reads per plane, in port order (`no_lo<j>`, `rcp_lo<j>`, `rcp_hi<j>`, `dir<j>`).
+/// One normal's ray terms: what `cull_ray` outputs and `cull` reads per
+/// plane, in port order (`no_lo<j>`, `rcp_lo<j>`, `rcp_hi<j>`, `dir<j>`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TermField {
+pub struct Terms<T> {
     /// `≤ n·(o − r)`, ray format (NaN: invalid ray or normal)
-    NoLo = 0,
+    pub no_lo: T,
     /// `≤ 1/|b_lo|`, crossing format
-    RcpLo = 1,
+    pub rcp_lo: T,
     /// `≥ 1/|b_lo|`, crossing format
-    RcpHi = 2,
-    /// the sign of `b_lo` (`golden_model::cull::tester::Crossing::code`), UInt(2)
-    Dir = 3,
+    pub rcp_hi: T,
+    /// the sign of `b_lo` (`golden_model::cull::tester::Crossing::code`),
+    /// [`DIR_WIDTH`] bits
+    pub dir: T,
 }
 
-impl TermField {
-    /// Every field, in port order.
-    pub const ALL: [TermField; 4] = [
-        TermField::NoLo,
-        TermField::RcpLo,
-        TermField::RcpHi,
-        TermField::Dir,
-    ];
+impl<T: Copy> Terms<T> {
+    /// The ports of normal `j`'s terms; `of` reads them from a record.
+    fn walk<R>(
+        cfg: &Config,
+        j: usize,
+        w: &mut Walk<'_, T, R>,
+        of: impl Fn(&R) -> Terms<T> + Copy,
+    ) -> Self {
+        let ray = Ty::UInt(cfg.ray.width());
+        let crossing = Ty::UInt(cfg.crossing().width());
+        Terms {
+            no_lo: w.one(format_args!("no_lo{j}"), ray, move |r| of(r).no_lo),
+            rcp_lo: w.one(format_args!("rcp_lo{j}"), crossing, move |r| of(r).rcp_lo),
+            rcp_hi: w.one(format_args!("rcp_hi{j}"), crossing, move |r| of(r).rcp_hi),
+            dir: w.one(format_args!("dir{j}"), Ty::UInt(DIR_WIDTH), move |r| {
+                of(r).dir
+            }),
+        }
+    }
+}
 
-    /// The port name of this field of normal `j`.
-    pub fn port(self, j: usize) -> String {
-        let base = match self {
-            TermField::NoLo => "no_lo",
-            TermField::RcpLo => "rcp_lo",
-            TermField::RcpHi => "rcp_hi",
-            TermField::Dir => "dir",
-        };
-        format!("{base}{j}")
+/// The `cull` data inputs: `t_lo`, `t_hi` (ray format), `w<j>` (plane
+/// format) for every j, then per j the [`Terms`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CullIn<T> {
+    /// the box interval's entry
+    pub t_lo: T,
+    /// the box interval's exit
+    pub t_hi: T,
+    /// the child's plane distances
+    pub w: Vec<T>,
+    /// the parent's ray terms, per normal
+    pub terms: Vec<Terms<T>>,
+}
+
+impl<T: Copy> Record<T> for CullIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let k = cfg.k as usize;
+        let ray = Ty::UInt(cfg.ray.width());
+        let plane = Ty::UInt(cfg.plane.width());
+        CullIn {
+            t_lo: w.one("t_lo", ray, |r| r.t_lo),
+            t_hi: w.one("t_hi", ray, |r| r.t_hi),
+            w: (0..k)
+                .map(|j| w.one(format_args!("w{j}"), plane, move |r| r.w[j]))
+                .collect(),
+            terms: (0..k)
+                .map(|j| Terms::walk(cfg, j, w, move |r: &Self| r.terms[j]))
+                .collect(),
+        }
+    }
+}
+
+/// The `cull` data outputs: `keep invalid`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CullOut<T> {
+    /// the segment may meet the child's kept part (0 culls the child)
+    pub keep: T,
+    /// a NaN input, an infinite distance or `no_lo = +∞` (then `keep`)
+    pub invalid: T,
+}
+
+impl<T: Copy> Record<T> for CullOut<T> {
+    type Config = Config;
+    fn walk(_: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        CullOut {
+            keep: w.one("keep", Ty::Bool, |r| r.keep),
+            invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
+        }
+    }
+}
+
+/// The `cull_ray` data inputs: `o_*`, `d_*`, `r_*` (ray format), then
+/// `n<j>_*` (plane format).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CullRayIn<T> {
+    /// the ray's origin
+    pub o: [T; 3],
+    /// the ray's direction
+    pub d: [T; 3],
+    /// the parent box's lower corner
+    pub r: [T; 3],
+    /// the shared normals
+    pub n: Vec<[T; 3]>,
+}
+
+impl<T: Copy> Record<T> for CullRayIn<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        let ray = Ty::UInt(cfg.ray.width());
+        let plane = Ty::UInt(cfg.plane.width());
+        CullRayIn {
+            o: w.xyz("o", ray, |r| r.o),
+            d: w.xyz("d", ray, |r| r.d),
+            r: w.xyz("r", ray, |r| r.r),
+            n: (0..cfg.k as usize)
+                .map(|j| w.xyz(format_args!("n{j}"), plane, move |r| r.n[j]))
+                .collect(),
+        }
+    }
+}
+
+/// The `cull_ray` data outputs: per normal the [`Terms`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CullRayOut<T> {
+    /// per normal
+    pub terms: Vec<Terms<T>>,
+}
+
+impl<T: Copy> Record<T> for CullRayOut<T> {
+    type Config = Config;
+    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+        CullRayOut {
+            terms: (0..cfg.k as usize)
+                .map(|j| Terms::walk(cfg, j, w, move |r: &Self| r.terms[j]))
+                .collect(),
+        }
     }
 }
 
@@ -163,64 +265,6 @@ pub const DIR_ENTRY: u128 = 2;
 /// checked by the flow.
 pub const CROSSING_GUARD_BITS: u32 = 8;
 
-/// The `cull` data outputs in port order.
-pub const CHILD_OUTPUT_NAMES: [&str; 2] = ["keep", "invalid"];
-
-/// The positions of the `cull` unit's inputs, looked up by name (see
-/// [`Config::child_ports`]).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ChildPorts {
-    /// the box interval's entry `t_lo`
-    pub t_lo: usize,
-    /// the box interval's exit `t_hi`
-    pub t_hi: usize,
-    /// `w<j>`
-    pub w: Vec<usize>,
-    /// per normal, each [`TermField`]'s input
-    pub terms: Vec<[usize; 4]>,
-}
-
-/// The positions of the `cull_ray` unit's inputs and outputs, looked up by
-/// name (see [`Config::ray_ports`]).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct RayPorts {
-    /// origin `o_*`
-    pub o: [usize; 3],
-    /// direction `d_*`
-    pub d: [usize; 3],
-    /// the parent box's lower corner `r_*`
-    pub r: [usize; 3],
-    /// `n<j>_*`
-    pub n: Vec<[usize; 3]>,
-    /// per normal, each [`TermField`]'s output
-    pub terms: Vec<[usize; 4]>,
-}
-
-impl ChildPorts {
-    /// The input of field `t` of plane `j`.
-    pub fn term(&self, j: usize, t: TermField) -> usize {
-        self.terms[j][t as usize]
-    }
-}
-
-impl RayPorts {
-    /// The output of field `t` of normal `j`.
-    pub fn term(&self, j: usize, t: TermField) -> usize {
-        self.terms[j][t as usize]
-    }
-}
-
-fn port_names(ports: &[(String, u32)]) -> Vec<String> {
-    ports.iter().map(|(n, _)| n.clone()).collect()
-}
-
-/// Per normal `j < k`, the positions of its [`TermField`] ports.
-fn term_ports(names: &[String], k: usize) -> Vec<[usize; 4]> {
-    (0..k)
-        .map(|j| TermField::ALL.map(|t| port_at(names, &t.port(j))))
-        .collect()
-}
-
 impl Config {
     /// The crossing format `(E, min(F, Fp + CROSSING_GUARD_BITS))`: `b_lo`
     /// and the reciprocals.
@@ -228,15 +272,6 @@ impl Config {
         Format {
             exp_bits: self.ray.exp_bits,
             frac_bits: (self.plane.frac_bits + CROSSING_GUARD_BITS).min(self.ray.frac_bits),
-        }
-    }
-
-    /// The width of field `t`.
-    pub fn term_width(&self, t: TermField) -> u32 {
-        match t {
-            TermField::NoLo => self.ray.width(),
-            TermField::RcpLo | TermField::RcpHi => self.crossing().width(),
-            TermField::Dir => DIR_WIDTH,
         }
     }
 
@@ -259,68 +294,6 @@ impl Config {
             .param("plane_frac_bits", self.plane.frac_bits)
             .param("k", self.k)
             .param("stages", self.stages);
-    }
-
-    /// The `cull` data inputs (name, width), in port order: `t_lo`, `t_hi`,
-    /// `w<j>` for every j, then per j the [`TermField`]s.
-    pub fn child_inputs(&self) -> Vec<(String, u32)> {
-        let k = self.k as usize;
-        let mut v = vec![
-            ("t_lo".to_string(), self.ray.width()),
-            ("t_hi".to_string(), self.ray.width()),
-        ];
-        v.extend((0..k).map(|j| (format!("w{j}"), self.plane.width())));
-        for j in 0..k {
-            v.extend(TermField::ALL.map(|t| (t.port(j), self.term_width(t))));
-        }
-        v
-    }
-
-    /// The `cull_ray` data inputs (name, width), in port order: `o_*`,
-    /// `d_*`, `r_*` (ray format), then `n<j>_*` (plane format).
-    pub fn ray_inputs(&self) -> Vec<(String, u32)> {
-        let mut v = Vec::new();
-        for p in ["o", "d", "r"] {
-            v.extend(xyz(p).map(|n| (n, self.ray.width())));
-        }
-        for j in 0..self.k as usize {
-            v.extend(xyz(&format!("n{j}")).map(|n| (n, self.plane.width())));
-        }
-        v
-    }
-
-    /// The `cull_ray` data outputs (name, width), in port order: per
-    /// normal the [`TermField`]s.
-    pub fn ray_outputs(&self) -> Vec<(String, u32)> {
-        (0..self.k as usize)
-            .flat_map(|j| TermField::ALL.map(|t| (t.port(j), self.term_width(t))))
-            .collect()
-    }
-
-    /// Where each `cull` input is among [`Config::child_inputs`], by name.
-    pub fn child_ports(&self) -> ChildPorts {
-        let names = port_names(&self.child_inputs());
-        let k = self.k as usize;
-        ChildPorts {
-            t_lo: port_at(&names, "t_lo"),
-            t_hi: port_at(&names, "t_hi"),
-            w: (0..k).map(|j| port_at(&names, &format!("w{j}"))).collect(),
-            terms: term_ports(&names, k),
-        }
-    }
-
-    /// Where each `cull_ray` input is among [`Config::ray_inputs`] and each
-    /// output among [`Config::ray_outputs`], by name.
-    pub fn ray_ports(&self) -> RayPorts {
-        let names = port_names(&self.ray_inputs());
-        let k = self.k as usize;
-        RayPorts {
-            o: port_at3(&names, "o"),
-            d: port_at3(&names, "d"),
-            r: port_at3(&names, "r"),
-            n: (0..k).map(|j| port_at3(&names, &format!("n{j}"))).collect(),
-            terms: term_ports(&port_names(&self.ray_outputs()), k),
-        }
     }
 }
 
@@ -400,31 +373,6 @@ mod tests {
         assert_eq!(p4, want);
     }
 
-    #[test]
-    fn ports_by_name_cover_every_port_once() {
-        for k in 1..=8 {
-            let c = cfg(k);
-            let at = c.child_ports();
-            let mut seen: Vec<usize> = [at.t_lo, at.t_hi].into();
-            seen.extend(&at.w);
-            seen.extend(at.terms.iter().flatten());
-            seen.sort_unstable();
-            assert_eq!(seen, (0..c.child_inputs().len()).collect::<Vec<_>>());
-            assert_eq!(
-                c.child_inputs()[at.term(k as usize - 1, TermField::Dir)].0,
-                format!("dir{}", k - 1)
-            );
-            let at = c.ray_ports();
-            let mut seen: Vec<usize> = at.o.into_iter().chain(at.d).chain(at.r).collect();
-            seen.extend(at.n.iter().flatten());
-            seen.sort_unstable();
-            assert_eq!(seen, (0..c.ray_inputs().len()).collect::<Vec<_>>());
-            let mut outs: Vec<usize> = at.terms.iter().flatten().copied().collect();
-            outs.sort_unstable();
-            assert_eq!(outs, (0..c.ray_outputs().len()).collect::<Vec<_>>());
-        }
-    }
-
     /// Every encoding of the plane format through [`widen`] against the
     /// golden model's conversion (a NaN only has to stay a NaN): the
     /// normalising path, zero-padding alone, and the converter fallback.
@@ -468,7 +416,15 @@ mod tests {
             .iter()
             .map(|p| (p.name.clone(), p.ty.width()))
             .collect();
-        assert_eq!(names, c.child_inputs());
+        let mut want = vec![("t_lo".to_string(), 32), ("t_hi".to_string(), 32)];
+        want.extend((0..4).map(|j| (format!("w{j}"), 16)));
+        for j in 0..4 {
+            want.extend(
+                [("no_lo", 32), ("rcp_lo", 27), ("rcp_hi", 27), ("dir", 2)]
+                    .map(|(t, w)| (format!("{t}{j}"), w)),
+            );
+        }
+        assert_eq!(names, want);
         assert_eq!(m.name, "cull_e8m23_pe5m10_k4_s4");
         assert_eq!(m.latency, 4);
     }
