@@ -234,7 +234,7 @@ mod tests {
         let ins: Vec<String> = m.data_inputs().iter().map(|p| p.name.clone()).collect();
         let mut want: Vec<String> = ["o", "d", "r", "n0", "n1", "n2"]
             .iter()
-            .flat_map(|g| crate::units::xyz(g))
+            .flat_map(|g| crate::units::AXES.map(|a| format!("{g}_{a}")))
             .collect();
         assert_eq!(ins, want);
         let outs: Vec<(String, u32)> = m

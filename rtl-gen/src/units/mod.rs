@@ -62,28 +62,5 @@ pub trait Unit: Sync {
     fn build(&self, params: &Params) -> Result<Module, ParamError>;
 }
 
-/// Ports by name: the position of port `name` in a unit's list of input or
-/// output names (the order it declares them in), so neither the generator
-/// nor a testbench counts positions.
-pub fn port_at<S: AsRef<str>>(names: &[S], name: &str) -> usize {
-    names
-        .iter()
-        .position(|n| n.as_ref() == name)
-        .unwrap_or_else(|| {
-            let all: Vec<&str> = names.iter().map(|n| n.as_ref()).collect();
-            panic!("no port `{name}` (ports: {all:?})")
-        })
-}
-
 /// The axes of a vector, in port order.
 pub const AXES: [&str; 3] = ["x", "y", "z"];
-
-/// The port names of the vector `group`: `{group}_x`, `{group}_y`, `{group}_z`.
-pub fn xyz(group: &str) -> [String; 3] {
-    AXES.map(|a| format!("{group}_{a}"))
-}
-
-/// The positions of the vector ports [`xyz`]`(group)`.
-pub fn port_at3<S: AsRef<str>>(names: &[S], group: &str) -> [usize; 3] {
-    xyz(group).map(|n| port_at(names, &n))
-}

@@ -137,3 +137,71 @@ pub fn unpack<R: Record<u64>>(cfg: &R::Config, words: &[u64]) -> R {
         words[k - 1]
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::silhouette::{Config, Mode, Origin, Policy, SilhouetteIn, SilhouetteOut};
+
+    fn cfg(mode: Mode, origin: Origin) -> Config {
+        Config {
+            fmt: crate::arith::float::Format::new(5, 4).unwrap(),
+            mode,
+            origin,
+            policy: Policy::Conservative,
+            stages: 2,
+        }
+    }
+
+    fn names<R: Record<()>>(c: &R::Config) -> Vec<String> {
+        list::<R>(c).into_iter().map(|(n, _)| n).collect()
+    }
+
+    /// One walk gives the names, the positions and the packing: a ray's
+    /// upper bounds are its lower ones, a shared origin has no `o_hi`.
+    #[test]
+    fn names_positions_and_packing_follow_one_walk() {
+        let ray = cfg(Mode::Ray, Origin::Shared);
+        let names_ray = names::<SilhouetteIn<()>>(&ray);
+        assert_eq!(names_ray.len(), 14);
+        assert_eq!(&names_ray[6..9], ["o_x", "o_y", "o_z"]);
+        assert_eq!(names_ray[13], "t_max");
+        let at: SilhouetteIn<usize> = positions(&ray);
+        assert_eq!((at.o_lo, at.o_hi), ([6, 7, 8], [6, 7, 8]));
+        assert_eq!((at.d_lo, at.d_hi), ([9, 10, 11], [9, 10, 11]));
+        assert_eq!(at.t_min, 12);
+
+        let bounded = cfg(Mode::Bundle, Origin::Bounded);
+        assert_eq!(names::<SilhouetteIn<()>>(&bounded).len(), 20);
+        let shared = cfg(Mode::Bundle, Origin::Shared);
+        let words: Vec<u64> = (100..117).collect();
+        let rec: SilhouetteIn<u64> = unpack(&shared, &words);
+        assert_eq!(rec.o_hi, rec.o_lo);
+        assert_eq!(rec.d_hi, [112, 113, 114]);
+        let mut again = vec![0; words.len()];
+        pack(&shared, &rec, &mut again);
+        assert_eq!(again, words);
+
+        let outs = names::<SilhouetteOut<()>>(&ray);
+        assert_eq!(outs, ["hit", "nan", "invalid"]);
+        let out: SilhouetteOut<u64> = unpack(&ray, &[1, 0, 1]);
+        assert_eq!((out.any_hit, out.all_hit, out.invalid), (1, None, 1));
+    }
+
+    /// An output of another type than its port's is a generator bug.
+    #[test]
+    #[should_panic(expected = "output `hit` has the wrong type")]
+    fn an_output_of_the_wrong_type_panics() {
+        let ray = cfg(Mode::Ray, Origin::Shared);
+        let mut m = ModuleBuilder::new("wrong");
+        let x = m.input("x", Ty::UInt(3));
+        let out = SilhouetteOut {
+            all_hit: None,
+            any_hit: x,
+            nan: x,
+            invalid: x,
+            mixed_sign: None,
+        };
+        declare_outputs(&mut m, &ray, &out);
+    }
+}
