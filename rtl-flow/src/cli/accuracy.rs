@@ -14,14 +14,8 @@ pub(super) fn transform_accuracy(
     inverse: &str,
 ) -> Result<bool, FlowError> {
     use golden_model::transform::{accuracy, DotStyle};
-    let fmt = format
-        .strip_prefix('e')
-        .and_then(|r| r.split_once('m'))
-        .and_then(|(e, f)| Some((e.parse().ok()?, f.parse().ok()?)))
-        .ok_or_else(|| bad_usage(format!("--format {format}: expected eEmF, e.g. e8m23")))
-        .and_then(|(e, f)| {
-            golden_model::float::FloatFormat::new(e, f).map_err(|err| bad_usage(err.to_string()))
-        })?;
+    let fmt = golden_model::float::FloatFormat::from_name(format)
+        .map_err(|e| bad_usage(format!("--format {e}")))?;
     let styles = match dot {
         "all" => DotStyle::ALL.to_vec(),
         w => vec![DotStyle::parse(w)

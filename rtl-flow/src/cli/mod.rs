@@ -177,7 +177,7 @@ pub enum Command {
     /// Print the accuracy study of the inverse transform (seed 003, FIG. 7): conventional
     /// single inverse matrix against the two-step method, errors against the exact reference.
     TransformAccuracy {
-        /// Float format, eEmF (e.g. e8m23 = binary32).
+        /// Float format: eEmF (e.g. e8m23) or binary16, binary32, binary64, bfloat16.
         #[arg(long, default_value = "e8m23")]
         format: String,
         /// Dot-product style of the two-step method: separate, fma, dot3 or all.
