@@ -480,7 +480,7 @@ mod tests {
                 &given,
             )
             .unwrap();
-            let unit = rtl_gen::units::transform::Config::from_params(&p).unwrap();
+            let unit = rtl_gen::units::Description::config(&spec, &p).unwrap();
             let tb = TransformBench::new(&unit);
             let fmt = tb.cfg.fmt;
             let n_in = ports::list::<TransformIn<()>>(&unit).len();

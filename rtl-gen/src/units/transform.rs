@@ -289,25 +289,6 @@ impl<T: Copy> Record<T> for TransformOut<T> {
 }
 
 impl Config {
-    /// The configuration of resolved parameters, or why it cannot be built.
-    pub fn from_params(p: &Params) -> Result<Config, ParamError> {
-        let fmt = Format::new(p.u32("exp_bits"), p.u32("frac_bits"))
-            .map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
-        let dot = Dot::parse(p.word("dot"));
-        if dot == Dot::Wide {
-            wide_format(fmt).map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
-        }
-        Ok(Config {
-            fmt,
-            mode: Rounding::parse(p.word("round")).expect("declared choice"),
-            dot,
-            hw: p.word("inverse") == "hw",
-            full: p.word("throughput") == "full",
-            id_bits: p.u32("id_bits"),
-            stages: p.u32("stages"),
-        })
-    }
-
     /// The matrix inputs' name: `r` (`inverse=hw`) or `rinv` (pre-inverted).
     fn matrix(&self) -> &'static str {
         if self.hw {
@@ -738,7 +719,21 @@ impl Description for Transform {
     const SUMMARY: &'static str = "two-step inverse transform: world ray to model space, Rinv * (O - T) and Rinv * D (seed 003)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
     fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        Config::from_params(p)
+        let fmt = Format::new(p.u32("exp_bits"), p.u32("frac_bits"))
+            .map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
+        let dot = Dot::parse(p.word("dot"));
+        if dot == Dot::Wide {
+            wide_format(fmt).map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
+        }
+        Ok(Config {
+            fmt,
+            mode: Rounding::parse(p.word("round")).expect("declared choice"),
+            dot,
+            hw: p.word("inverse") == "hw",
+            full: p.word("throughput") == "full",
+            id_bits: p.u32("id_bits"),
+            stages: p.u32("stages"),
+        })
     }
     fn generate(&self, cfg: &Config) -> Module {
         build(cfg)

@@ -85,23 +85,6 @@ pub struct Config {
     pub stages: u32,
 }
 
-/// The configuration of `p`.
-pub fn config(p: &Params) -> Result<Config, ParamError> {
-    let fmt = super::float_ops::format(p, "triangle")?;
-    let full = match p.word("outputs") {
-        "full" => true,
-        "hit" => false,
-        other => unreachable!("outputs={other} passed the choice check"),
-    };
-    let round = Rounding::parse(p.word("round")).expect("round passed the choice check");
-    Ok(Config {
-        fmt,
-        round,
-        full,
-        stages: p.u32("stages"),
-    })
-}
-
 /// Module name.
 pub fn triangle_name(cfg: &Config) -> String {
     let out = if cfg.full { "full" } else { "hit" };
@@ -386,7 +369,19 @@ impl Description for Triangle {
     const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
     const PARAMS: &'static [ParamSpec] = PARAMS;
     fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        config(p)
+        let fmt = super::float_ops::format(p, "triangle")?;
+        let full = match p.word("outputs") {
+            "full" => true,
+            "hit" => false,
+            other => unreachable!("outputs={other} passed the choice check"),
+        };
+        let round = Rounding::parse(p.word("round")).expect("round passed the choice check");
+        Ok(Config {
+            fmt,
+            round,
+            full,
+            stages: p.u32("stages"),
+        })
     }
     fn generate(&self, cfg: &Config) -> Module {
         build(cfg)

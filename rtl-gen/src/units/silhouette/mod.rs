@@ -530,48 +530,43 @@ pub fn build(cfg: &Config) -> Module {
         .expect("silhouette generator is type-correct for every accepted configuration")
 }
 
-/// The configuration of resolved parameters, or why it cannot be built.
-pub fn config(p: &Params) -> Result<Config, ParamError> {
-    let fmt =
-        Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
-    // the golden model's reference products need (E + 2, 2F + 1)
-    exact_product_format(fmt).map_err(ParamError::Combination)?;
-    let mode = match p.word("mode") {
-        "ray" => Mode::Ray,
-        "bundle" => Mode::Bundle,
-        other => unreachable!("mode choice checked by the parameter table: {other}"),
-    };
-    let origin = match p.word("origin") {
-        "bounded" => Origin::Bounded,
-        "shared" => Origin::Shared,
-        other => unreachable!("origin choice checked by the parameter table: {other}"),
-    };
-    if mode == Mode::Ray && origin == Origin::Bounded {
-        return Err(ParamError::Combination(
-            "origin=bounded needs mode=bundle: a ray (mode=ray) has one origin o".into(),
-        ));
-    }
-    let policy = match p.word("rounding") {
-        "nearest" => Policy::Nearest,
-        "conservative" => Policy::Conservative,
-        other => unreachable!("rounding choice checked by the parameter table: {other}"),
-    };
-    Ok(Config {
-        fmt,
-        mode,
-        origin,
-        policy,
-        stages: p.u32("stages"),
-    })
-}
-
 impl Description for Silhouette {
     type Config = Config;
     const NAME: &'static str = "silhouette";
     const SUMMARY: &'static str = "silhouette-edge box tester: bundles (all_hit, any_hit, three-valued) or single rays (hit); exact product comparisons, conservative differences";
     const PARAMS: &'static [ParamSpec] = PARAMS;
     fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        config(p)
+        let fmt =
+            Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
+        // the golden model's reference products need (E + 2, 2F + 1)
+        exact_product_format(fmt).map_err(ParamError::Combination)?;
+        let mode = match p.word("mode") {
+            "ray" => Mode::Ray,
+            "bundle" => Mode::Bundle,
+            other => unreachable!("mode choice checked by the parameter table: {other}"),
+        };
+        let origin = match p.word("origin") {
+            "bounded" => Origin::Bounded,
+            "shared" => Origin::Shared,
+            other => unreachable!("origin choice checked by the parameter table: {other}"),
+        };
+        if mode == Mode::Ray && origin == Origin::Bounded {
+            return Err(ParamError::Combination(
+                "origin=bounded needs mode=bundle: a ray (mode=ray) has one origin o".into(),
+            ));
+        }
+        let policy = match p.word("rounding") {
+            "nearest" => Policy::Nearest,
+            "conservative" => Policy::Conservative,
+            other => unreachable!("rounding choice checked by the parameter table: {other}"),
+        };
+        Ok(Config {
+            fmt,
+            mode,
+            origin,
+            policy,
+            stages: p.u32("stages"),
+        })
     }
     fn generate(&self, cfg: &Config) -> Module {
         build(cfg)
