@@ -4,7 +4,7 @@
 //! comparisons the intersection units are made of. Two multiplier instances
 //! (hierarchy) feed a comparator; `stages` registers are spread over them.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::Description;
 use crate::arith::int::umul_module;
 use crate::builder::ModuleBuilder;
@@ -52,7 +52,7 @@ pub struct MulCmpIn<T> {
 
 impl<T: Copy> Record<T> for MulCmpIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let (ta, tb) = (Ty::UInt(cfg.a_width), Ty::UInt(cfg.b_width));
         MulCmpIn {
             a: w.one("a", ta, |r| r.a),
@@ -76,7 +76,7 @@ pub struct MulCmpOut<T> {
 
 impl<T: Copy> Record<T> for MulCmpOut<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         MulCmpOut {
             lt: w.one("lt", Ty::Bool, |r| r.lt),
             eq: w.one("eq", Ty::Bool, |r| r.eq),

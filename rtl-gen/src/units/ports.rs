@@ -9,11 +9,15 @@ use super::AXES;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::Ty;
 use std::fmt::Display;
+use std::marker::PhantomData;
 
-/// What a walk's visitor is given for each port: its name (formatted only
-/// where it is needed, so packing a vector allocates nothing), type, and
-/// the record's value when a record is read.
-type Visit<'a, T> = dyn FnMut(&dyn Display, Ty, Option<T>) -> T + 'a;
+/// A walk's visitor: given each port's name (formatted only where it is
+/// needed, so packing a vector allocates nothing), type, and the record's
+/// value when a record is read; returns the port's value. A type parameter,
+/// not a trait object, so packing compiles to plain loads and stores.
+pub trait Visit<T>: FnMut(&dyn Display, Ty, Option<T>) -> T {}
+
+impl<T, F: FnMut(&dyn Display, Ty, Option<T>) -> T> Visit<T> for F {}
 
 /// What a record's [`Record::walk`] visits its ports with, in port order.
 ///
@@ -21,12 +25,13 @@ type Visit<'a, T> = dyn FnMut(&dyn Display, Ty, Option<T>) -> T + 'a;
 /// visitor (an input it declares, a word it reads). Reading one (`from` is
 /// the record): each field's value is handed to the visitor (an output to
 /// declare, a word to write) and kept.
-pub struct Walk<'a, T, R> {
+pub struct Walk<'a, T, R, V> {
     from: Option<&'a R>,
-    visit: &'a mut Visit<'a, T>,
+    visit: V,
+    value: PhantomData<T>,
 }
 
-impl<T: Copy, R> Walk<'_, T, R> {
+impl<T: Copy, R, V: Visit<T>> Walk<'_, T, R, V> {
     /// Port `name` of type `ty` (a `&str`, or `format_args!` for a
     /// numbered port): the record's `field`.
     pub fn one(&mut self, name: impl Display, ty: Ty, field: impl Fn(&R) -> T) -> T {
@@ -38,10 +43,12 @@ impl<T: Copy, R> Walk<'_, T, R> {
     /// the record's `field`.
     pub fn xyz(&mut self, group: impl Display, ty: Ty, field: impl Fn(&R) -> [T; 3]) -> [T; 3] {
         let have = self.from.map(field);
-        [0, 1, 2].map(|i| {
+        let mut axis = |i: usize| {
             let name = format_args!("{group}_{}", AXES[i]);
             (self.visit)(&name, ty, have.map(|h| h[i]))
-        })
+        };
+        // not `[0, 1, 2].map(..)`: its closure is not inlined into a vector's packing
+        [axis(0), axis(1), axis(2)]
     }
 }
 
@@ -53,32 +60,27 @@ pub trait Record<T: Copy>: Sized {
     /// the record of the values it gave or kept. A field without a port in
     /// `cfg` takes the value the unit gives it (a ray's upper bounds are its
     /// lower ones) or `None`.
-    fn walk(cfg: &Self::Config, w: &mut Walk<'_, T, Self>) -> Self;
+    fn walk<V: Visit<T>>(cfg: &Self::Config, w: &mut Walk<'_, T, Self, V>) -> Self;
 }
 
-fn make<T: Copy, R: Record<T>>(
-    cfg: &R::Config,
-    mut visit: impl FnMut(&dyn Display, Ty, Option<T>) -> T,
-) -> R {
+fn make<T: Copy, R: Record<T>>(cfg: &R::Config, visit: impl Visit<T>) -> R {
     R::walk(
         cfg,
         &mut Walk {
             from: None,
-            visit: &mut visit,
+            visit,
+            value: PhantomData,
         },
     )
 }
 
-fn read<T: Copy, R: Record<T>>(
-    cfg: &R::Config,
-    rec: &R,
-    mut visit: impl FnMut(&dyn Display, Ty, Option<T>) -> T,
-) {
+fn read<T: Copy, R: Record<T>>(cfg: &R::Config, rec: &R, visit: impl Visit<T>) {
     R::walk(
         cfg,
         &mut Walk {
             from: Some(rec),
-            visit: &mut visit,
+            visit,
+            value: PhantomData,
         },
     );
 }

@@ -29,7 +29,7 @@
 //! differences (6), the products (5), min/max (or the parallel-slab select),
 //! the reduction tree and the final comparison.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::compare::compare;
@@ -162,7 +162,7 @@ pub struct SlabIn<T> {
 
 impl<T: Copy> Record<T> for SlabIn<T> {
     type Config = Format;
-    fn walk(fmt: &Format, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(fmt: &Format, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(fmt.width());
         SlabIn {
             p_min: w.xyz("p_min", ty, |r| r.p_min),
@@ -188,7 +188,7 @@ pub struct SlabOut<T> {
 
 impl<T: Copy> Record<T> for SlabOut<T> {
     type Config = Format;
-    fn walk(fmt: &Format, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(fmt: &Format, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(fmt.width());
         SlabOut {
             hit: w.one("hit", Ty::Bool, |r| r.hit),

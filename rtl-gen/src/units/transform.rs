@@ -23,7 +23,7 @@
 //! vector output is the canonical NaN: the first component of each vector
 //! entering an engine is replaced by NaN, and every row's dot product reads it.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::Description;
 use crate::arith::float::add::add_module;
 use crate::arith::float::classify::{is_special, is_zero};
@@ -208,7 +208,7 @@ pub struct TransformIn<T> {
 
 impl<T: Copy> Record<T> for TransformIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
         let (origin_or_vector, direction, is_origin) = if cfg.full {
             let o = w.xyz("ow", ty, |r| r.origin_or_vector);
@@ -268,7 +268,7 @@ pub struct TransformOut<T> {
 
 impl<T: Copy> Record<T> for TransformOut<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
         let (origin_or_vector, direction) = if cfg.full {
             let o = w.xyz("om", ty, |r| r.origin_or_vector);

@@ -31,7 +31,7 @@
 //! registers are placed by the delay model ([`crate::retime::balance`]), so
 //! `pipeline=plan` and `pipeline=balanced` give the same registers.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
 use crate::arith::float::add::add_module;
 use crate::arith::float::compare::compare;
@@ -119,7 +119,7 @@ pub struct TriangleIn<T> {
 
 impl<T: Copy> Record<T> for TriangleIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
         TriangleIn {
             o: w.xyz("o", ty, |r| r.o),
@@ -149,7 +149,7 @@ pub struct TriangleOut<T> {
 
 impl<T: Copy> Record<T> for TriangleOut<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
         let field =
             |k: usize| move |r: &Self| r.t_u_v.expect("a full unit's record has t, u, v")[k];

@@ -42,7 +42,7 @@
 //! Also here, shared with [`super::cull_ray`]: the parameters, the
 //! configuration and the port layout of both units.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::Description;
 use crate::arith::float::add::{add_raw, ADD_RAW_STEPS};
 use crate::arith::float::bits::add_const;
@@ -132,10 +132,10 @@ pub struct Terms<T> {
 
 impl<T: Copy> Terms<T> {
     /// The ports of normal `j`'s terms; `of` reads them from a record.
-    fn walk<R>(
+    fn walk<R, V: Visit<T>>(
         cfg: &Config,
         j: usize,
-        w: &mut Walk<'_, T, R>,
+        w: &mut Walk<'_, T, R, V>,
         of: impl Fn(&R) -> Terms<T> + Copy,
     ) -> Self {
         let ray = Ty::UInt(cfg.ray.width());
@@ -167,7 +167,7 @@ pub struct CullIn<T> {
 
 impl<T: Copy> Record<T> for CullIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let k = cfg.k as usize;
         let ray = Ty::UInt(cfg.ray.width());
         let plane = Ty::UInt(cfg.plane.width());
@@ -195,7 +195,7 @@ pub struct CullOut<T> {
 
 impl<T: Copy> Record<T> for CullOut<T> {
     type Config = Config;
-    fn walk(_: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(_: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         CullOut {
             keep: w.one("keep", Ty::Bool, |r| r.keep),
             invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
@@ -219,7 +219,7 @@ pub struct CullRayIn<T> {
 
 impl<T: Copy> Record<T> for CullRayIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ray = Ty::UInt(cfg.ray.width());
         let plane = Ty::UInt(cfg.plane.width());
         CullRayIn {
@@ -242,7 +242,7 @@ pub struct CullRayOut<T> {
 
 impl<T: Copy> Record<T> for CullRayOut<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         CullRayOut {
             terms: (0..cfg.k as usize)
                 .map(|j| Terms::walk(cfg, j, w, move |r: &Self| r.terms[j]))

@@ -42,7 +42,7 @@
 //! normalisation (1), the significand multipliers (2), the comparisons and
 //! the reduction. One register goes to the outputs first.
 
-use super::ports::{self, Record, Walk};
+use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
 use crate::arith::float::add::{add_module, ADD_RAW_STEPS};
 use crate::arith::float::add_down_up::add_down_up_module;
@@ -212,7 +212,7 @@ pub struct SilhouetteIn<T> {
 
 impl<T: Copy> Record<T> for SilhouetteIn<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
         let ray = cfg.ray();
         let p_min = w.xyz("p_min", ty, |r| r.p_min);
@@ -260,7 +260,7 @@ pub struct SilhouetteOut<T> {
 
 impl<T: Copy> Record<T> for SilhouetteOut<T> {
     type Config = Config;
-    fn walk(cfg: &Config, w: &mut Walk<'_, T, Self>) -> Self {
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let bundle_only = "a bundle's record has every output";
         if cfg.ray() {
             SilhouetteOut {
