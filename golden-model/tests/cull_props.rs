@@ -16,7 +16,7 @@ use golden_model::cull::exact::{region_hit, Dyadic, RegionIn};
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, CullOut, RayIn,
 };
-use golden_model::float::{add, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
+use golden_model::float::{add, nudge, ordered, sub, to_f64, FloatFormat, RoundingMode};
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -138,11 +138,7 @@ fn gen(f: FloatFormat, pf: FloatFormat, k: usize, rng: &mut Rng, kind: Kind) -> 
         } else {
             rand_val(f, rng, scale, 2)
         };
-        let (lo, hi) = if total_key(f, a) <= total_key(f, b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
+        let (lo, hi) = ordered(f, a, b);
         x.p_min[i] = lo;
         x.p_max[i] = hi;
     }

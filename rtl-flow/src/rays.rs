@@ -18,7 +18,7 @@
 
 use super::stimulus::VectorRng;
 use golden_model::float::random::{point_of_box, rand_box, rand_scale, rand_val, Random};
-use golden_model::float::{add, nudge, sub, to_f64, total_key, FloatFormat, RoundingMode};
+use golden_model::float::{add, nudge, ordered, sub, to_f64, total_key, FloatFormat, RoundingMode};
 use golden_model::silhouette::BundleIn;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -132,11 +132,7 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
             let pick = |rng: &mut VectorRng| from_f64(fmt, POOL[rng.below(8) as usize]);
             for i in 0..3 {
                 let (a, b) = (pick(rng), pick(rng));
-                let (a, b) = if total_key(fmt, a) <= total_key(fmt, b) {
-                    (a, b)
-                } else {
-                    (b, a)
-                };
+                let (a, b) = ordered(fmt, a, b);
                 c.p_min[i] = a;
                 c.p_max[i] = b;
                 c.o[i] = pick(rng);
@@ -150,11 +146,7 @@ pub fn gen_ray(fmt: FloatFormat, rng: &mut VectorRng, kind: Kind) -> RayCase {
             for i in 0..3 {
                 let a = from_f64(fmt, rng.unit() * 2.0 - 1.0);
                 let b = from_f64(fmt, rng.unit() * 2.0 - 1.0);
-                let (a, b) = if total_key(fmt, a) <= total_key(fmt, b) {
-                    (a, b)
-                } else {
-                    (b, a)
-                };
+                let (a, b) = ordered(fmt, a, b);
                 c.p_min[i] = a;
                 c.p_max[i] = b;
                 c.o[i] = from_f64(fmt, rng.unit() * 8.0 - 4.0);
@@ -274,11 +266,7 @@ pub fn bundle_of(
                 (sub(fmt, d, delta, RNE), add(fmt, d, delta, RNE))
             }
         };
-        let (mut lo, mut hi) = if total_key(fmt, lo) <= total_key(fmt, hi) {
-            (lo, hi)
-        } else {
-            (hi, lo)
-        };
+        let (mut lo, mut hi) = ordered(fmt, lo, hi);
         if allow_mixed && rng.chance(1, 10) {
             lo = nudge(fmt, fmt.zero(true), -(rng.below(3) as i64) - 1);
             hi = nudge(fmt, fmt.zero(false), rng.below(3) as i64 + 1);

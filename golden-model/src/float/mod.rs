@@ -44,7 +44,7 @@ pub use format::{FloatFormat, FormatError, RoundingMode};
 pub use min_max::{max, min};
 pub use mul::{mul, mul_generic};
 pub use mul_exact::{mul_exact, ExactProductFormat};
-pub use order::{between, from_f64, from_total_key, nudge, to_f64, total_key};
+pub use order::{between, from_f64, from_total_key, nudge, ordered, to_f64, total_key};
 pub use raw::{
     Class, RawFloat, RAW_CLASS_BITS, RAW_EXP_BITS, RAW_SIGN_BITS, RAW_SIG_BITS, RAW_STICKY_BITS,
     RAW_STICKY_MIN_EXTRA_BITS,

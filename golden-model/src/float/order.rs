@@ -46,6 +46,16 @@ pub const fn total_key(fmt: FloatFormat, bits: u64) -> i64 {
     }
 }
 
+/// `a` and `b` in [`total_key`] order (the smaller first; `a` first when
+/// they are the same value): the bounds of an interval drawn as two values.
+pub const fn ordered(fmt: FloatFormat, a: u64, b: u64) -> (u64, u64) {
+    if total_key(fmt, a) <= total_key(fmt, b) {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
 /// The encoding at position `k` of [`total_key`].
 pub const fn from_total_key(fmt: FloatFormat, k: i64) -> u64 {
     if k < 0 {

@@ -3,7 +3,7 @@
 //! random source ([`Random`]), so the same helper draws the caller's stream.
 
 use super::format::FloatFormat;
-use super::order::{self, from_f64, total_key};
+use super::order::{self, from_f64, ordered};
 
 /// A source of random bits.
 pub trait Random {
@@ -72,11 +72,7 @@ pub fn rand_box(fmt: FloatFormat, rng: &mut impl Random, scale: i32) -> ([u64; 3
         } else {
             rand_val(fmt, rng, scale, 2)
         };
-        (lo[i], hi[i]) = if total_key(fmt, a) <= total_key(fmt, b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
+        (lo[i], hi[i]) = ordered(fmt, a, b);
     }
     (lo, hi)
 }

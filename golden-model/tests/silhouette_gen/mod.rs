@@ -7,7 +7,7 @@ use golden_model::float::random;
 pub use golden_model::float::random::Random;
 pub use golden_model::float::random::{between, rand_scale, rand_val};
 use golden_model::float::{add, mul, sub, FloatFormat, RoundingMode};
-pub use golden_model::float::{nudge, to_f64, total_key};
+pub use golden_model::float::{nudge, ordered, to_f64, total_key};
 use golden_model::silhouette::BundleIn;
 
 /// splitmix64.
@@ -228,11 +228,7 @@ pub fn gen_bundle(
                 )
             }
         };
-        let (mut a, mut b) = if total_key(fmt, a) <= total_key(fmt, b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
+        let (mut a, mut b) = ordered(fmt, a, b);
         if !allow_mixed {
             // keep the sign of the centre (a zero centre stays a one-sided interval)
             let neg_centre = ray.d[i] & fmt.sign_bit() != 0;
