@@ -1,9 +1,9 @@
 //! A unit's ports as typed records: one `In` and one `Out` struct per unit,
 //! generic over what a port carries — a [`Sig`] in the generator, a `u64`
-//! word in a testbench, `()` for the list of names. The record's one
-//! [`Record::walk`] names its ports in order, so the module's ports, its
-//! `ports.json` and every testbench's packing come from the same lines and
-//! a port added to a unit cannot shift the others.
+//! word in a testbench, `usize` for positions, `()` for the list of names.
+//! The record's one [`Record::walk`] names its ports in order, so the
+//! module's ports, its `ports.json` and every testbench's packing come from
+//! the same lines and a port added to a unit cannot shift the others.
 
 use super::AXES;
 use crate::builder::{ModuleBuilder, Sig};
