@@ -109,7 +109,7 @@ const PARAMS: &[ParamSpec] = &[
 pub enum Mode {
     /// one ray: ports `o_*`, `d_*`; output `hit` (the conservative test)
     Ray,
-    /// a bundle: ports `o_lo_*` [`o_hi_*`], `d_lo_*`, `d_hi_*`; outputs
+    /// a bundle: ports `o_lo_*` (`o_hi_*` if bounded), `d_lo_*`, `d_hi_*`; outputs
     /// `all_hit`, `any_hit`, `mixed_sign`
     Bundle,
 }
