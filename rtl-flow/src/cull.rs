@@ -22,7 +22,7 @@
 //! with `no_lo` near `w`; 15 extreme scales and subnormal distances.
 
 use super::cull_ray::{from_f64, golden_config, parallel, scale, scene, tiny, Gen};
-use super::stimulus::{mask, specials, VectorRng};
+use super::stimulus::{specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{
     box_interval, eval, ray_terms, slab_reciprocal, ChildIn, Config, Crossing, NormalTerm, RayIn,
@@ -35,8 +35,6 @@ use rtl_gen::units::ports;
 pub struct CullBench {
     cfg: Config,
     unit: UnitConfig,
-    /// the width of each input port, in port order
-    widths: Vec<u32>,
 }
 
 /// `n·(p − r)` in binary64 (the stimulus needs distances near the points,
@@ -76,10 +74,6 @@ impl CullBench {
         CullBench {
             cfg: golden_config(unit),
             unit: *unit,
-            widths: ports::list::<CullIn<()>>(unit)
-                .iter()
-                .map(|(_, ty)| ty.width())
-                .collect(),
         }
     }
 
@@ -273,10 +267,8 @@ impl sim::Stimulus for CullBench {
         let mut rng = VectorRng::new(seed, index);
         let kind = index % 16;
         if kind == 12 {
-            for (x, &w) in v.iter_mut().zip(&self.widths) {
-                *x = rng.bits(w) & mask(w);
-            }
-            return;
+            let raw: CullIn<u64> = ports::from_fn(&self.unit, |ty| rng.bits(ty.width()));
+            return ports::pack(&self.unit, &raw, v);
         }
         let mut g = Gen { r: &mut rng };
         let s = if kind == 15 {

@@ -16,7 +16,7 @@
 //! 10 subnormal and signed-zero inputs throughout; 11 origins and corners
 //! near the top of the range (`o − r` overflows, `no_lo = ±∞`).
 
-use super::stimulus::{mask, specials, VectorRng};
+use super::stimulus::{specials, VectorRng};
 use super::Testbench;
 use golden_model::cull::tester::{ray_terms, Config, Crossing, NormalTerm, RayIn};
 use golden_model::float::{convert, nudge, to_f64, FloatFormat, RoundingMode};
@@ -249,8 +249,6 @@ pub(super) fn parallel(
 pub struct CullRayBench {
     cfg: Config,
     unit: UnitConfig,
-    /// the width of each input port, in port order
-    widths: Vec<u32>,
 }
 
 impl CullRayBench {
@@ -259,10 +257,6 @@ impl CullRayBench {
         CullRayBench {
             cfg: golden_config(unit),
             unit: *unit,
-            widths: ports::list::<CullRayIn<()>>(unit)
-                .iter()
-                .map(|(_, ty)| ty.width())
-                .collect(),
         }
     }
 
@@ -348,10 +342,8 @@ impl sim::Stimulus for CullRayBench {
         let mut rng = VectorRng::new(seed, index);
         let kind = index % 12;
         if kind == 9 {
-            for (x, &w) in v.iter_mut().zip(&self.widths) {
-                *x = rng.bits(w) & mask(w);
-            }
-            return;
+            let raw: CullRayIn<u64> = ports::from_fn(&self.unit, |ty| rng.bits(ty.width()));
+            return ports::pack(&self.unit, &raw, v);
         }
         let mut g = Gen { r: &mut rng };
         let s = if kind == 7 { 1.0 } else { scale(&mut g, f) };

@@ -121,11 +121,17 @@ pub fn pack<R: Record<u64>>(cfg: &R::Config, rec: &R, words: &mut [u64]) {
     })
 }
 
+/// The record whose ports take `value(ty)`, called once per port in port
+/// order (random words of each port's width, positions, a vector's words).
+pub fn from_fn<T: Copy, R: Record<T>>(cfg: &R::Config, mut value: impl FnMut(Ty) -> T) -> R {
+    make(cfg, |_, ty, _| value(ty))
+}
+
 /// Where each field's port is: the record of the ports' positions in port
 /// order.
 pub fn positions<R: Record<usize>>(cfg: &R::Config) -> R {
     let mut k = 0;
-    make(cfg, |_, _, _| {
+    from_fn(cfg, |_| {
         k += 1;
         k - 1
     })
@@ -134,7 +140,7 @@ pub fn positions<R: Record<usize>>(cfg: &R::Config) -> R {
 /// The record of the words in `words`, in port order.
 pub fn unpack<R: Record<u64>>(cfg: &R::Config, words: &[u64]) -> R {
     let mut k = 0;
-    make(cfg, |_, _, _| {
+    from_fn(cfg, |_| {
         k += 1;
         words[k - 1]
     })
