@@ -9,8 +9,6 @@ use rtl_gen::units::ports;
 /// random vectors mixing uniform operands, equal products (swapped or
 /// re-factored operands), products one apart, and small operands.
 pub struct MulCmpBench {
-    a_width: u32,
-    b_width: u32,
     corners_a: Vec<u64>,
     corners_b: Vec<u64>,
     unit: Config,
@@ -19,12 +17,9 @@ pub struct MulCmpBench {
 impl MulCmpBench {
     /// The testbench of a `mulcmp` configuration.
     pub fn new(u: &Config) -> Self {
-        let (a_width, b_width) = (u.a_width, u.b_width);
         MulCmpBench {
-            a_width,
-            b_width,
-            corners_a: unsigned_corners(a_width),
-            corners_b: unsigned_corners(b_width),
+            corners_a: unsigned_corners(u.a_width),
+            corners_b: unsigned_corners(u.b_width),
             unit: *u,
         }
     }
@@ -49,7 +44,7 @@ impl sim::Golden for MulCmpBench {
 
 impl sim::Stimulus for MulCmpBench {
     fn vector(&self, seed: u64, index: u64, v: &mut [u64]) {
-        let (aw, bw) = (self.a_width, self.b_width);
+        let (aw, bw) = (self.unit.a_width, self.unit.b_width);
         if index < self.corner_count() {
             let (na, nb) = (self.corners_a.len() as u64, self.corners_b.len() as u64);
             let mut k = index;

@@ -38,8 +38,6 @@ struct Case {
 /// The testbench of one `transform` configuration.
 pub struct TransformBench {
     cfg: Config,
-    full: bool,
-    id_bits: u32,
     instances: Vec<InstanceTransform>,
     rays: Vec<WorldRay>,
     unit: unit::Config,
@@ -66,8 +64,6 @@ impl TransformBench {
         };
         let mut bench = TransformBench {
             cfg,
-            full: u.full,
-            id_bits: u.id_bits,
             instances: Vec::new(),
             rays: Vec::new(),
             unit: *u,
@@ -187,7 +183,7 @@ impl TransformBench {
             dir: d,
             t_min: f(0.0),
             t_max: fmt.inf(false),
-            id: 0x5a5a_5a5a_5a5a_5a5a & mask(self.id_bits),
+            id: 0x5a5a_5a5a_5a5a_5a5a & mask(self.unit.id_bits),
         };
         let mut v = vec![
             ray([0; 3], [f(1.0), 0, 0]),
@@ -202,7 +198,7 @@ impl TransformBench {
         let mut r = ray([f(0.5); 3], [f(0.25); 3]);
         r.t_min = fmt.canonical_nan() | fmt.sign_bit() | 1;
         r.t_max = fmt.sign_bit();
-        r.id = mask(self.id_bits);
+        r.id = mask(self.unit.id_bits);
         v.push(r);
         v
     }
@@ -235,7 +231,7 @@ impl TransformBench {
 
     fn corner_count(&self) -> u64 {
         let n = self.instances.len() as u64 * self.rays_per_instance();
-        if self.full {
+        if self.unit.full {
             n
         } else {
             2 * n
@@ -243,7 +239,7 @@ impl TransformBench {
     }
 
     fn corner(&self, index: u64) -> Case {
-        let (index, is_origin) = if self.full {
+        let (index, is_origin) = if self.unit.full {
             (index, true)
         } else {
             (index / 2, index.is_multiple_of(2))
@@ -314,7 +310,7 @@ impl TransformBench {
             dir,
             t_min: from_f64(fmt, range(&mut rng, 0.0, 1.0)),
             t_max: from_f64(fmt, 10f64.powf(range(&mut rng, 0.0, 6.0))),
-            id: rng.bits(self.id_bits),
+            id: rng.bits(self.unit.id_bits),
         };
         // one vector in eight: one input replaced by a special value or random bits
         if rng.below(8) == 0 {
@@ -352,7 +348,7 @@ impl TransformBench {
 
     /// Packs a case in the unit's input port order.
     fn pack(&self, c: &Case, v: &mut [u64]) {
-        let (origin_or_vector, direction) = match (self.full, c.is_origin) {
+        let (origin_or_vector, direction) = match (self.unit.full, c.is_origin) {
             (true, _) => (c.ray.origin, Some(c.ray.dir)),
             (false, true) => (c.ray.origin, None),
             (false, false) => (c.ray.dir, None),
@@ -363,7 +359,7 @@ impl TransformBench {
             is_origin: Some(c.is_origin as u64),
             t_min: c.ray.t_min,
             t_max: c.ray.t_max,
-            id: c.ray.id & mask(self.id_bits),
+            id: c.ray.id & mask(self.unit.id_bits),
             linear: c.inst.linear,
             translation: c.inst.translation,
             rotation_hint: Some(c.inst.rotation_hint as u64),
@@ -395,7 +391,10 @@ impl TransformBench {
     /// The input ports of one transaction of a full-throughput unit (origin
     /// and direction together: the renderer's call of `transform`).
     pub fn to_ports(&self, ray: &WorldRay, inst: &InstanceTransform, v: &mut [u64]) {
-        assert!(self.full, "one transaction per ray needs throughput=full");
+        assert!(
+            self.unit.full,
+            "one transaction per ray needs throughput=full"
+        );
         self.pack(
             &Case {
                 ray: *ray,
@@ -410,7 +409,7 @@ impl TransformBench {
     /// half throughput).
     fn outputs_of(&self, m: &ModelRay, is_origin: bool, outputs: &mut [u64]) {
         let record = TransformOut {
-            origin_or_vector: if self.full || is_origin {
+            origin_or_vector: if self.unit.full || is_origin {
                 m.origin
             } else {
                 m.dir
@@ -427,7 +426,10 @@ impl TransformBench {
     /// The model ray of a full-throughput unit's output ports (the inverse
     /// of the golden side's packing).
     pub fn model_ray_from_ports(&self, out: &[u64]) -> ModelRay {
-        assert!(self.full, "one transaction per ray needs throughput=full");
+        assert!(
+            self.unit.full,
+            "one transaction per ray needs throughput=full"
+        );
         let r: TransformOut<u64> = ports::unpack(&self.unit, out);
         ModelRay {
             origin: r.origin_or_vector,

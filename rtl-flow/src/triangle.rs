@@ -23,7 +23,6 @@ pub struct TriangleBench {
     unit: Config,
     fmt: FloatFormat,
     mode: RoundingMode,
-    full: bool,
 }
 
 /// Input values per transaction.
@@ -42,7 +41,6 @@ impl TriangleBench {
             fmt: FloatFormat::new(cfg.fmt.exp_bits, cfg.fmt.frac_bits)
                 .expect("format checked by the unit"),
             mode: super::fstim::golden_mode(cfg.round),
-            full: cfg.full,
         }
     }
 
@@ -231,7 +229,7 @@ impl TriangleBench {
     }
     /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
     pub fn full(&self) -> bool {
-        self.full
+        self.unit.full
     }
 }
 
