@@ -407,6 +407,32 @@ mod tests {
         }
     }
 
+    /// For every k, each record names every port once: 2 + 5k `cull`
+    /// inputs ending in `dir<k-1>`, 9 + 3k `cull_ray` inputs, 4k outputs.
+    #[test]
+    fn records_name_every_port_once() {
+        use crate::units::ports::list;
+        for k in 1..=8 {
+            let c = cfg(k);
+            let k = k as usize;
+            let names = |ports: Vec<(String, Ty)>| -> Vec<String> {
+                let names: Vec<String> = ports.into_iter().map(|(n, _)| n).collect();
+                let mut unique = names.clone();
+                unique.sort();
+                unique.dedup();
+                assert_eq!(unique.len(), names.len(), "{names:?}");
+                names
+            };
+            let child = names(list::<CullIn<()>>(&c));
+            assert_eq!(child.len(), 2 + 5 * k);
+            assert_eq!(child.last(), Some(&format!("dir{}", k - 1)));
+            assert_eq!(names(list::<CullRayIn<()>>(&c)).len(), 9 + 3 * k);
+            let outs = names(list::<CullRayOut<()>>(&c));
+            assert_eq!(outs.len(), 4 * k);
+            assert_eq!(outs.last(), Some(&format!("dir{}", k - 1)));
+        }
+    }
+
     #[test]
     fn module_ports_follow_the_layout() {
         let c = cfg(4);
