@@ -298,8 +298,7 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
         conns.push((p.name.clone(), v));
         at += n;
     }
-    let conn_refs: Vec<(&str, Sig)> = conns.iter().map(|(n, s)| (n.as_str(), *s)).collect();
-    let outs = m.instance("u_unit", unit, &conn_refs);
+    let outs = m.instance("u_unit", unit, &conns);
     // the unit's outputs belong to stage `latency`; the send side lives there
     for _ in 0..hs.latency {
         m.stage();

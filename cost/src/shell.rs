@@ -43,9 +43,7 @@ pub fn timing_shell(unit: &Module) -> Result<Module, BuildErrors> {
         let v = m.cast(r.q, port.ty);
         conns.push((port.name.clone(), v));
     }
-    let refs: Vec<(&str, rtl_gen::builder::Sig)> =
-        conns.iter().map(|(n, s)| (n.as_str(), *s)).collect();
-    let outs = m.instance("u_dut", &unit, &refs);
+    let outs = m.instance("u_dut", &unit, &conns);
     for _ in 0..unit.latency {
         m.stage();
     }

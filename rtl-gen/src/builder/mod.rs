@@ -569,14 +569,15 @@ impl ModuleBuilder {
         r.enable = enable;
     }
 
-    /// Instantiates `module`, connecting its data inputs by name. Its outputs
-    /// belong to the stage `latency` cycles after the current one.
+    /// Instantiates `module`, connecting its data inputs by name (`&str` or
+    /// `String`). Its outputs belong to the stage `latency` cycles after the
+    /// current one.
     #[track_caller]
     pub fn instance(
         &mut self,
         name: &str,
         module: &Arc<Module>,
-        inputs: &[(&str, Sig)],
+        inputs: &[(impl AsRef<str>, Sig)],
     ) -> InstanceOutputs {
         if !is_identifier(name) {
             self.error(name, "instance name is not a Verilog identifier");
@@ -584,7 +585,7 @@ impl ModuleBuilder {
         let stage = self.current_stage;
         let mut connected = Vec::with_capacity(module.inputs.len());
         for port in &module.inputs {
-            let found = inputs.iter().find(|(n, _)| *n == port.name);
+            let found = inputs.iter().find(|(n, _)| n.as_ref() == port.name);
             let id = match found {
                 Some((_, s)) if s.ty == port.ty => self.at_stage(s.id, stage),
                 Some((_, s)) => {
@@ -602,7 +603,8 @@ impl ModuleBuilder {
             connected.push(id);
         }
         for (n, _) in inputs {
-            if !module.inputs.iter().any(|p| p.name == *n) {
+            let n = n.as_ref();
+            if !module.inputs.iter().any(|p| p.name == n) {
                 self.error(
                     format!("{name}.{n}"),
                     format!("module {} has no such input", module.name),

@@ -361,8 +361,7 @@ pub fn wrap(op: Arc<Module>) -> Module {
         .iter()
         .map(|p| (p.name.clone(), m.input(&p.name, p.ty)))
         .collect();
-    let conn: Vec<(&str, _)> = ins.iter().map(|(n, s)| (n.as_str(), *s)).collect();
-    let outs = m.instance("u_op", &op, &conn);
+    let outs = m.instance("u_op", &op, &ins);
     let outs: Vec<_> = op
         .outputs
         .iter()

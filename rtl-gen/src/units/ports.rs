@@ -109,6 +109,18 @@ pub fn declare_outputs<R: Record<Sig>>(m: &mut ModuleBuilder, cfg: &R::Config, o
     })
 }
 
+/// The record's ports by name with their values, in port order: the
+/// connections of an instance of a module whose inputs the record declared.
+pub fn connections<R: Record<Sig>>(cfg: &R::Config, rec: &R) -> Vec<(String, Sig)> {
+    let mut named = Vec::new();
+    read(cfg, rec, |name, _, value| {
+        let value = value.expect("reading a record gives every value");
+        named.push((name.to_string(), value));
+        value
+    });
+    named
+}
+
 /// Writes the record's words into `words` in port order (a vector's inputs,
 /// or the golden model's outputs).
 pub fn pack<R: Record<u64>>(cfg: &R::Config, rec: &R, words: &mut [u64]) {

@@ -30,22 +30,14 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
          AllHit (n up, x down)."
     });
     cfg.describe_params(&mut m, stages);
-    let ty = Ty::UInt(f.width());
-    let p_min = m.input("p_min", ty);
-    let p_max = m.input("p_max", ty);
-    let (o_lo, o_hi, d_lo, d_hi) = if cfg.ray() {
-        let o = m.input("o", ty);
-        let d = m.input("d", ty);
-        (o, o, d, d)
-    } else {
-        let o_lo = m.input("o_lo", ty);
-        let o_hi = if cfg.bounded() {
-            m.input("o_hi", ty)
-        } else {
-            o_lo
-        };
-        (o_lo, o_hi, m.input("d_lo", ty), m.input("d_hi", ty))
-    };
+    let AxisIn {
+        p_min,
+        p_max,
+        o_lo,
+        o_hi,
+        d_lo,
+        d_hi,
+    } = ports::declare_inputs(&mut m, cfg);
 
     // Classify the direction interval (by value: -0 is not negative).
     let neg = is_negative(&mut m, f, d_lo);

@@ -242,6 +242,70 @@ impl<T: Copy> Record<T> for SilhouetteIn<T> {
     }
 }
 
+impl<T: Copy> SilhouetteIn<T> {
+    /// The box, origin and direction bounds of axis `i`: the axis block's
+    /// inputs.
+    pub fn axis(&self, i: usize) -> AxisIn<T> {
+        AxisIn {
+            p_min: self.p_min[i],
+            p_max: self.p_max[i],
+            o_lo: self.o_lo[i],
+            o_hi: self.o_hi[i],
+            d_lo: self.d_lo[i],
+            d_hi: self.d_hi[i],
+        }
+    }
+}
+
+/// The axis block's inputs: one axis of [`SilhouetteIn`], the same ports
+/// without the axis suffix (ray `p_min p_max o d`; bundle `p_min p_max o_lo
+/// [o_hi if bounded] d_lo d_hi`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisIn<T> {
+    /// the box's lower bound
+    pub p_min: T,
+    /// the box's upper bound
+    pub p_max: T,
+    /// the origins' lower bound (a ray's origin)
+    pub o_lo: T,
+    /// the origins' upper bound
+    pub o_hi: T,
+    /// the directions' lower bound (a ray's direction)
+    pub d_lo: T,
+    /// the directions' upper bound
+    pub d_hi: T,
+}
+
+impl<T: Copy> Record<T> for AxisIn<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let ray = cfg.ray();
+        let p_min = w.one("p_min", ty, |r| r.p_min);
+        let p_max = w.one("p_max", ty, |r| r.p_max);
+        let o_lo = w.one(if ray { "o" } else { "o_lo" }, ty, |r| r.o_lo);
+        let o_hi = if cfg.bounded() {
+            w.one("o_hi", ty, |r| r.o_hi)
+        } else {
+            o_lo
+        };
+        let d_lo = w.one(if ray { "d" } else { "d_lo" }, ty, |r| r.d_lo);
+        let d_hi = if ray {
+            d_lo
+        } else {
+            w.one("d_hi", ty, |r| r.d_hi)
+        };
+        AxisIn {
+            p_min,
+            p_max,
+            o_lo,
+            o_hi,
+            d_lo,
+            d_hi,
+        }
+    }
+}
+
 /// The data outputs. Ray: `hit nan invalid` (`hit` is `any_hit`); bundle:
 /// `all_hit any_hit nan invalid mixed_sign`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -362,6 +426,7 @@ pub fn build(cfg: &Config) -> Module {
     });
     cfg.describe_params(&mut m, cfg.stages);
     let bounded = cfg.bounded();
+    let inputs: SilhouetteIn<Sig> = ports::declare_inputs(&mut m, cfg);
     let SilhouetteIn {
         p_min,
         p_max,
@@ -371,7 +436,7 @@ pub fn build(cfg: &Config) -> Module {
         d_hi,
         t_min,
         t_max,
-    } = ports::declare_inputs(&mut m, cfg);
+    } = inputs;
 
     // Step 1: classify the inputs (no arithmetic).
     let mut read: Vec<Sig> = Vec::new();
@@ -432,22 +497,12 @@ pub fn build(cfg: &Config) -> Module {
 
     // Steps 2 and 3: per axis, mirror and form the numerators.
     let axis = axis_module(cfg, plan.diff);
-    let mut axis_out = Vec::new();
-    for i in 0..3 {
-        let mut ins = vec![("p_min", p_min[i]), ("p_max", p_max[i])];
-        if cfg.ray() {
-            ins.push(("o", o_lo[i]));
-            ins.push(("d", d_lo[i]));
-        } else {
-            ins.push(("o_lo", o_lo[i]));
-            ins.push(("d_lo", d_lo[i]));
-            ins.push(("d_hi", d_hi[i]));
-            if bounded {
-                ins.push(("o_hi", o_hi[i]));
-            }
-        }
-        axis_out.push(m.instance(&format!("u_axis_{}", AXES[i]), &axis, &ins));
-    }
+    let axis_out: Vec<InstanceOutputs> = (0..3)
+        .map(|i| {
+            let ins = ports::connections(cfg, &inputs.axis(i));
+            m.instance(&format!("u_axis_{}", AXES[i]), &axis, &ins)
+        })
+        .collect();
     for _ in 0..plan.diff {
         m.stage();
     }
@@ -468,13 +523,12 @@ pub fn build(cfg: &Config) -> Module {
             ("b", "b"),
         ]
     };
-    let names: Vec<(String, Sig)> = (0..3)
+    let mut ins: Vec<(String, Sig)> = (0..3)
         .flat_map(|i| wiring.iter().map(move |&(to, from)| (i, to, from)))
         .map(|(i, to, from)| (format!("{to}_{}", AXES[i]), g(i, from)))
         .collect();
-    let mut ins: Vec<(&str, Sig)> = names.iter().map(|(n, s)| (n.as_str(), *s)).collect();
-    ins.push(("t_min", t_min));
-    ins.push(("t_max", t_max));
+    ins.push(("t_min".into(), t_min));
+    ins.push(("t_max".into(), t_max));
     let passes = m.instance("u_tests", &tests, &ins);
     for _ in 0..plan.norm + plan.product + plan.compare {
         m.stage();
