@@ -123,7 +123,7 @@ fn check(test: &str, configs: &[(&str, &[&str])]) {
     };
     let g = Generated {
         unit: format!("float_{test}"),
-        params: Params::resolve("float", &[], &[]).unwrap(),
+        params: Params::defaults(&[]),
         module,
         files,
         ports,

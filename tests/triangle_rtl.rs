@@ -41,13 +41,16 @@ fn params(c: &Case) -> Vec<String> {
 
 #[test]
 fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
-    use rtl_gen::units::Unit;
+    use rtl_gen::params::ParamSet;
+    use rtl_gen::units::triangle::{Triangle, TriangleParams};
+    use rtl_gen::units::Description;
     for &(e, f) in &[(8u32, 23u32), (5, 6)] {
-        let given = [format!("exp_bits={e}"), format!("frac_bits={f}")];
-        let unit = rtl_gen::units::triangle::Triangle;
-        let p = rtl_gen::params::Params::resolve("triangle", unit.params(), &given)
-            .expect("valid parameters");
-        let bench = TriangleBench::new(&rtl_flow::configured(&unit, &p));
+        let p = TriangleParams {
+            exp_bits: e,
+            frac_bits: f,
+            ..TriangleParams::defaults()
+        };
+        let bench = TriangleBench::new(&Triangle.config(&p).expect("valid parameters"));
         let fmt = FloatFormat::new(e, f).expect("format");
         let (mut hits, mut invalid, mut misses, mut repeated) = (0u32, 0u32, 0u32, 0u32);
         let n = 20_000;

@@ -11,6 +11,7 @@ pub mod cull_ray;
 pub mod float_ops;
 pub mod fstim;
 pub mod mulcmp;
+pub mod params;
 pub mod rays;
 pub mod regress;
 pub mod report;
@@ -21,9 +22,10 @@ pub mod testfloat;
 pub mod transform;
 pub mod triangle;
 
+use params::{Dsp, FlowParams, Pipeline};
 use rtl_gen::emit::{emit, VerilogFile};
 use rtl_gen::ir::{control, Module, Ty};
-use rtl_gen::params::{ParamError, ParamKind, ParamSpec, Params};
+use rtl_gen::params::{ParamError, ParamSet, ParamSpec, Params};
 use rtl_gen::units::{self, Description, Unit};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -77,7 +79,7 @@ macro_rules! entry {
         Entry {
             unit: &$op,
             testbench: |p| {
-                let c = $op.config(p).expect("parameters the operator accepted");
+                let c = $op.configured(p).expect("parameters the operator accepted");
                 Box::new(float_ops::FloatOpBench::new(&c))
             },
         }
@@ -87,7 +89,7 @@ macro_rules! entry {
 /// The configuration of parameters the unit has accepted (a testbench is
 /// made only for a unit that was built from the same parameters).
 pub fn configured<D: Description>(unit: &D, p: &Params) -> D::Config {
-    unit.config(p)
+    unit.config(&D::Params::from_params(p))
         .unwrap_or_else(|e| panic!("{}: parameters the unit accepted: {e}", D::NAME))
 }
 
@@ -198,34 +200,10 @@ fn port_width(ty: Ty) -> u32 {
     ty.width()
 }
 
-/// The parameter every unit takes besides its own: where its pipeline
-/// registers go (`rtl_gen::retime`).
-pub const PIPELINE: ParamSpec = ParamSpec {
-    name: "pipeline",
-    doc: "register placement: plan (the unit's own per-step plan, hierarchical) or balanced \
-          (the combinational datapath, flattened, cut into `stages` stages of equal modelled \
-          delay: one module, a shorter clock period)",
-    kind: ParamKind::Choice(&["plan", "balanced"]),
-    default: "plan",
-};
-
-/// The parameter every unit takes besides its own: whether registered
-/// products use an FPGA's hard DSP registers (`rtl_gen::retime::hard_dsp`).
-pub const DSP: ParamSpec = ParamSpec {
-    name: "dsp",
-    doc: "multiplier blocks: infer (plain `*`, any synthesis tool maps it) or ecp5 (each \
-          registered product of at most 18x18 bits written as an ECP5 MULT18X18D with its own \
-          output register, so the route back from the DSP row is a path of its own; Verilog \
-          for ECP5 synthesis, same function and latency)",
-    kind: ParamKind::Choice(&["infer", "ecp5"]),
-    default: "infer",
-};
-
-/// Every parameter of `entry`: its own and the flow's [`PIPELINE`] and [`DSP`].
+/// Every parameter of `entry`: its own and the flow's ([`FlowParams`]).
 pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
     let mut specs = entry.unit.params().to_vec();
-    specs.push(PIPELINE);
-    specs.push(DSP);
+    specs.extend_from_slice(FlowParams::SPECS);
     specs
 }
 
@@ -238,26 +216,23 @@ pub fn param_specs(entry: &Entry) -> Vec<ParamSpec> {
 pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
     let entry = find(unit)?;
     let specs = param_specs(&entry);
-    let params = Params::resolve(unit, &specs, given)?;
+    let params = params::resolve(unit, &specs, given)?;
+    let flow = FlowParams::from_params(&params);
     let mut module = entry.unit.build(&params)?;
     let mut balance = None;
-    if params.word(PIPELINE.name) == "balanced" {
-        if !specs.iter().any(|s| s.name == "stages") {
-            return Err(ParamError::Combination(format!(
+    if flow.pipeline == Pipeline::Balanced {
+        let datapath = entry.unit.build_datapath(&params)?.ok_or_else(|| {
+            ParamError::Combination(format!(
                 "unit `{unit}` has no `stages`: pipeline=balanced does not apply"
             ))
-            .into());
-        }
-        let mut comb = given.to_vec();
-        comb.push("stages=0".into());
-        let datapath = entry.unit.build(&Params::resolve(unit, &specs, &comb)?)?;
-        let (mut balanced, report) = rtl_gen::retime::balance(&datapath, params.u32("stages"))
+        })?;
+        let (mut balanced, report) = rtl_gen::retime::balance(&datapath, module.latency)
             .map_err(|e| ParamError::Combination(format!("pipeline=balanced: {e}")))?;
         balanced.name = format!("{}_bal", module.name);
         balanced.params = module.params.clone();
         balanced
             .params
-            .insert(PIPELINE.name.into(), "balanced".into());
+            .insert("pipeline".into(), flow.pipeline.word().into());
         balanced.description = format!(
             "{} Registers placed by rtl-gen's delay model (pipeline=balanced): modelled period {:.1} LUT levels.",
             module.description, report.period
@@ -265,7 +240,7 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
         module = balanced;
         balance = Some(report);
     }
-    if params.word(DSP.name) == "ecp5" {
+    if flow.dsp == Dsp::Ecp5 {
         let (hard, done) = rtl_gen::retime::hard_dsp::ecp5_hard_registers(&module);
         if done.products == 0 {
             return Err(ParamError::Combination(format!(
@@ -276,7 +251,7 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
             .into());
         }
         module = hard;
-        module.params.insert(DSP.name.into(), "ecp5".into());
+        module.params.insert("dsp".into(), flow.dsp.word().into());
         module.description = format!(
             "{} {} products in ECP5 MULT18X18D blocks with their output registers (dsp=ecp5).",
             module.description, done.products

@@ -473,15 +473,16 @@ mod tests {
     /// results, exact zeros (origin at `T`) and, with `inverse=hw`, the hint.
     #[test]
     fn stimulus_covers_flag_specials_and_hint() {
-        for given in [&["inverse=pre"][..], &["inverse=hw", "throughput=half"][..]] {
-            let given: Vec<String> = given.iter().map(|s| s.to_string()).collect();
+        use rtl_gen::params::ParamSet;
+        use rtl_gen::units::transform::{Inverse, Throughput, TransformParams};
+        let pre = TransformParams::defaults();
+        let hw_half = TransformParams {
+            inverse: Inverse::Hw,
+            throughput: Throughput::Half,
+            ..pre
+        };
+        for p in [pre, hw_half] {
             let spec = rtl_gen::units::transform::Transform;
-            let p = rtl_gen::params::Params::resolve(
-                "transform",
-                rtl_gen::units::Unit::params(&spec),
-                &given,
-            )
-            .unwrap();
             let unit = rtl_gen::units::Description::config(&spec, &p).unwrap();
             let tb = TransformBench::new(&unit);
             let fmt = tb.cfg.fmt;
@@ -516,7 +517,7 @@ mod tests {
             }
             let pct = |x: u64| 100.0 * x as f64 / total as f64;
             eprintln!(
-                "{given:?}: corners {}, singular {:.1}%, NaN without flag {:.1}%, inf {:.1}%, zero vector {:.1}%, hint {:.1}%",
+                "{p:?}: corners {}, singular {:.1}%, NaN without flag {:.1}%, inf {:.1}%, zero vector {:.1}%, hint {:.1}%",
                 tb.corner_count(), pct(singular), pct(nan), pct(inf), pct(zero), pct(hint)
             );
             assert!(pct(singular) > 1.0 && pct(singular) < 30.0);

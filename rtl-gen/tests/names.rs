@@ -12,12 +12,8 @@ use rtl_gen::units::silhouette::Silhouette;
 use rtl_gen::units::Unit;
 
 fn silhouette_e5m4(mode: &str) -> Module {
-    let given = [
-        format!("mode={mode}"),
-        "exp_bits=5".to_string(),
-        "frac_bits=4".to_string(),
-    ];
-    let p = Params::resolve("silhouette", Silhouette.params(), &given).expect("parameters");
+    let given = [("mode", mode), ("exp_bits", "5"), ("frac_bits", "4")];
+    let p = Params::check("silhouette", Silhouette.params(), given).expect("parameters");
     Silhouette.build(&p).expect("silhouette builds")
 }
 

@@ -15,7 +15,6 @@ mod files;
 use crate::{FlowError, Generated};
 pub use args::{FileArgs, ReportArgs, ScaleArgs, UnitArgs};
 use clap::Subcommand;
-use rtl_gen::params::ParamKind;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -332,11 +331,10 @@ fn list() {
         let rows: Vec<(String, &str)> = crate::param_specs(&entry)
             .iter()
             .map(|p| {
-                let range = match p.kind {
-                    ParamKind::Int { min, max } => format!("{min}..={max}"),
-                    ParamKind::Choice(words) => words.join("|"),
-                };
-                (format!("{}={range} [{}]", p.name, p.default), p.doc)
+                (
+                    format!("{}={} [{}]", p.name, p.range(), p.default),
+                    p.help(),
+                )
             })
             .collect();
         let width = rows.iter().map(|(head, _)| head.len()).max().unwrap_or(0);

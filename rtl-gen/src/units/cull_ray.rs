@@ -29,7 +29,7 @@
 //! its normalisation and Fc + 4 division steps). One register goes to the
 //! outputs first. The latency is `stages`.
 
-use super::cull::{config, Config, CullRayIn, CullRayOut, Terms, DIR_WIDTH, PARAMS};
+use super::cull::{config, Config, CullParams, CullRayIn, CullRayOut, Terms, DIR_WIDTH};
 use super::ports;
 use super::Description;
 use crate::arith::float::add::ADD_RAW_STEPS;
@@ -43,7 +43,7 @@ use crate::arith::float::{spread_over, Format};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::Module;
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::params::ParamError;
 
 /// The `cull_ray` unit.
 pub struct CullRay;
@@ -98,7 +98,6 @@ pub fn build(cfg: &Config) -> Module {
          (ray exponent, plane fraction + 8 guard bits, at most the ray fraction); a NaN or \
          infinite input makes every no_lo NaN.",
     );
-    cfg.describe_params(&mut m);
     let CullRayIn { o, d, r, n } = ports::declare_inputs(&mut m, cfg);
     let ax = super::AXES;
 
@@ -196,11 +195,11 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 impl Description for CullRay {
+    type Params = CullParams;
     type Config = Config;
     const NAME: &'static str = "cull_ray";
     const SUMMARY: &'static str = "cull-plane ray terms per ray and parent: no_lo, crossing direction and reciprocal bounds for K shared normals";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+    fn config(&self, p: &CullParams) -> Result<Config, ParamError> {
         config(p)
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -12,20 +12,19 @@ use crate::arith::float::{
 use crate::arith::recip::recip_module;
 use crate::builder::ModuleBuilder;
 use crate::ir::Module;
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::{ParamError, ParamSet, ParamSpec, Params};
 use std::sync::Arc;
 
-/// A float operator as a unit: its parameters, their one parse into a
-/// [`FloatConfig`], and the operator module it wraps with the handshake.
-pub struct FloatOp {
+/// A float operator as a unit: its typed parameters `P` (one of the tables
+/// below), their one check into a [`FloatConfig`], and the operator module
+/// it wraps with the handshake.
+pub struct FloatOp<P: 'static> {
     /// unit name
     pub name: &'static str,
     /// one line for `rtl-gen list`
     pub summary: &'static str,
-    /// the parameters
-    pub params: &'static [ParamSpec],
-    /// the operator's own parameters (besides format and stages)
-    pub op: fn(&Params) -> Result<OpConfig, ParamError>,
+    /// the operator and its own parameters (besides format and stages)
+    pub op: fn(&P) -> Result<OpConfig, ParamError>,
 }
 
 /// A float operator's configuration, parsed once from its parameters; the
@@ -105,18 +104,24 @@ impl OpConfig {
     }
 }
 
-impl FloatOp {
-    /// The configuration of resolved parameters, or why they are impossible.
-    pub fn config(&self, p: &Params) -> Result<FloatConfig, ParamError> {
+impl<P: FloatParams> FloatOp<P> {
+    /// The configuration of typed parameters, or why they are impossible.
+    pub fn config(&self, p: &P) -> Result<FloatConfig, ParamError> {
+        let (exp_bits, frac_bits, stages) = p.format_and_stages();
         Ok(FloatConfig {
-            fmt: format(p, self.name)?,
-            stages: p.u32("stages"),
+            fmt: format(exp_bits, frac_bits, self.name)?,
+            stages,
             op: (self.op)(p)?,
         })
     }
+
+    /// The configuration of checked parameters.
+    pub fn configured(&self, p: &Params) -> Result<FloatConfig, ParamError> {
+        self.config(&P::from_params(p))
+    }
 }
 
-impl Unit for FloatOp {
+impl<P: FloatParams> Unit for FloatOp<P> {
     fn name(&self) -> &'static str {
         self.name
     }
@@ -124,10 +129,19 @@ impl Unit for FloatOp {
         self.summary
     }
     fn params(&self) -> &'static [ParamSpec] {
-        self.params
+        P::SPECS
     }
+    /// The header is the operator module's own (the wrapper mirrors it).
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(wrap(operator(&self.config(p)?)?))
+        Ok(wrap(operator(&self.configured(p)?)?))
+    }
+    fn build_datapath(&self, p: &Params) -> Result<Option<Module>, ParamError> {
+        let mut typed = P::from_params(p);
+        match typed.stages_mut() {
+            Some(stages) => *stages = 0,
+            None => return Ok(None),
+        }
+        Ok(Some(wrap(operator(&self.config(&typed)?)?)))
     }
 }
 
@@ -153,196 +167,183 @@ fn operator(c: &FloatConfig) -> Result<Arc<Module>, ParamError> {
     })
 }
 
+/// The rows every float operator has (its format, then its own rows, then
+/// `stages`), written once; each table implements [`FloatParams`].
+macro_rules! float_op_params {
+    ($(#[$meta:meta])* $name:ident { $($own:tt)* }) => {
+        crate::params! {
+            $(#[$meta])*
+            pub struct $name {
+                /// exponent bits E (2..=11)
+                exp_bits: u32 [2..=11] = 8,
+                /// fraction bits F (1 + E + F <= 64)
+                frac_bits: u32 [1..=52] = 23,
+                $($own)*
+                /// pipeline stages (latency in cycles), spread over the operator's steps
+                stages: u32 [0..=32] = 2,
+            }
+        }
+        impl FloatParams for $name {
+            fn format_and_stages(&self) -> (u32, u32, u32) {
+                (self.exp_bits, self.frac_bits, self.stages)
+            }
+        }
+    };
+}
+
+/// A float operator's parameters: the format and depth every one has.
+pub trait FloatParams: ParamSet {
+    /// `exp_bits`, `frac_bits`, `stages`
+    fn format_and_stages(&self) -> (u32, u32, u32);
+}
+
+float_op_params! {
+    /// Parameters of an operator with no rounding of its own.
+    FormatParams {}
+}
+
+float_op_params! {
+    /// Parameters of an operator that rounds once.
+    RoundedParams {
+        /// rounding mode: to nearest even, toward zero, toward +inf, toward -inf, or dyn (a
+        /// 2-bit input rm: 0 rne, 1 rtz, 2 rdn, 3 rup)
+        round: RoundSel = RoundSel::Fixed(Rounding::Rne),
+    }
+}
+
+crate::choice! {
+    /// `fadd`'s operation.
+    pub enum AddOp {
+        /// a + b
+        Add = "add",
+        /// a - b
+        Sub = "sub",
+    }
+}
+
+float_op_params! {
+    /// `fadd`'s parameters.
+    AddParams {
+        /// rounding mode: to nearest even, toward zero, toward +inf, toward -inf, or dyn (a
+        /// 2-bit input rm: 0 rne, 1 rtz, 2 rdn, 3 rup)
+        round: RoundSel = RoundSel::Fixed(Rounding::Rne),
+        /// add: a + b; sub: a - b
+        op: AddOp = AddOp::Add,
+    }
+}
+
+float_op_params! {
+    /// `fcvt`'s parameters: the source format, the result format.
+    CvtParams {
+        /// exponent bits of the result format
+        to_exp_bits: u32 [2..=11] = 5,
+        /// fraction bits of the result format
+        to_frac_bits: u32 [1..=52] = 10,
+        /// rounding mode: to nearest even, toward zero, toward +inf, toward -inf, or dyn (a
+        /// 2-bit input rm: 0 rne, 1 rtz, 2 rdn, 3 rup)
+        round: RoundSel = RoundSel::Fixed(Rounding::Rne),
+    }
+}
+
+float_op_params! {
+    /// `frecip`'s parameters: the four fixed modes (no `dyn`).
+    RecipParams {
+        /// rounding mode: to nearest even, toward zero, toward +inf, toward -inf
+        round: Rounding = Rounding::Rne,
+    }
+}
+
 /// `funpack`.
-pub static FUNPACK: FloatOp = FloatOp {
+pub static FUNPACK: FloatOp<FormatParams> = FloatOp {
     name: "funpack",
     summary: "float unpack/classify: sign, class (0 zero, 1 finite, 2 inf, 3 NaN), exponent of the lsb, significand",
-    params: &[EXP_BITS, FRAC_BITS, STAGES],
     op: |_| Ok(OpConfig::Unpack),
 };
 
 /// `fadd`: `a + b`, or `a - b` with `op=sub`.
-pub static FADD: FloatOp = FloatOp {
+pub static FADD: FloatOp<AddParams> = FloatOp {
     name: "fadd",
     summary: "float a + b or a - b, rounded once",
-    params: &[
-        EXP_BITS,
-        FRAC_BITS,
-        ROUND,
-        ParamSpec {
-            name: "op",
-            doc: "add: a + b; sub: a - b",
-            kind: ParamKind::Choice(&["add", "sub"]),
-            default: "add",
-        },
-        STAGES,
-    ],
     op: |p| {
         Ok(OpConfig::Add {
-            round: rounding(p),
-            sub: p.word("op") == "sub",
+            round: p.round,
+            sub: p.op == AddOp::Sub,
         })
     },
 };
 
 /// `fadd_down_up`.
-pub static FADD_DOWN_UP: FloatOp = FloatOp {
+pub static FADD_DOWN_UP: FloatOp<FormatParams> = FloatOp {
     name: "fadd_down_up",
     summary: "float a + b rounded toward -inf (down) and +inf (up) from one exact sum",
-    params: &[EXP_BITS, FRAC_BITS, STAGES],
     op: |_| Ok(OpConfig::AddDownUp),
 };
 
 /// `fmul`.
-pub static FMUL: FloatOp = FloatOp {
+pub static FMUL: FloatOp<RoundedParams> = FloatOp {
     name: "fmul",
     summary: "float a * b, rounded once",
-    params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    op: |p| Ok(OpConfig::Mul { round: rounding(p) }),
+    op: |p| Ok(OpConfig::Mul { round: p.round }),
 };
 
 /// `fmul_exact`.
-pub static FMUL_EXACT: FloatOp = FloatOp {
+pub static FMUL_EXACT: FloatOp<FormatParams> = FloatOp {
     name: "fmul_exact",
     summary: "exact float product a * b as a value of the format (E + 2, 2F + 1)",
-    params: &[EXP_BITS, FRAC_BITS, STAGES],
     op: |_| Ok(OpConfig::MulExact),
 };
 
 /// `fcmp`.
-pub static FCMP: FloatOp = FloatOp {
+pub static FCMP: FloatOp<FormatParams> = FloatOp {
     name: "fcmp",
     summary: "float comparisons lt, le, eq (IEEE quiet: NaN unordered, -0 == +0)",
-    params: &[EXP_BITS, FRAC_BITS, STAGES],
     op: |_| Ok(OpConfig::Cmp),
 };
 
 /// `fminmax`.
-pub static FMINMAX: FloatOp = FloatOp {
+pub static FMINMAX: FloatOp<FormatParams> = FloatOp {
     name: "fminmax",
     summary: "float minimum and maximum (IEEE 754-2019: NaN if either is NaN, -0 < +0)",
-    params: &[EXP_BITS, FRAC_BITS, STAGES],
     op: |_| Ok(OpConfig::MinMax),
 };
 
 /// `fcvt`: from (`exp_bits`, `frac_bits`) to (`to_exp_bits`, `to_frac_bits`).
-pub static FCVT: FloatOp = FloatOp {
+pub static FCVT: FloatOp<CvtParams> = FloatOp {
     name: "fcvt",
     summary: "float format conversion, rounded once",
-    params: &[
-        EXP_BITS,
-        FRAC_BITS,
-        ParamSpec {
-            name: "to_exp_bits",
-            doc: "exponent bits of the result format",
-            kind: ParamKind::Int { min: 2, max: 11 },
-            default: "5",
-        },
-        ParamSpec {
-            name: "to_frac_bits",
-            doc: "fraction bits of the result format",
-            kind: ParamKind::Int { min: 1, max: 52 },
-            default: "10",
-        },
-        ROUND,
-        STAGES,
-    ],
     op: |p| {
         Ok(OpConfig::Cvt {
-            to: format_of(p, "fcvt", "to_exp_bits", "to_frac_bits")?,
-            round: rounding(p),
+            to: format(p.to_exp_bits, p.to_frac_bits, "fcvt")?,
+            round: p.round,
         })
     },
 };
 
 /// `ffma`.
-pub static FFMA: FloatOp = FloatOp {
+pub static FFMA: FloatOp<RoundedParams> = FloatOp {
     name: "ffma",
     summary: "fused float multiply-add a * b + c, rounded once",
-    params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    op: |p| Ok(OpConfig::Fma { round: rounding(p) }),
+    op: |p| Ok(OpConfig::Fma { round: p.round }),
 };
 
 /// `fdot3`.
-pub static FDOT3: FloatOp = FloatOp {
+pub static FDOT3: FloatOp<RoundedParams> = FloatOp {
     name: "fdot3",
     summary: "fused float dot product a0*b0 + a1*b1 + a2*b2, exact, rounded once",
-    params: &[EXP_BITS, FRAC_BITS, ROUND, STAGES],
-    op: |p| Ok(OpConfig::Dot3 { round: rounding(p) }),
-};
-
-/// `round` of `frecip`: the four modes (no `dyn`).
-const RECIP_ROUND: ParamSpec = ParamSpec {
-    name: "round",
-    doc: "rounding mode: to nearest even, toward zero, toward +inf, toward -inf",
-    kind: ParamKind::Choice(Rounding::WORDS),
-    default: "rne",
+    op: |p| Ok(OpConfig::Dot3 { round: p.round }),
 };
 
 /// `frecip`: the slab tester's per-ray reciprocal, so its cost can be
 /// charted beside the box test (issue #19).
-pub static FRECIP: FloatOp = FloatOp {
+pub static FRECIP: FloatOp<RecipParams> = FloatOp {
     name: "frecip",
     summary: "float 1 / x, rounded once (restoring division)",
-    params: &[EXP_BITS, FRAC_BITS, RECIP_ROUND, STAGES],
-    op: |p| {
-        Ok(OpConfig::Recip {
-            round: Rounding::parse(p.word("round")).expect("round is a declared choice"),
-        })
-    },
+    op: |p| Ok(OpConfig::Recip { round: p.round }),
 };
 
-/// `exp_bits`: E.
-pub const EXP_BITS: ParamSpec = ParamSpec {
-    name: "exp_bits",
-    doc: "exponent bits E (2..=11)",
-    kind: ParamKind::Int { min: 2, max: 11 },
-    default: "8",
-};
-
-/// `frac_bits`: F.
-pub const FRAC_BITS: ParamSpec = ParamSpec {
-    name: "frac_bits",
-    doc: "fraction bits F (1 + E + F <= 64)",
-    kind: ParamKind::Int { min: 1, max: 52 },
-    default: "23",
-};
-
-/// `round`: the rounding mode.
-pub const ROUND: ParamSpec = ParamSpec {
-    name: "round",
-    doc: "rounding mode: to nearest even, toward zero, toward +inf, toward -inf, or dyn (a 2-bit input rm: 0 rne, 1 rtz, 2 rdn, 3 rup)",
-    kind: ParamKind::Choice(RoundSel::WORDS),
-    default: "rne",
-};
-
-/// `stages`: pipeline registers (latency).
-pub const STAGES: ParamSpec = ParamSpec {
-    name: "stages",
-    doc: "pipeline stages (latency in cycles), spread over the operator's steps",
-    kind: ParamKind::Int { min: 0, max: 32 },
-    default: "2",
-};
-
-/// The format of `exp_bits`/`frac_bits` (or the keys given), or why it is unsupported.
-pub fn format_of(
-    p: &Params,
-    unit: &str,
-    exp_key: &str,
-    frac_key: &str,
-) -> Result<Format, ParamError> {
-    Format::new(p.u32(exp_key), p.u32(frac_key))
-        .map_err(|e| ParamError::Combination(format!("{unit}: {e}")))
-}
-
-/// The format of `exp_bits` and `frac_bits`.
-pub fn format(p: &Params, unit: &str) -> Result<Format, ParamError> {
-    format_of(p, unit, "exp_bits", "frac_bits")
-}
-
-/// The rounding mode of `round` (fixed, or the `rm` port for `dyn`).
-fn rounding(p: &Params) -> RoundSel {
-    RoundSel::parse(p.word("round")).expect("round is a declared choice")
+/// The format of `exp_bits` and `frac_bits`, or why `unit` cannot have it.
+pub fn format(exp_bits: u32, frac_bits: u32, unit: &str) -> Result<Format, ParamError> {
+    Format::new(exp_bits, frac_bits).map_err(|e| ParamError::Combination(format!("{unit}: {e}")))
 }
 
 /// A top module `<op>_top` with the handshake around the operator `op`:

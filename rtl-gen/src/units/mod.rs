@@ -11,24 +11,25 @@ pub mod transform;
 pub mod triangle;
 
 use crate::ir::Module;
-use crate::params::{ParamError, ParamSpec, Params};
+use crate::params::{ParamError, ParamSet, ParamSpec, Params};
 
-/// A unit described once: its parameters, the typed configuration parsed
-/// once from them (an error for an impossible combination, no fallbacks),
-/// and the generator of a configuration. The testbench above this crate
-/// takes the same typed configuration (`rtl_flow::catalog`), so nothing
-/// parses the parameters a second time. Every description is a [`Unit`].
+/// A unit described once: its parameters (one typed table, [`crate::params!`]),
+/// the configuration checked from them (an error for an impossible
+/// combination, no fallbacks), and the generator of a configuration. The
+/// testbench above this crate takes the same configuration
+/// (`rtl_flow::catalog`), so nothing reads the parameters a second time.
+/// Every description is a [`Unit`]; the top module's header is the table's.
 pub trait Description: Sync {
-    /// The typed configuration.
+    /// The typed parameters.
+    type Params: ParamSet;
+    /// The checked configuration.
     type Config;
     /// name used on the command line
     const NAME: &'static str;
     /// one-line description
     const SUMMARY: &'static str;
-    /// accepted parameters
-    const PARAMS: &'static [ParamSpec];
-    /// The configuration of resolved parameters.
-    fn config(&self, p: &Params) -> Result<Self::Config, ParamError>;
+    /// The configuration of typed parameters, or why they cannot be built.
+    fn config(&self, p: &Self::Params) -> Result<Self::Config, ParamError>;
     /// The top module of a configuration.
     fn generate(&self, cfg: &Self::Config) -> Module;
 }
@@ -41,11 +42,26 @@ impl<D: Description> Unit for D {
         D::SUMMARY
     }
     fn params(&self) -> &'static [ParamSpec] {
-        D::PARAMS
+        D::Params::SPECS
     }
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(self.generate(&self.config(p)?))
+        build_typed(self, D::Params::from_params(p))
     }
+    fn build_datapath(&self, p: &Params) -> Result<Option<Module>, ParamError> {
+        let mut typed = D::Params::from_params(p);
+        match typed.stages_mut() {
+            Some(stages) => *stages = 0,
+            None => return Ok(None),
+        }
+        build_typed(self, typed).map(Some)
+    }
+}
+
+/// The top module of typed parameters, its header written from them.
+pub fn build_typed<D: Description>(unit: &D, p: D::Params) -> Result<Module, ParamError> {
+    let mut module = unit.generate(&unit.config(&p)?);
+    module.params = p.header();
+    Ok(module)
 }
 
 /// A generatable unit as the command line sees it: a name, its parameters,
@@ -58,8 +74,12 @@ pub trait Unit: Sync {
     fn summary(&self) -> &'static str;
     /// accepted parameters
     fn params(&self) -> &'static [ParamSpec];
-    /// builds the top module for resolved parameters
+    /// builds the top module for checked parameters
     fn build(&self, params: &Params) -> Result<Module, ParamError>;
+    /// builds the unit's datapath: the same parameters with `stages` = 0
+    /// (what `pipeline=balanced` cuts into stages); `None` for a unit
+    /// without `stages`
+    fn build_datapath(&self, params: &Params) -> Result<Option<Module>, ParamError>;
 }
 
 /// The axes of a vector, in port order.

@@ -9,32 +9,22 @@ use super::Description;
 use crate::arith::int::umul_module;
 use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 
 /// The `mulcmp` unit.
 pub struct MulCmp;
 
-/// A multiply-compare unit's configuration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Config {
-    /// width of `a` and `c`
-    pub a_width: u32,
-    /// width of `b` and `d`
-    pub b_width: u32,
-    /// pipeline stages
-    pub stages: u32,
+crate::params! {
+    /// A multiply-compare unit's parameters, which are its configuration.
+    pub struct Config {
+        /// width of a and c
+        a_width: u32 [1..=32] = 16,
+        /// width of b and d
+        b_width: u32 [1..=32] = 16,
+        /// pipeline stages (latency in cycles): the last registers the comparison, the others go to the multipliers
+        stages: u32 [0..=8] = 2,
+    }
 }
-
-const PARAMS: &[ParamSpec] = &[
-    ParamSpec { name: "a_width", doc: "width of a and c", kind: ParamKind::Int { min: 1, max: 32 }, default: "16" },
-    ParamSpec { name: "b_width", doc: "width of b and d", kind: ParamKind::Int { min: 1, max: 32 }, default: "16" },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency in cycles): the last registers the comparison, the others go to the multipliers",
-        kind: ParamKind::Int { min: 0, max: 8 },
-        default: "2",
-    },
-];
 
 /// The data inputs: `a` and `c` of `a_width` bits, `b` and `d` of
 /// `b_width` bits.
@@ -94,9 +84,6 @@ pub fn build(cfg: &Config) -> Module {
     } = *cfg;
     let mut m = ModuleBuilder::with_handshake(format!("mulcmp_a{a_width}_b{b_width}_s{stages}"));
     m.describe("Compares two unsigned products: lt = a*b < c*d, eq = a*b == c*d; ab = a*b.");
-    m.param("a_width", a_width)
-        .param("b_width", b_width)
-        .param("stages", stages);
     let MulCmpIn { a, b, c, d } = ports::declare_inputs(&mut m, cfg);
     let mul_stages = stages.saturating_sub(1);
     let mul = umul_module(a_width, b_width, mul_stages);
@@ -124,17 +111,13 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 impl Description for MulCmp {
+    type Params = Config;
     type Config = Config;
     const NAME: &'static str = "mulcmp";
     const SUMMARY: &'static str =
         "pipelined unsigned multiply-compare: lt = a*b < c*d, eq = a*b == c*d, ab = a*b";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        Ok(Config {
-            a_width: p.u32("a_width"),
-            b_width: p.u32("b_width"),
-            stages: p.u32("stages"),
-        })
+    fn config(&self, p: &Config) -> Result<Config, ParamError> {
+        Ok(*p)
     }
     fn generate(&self, cfg: &Config) -> Module {
         build(cfg)

@@ -39,7 +39,7 @@ use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 use std::sync::Arc;
 
 /// The `slab` unit.
@@ -56,55 +56,31 @@ pub struct Config {
     pub stages: u32,
 }
 
-/// Rounding policy of the slab.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SlabRounding {
-    /// every operation RNE, min/max of the two plane parameters (the classic slab)
-    Nearest,
-    /// directed rounding, interval reciprocal, parallel slabs handled: never misses
-    Conservative,
-}
-
-impl SlabRounding {
-    /// The parameter words, in declaration order.
-    pub const WORDS: &'static [&'static str] = &["nearest", "conservative"];
-
-    /// The policy named by `word`.
-    pub fn parse(word: &str) -> Option<SlabRounding> {
-        match word {
-            "nearest" => Some(SlabRounding::Nearest),
-            "conservative" => Some(SlabRounding::Conservative),
-            _ => None,
-        }
+crate::choice! {
+    /// Rounding policy of the slab.
+    pub enum SlabRounding {
+        /// every operation RNE, min/max of the two plane parameters (the classic slab)
+        Nearest = "nearest",
+        /// directed rounding, interval reciprocal, parallel slabs handled: never misses
+        Conservative = "conservative",
     }
 }
 
-const PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        name: "exp_bits",
-        doc: "exponent bits E of the format",
-        kind: ParamKind::Int { min: 2, max: 11 },
-        default: "8",
-    },
-    ParamSpec {
-        name: "frac_bits",
-        doc: "fraction bits F of the format (1 + E + F <= 64)",
-        kind: ParamKind::Int { min: 1, max: 52 },
-        default: "23",
-    },
-    ParamSpec {
-        name: "rounding",
-        doc: "nearest: inv_d = RNE(1/d), all RNE (classic, misses hits); conservative: inv_d = RTZ(1/d), directed rounding, d = 0 handled, never misses a hit",
-        kind: ParamKind::Choice(SlabRounding::WORDS),
-        default: "nearest",
-    },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency in cycles), spread over differences, products, min/max, reduction, comparison",
-        kind: ParamKind::Int { min: 0, max: 32 },
-        default: "4",
-    },
-];
+crate::params! {
+    /// The slab unit's parameters.
+    pub struct SlabParams {
+        /// exponent bits E of the format
+        exp_bits: u32 [2..=11] = 8,
+        /// fraction bits F of the format (1 + E + F <= 64)
+        frac_bits: u32 [1..=52] = 23,
+        /// nearest: inv_d = RNE(1/d), all RNE (classic, misses hits); conservative: inv_d =
+        /// RTZ(1/d), directed rounding, d = 0 handled, never misses a hit
+        rounding: SlabRounding = SlabRounding::Nearest,
+        /// pipeline stages (latency in cycles), spread over differences, products, min/max,
+        /// reduction, comparison
+        stages: u32 [0..=32] = 4,
+    }
+}
 
 /// Logical steps of a difference (adder and rounder).
 pub const DIFF_STEPS: u32 = ADD_RAW_STEPS + ROUND_STEPS;
@@ -375,16 +351,6 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
              misses a hit of the exact segment."
         }
     });
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param(
-            "rounding",
-            match rounding {
-                SlabRounding::Nearest => "nearest",
-                SlabRounding::Conservative => "conservative",
-            },
-        )
-        .param("stages", stages);
     let SlabIn {
         p_min,
         p_max,
@@ -446,19 +412,15 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
 }
 
 impl Description for Slab {
+    type Params = SlabParams;
     type Config = Config;
     const NAME: &'static str = "slab";
     const SUMMARY: &'static str = "slab ray/box tester (baseline for silhouette): precomputed inv_d, RNE or conservative, hit/t_enter/t_exit";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        let fmt =
-            Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
-        let rounding = SlabRounding::parse(p.word("rounding"))
-            .expect("the parameter parser accepts only the declared words");
+    fn config(&self, p: &SlabParams) -> Result<Config, ParamError> {
         Ok(Config {
-            fmt,
-            rounding,
-            stages: p.u32("stages"),
+            fmt: Format::new(p.exp_bits, p.frac_bits).map_err(ParamError::Combination)?,
+            rounding: p.rounding,
+            stages: p.stages,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -35,96 +35,75 @@ use crate::arith::float::{negate, operator_result, spread, Format, Rounding};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 use std::sync::Arc;
 
 /// The `transform` unit.
 pub struct Transform;
 
-/// Dot-product styles, in parameter order.
-pub const DOT_WORDS: &[&str] = &["separate", "fma", "dot3", "wide"];
-/// Sources of `R⁻¹`, in parameter order.
-pub const INVERSE_WORDS: &[&str] = &["pre", "hw"];
-/// Throughput choices, in parameter order.
-pub const THROUGHPUT_WORDS: &[&str] = &["full", "half"];
+crate::choice! {
+    /// Where `R⁻¹` comes from.
+    pub enum Inverse {
+        /// an input, from the scene builder
+        Pre = "pre",
+        /// computed in hardware from `R`
+        Hw = "hw",
+    }
+}
 
-const PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        name: "exp_bits",
-        doc: "exponent bits E of the float format",
-        kind: ParamKind::Int { min: 2, max: 11 },
-        default: "8",
-    },
-    ParamSpec {
-        name: "frac_bits",
-        doc: "fraction bits F of the float format (1 + E + F <= 64)",
-        kind: ParamKind::Int { min: 1, max: 52 },
-        default: "23",
-    },
-    ParamSpec {
-        name: "round",
-        doc: "rounding mode of every operation",
-        kind: ParamKind::Choice(Rounding::WORDS),
-        default: "rne",
-    },
-    ParamSpec {
-        name: "dot",
-        doc: "dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and a fused dot product in e(E+1)m(2F+2), then rounded to the format: within one ulp of the correctly rounded result; needs E <= 10 and E + 2F <= 60)",
-        kind: ParamKind::Choice(DOT_WORDS),
-        default: "fma",
-    },
-    ParamSpec {
-        name: "inverse",
-        doc: "R^-1 source: pre (input, from the scene builder) or hw (adjugate, determinant, reciprocal, scaling)",
-        kind: ParamKind::Choice(INVERSE_WORDS),
-        default: "pre",
-    },
-    ParamSpec {
-        name: "throughput",
-        doc: "full: two engines, one ray per clock; half: one engine, one vector per clock",
-        kind: ParamKind::Choice(THROUGHPUT_WORDS),
-        default: "full",
-    },
-    ParamSpec {
-        name: "id_bits",
-        doc: "width of the ray id passed through",
-        kind: ParamKind::Int { min: 1, max: 64 },
-        default: "32",
-    },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency), spread over the subtract and dot-product operators",
-        kind: ParamKind::Int { min: 0, max: 48 },
-        default: "8",
-    },
-];
+crate::choice! {
+    /// Rays per clock.
+    pub enum Throughput {
+        /// two engines, one ray per clock
+        Full = "full",
+        /// one engine, one vector per clock
+        Half = "half",
+    }
+}
 
-/// The dot-product style of the engines.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Dot {
-    /// `add(add(mul, mul), mul)`
-    Separate,
-    /// `fma(a2, b2, fma(a1, b1, mul(a0, b0)))`
-    Fma,
-    /// fused three-term dot product
-    Dot3,
-    /// every matrix-vector product in the wide format `(E + 1, 2F + 2)`:
-    /// operands widened exactly, `O − T` subtracted there, a fused dot
-    /// product rounded there, then rounded to the format
-    /// (`golden_model::transform::DotStyle::Wide`); the inversion as `Dot3`
-    Wide,
+crate::params! {
+    /// The transform unit's parameters.
+    pub struct TransformParams {
+        /// exponent bits E of the float format
+        exp_bits: u32 [2..=11] = 8,
+        /// fraction bits F of the float format (1 + E + F <= 64)
+        frac_bits: u32 [1..=52] = 23,
+        /// rounding mode of every operation
+        round: Rounding = Rounding::Rne,
+        /// dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and a
+        /// fused dot product in e(E+1)m(2F+2), then rounded to the format: within one ulp of
+        /// the correctly rounded result; needs E <= 10 and E + 2F <= 60)
+        dot: Dot = Dot::Fma,
+        /// R^-1 source: pre (input, from the scene builder) or hw (adjugate, determinant,
+        /// reciprocal, scaling)
+        inverse: Inverse = Inverse::Pre,
+        /// full: two engines, one ray per clock; half: one engine, one vector per clock
+        throughput: Throughput = Throughput::Full,
+        /// width of the ray id passed through
+        id_bits: u32 [1..=64] = 32,
+        /// pipeline stages (latency), spread over the subtract and dot-product operators
+        stages: u32 [0..=48] = 8,
+    }
+}
+
+crate::choice! {
+    /// The dot-product style of the engines.
+    pub enum Dot {
+        /// `add(add(mul, mul), mul)`
+        Separate = "separate",
+        /// `fma(a2, b2, fma(a1, b1, mul(a0, b0)))`
+        Fma = "fma",
+        /// fused three-term dot product
+        Dot3 = "dot3",
+        /// every matrix-vector product in the wide format `(E + 1, 2F + 2)`:
+        /// operands widened exactly, `O − T` subtracted there, a fused dot
+        /// product rounded there, then rounded to the format
+        /// (`golden_model::transform::DotStyle::Wide`); the inversion as `Dot3`
+        Wide = "wide",
+    }
 }
 
 impl Dot {
-    fn parse(w: &str) -> Dot {
-        match w {
-            "separate" => Dot::Separate,
-            "fma" => Dot::Fma,
-            "dot3" => Dot::Dot3,
-            "wide" => Dot::Wide,
-            other => unreachable!("dot={other} passed the choice check"),
-        }
-    }
     /// Operators on the longest path of one dot product (the wide one: the
     /// fused product, then the rounding to the format).
     fn depth(self) -> u32 {
@@ -608,14 +587,6 @@ pub fn build(cfg: &Config) -> Module {
              singular: non-finite or singular transform (outputs NaN)."
         )
     });
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("round", cfg.mode)
-        .param("dot", DOT_WORDS[cfg.dot as usize])
-        .param("inverse", if cfg.hw { "hw" } else { "pre" })
-        .param("throughput", if cfg.full { "full" } else { "half" })
-        .param("id_bits", cfg.id_bits)
-        .param("stages", cfg.stages);
     let axes = ["x", "y", "z"];
     let TransformIn {
         origin_or_vector: vw,
@@ -714,25 +685,23 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 impl Description for Transform {
+    type Params = TransformParams;
     type Config = Config;
     const NAME: &'static str = "transform";
     const SUMMARY: &'static str = "two-step inverse transform: world ray to model space, Rinv * (O - T) and Rinv * D (seed 003)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        let fmt = Format::new(p.u32("exp_bits"), p.u32("frac_bits"))
-            .map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
-        let dot = Dot::parse(p.word("dot"));
-        if dot == Dot::Wide {
+    fn config(&self, p: &TransformParams) -> Result<Config, ParamError> {
+        let fmt = super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?;
+        if p.dot == Dot::Wide {
             wide_format(fmt).map_err(|e| ParamError::Combination(format!("transform: {e}")))?;
         }
         Ok(Config {
             fmt,
-            mode: Rounding::parse(p.word("round")).expect("declared choice"),
-            dot,
-            hw: p.word("inverse") == "hw",
-            full: p.word("throughput") == "full",
-            id_bits: p.u32("id_bits"),
-            stages: p.u32("stages"),
+            mode: p.round,
+            dot: p.dot,
+            hw: p.inverse == Inverse::Hw,
+            full: p.throughput == Throughput::Full,
+            id_bits: p.id_bits,
+            stages: p.stages,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

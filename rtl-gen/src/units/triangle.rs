@@ -43,34 +43,37 @@ use crate::arith::float::{negate, operator_result, Format, Rounding};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 
 /// The `triangle` unit.
 pub struct Triangle;
 
-const PARAMS: &[ParamSpec] = &[
-    super::float_ops::EXP_BITS,
-    super::float_ops::FRAC_BITS,
-    ParamSpec {
-        name: "round",
-        doc: "rounding of every operation: to nearest even, toward zero, toward +inf, toward \
-              -inf (each keeps the test watertight)",
-        kind: ParamKind::Choice(Rounding::WORDS),
-        default: "rne",
-    },
-    ParamSpec {
-        name: "outputs",
-        doc: "hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)",
-        kind: ParamKind::Choice(&["hit", "full"]),
-        default: "full",
-    },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency in cycles), placed by the delay model",
-        kind: ParamKind::Int { min: 0, max: 48 },
-        default: "6",
-    },
-];
+crate::choice! {
+    /// What the triangle unit outputs.
+    pub enum Outputs {
+        /// hit and invalid only
+        Hit = "hit",
+        /// also t and the barycentrics
+        Full = "full",
+    }
+}
+
+crate::params! {
+    /// The triangle unit's parameters.
+    pub struct TriangleParams {
+        /// exponent bits E (2..=11)
+        exp_bits: u32 [2..=11] = 8,
+        /// fraction bits F (1 + E + F <= 64)
+        frac_bits: u32 [1..=52] = 23,
+        /// rounding of every operation: to nearest even, toward zero, toward +inf, toward
+        /// -inf (each keeps the test watertight)
+        round: Rounding = Rounding::Rne,
+        /// hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)
+        outputs: Outputs = Outputs::Full,
+        /// pipeline stages (latency in cycles), placed by the delay model
+        stages: u32 [0..=48] = 6,
+    }
+}
 
 /// Resolved parameters.
 #[derive(Debug, Clone, Copy)]
@@ -180,11 +183,6 @@ pub fn build(cfg: &Config) -> Module {
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
          v (weight of c) are 0 without a hit; invalid for non-finite input or kz = 3.",
     );
-    m.param("exp_bits", fmt.exp_bits)
-        .param("frac_bits", fmt.frac_bits)
-        .param("round", cfg.round.word())
-        .param("outputs", if cfg.full { "full" } else { "hit" })
-        .param("stages", cfg.stages);
     let TriangleIn {
         o,
         kz,
@@ -364,23 +362,16 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 impl Description for Triangle {
+    type Params = TriangleParams;
     type Config = Config;
     const NAME: &'static str = "triangle";
     const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        let fmt = super::float_ops::format(p, "triangle")?;
-        let full = match p.word("outputs") {
-            "full" => true,
-            "hit" => false,
-            other => unreachable!("outputs={other} passed the choice check"),
-        };
-        let round = Rounding::parse(p.word("round")).expect("round passed the choice check");
+    fn config(&self, p: &TriangleParams) -> Result<Config, ParamError> {
         Ok(Config {
-            fmt,
-            round,
-            full,
-            stages: p.u32("stages"),
+            fmt: super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?,
+            round: p.round,
+            full: p.outputs == Outputs::Full,
+            stages: p.stages,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -167,7 +167,7 @@ impl Rounding {
     pub const WORDS: &'static [&'static str] = &["rne", "rtz", "rup", "rdn"];
 
     /// The parameter word (`rne`, `rtz`, `rup`, `rdn`), also used in module names.
-    pub fn word(self) -> &'static str {
+    pub const fn word(self) -> &'static str {
         match self {
             Rounding::Rne => "rne",
             Rounding::Rtz => "rtz",
@@ -179,6 +179,15 @@ impl Rounding {
     /// The mode named by `word`.
     pub fn parse(word: &str) -> Option<Rounding> {
         Rounding::ALL.into_iter().find(|r| r.word() == word)
+    }
+}
+
+impl crate::params::ParamValue for Rounding {
+    fn parse_word(word: &str) -> Option<Self> {
+        Rounding::parse(word)
+    }
+    fn to_word(self) -> String {
+        self.word().to_string()
     }
 }
 
@@ -211,6 +220,23 @@ impl RoundSel {
             w => Rounding::parse(w).map(RoundSel::Fixed),
         }
     }
+
+    /// The parameter word: the fixed mode's, or `dyn`.
+    pub const fn word(self) -> &'static str {
+        match self {
+            RoundSel::Fixed(r) => r.word(),
+            RoundSel::Port => "dyn",
+        }
+    }
+}
+
+impl crate::params::ParamValue for RoundSel {
+    fn parse_word(word: &str) -> Option<Self> {
+        RoundSel::parse(word)
+    }
+    fn to_word(self) -> String {
+        self.word().to_string()
+    }
 }
 
 impl From<Rounding> for RoundSel {
@@ -221,10 +247,7 @@ impl From<Rounding> for RoundSel {
 
 impl fmt::Display for RoundSel {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RoundSel::Fixed(r) => f.write_str(r.word()),
-            RoundSel::Port => f.write_str("dyn"),
-        }
+        f.write_str(self.word())
     }
 }
 

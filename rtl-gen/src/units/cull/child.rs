@@ -262,7 +262,6 @@ pub fn build(cfg: &Config) -> Module {
          no_lo = +inf (then keep = 1). Per plane D = RUP(w - no_lo), q = RUP(D * rcp), exits lower \
          the exit, entries raise the entry; every rounding widens the interval.",
     );
-    cfg.describe_params(&mut m);
     let CullIn {
         t_lo,
         t_hi,

@@ -56,51 +56,29 @@ use crate::arith::float::unpack::{normalize, unpack};
 use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 use std::sync::Arc;
 
 /// The `cull` unit.
 pub struct Cull;
 
-/// The parameters of `cull` and `cull_ray`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        name: "exp_bits",
-        doc: "ray/box format exponent bits E",
-        kind: ParamKind::Int { min: 2, max: 9 },
-        default: "8",
-    },
-    ParamSpec {
-        name: "frac_bits",
-        doc: "ray/box format fraction bits F",
-        kind: ParamKind::Int { min: 1, max: 25 },
-        default: "23",
-    },
-    ParamSpec {
-        name: "plane_exp_bits",
-        doc: "plane format exponent bits Ep (<= E)",
-        kind: ParamKind::Int { min: 2, max: 9 },
-        default: "5",
-    },
-    ParamSpec {
-        name: "plane_frac_bits",
-        doc: "plane format fraction bits Fp (<= F); the crossing format is (E, min(F, Fp + 8))",
-        kind: ParamKind::Int { min: 1, max: 25 },
-        default: "10",
-    },
-    ParamSpec {
-        name: "k",
-        doc: "planes (shared normals) per node",
-        kind: ParamKind::Int { min: 1, max: 8 },
-        default: "4",
-    },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency in cycles), spread over the datapath's steps",
-        kind: ParamKind::Int { min: 0, max: 64 },
-        default: "0",
-    },
-];
+crate::params! {
+    /// The parameters of `cull` and `cull_ray`.
+    pub struct CullParams {
+        /// ray/box format exponent bits E
+        exp_bits: u32 [2..=9] = 8,
+        /// ray/box format fraction bits F
+        frac_bits: u32 [1..=25] = 23,
+        /// plane format exponent bits Ep (<= E)
+        plane_exp_bits: u32 [2..=9] = 5,
+        /// plane format fraction bits Fp (<= F); the crossing format is (E, min(F, Fp + 8))
+        plane_frac_bits: u32 [1..=25] = 10,
+        /// planes (shared normals) per node
+        k: u32 [1..=8] = 4,
+        /// pipeline stages (latency in cycles), spread over the datapath's steps
+        stages: u32 [0..=64] = 0,
+    }
+}
 
 /// One configuration of `cull` / `cull_ray`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -285,24 +263,13 @@ impl Config {
             self.stages
         )
     }
-
-    /// Records the parameters in the module header.
-    pub(super) fn describe_params(&self, m: &mut ModuleBuilder) {
-        m.param("exp_bits", self.ray.exp_bits)
-            .param("frac_bits", self.ray.frac_bits)
-            .param("plane_exp_bits", self.plane.exp_bits)
-            .param("plane_frac_bits", self.plane.frac_bits)
-            .param("k", self.k)
-            .param("stages", self.stages);
-    }
 }
 
-/// The configuration of resolved parameters, or why it cannot be built.
-pub fn config(p: &Params) -> Result<Config, ParamError> {
-    let ray =
-        Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
-    let plane = Format::new(p.u32("plane_exp_bits"), p.u32("plane_frac_bits"))
-        .map_err(ParamError::Combination)?;
+/// The configuration of typed parameters, or why it cannot be built.
+pub fn config(p: &CullParams) -> Result<Config, ParamError> {
+    let ray = Format::new(p.exp_bits, p.frac_bits).map_err(ParamError::Combination)?;
+    let plane =
+        Format::new(p.plane_exp_bits, p.plane_frac_bits).map_err(ParamError::Combination)?;
     if plane.exp_bits > ray.exp_bits || plane.frac_bits > ray.frac_bits {
         return Err(ParamError::Combination(format!(
             "plane format {} (plane_exp_bits={}, plane_frac_bits={}) must not have more exponent \
@@ -318,8 +285,8 @@ pub fn config(p: &Params) -> Result<Config, ParamError> {
     Ok(Config {
         ray,
         plane,
-        k: p.u32("k"),
-        stages: p.u32("stages"),
+        k: p.k,
+        stages: p.stages,
     })
 }
 
@@ -328,11 +295,11 @@ mod child;
 pub use child::{build, cull_name, plane_module, plane_name, widen, StagePlan, PHASES};
 
 impl Description for Cull {
+    type Params = CullParams;
     type Config = Config;
     const NAME: &'static str = "cull";
     const SUMMARY: &'static str = "cull-plane tester per child: box interval folded with K planes' crossings from the parent's ray terms (keep, invalid)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
+    fn config(&self, p: &CullParams) -> Result<Config, ParamError> {
         config(p)
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -59,77 +59,61 @@ use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format, Rounding};
 use crate::builder::{InstanceOutputs, ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::{ParamError, ParamKind, ParamSpec, Params};
+use crate::params::ParamError;
 use std::sync::Arc;
 
 /// The `silhouette` unit.
 pub struct Silhouette;
 
-const PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        name: "exp_bits",
-        doc: "exponent bits E of the input format (E + 2F <= 60)",
-        kind: ParamKind::Int { min: 2, max: 9 },
-        default: "8",
-    },
-    ParamSpec {
-        name: "frac_bits",
-        doc: "fraction bits F of the input format",
-        kind: ParamKind::Int { min: 1, max: 25 },
-        default: "23",
-    },
-    ParamSpec {
-        name: "mode",
-        doc: "bundle: direction bounds d_lo..d_hi, outputs all_hit/any_hit/mixed_sign; ray: one ray (o, d), output hit",
-        kind: ParamKind::Choice(&["bundle", "ray"]),
-        default: "bundle",
-    },
-    ParamSpec {
-        name: "origin",
-        doc: "shared: one origin o_lo; bounded: per-axis origin bounds o_lo..o_hi (bundle mode only)",
-        kind: ParamKind::Choice(&["shared", "bounded"]),
-        default: "shared",
-    },
-    ParamSpec {
-        name: "rounding",
-        doc: "conservative: directed differences (never a false miss); nearest: RNE (charts only)",
-        kind: ParamKind::Choice(&["conservative", "nearest"]),
-        default: "conservative",
-    },
-    ParamSpec {
-        name: "stages",
-        doc: "pipeline stages (latency in cycles), spread over differences, normalisation, products, comparisons, reduction",
-        kind: ParamKind::Int { min: 0, max: 32 },
-        default: "4",
-    },
-];
-
-/// What one transaction tests.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// one ray: ports `o_*`, `d_*`; output `hit` (the conservative test)
-    Ray,
-    /// a bundle: ports `o_lo_*` (`o_hi_*` if bounded), `d_lo_*`, `d_hi_*`; outputs
-    /// `all_hit`, `any_hit`, `mixed_sign`
-    Bundle,
+crate::params! {
+    /// The silhouette unit's parameters.
+    pub struct SilhouetteParams {
+        /// exponent bits E of the input format (E + 2F <= 60)
+        exp_bits: u32 [2..=9] = 8,
+        /// fraction bits F of the input format
+        frac_bits: u32 [1..=25] = 23,
+        /// bundle: direction bounds d_lo..d_hi, outputs all_hit/any_hit/mixed_sign; ray: one
+        /// ray (o, d), output hit
+        mode: Mode = Mode::Bundle,
+        /// shared: one origin o_lo; bounded: per-axis origin bounds o_lo..o_hi (bundle mode only)
+        origin: Origin = Origin::Shared,
+        /// conservative: directed differences (never a false miss); nearest: RNE (charts only)
+        rounding: Policy = Policy::Conservative,
+        /// pipeline stages (latency in cycles), spread over differences, normalisation,
+        /// products, comparisons, reduction
+        stages: u32 [0..=32] = 4,
+    }
 }
 
-/// Origin mode: one shared origin or per-axis origin bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Origin {
-    /// one origin `o_lo`; there is no `o_hi` port
-    Shared,
-    /// per-axis bounds `o_lo <= o <= o_hi`
-    Bounded,
+crate::choice! {
+    /// What one transaction tests.
+    pub enum Mode {
+        /// a bundle: ports `o_lo_*` (`o_hi_*` if bounded), `d_lo_*`, `d_hi_*`; outputs
+        /// `all_hit`, `any_hit`, `mixed_sign`
+        Bundle = "bundle",
+        /// one ray: ports `o_*`, `d_*`; output `hit` (the conservative test)
+        Ray = "ray",
+    }
 }
 
-/// Rounding policy of the differences `plane − origin`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Policy {
-    /// directed: AnyHit can only gain hits, AllHit only lose them
-    Conservative,
-    /// round to nearest even (no guarantee; for accuracy charts)
-    Nearest,
+crate::choice! {
+    /// Origin mode: one shared origin or per-axis origin bounds.
+    pub enum Origin {
+        /// one origin `o_lo`; there is no `o_hi` port
+        Shared = "shared",
+        /// per-axis bounds `o_lo <= o <= o_hi`
+        Bounded = "bounded",
+    }
+}
+
+crate::choice! {
+    /// Rounding policy of the differences `plane − origin`.
+    pub enum Policy {
+        /// directed: AnyHit can only gain hits, AllHit only lose them
+        Conservative = "conservative",
+        /// round to nearest even (no guarantee; for accuracy charts)
+        Nearest = "nearest",
+    }
 }
 
 /// The parameters of one tester.
@@ -375,9 +359,9 @@ impl Config {
     fn describe_params(&self, m: &mut ModuleBuilder, stages: u32) {
         m.param("exp_bits", self.fmt.exp_bits)
             .param("frac_bits", self.fmt.frac_bits)
-            .param("mode", format!("{:?}", self.mode).to_lowercase())
-            .param("origin", format!("{:?}", self.origin).to_lowercase())
-            .param("rounding", format!("{:?}", self.policy).to_lowercase())
+            .param("mode", self.mode)
+            .param("origin", self.origin)
+            .param("rounding", self.policy)
             .param("stages", stages);
     }
 }
@@ -424,7 +408,6 @@ pub fn build(cfg: &Config) -> Module {
          hit bit); nan = a NaN input, invalid = infinite or unordered origin/direction bounds, \
          mixed_sign = direction bounds straddle 0 on an axis (all_hit = 0, any_hit = nonempty)."
     });
-    cfg.describe_params(&mut m, cfg.stages);
     let bounded = cfg.bounded();
     let inputs: SilhouetteIn<Sig> = ports::declare_inputs(&mut m, cfg);
     let SilhouetteIn {
@@ -585,41 +568,25 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 impl Description for Silhouette {
+    type Params = SilhouetteParams;
     type Config = Config;
     const NAME: &'static str = "silhouette";
     const SUMMARY: &'static str = "silhouette-edge box tester: bundles (all_hit, any_hit, three-valued) or single rays (hit); exact product comparisons, conservative differences";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
-    fn config(&self, p: &Params) -> Result<Config, ParamError> {
-        let fmt =
-            Format::new(p.u32("exp_bits"), p.u32("frac_bits")).map_err(ParamError::Combination)?;
+    fn config(&self, p: &SilhouetteParams) -> Result<Config, ParamError> {
+        let fmt = Format::new(p.exp_bits, p.frac_bits).map_err(ParamError::Combination)?;
         // the golden model's reference products need (E + 2, 2F + 1)
         exact_product_format(fmt).map_err(ParamError::Combination)?;
-        let mode = match p.word("mode") {
-            "ray" => Mode::Ray,
-            "bundle" => Mode::Bundle,
-            other => unreachable!("mode choice checked by the parameter table: {other}"),
-        };
-        let origin = match p.word("origin") {
-            "bounded" => Origin::Bounded,
-            "shared" => Origin::Shared,
-            other => unreachable!("origin choice checked by the parameter table: {other}"),
-        };
-        if mode == Mode::Ray && origin == Origin::Bounded {
+        if p.mode == Mode::Ray && p.origin == Origin::Bounded {
             return Err(ParamError::Combination(
                 "origin=bounded needs mode=bundle: a ray (mode=ray) has one origin o".into(),
             ));
         }
-        let policy = match p.word("rounding") {
-            "nearest" => Policy::Nearest,
-            "conservative" => Policy::Conservative,
-            other => unreachable!("rounding choice checked by the parameter table: {other}"),
-        };
         Ok(Config {
             fmt,
-            mode,
-            origin,
-            policy,
-            stages: p.u32("stages"),
+            mode: p.mode,
+            origin: p.origin,
+            policy: p.rounding,
+            stages: p.stages,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -1,0 +1,74 @@
+//! Parameters as the command line gives them: `key=value` words read into
+//! the (key, value) pairs a unit's table checks ([`rtl_gen::params`]), and
+//! the flow's own table, which every unit takes besides its own
+//! ([`FlowParams`]: where the pipeline registers go, how products map to
+//! DSP blocks).
+
+use rtl_gen::params::{ParamError, ParamSpec, Params};
+
+rtl_gen::choice! {
+    /// Where a unit's pipeline registers go (`rtl_gen::retime`).
+    pub enum Pipeline {
+        /// the unit's own per-step plan, hierarchical
+        Plan = "plan",
+        /// the combinational datapath, flattened, cut into stages of equal
+        /// modelled delay
+        Balanced = "balanced",
+    }
+}
+
+rtl_gen::choice! {
+    /// How registered products are written (`rtl_gen::retime::hard_dsp`).
+    pub enum Dsp {
+        /// plain `*`, any synthesis tool maps it
+        Infer = "infer",
+        /// ECP5 MULT18X18D cells with their output registers
+        Ecp5 = "ecp5",
+    }
+}
+
+rtl_gen::params! {
+    /// The parameters every unit takes besides its own.
+    pub struct FlowParams {
+        /// register placement: plan (the unit's own per-step plan, hierarchical) or balanced
+        /// (the combinational datapath, flattened, cut into `stages` stages of equal modelled
+        /// delay: one module, a shorter clock period)
+        pipeline: Pipeline = Pipeline::Plan,
+        /// multiplier blocks: infer (plain `*`, any synthesis tool maps it) or ecp5 (each
+        /// registered product of at most 18x18 bits written as an ECP5 MULT18X18D with its own
+        /// output register, so the route back from the DSP row is a path of its own; Verilog
+        /// for ECP5 synthesis, same function and latency)
+        dsp: Dsp = Dsp::Infer,
+    }
+}
+
+/// Reads `key=value` words and checks them against `specs` (missing keys
+/// take their defaults).
+pub fn resolve(unit: &str, specs: &[ParamSpec], given: &[String]) -> Result<Params, ParamError> {
+    let pairs = given
+        .iter()
+        .map(|g| {
+            g.split_once('=')
+                .ok_or_else(|| ParamError::Syntax(g.clone()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Params::check(unit, specs, pairs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rtl_gen::params::ParamSet;
+
+    #[test]
+    fn words_are_read_and_checked() {
+        let p = resolve("u", FlowParams::SPECS, &["pipeline = balanced".into()]).unwrap();
+        assert_eq!(FlowParams::from_params(&p).pipeline, Pipeline::Balanced);
+        assert!(matches!(
+            resolve("u", FlowParams::SPECS, &["pipeline".into()]),
+            Err(ParamError::Syntax(_))
+        ));
+        let e = resolve("u", FlowParams::SPECS, &["dsp=xilinx".into()]).unwrap_err();
+        assert!(e.to_string().contains("one of infer, ecp5"), "{e}");
+    }
+}
