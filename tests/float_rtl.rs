@@ -83,8 +83,8 @@ fn check(test: &str, configs: &[(&str, &[&str])]) {
             .collect();
         let conn: Vec<(&str, _)> = conn.iter().map(|(n, s)| (n.as_str(), *s)).collect();
         let o = m.instance(&format!("u_{k}"), &op, &conn);
-        for (p, _) in &op.outputs {
-            outs.push((format!("{}_{k}", p.name), o.get(&p.name).unwrap()));
+        for (name, value) in o.named() {
+            outs.push((format!("{name}_{k}"), value));
         }
         latency = latency.max(op.latency);
         described.push(format!("{k}: {}", op.name));

@@ -17,7 +17,8 @@
 
 use rtl_gen::arith::int;
 use rtl_gen::builder::{ModuleBuilder, Sig};
-use rtl_gen::ir::{Module, Ty};
+use rtl_gen::ir::{control, Module, Ty};
+use rtl_gen::ports::{self, Record, Visit, Walk};
 use std::sync::Arc;
 
 /// Bits needed to hold values `0..=max`.
@@ -58,6 +59,79 @@ pub fn uart_tx_name(cycles_per_bit: u32) -> String {
     format!("uart_tx_c{cycles_per_bit}")
 }
 
+/// The receiver's input: the serial line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UartRxIn<T> {
+    /// the line, idle high
+    pub rx: T,
+}
+
+impl<T: Copy> Record<T> for UartRxIn<T> {
+    type Config = ();
+    fn walk<V: Visit<T>>(_: &(), w: &mut Walk<'_, T, Self, V>) -> Self {
+        UartRxIn {
+            rx: w.one("rx", Ty::Bool, |r| r.rx),
+        }
+    }
+}
+
+/// The receiver's outputs: a byte and its one-cycle strobe.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UartRxOut<T> {
+    /// a byte arrived this cycle
+    pub valid: T,
+    /// the byte
+    pub data: T,
+}
+
+impl<T: Copy> Record<T> for UartRxOut<T> {
+    type Config = ();
+    fn walk<V: Visit<T>>(_: &(), w: &mut Walk<'_, T, Self, V>) -> Self {
+        UartRxOut {
+            valid: w.one("valid", Ty::Bool, |r| r.valid),
+            data: w.one("data", Ty::UInt(8), |r| r.data),
+        }
+    }
+}
+
+/// The transmitter's inputs: a byte to send and its request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UartTxIn<T> {
+    /// send `data` (taken when not busy)
+    pub start: T,
+    /// the byte
+    pub data: T,
+}
+
+impl<T: Copy> Record<T> for UartTxIn<T> {
+    type Config = ();
+    fn walk<V: Visit<T>>(_: &(), w: &mut Walk<'_, T, Self, V>) -> Self {
+        UartTxIn {
+            start: w.one("start", Ty::Bool, |r| r.start),
+            data: w.one("data", Ty::UInt(8), |r| r.data),
+        }
+    }
+}
+
+/// The transmitter's outputs: the serial line and its busy flag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UartTxOut<T> {
+    /// the line, idle high
+    pub tx: T,
+    /// a frame is being sent
+    pub busy: T,
+}
+
+impl<T: Copy> Record<T> for UartTxOut<T> {
+    type Config = ();
+    fn walk<V: Visit<T>>(_: &(), w: &mut Walk<'_, T, Self, V>) -> Self {
+        UartTxOut {
+            tx: w.one("tx", Ty::Bool, |r| r.tx),
+            busy: w.one("busy", Ty::Bool, |r| r.busy),
+        }
+    }
+}
+
 /// 8N1 UART receiver, `cycles_per_bit` clock cycles a bit (at least 4).
 ///
 /// Input `rx` (idle high) passes a two-flop synchroniser. A falling edge
@@ -73,7 +147,7 @@ pub fn uart_rx(cycles_per_bit: u32) -> Arc<Module> {
         "UART receiver, 8N1, {cycles_per_bit} clock cycles per bit; valid pulses for one cycle with each byte."
     ));
     m.param("cycles_per_bit", cycles_per_bit);
-    let rx = m.input("rx", Ty::Bool);
+    let UartRxIn { rx } = ports::declare_inputs(&mut m, &());
     let cw = bits_for(cycles_per_bit as u64);
     let tru = m.bool(true);
     let fls = m.bool(false);
@@ -135,8 +209,11 @@ pub fn uart_rx(cycles_per_bit: u32) -> Arc<Module> {
     let good = m.and(sample, good);
     m.set_next(valid, good, None);
 
-    m.output("valid", valid.q);
-    m.output("data", shift.q);
+    let outputs = UartRxOut {
+        valid: valid.q,
+        data: shift.q,
+    };
+    ports::declare_outputs(&mut m, &(), &outputs);
     Arc::new(m.finish().expect("uart_rx is type-correct"))
 }
 
@@ -152,8 +229,7 @@ pub fn uart_tx(cycles_per_bit: u32) -> Arc<Module> {
         "UART transmitter, 8N1, {cycles_per_bit} clock cycles per bit; takes data when start is high and busy low."
     ));
     m.param("cycles_per_bit", cycles_per_bit);
-    let start = m.input("start", Ty::Bool);
-    let data = m.input("data", Ty::UInt(8));
+    let UartTxIn { start, data } = ports::declare_inputs(&mut m, &());
     let cw = bits_for(cycles_per_bit as u64);
 
     // frame: stop bit, data (msb .. lsb), start bit; bit 0 drives the line
@@ -192,8 +268,7 @@ pub fn uart_tx(cycles_per_bit: u32) -> Arc<Module> {
     m.set_next(count, count_next, None);
 
     let tx = m.bit_at(frame.q, 0);
-    m.output("tx", tx);
-    m.output("busy", busy);
+    ports::declare_outputs(&mut m, &(), &UartTxOut { tx, busy });
     Arc::new(m.finish().expect("uart_tx is type-correct"))
 }
 
@@ -264,9 +339,15 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     let rx = m.input("rx", Ty::Bool);
 
     // receive: a shift register of bytes; the first byte of a record ends up in in_buf0
-    let urx = m.instance("u_rx", &uart_rx(cycles_per_bit), &[("rx", rx)]);
-    let byte_valid = urx.get("valid").expect("uart_rx has valid");
-    let byte = urx.get("data").expect("uart_rx has data");
+    let urx: UartRxOut<Sig> = ports::instance(
+        &mut m,
+        "u_rx",
+        &uart_rx(cycles_per_bit),
+        &(),
+        &UartRxIn { rx },
+        &(),
+    );
+    let (byte_valid, byte) = (urx.valid, urx.data);
     let in_buf: Vec<_> = (0..n_in)
         .map(|i| m.reg(&format!("in_buf{i}"), Ty::UInt(8), None))
         .collect();
@@ -286,7 +367,7 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     let fire = m.reg("fire", Ty::Bool, Some(0));
     m.set_next(fire, record_done, None);
 
-    let mut conns: Vec<(String, Sig)> = vec![("in_valid".into(), fire.q)];
+    let mut conns: Vec<(String, Sig)> = vec![(control::IN_VALID.into(), fire.q)];
     let mut at = 0usize;
     for p in &in_ports {
         let w = p.ty.width();
@@ -303,11 +384,11 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     for _ in 0..hs.latency {
         m.stage();
     }
-    let out_valid = outs.get("out_valid").expect("unit has out_valid");
+    // a unit with the handshake has out_valid first, then its data outputs
+    let (&out_valid, data_outputs) = outs.all().split_first().expect("the unit has outputs");
     let mut record = Vec::with_capacity(n_out);
-    for p in &out_ports {
-        let v = outs.get(&p.name).expect("unit output by name");
-        let w = p.ty.width();
+    for &v in data_outputs {
+        let w = v.width();
         for b in 0..w.div_ceil(8) {
             let hi = (8 * b + 7).min(w - 1);
             let part = m.slice(v, hi, 8 * b);
@@ -322,13 +403,13 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     let ow = bits_for(n_out as u64);
     let out_left = m.reg("out_left", Ty::UInt(ow), Some(0));
     let send = m.reg("send", Ty::Bool, Some(0));
-    let utx = m.instance(
-        "u_tx",
-        &uart_tx(cycles_per_bit),
-        &[("start", send.q), ("data", out_buf[0].q)],
-    );
-    let tx_busy = utx.get("busy").expect("uart_tx has busy");
-    let tx = utx.get("tx").expect("uart_tx has tx");
+    let request = UartTxIn {
+        start: send.q,
+        data: out_buf[0].q,
+    };
+    let utx: UartTxOut<Sig> =
+        ports::instance(&mut m, "u_tx", &uart_tx(cycles_per_bit), &(), &request, &());
+    let (tx_busy, tx) = (utx.busy, utx.tx);
     let zero8 = m.uint(8, 0);
     for i in 0..n_out {
         let rest = if i + 1 < n_out {

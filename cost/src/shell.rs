@@ -48,9 +48,7 @@ pub fn timing_shell(unit: &Module) -> Result<Module, BuildErrors> {
         m.stage();
     }
     let mut acc: Option<rtl_gen::builder::Sig> = None;
-    for (port, _) in &unit.outputs {
-        let name = &port.name;
-        let sig = outs.get(name).expect("instance has the unit's outputs");
+    for (name, sig) in outs.named() {
         let w = sig.width();
         let cap = m.reg(&format!("cap_{name}"), Ty::UInt(w), None);
         let v = m.as_uint(sig);

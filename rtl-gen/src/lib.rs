@@ -17,6 +17,7 @@ pub mod eval;
 mod golden_twin;
 pub mod ir;
 pub mod params;
+pub mod ports;
 pub mod retime;
 pub mod units;
 

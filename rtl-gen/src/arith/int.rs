@@ -1,7 +1,9 @@
 //! Integer helpers (extension, resizing) and the pipelined unsigned multiplier.
 
+use crate::arith::ports::{Pair, PairPorts, Product};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
+use crate::ports::{declare_inputs, declare_outputs};
 use std::sync::Arc;
 
 /// `a` zero-extended (or cut) to `w` bits, as UInt.
@@ -57,8 +59,12 @@ pub fn umul_module(width_a: u32, width_b: u32, stages: u32) -> Arc<Module> {
     m.param("width_a", width_a)
         .param("width_b", width_b)
         .param("stages", stages);
-    let a = m.input("a", Ty::UInt(width_a));
-    let b = m.input("b", Ty::UInt(width_b));
+    let ports = PairPorts {
+        a: Ty::UInt(width_a),
+        b: Ty::UInt(width_b),
+        rm: false,
+    };
+    let Pair { a, b, .. } = declare_inputs(&mut m, &ports);
     let levels = stages.saturating_sub(1).min(31 - width_b.leading_zeros());
     let slices = 1u32 << levels;
     // (value, lowest bit of b it covers, highest bit): value < 2^(width_a + hi − lo + 1)
@@ -97,7 +103,7 @@ pub fn umul_module(width_a: u32, width_b: u32, stages: u32) -> Arc<Module> {
         m.stage();
         used += 1;
     }
-    m.output("p", p);
+    declare_outputs(&mut m, &p.ty(), &Product { p });
     Arc::new(
         m.finish()
             .expect("multiplier generator is type-correct for every width"),

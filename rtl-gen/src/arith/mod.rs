@@ -4,4 +4,5 @@
 
 pub mod float;
 pub mod int;
+pub mod ports;
 pub mod recip;

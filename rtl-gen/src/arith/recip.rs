@@ -18,8 +18,10 @@ use crate::arith::float::round::{class_of, round, round_down_up, Raw, ROUND_STEP
 use crate::arith::float::unpack::{normalize, unpack};
 use crate::arith::float::{finish_operator, sint_width, spread, Format, Rounding};
 use crate::arith::int::zext;
+use crate::arith::ports::{DownUp, Operand, Rounded};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps before the rounder: normalise, then F + 4 division steps
@@ -115,13 +117,13 @@ pub fn recip_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
         .param("frac_bits", f)
         .param("round", mode)
         .param("stages", stages);
-    let x = m.input("x", Ty::UInt(fmt.width()));
+    let Operand { x } = declare_inputs(&mut m, &fmt.ty());
     let steps = recip_raw_steps(fmt);
     let plan = spread(stages, steps + ROUND_STEPS);
     let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
     let z = round(&mut m, fmt, mode, &raw, rs, "u_round");
-    finish_operator(m, rs, &[("z", z)], "reciprocal")
+    finish_operator(m, rs, &fmt.ty(), &Rounded { z }, "reciprocal")
 }
 
 /// Module name of the down/up reciprocal.
@@ -142,13 +144,13 @@ pub fn recip_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
     m.param("exp_bits", fmt.exp_bits)
         .param("frac_bits", fmt.frac_bits)
         .param("stages", stages);
-    let x = m.input("x", Ty::UInt(fmt.width()));
+    let Operand { x } = declare_inputs(&mut m, &fmt.ty());
     let steps = recip_raw_steps(fmt);
     let plan = spread(stages, steps + ROUND_STEPS);
     let raw = recip_raw(&mut m, fmt, x, &plan[..steps as usize]);
     let rs: u32 = plan[steps as usize..].iter().sum();
     let (down, up) = round_down_up(&mut m, fmt, &raw, raw.sign, raw.sign, rs, "u_round");
-    finish_operator(m, rs, &[("down", down), ("up", up)], "down/up reciprocal")
+    finish_operator(m, rs, &fmt.ty(), &DownUp { down, up }, "down/up reciprocal")
 }
 
 #[cfg(test)]

@@ -103,13 +103,17 @@ pub struct InstanceOutputs {
     sigs: Vec<Sig>,
 }
 
+/// An instance's outputs in port order. Read them through the module's
+/// output record ([`crate::ports::instance`]); a wrapper that mirrors any
+/// module walks them by [`InstanceOutputs::named`]. There is no look-up by
+/// name: a port named in two places could drift.
 impl InstanceOutputs {
-    /// The output port `name`; `None` if the module has no such output.
-    pub fn get(&self, name: &str) -> Option<Sig> {
+    /// Every output with its port name, in port order.
+    pub fn named(&self) -> impl Iterator<Item = (&str, Sig)> {
         self.names
             .iter()
-            .position(|n| n == name)
-            .map(|i| self.sigs[i])
+            .map(String::as_str)
+            .zip(self.sigs.iter().copied())
     }
     /// All outputs in port order.
     pub fn all(&self) -> &[Sig] {

@@ -40,6 +40,7 @@ use crate::arith::float::dot3_floor::{
 };
 use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format};
+use crate::arith::ports::{call, DownUp, Operand, Pair};
 use crate::arith::recip::{recip_down_up_module, recip_raw_steps};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::Module;
@@ -116,13 +117,10 @@ pub fn build(cfg: &Config) -> Module {
     let mut u_up = Vec::new();
     for i in 0..3 {
         let neg_r = m.xor(r[i], sb);
-        let u = m.instance(
-            &format!("u_u_{}", ax[i]),
-            &adu,
-            &[("a", o[i]), ("b", neg_r)],
-        );
-        u_dn.push(u.get("down").expect("down"));
-        u_up.push(u.get("up").expect("up"));
+        let name = format!("u_u_{}", ax[i]);
+        let u: DownUp<Sig> = call(&mut m, &name, &adu, &Pair::new(o[i], neg_r), &f.ty());
+        u_dn.push(u.down);
+        u_up.push(u.up);
     }
     for _ in 0..plan.diff {
         m.stage();
@@ -166,7 +164,13 @@ pub fn build(cfg: &Config) -> Module {
     for j in 0..k {
         let b = m.name(b_lo[j], &format!("b_lo{j}"));
         let mag = m.and(b, abs_mask);
-        let r = m.instance(&format!("u_rcp{j}"), &rcp, &[("x", mag)]);
+        let r: DownUp<Sig> = call(
+            &mut m,
+            &format!("u_rcp{j}"),
+            &rcp,
+            &Operand { x: mag },
+            &cf.ty(),
+        );
         let bz = is_zero(&mut m, cf, b);
         let nbz = m.not(bz);
         let s = m.msb(b);
@@ -181,8 +185,8 @@ pub fn build(cfg: &Config) -> Module {
         let nl = m.mux(invalid, nan, nl);
         terms.push(Terms {
             no_lo: nl,
-            rcp_lo: r.get("down").expect("down"),
-            rcp_hi: r.get("up").expect("up"),
+            rcp_lo: r.down,
+            rcp_hi: r.up,
             dir,
         });
     }

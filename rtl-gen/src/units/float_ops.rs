@@ -363,16 +363,11 @@ pub fn wrap(op: Arc<Module>) -> Module {
         .map(|p| (p.name.clone(), m.input(&p.name, p.ty)))
         .collect();
     let outs = m.instance("u_op", &op, &ins);
-    let outs: Vec<_> = op
-        .outputs
-        .iter()
-        .map(|(p, _)| (p.name.clone(), outs.get(&p.name).expect("operator output")))
-        .collect();
     for _ in 0..op.latency {
         m.stage();
     }
-    for (n, s) in outs {
-        m.output(&n, s);
+    for (name, value) in outs.named() {
+        m.output(name, value);
     }
     m.finish()
         .expect("wrapper is type-correct for every operator")

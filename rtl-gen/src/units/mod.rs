@@ -4,7 +4,6 @@ pub mod cull;
 pub mod cull_ray;
 pub mod float_ops;
 pub mod mulcmp;
-pub mod ports;
 pub mod silhouette;
 pub mod slab;
 pub mod transform;
@@ -82,5 +81,4 @@ pub trait Unit: Sync {
     fn build_datapath(&self, params: &Params) -> Result<Option<Module>, ParamError>;
 }
 
-/// The axes of a vector, in port order.
-pub const AXES: [&str; 3] = ["x", "y", "z"];
+pub use crate::ports::{self, AXES};

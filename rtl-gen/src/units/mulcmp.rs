@@ -7,6 +7,7 @@
 use super::ports::{self, Record, Visit, Walk};
 use super::Description;
 use crate::arith::int::umul_module;
+use crate::arith::ports::product;
 use crate::builder::ModuleBuilder;
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
@@ -87,14 +88,8 @@ pub fn build(cfg: &Config) -> Module {
     let MulCmpIn { a, b, c, d } = ports::declare_inputs(&mut m, cfg);
     let mul_stages = stages.saturating_sub(1);
     let mul = umul_module(a_width, b_width, mul_stages);
-    let ab = m
-        .instance("u_mul_ab", &mul, &[("a", a), ("b", b)])
-        .get("p")
-        .expect("multiplier has output p");
-    let cd = m
-        .instance("u_mul_cd", &mul, &[("a", c), ("b", d)])
-        .get("p")
-        .expect("multiplier has output p");
+    let ab = product(&mut m, "u_mul_ab", &mul, a, b);
+    let cd = product(&mut m, "u_mul_cd", &mul, c, d);
     for _ in 0..mul_stages {
         m.stage();
     }

@@ -37,6 +37,7 @@ use crate::arith::float::minmax::min_max;
 use crate::arith::float::mul::{mul_module, MUL_RAW_STEPS};
 use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format, Rounding};
+use crate::arith::ports::{rounded, Pair};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
@@ -174,6 +175,52 @@ impl<T: Copy> Record<T> for SlabOut<T> {
     }
 }
 
+/// The inputs of a per-axis block: the slab's planes, the origin and the
+/// reciprocal direction on that axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabAxisIn<T> {
+    /// the lower plane
+    pub p_min: T,
+    /// the upper plane
+    pub p_max: T,
+    /// the origin
+    pub o: T,
+    /// the reciprocal direction
+    pub inv_d: T,
+}
+
+impl<T: Copy> Record<T> for SlabAxisIn<T> {
+    type Config = Format;
+    fn walk<V: Visit<T>>(fmt: &Format, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let ty = fmt.ty();
+        SlabAxisIn {
+            p_min: w.one("p_min", ty, |r| r.p_min),
+            p_max: w.one("p_max", ty, |r| r.p_max),
+            o: w.one("o", ty, |r| r.o),
+            inv_d: w.one("inv_d", ty, |r| r.inv_d),
+        }
+    }
+}
+
+/// The outputs of a per-axis block: the slab's entry and exit parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabAxisOut<T> {
+    /// entry
+    pub t_near: T,
+    /// exit
+    pub t_far: T,
+}
+
+impl<T: Copy> Record<T> for SlabAxisOut<T> {
+    type Config = Format;
+    fn walk<V: Visit<T>>(fmt: &Format, w: &mut Walk<'_, T, Self, V>) -> Self {
+        SlabAxisOut {
+            t_near: w.one("t_near", fmt.ty(), |r| r.t_near),
+            t_far: w.one("t_far", fmt.ty(), |r| r.t_far),
+        }
+    }
+}
+
 /// Module name of the per-axis block.
 pub fn slab_axis_name(fmt: Format, diff: u32, product: u32) -> String {
     format!("slab_axis_{}_d{diff}_p{product}", fmt.tag())
@@ -192,27 +239,26 @@ pub fn slab_axis_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
         .param("frac_bits", fmt.frac_bits)
         .param("diff_stages", diff)
         .param("product_stages", product);
-    let ty = Ty::UInt(fmt.width());
-    let p_min = m.input("p_min", ty);
-    let p_max = m.input("p_max", ty);
-    let o = m.input("o", ty);
-    let inv_d = m.input("inv_d", ty);
+    let SlabAxisIn {
+        p_min,
+        p_max,
+        o,
+        inv_d,
+    } = ports::declare_inputs(&mut m, &fmt);
     let sub = add_module(fmt, Rounding::Rne, true, diff);
     let mul = mul_module(fmt, Rounding::Rne, product);
-    let z = |io: crate::builder::InstanceOutputs| io.get("z").expect("operator has output z");
-    let u = z(m.instance("u_sub_lo", &sub, &[("a", p_min), ("b", o)]));
-    let v = z(m.instance("u_sub_hi", &sub, &[("a", p_max), ("b", o)]));
+    let u = rounded(&mut m, "u_sub_lo", &sub, &Pair::new(p_min, o));
+    let v = rounded(&mut m, "u_sub_hi", &sub, &Pair::new(p_max, o));
     for _ in 0..diff {
         m.stage();
     }
-    let t0 = z(m.instance("u_mul_lo", &mul, &[("a", u), ("b", inv_d)]));
-    let t1 = z(m.instance("u_mul_hi", &mul, &[("a", v), ("b", inv_d)]));
+    let t0 = rounded(&mut m, "u_mul_lo", &mul, &Pair::new(u, inv_d));
+    let t1 = rounded(&mut m, "u_mul_hi", &mul, &Pair::new(v, inv_d));
     for _ in 0..product {
         m.stage();
     }
-    let (near, far) = min_max(&mut m, fmt, t0, t1);
-    m.output("t_near", near);
-    m.output("t_far", far);
+    let (t_near, t_far) = min_max(&mut m, fmt, t0, t1);
+    ports::declare_outputs(&mut m, &fmt, &SlabAxisOut { t_near, t_far });
     Arc::new(
         m.finish()
             .expect("slab axis generator is type-correct for every format"),
@@ -253,11 +299,12 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
         .param("diff_stages", diff)
         .param("product_stages", product);
     let w = fmt.width();
-    let ty = Ty::UInt(w);
-    let p_min = m.input("p_min", ty);
-    let p_max = m.input("p_max", ty);
-    let o = m.input("o", ty);
-    let inv_d = m.input("inv_d", ty);
+    let SlabAxisIn {
+        p_min,
+        p_max,
+        o,
+        inv_d,
+    } = ports::declare_inputs(&mut m, &fmt);
 
     // mirror so that the reciprocal is >= 0: lo = -p_max, hi = -p_min, o = -o
     let mirror = m.msb(inv_d);
@@ -289,9 +336,8 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
 
     let sub_dn = add_module(fmt, Rounding::Rdn, true, diff);
     let sub_up = add_module(fmt, Rounding::Rup, true, diff);
-    let z = |io: crate::builder::InstanceOutputs| io.get("z").expect("operator has output z");
-    let u = z(m.instance("u_sub_lo", &sub_dn, &[("a", lo), ("b", om)]));
-    let v = z(m.instance("u_sub_hi", &sub_up, &[("a", hi), ("b", om)]));
+    let u = rounded(&mut m, "u_sub_lo", &sub_dn, &Pair::new(lo, om));
+    let v = rounded(&mut m, "u_sub_hi", &sub_up, &Pair::new(hi, om));
     for _ in 0..diff {
         m.stage();
     }
@@ -306,8 +352,8 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
     let inside = m.name(inside, "in_slab");
     let mul_dn = mul_module(fmt, Rounding::Rdn, product);
     let mul_up = mul_module(fmt, Rounding::Rup, product);
-    let t0 = z(m.instance("u_mul_lo", &mul_dn, &[("a", u), ("b", r_u)]));
-    let t1 = z(m.instance("u_mul_hi", &mul_up, &[("a", v), ("b", r_v)]));
+    let t0 = rounded(&mut m, "u_mul_lo", &mul_dn, &Pair::new(u, r_u));
+    let t1 = rounded(&mut m, "u_mul_hi", &mul_up, &Pair::new(v, r_v));
     for _ in 0..product {
         m.stage();
     }
@@ -315,10 +361,9 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
     let neg_inf = m.uint(w, fmt.inf_bits() | 1u128 << (w - 1));
     let open_near = m.mux(inside, neg_inf, pos_inf);
     let open_far = m.mux(inside, pos_inf, neg_inf);
-    let near = m.mux(parallel, open_near, t0);
-    let far = m.mux(parallel, open_far, t1);
-    m.output("t_near", near);
-    m.output("t_far", far);
+    let t_near = m.mux(parallel, open_near, t0);
+    let t_far = m.mux(parallel, open_far, t1);
+    ports::declare_outputs(&mut m, &fmt, &SlabAxisOut { t_near, t_far });
     Arc::new(
         m.finish()
             .expect("conservative slab axis generator is type-correct for every format"),
@@ -367,18 +412,16 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
     let mut near = Vec::new();
     let mut far = Vec::new();
     for i in 0..3 {
-        let out = m.instance(
-            &format!("u_slab_{}", AXES[i]),
-            &axis,
-            &[
-                ("p_min", p_min[i]),
-                ("p_max", p_max[i]),
-                ("o", o[i]),
-                ("inv_d", inv_d[i]),
-            ],
-        );
-        near.push(out.get("t_near").expect("axis block has output t_near"));
-        far.push(out.get("t_far").expect("axis block has output t_far"));
+        let slab = SlabAxisIn {
+            p_min: p_min[i],
+            p_max: p_max[i],
+            o: o[i],
+            inv_d: inv_d[i],
+        };
+        let name = format!("u_slab_{}", AXES[i]);
+        let out: SlabAxisOut<Sig> = ports::instance(&mut m, &name, &axis, &fmt, &slab, &fmt);
+        near.push(out.t_near);
+        far.push(out.t_far);
     }
     for _ in 0..plan.diff + plan.product + plan.min_max {
         m.stage();

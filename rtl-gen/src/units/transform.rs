@@ -31,12 +31,12 @@ use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
-use crate::arith::float::{negate, operator_result, spread, Format, Rounding};
+use crate::arith::float::{negate, spread, Format, Rounding};
+use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Source, Triple};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
-use std::sync::Arc;
 
 /// The `transform` unit.
 pub struct Transform;
@@ -309,33 +309,6 @@ impl Config {
     }
 }
 
-/// Instantiates a two-input operator module, returns its `z`.
-fn op2(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig) -> Sig {
-    operator_result(m, module, inst, &[("a", a), ("b", b)])
-}
-
-fn fma3(m: &mut ModuleBuilder, module: &Arc<Module>, inst: &str, a: Sig, b: Sig, c: Sig) -> Sig {
-    operator_result(m, module, inst, &[("a", a), ("b", b), ("c", c)])
-}
-
-fn dot3_call(
-    m: &mut ModuleBuilder,
-    module: &Arc<Module>,
-    inst: &str,
-    a: &[Sig; 3],
-    b: &[Sig; 3],
-) -> Sig {
-    let ports = [
-        ("a0", a[0]),
-        ("a1", a[1]),
-        ("a2", a[2]),
-        ("b0", b[0]),
-        ("b1", b[1]),
-        ("b2", b[2]),
-    ];
-    operator_result(m, module, inst, &ports)
-}
-
 fn close(m: &mut ModuleBuilder, n: u32) {
     for _ in 0..n {
         m.stage();
@@ -358,7 +331,9 @@ fn dots(
             let p: Vec<[Sig; 3]> = items
                 .iter()
                 .map(|(tag, a, b)| {
-                    [0, 1, 2].map(|j| op2(m, &mul, &format!("u_{tag}_mul{j}"), a[j], b[j]))
+                    [0, 1, 2].map(|j| {
+                        rounded(m, &format!("u_{tag}_mul{j}"), &mul, &Pair::new(a[j], b[j]))
+                    })
                 })
                 .collect();
             close(m, plan[0]);
@@ -366,14 +341,18 @@ fn dots(
             let s: Vec<Sig> = items
                 .iter()
                 .zip(&p)
-                .map(|((tag, _, _), p)| op2(m, &add1, &format!("u_{tag}_add_a"), p[0], p[1]))
+                .map(|((tag, _, _), p)| {
+                    rounded(m, &format!("u_{tag}_add_a"), &add1, &Pair::new(p[0], p[1]))
+                })
                 .collect();
             close(m, plan[1]);
             let add2 = add_module(fmt, mode, false, plan[2]);
             let out = items
                 .iter()
                 .zip(p.iter().zip(&s))
-                .map(|((tag, _, _), (p, s))| op2(m, &add2, &format!("u_{tag}_add_b"), *s, p[2]))
+                .map(|((tag, _, _), (p, s))| {
+                    rounded(m, &format!("u_{tag}_add_b"), &add2, &Pair::new(*s, p[2]))
+                })
                 .collect();
             close(m, plan[2]);
             out
@@ -382,21 +361,37 @@ fn dots(
             let mul = mul_module(fmt, mode, plan[0]);
             let p: Vec<Sig> = items
                 .iter()
-                .map(|(tag, a, b)| op2(m, &mul, &format!("u_{tag}_mul"), a[0], b[0]))
+                .map(|(tag, a, b)| {
+                    rounded(m, &format!("u_{tag}_mul"), &mul, &Pair::new(a[0], b[0]))
+                })
                 .collect();
             close(m, plan[0]);
             let fma1 = fma_module(fmt, mode, plan[1]);
             let s: Vec<Sig> = items
                 .iter()
                 .zip(&p)
-                .map(|((tag, a, b), p)| fma3(m, &fma1, &format!("u_{tag}_fma_a"), a[1], b[1], *p))
+                .map(|((tag, a, b), p)| {
+                    rounded(
+                        m,
+                        &format!("u_{tag}_fma_a"),
+                        &fma1,
+                        &Triple::new(a[1], b[1], *p),
+                    )
+                })
                 .collect();
             close(m, plan[1]);
             let fma2 = fma_module(fmt, mode, plan[2]);
             let out = items
                 .iter()
                 .zip(&s)
-                .map(|((tag, a, b), s)| fma3(m, &fma2, &format!("u_{tag}_fma_b"), a[2], b[2], *s))
+                .map(|((tag, a, b), s)| {
+                    rounded(
+                        m,
+                        &format!("u_{tag}_fma_b"),
+                        &fma2,
+                        &Triple::new(a[2], b[2], *s),
+                    )
+                })
                 .collect();
             close(m, plan[2]);
             out
@@ -407,7 +402,9 @@ fn dots(
             let d = dot3_module(w, mode, plan[0]);
             let sums: Vec<Sig> = items
                 .iter()
-                .map(|(tag, a, b)| dot3_call(m, &d, &format!("u_{tag}_dot_wide"), a, b))
+                .map(|(tag, a, b)| {
+                    rounded(m, &format!("u_{tag}_dot_wide"), &d, &DotTerms::new(*a, *b))
+                })
                 .collect();
             close(m, plan[0]);
             let narrow = convert_module(w, fmt, mode, plan[1]);
@@ -415,7 +412,7 @@ fn dots(
                 .iter()
                 .zip(&sums)
                 .map(|((tag, _, _), s)| {
-                    operator_result(m, &narrow, &format!("u_{tag}_round"), &[("a", *s)])
+                    rounded(m, &format!("u_{tag}_round"), &narrow, &Source::new(*s))
                 })
                 .collect();
             close(m, plan[1]);
@@ -425,7 +422,7 @@ fn dots(
             let d = dot3_module(fmt, mode, plan[0]);
             let out = items
                 .iter()
-                .map(|(tag, a, b)| dot3_call(m, &d, &format!("u_{tag}_dot"), a, b))
+                .map(|(tag, a, b)| rounded(m, &format!("u_{tag}_dot"), &d, &DotTerms::new(*a, *b)))
                 .collect();
             close(m, plan[0]);
             out
@@ -448,8 +445,8 @@ fn det2s(
             let p: Vec<(Sig, Sig)> = items
                 .iter()
                 .map(|(tag, [p, q, r, s])| {
-                    let pq = op2(m, &mul, &format!("u_{tag}_mul_pq"), *p, *q);
-                    let rs = op2(m, &mul, &format!("u_{tag}_mul_rs"), *r, *s);
+                    let pq = rounded(m, &format!("u_{tag}_mul_pq"), &mul, &Pair::new(*p, *q));
+                    let rs = rounded(m, &format!("u_{tag}_mul_rs"), &mul, &Pair::new(*r, *s));
                     (pq, rs)
                 })
                 .collect();
@@ -458,7 +455,9 @@ fn det2s(
             let out = items
                 .iter()
                 .zip(&p)
-                .map(|((tag, _), (pq, rs))| op2(m, &sub, &format!("u_{tag}_sub"), *pq, *rs))
+                .map(|((tag, _), (pq, rs))| {
+                    rounded(m, &format!("u_{tag}_sub"), &sub, &Pair::new(*pq, *rs))
+                })
                 .collect();
             close(m, plan[1]);
             out
@@ -468,7 +467,7 @@ fn det2s(
             let rs: Vec<Sig> = items
                 .iter()
                 .map(|(tag, [_, _, r, s])| {
-                    let rs = op2(m, &mul, &format!("u_{tag}_mul_rs"), *r, *s);
+                    let rs = rounded(m, &format!("u_{tag}_mul_rs"), &mul, &Pair::new(*r, *s));
                     negate(m, fmt, rs)
                 })
                 .collect();
@@ -478,7 +477,7 @@ fn det2s(
                 .iter()
                 .zip(&rs)
                 .map(|((tag, [p, q, _, _]), rs)| {
-                    fma3(m, &fma, &format!("u_{tag}_fma"), *p, *q, *rs)
+                    rounded(m, &format!("u_{tag}_fma"), &fma, &Triple::new(*p, *q, *rs))
                 })
                 .collect();
             close(m, plan[1]);
@@ -545,11 +544,18 @@ fn invert(
     let det = m.name(det, "det");
     let k = n2 + nd;
     let recip = recip_module(fmt, mode, plan[k]);
-    let rc = operator_result(m, &recip, "u_recip", &[("x", det)]);
+    let rc = rounded(m, "u_recip", &recip, &Operand { x: det });
     close(m, plan[k]);
     let mul = mul_module(fmt, mode, plan[k + 1]);
     let inv: Vec<Sig> = (0..9)
-        .map(|j| op2(m, &mul, &format!("u_scale{}{}", j / 3, j % 3), adj[j], rc))
+        .map(|j| {
+            rounded(
+                m,
+                &format!("u_scale{}{}", j / 3, j % 3),
+                &mul,
+                &Pair::new(adj[j], rc),
+            )
+        })
         .collect();
     close(m, plan[k + 1]);
     // det must be finite and nonzero, every entry of the inverse finite
@@ -616,7 +622,7 @@ pub fn build(cfg: &Config) -> Module {
         _ => (fmt, None),
     };
     let up = |m: &mut ModuleBuilder, name: String, x: Sig| match &widen {
-        Some(c) => operator_result(m, c, &name, &[("a", x)]),
+        Some(c) => rounded(m, &name, c, &Source::new(x)),
         None => x,
     };
 
@@ -625,7 +631,12 @@ pub fn build(cfg: &Config) -> Module {
     let x = [0, 1, 2].map(|k| {
         let a = up(&mut m, format!("u_widen_v_{}", axes[k]), vw[k]);
         let b = up(&mut m, format!("u_widen_t_{}", axes[k]), t[k]);
-        op2(&mut m, &sub, &format!("u_sub_{}", axes[k]), a, b)
+        rounded(
+            &mut m,
+            &format!("u_sub_{}", axes[k]),
+            &sub,
+            &Pair::new(a, b),
+        )
     });
     let (r, singular, dot_plan) = match hint {
         Some(hint) => {

@@ -39,7 +39,8 @@ use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
 use crate::arith::float::unpack::unpack;
-use crate::arith::float::{negate, operator_result, Format, Rounding};
+use crate::arith::float::{negate, Format, Rounding};
+use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Triple};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -226,34 +227,34 @@ pub fn build(cfg: &Config) -> Module {
     let mut ray_space = Vec::new();
     for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
         let rel = [0, 1, 2].map(|i| {
-            operator_result(
+            rounded(
                 &mut m,
-                &sub,
                 &format!("u_{v}_minus_o_{}", AXES[i]),
-                &[("a", p[i]), ("b", o[i])],
+                &sub,
+                &Pair::new(p[i], o[i]),
             )
         });
         let pz = pick(&mut m, &rel, 0);
         let px = pick(&mut m, &rel, 1);
         let py = pick(&mut m, &rel, 2);
         let pz = m.name(pz, &format!("{v}_along_z"));
-        let sx = operator_result(
+        let sx = rounded(
             &mut m,
-            &fma,
             &format!("u_{v}_shear_x"),
-            &[("a", neg_sx), ("b", pz), ("c", px)],
-        );
-        let sy = operator_result(
-            &mut m,
             &fma,
-            &format!("u_{v}_shear_y"),
-            &[("a", neg_sy), ("b", pz), ("c", py)],
+            &Triple::new(neg_sx, pz, px),
         );
-        let sz = operator_result(
+        let sy = rounded(
             &mut m,
-            &mul,
+            &format!("u_{v}_shear_y"),
+            &fma,
+            &Triple::new(neg_sy, pz, py),
+        );
+        let sz = rounded(
+            &mut m,
             &format!("u_{v}_scale_z"),
-            &[("a", s[2]), ("b", pz)],
+            &mul,
+            &Pair::new(s[2], pz),
         );
         ray_space.push([sx, sy, sz]);
     }
@@ -264,18 +265,11 @@ pub fn build(cfg: &Config) -> Module {
     let zero = m.uint(fmt.width(), 0);
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
         let nqy = negate(m, fmt, q[1]);
-        operator_result(
+        rounded(
             m,
-            &dot,
             &format!("u_edge_{name}"),
-            &[
-                ("a0", q[0]),
-                ("b0", p[1]),
-                ("a1", nqy),
-                ("b1", p[0]),
-                ("a2", zero),
-                ("b2", zero),
-            ],
+            &dot,
+            &DotTerms::new([q[0], nqy, zero], [p[1], p[0], zero]),
         )
     };
     let e_u = edge(&mut m, "bc", b, c);
@@ -299,38 +293,24 @@ pub fn build(cfg: &Config) -> Module {
     let inside = m.not(outside);
     let inside = m.name(inside, "inside_edges");
     let one = m.uint(fmt.width(), (fmt.bias() as u128) << fmt.frac_bits);
-    let det = operator_result(
+    let det = rounded(
         &mut m,
-        &dot,
         "u_det",
-        &[
-            ("a0", e_u),
-            ("b0", one),
-            ("a1", e_v),
-            ("b1", one),
-            ("a2", e_w),
-            ("b2", one),
-        ],
-    );
-    let t_num = operator_result(
-        &mut m,
         &dot,
+        &DotTerms::new([e_u, e_v, e_w], [one, one, one]),
+    );
+    let t_num = rounded(
+        &mut m,
         "u_t_num",
-        &[
-            ("a0", e_u),
-            ("b0", a[2]),
-            ("a1", e_v),
-            ("b1", b[2]),
-            ("a2", e_w),
-            ("b2", c[2]),
-        ],
+        &dot,
+        &DotTerms::new([e_u, e_v, e_w], [a[2], b[2], c[2]]),
     );
     let det_zero = unpack(&mut m, fmt, det).zero;
 
     // step 5
     let recip = recip_module(fmt, mode, 0);
-    let r = operator_result(&mut m, &recip, "u_recip_det", &[("x", det)]);
-    let t = operator_result(&mut m, &mul, "u_t", &[("a", t_num), ("b", r)]);
+    let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
+    let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
     let (_, after_min, _) = compare(&mut m, fmt, t_min, t);
     let (_, before_max, _) = compare(&mut m, fmt, t, t_max);
     let valid = m.not(invalid);
@@ -341,8 +321,8 @@ pub fn build(cfg: &Config) -> Module {
     hit = m.and(hit, before_max);
     let hit = m.name(hit, "hit_found");
     let t_u_v = cfg.full.then(|| {
-        let u = operator_result(&mut m, &mul, "u_bary_u", &[("a", e_v), ("b", r)]);
-        let v = operator_result(&mut m, &mul, "u_bary_v", &[("a", e_w), ("b", r)]);
+        let u = rounded(&mut m, "u_bary_u", &mul, &Pair::new(e_v, r));
+        let v = rounded(&mut m, "u_bary_v", &mul, &Pair::new(e_w, r));
         [t, u, v].map(|x| m.mux(hit, x, zero))
     });
     let outputs = TriangleOut {

@@ -15,8 +15,10 @@ use super::bits::{add_const, shr_jam};
 use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
+use crate::arith::ports::{Pair, PairPorts};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps of the exact sum: compare and swap; align; add.
@@ -158,9 +160,13 @@ pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32
         stages,
     );
     m.param("round", mode);
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
-    let rm = Rm::declare(&mut m, mode);
+    let ports = PairPorts {
+        a: fmt.ty(),
+        b: fmt.ty(),
+        rm: mode.is_port(),
+    };
+    let Pair { a, b, rm } = declare_inputs(&mut m, &ports);
+    let rm = Rm::new(mode, rm);
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
     let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);

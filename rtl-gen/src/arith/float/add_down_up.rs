@@ -5,7 +5,10 @@
 use super::add::{add_raw, ADD_RAW_STEPS};
 use super::round::{round_down_up, ROUND_STEPS};
 use super::{finish_operator, spread, Format, Rounding};
-use crate::ir::{Module, Ty};
+use crate::arith::ports::DownUp;
+use crate::arith::ports::{Pair, PairPorts};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Module name of the down/up adder.
@@ -25,8 +28,7 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
         ),
         stages,
     );
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
+    let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
     let s = add_raw(&mut m, fmt, a, b, false, raw_cuts);
@@ -42,5 +44,5 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
         rs,
         "u_round",
     );
-    finish_operator(m, rs, &[("down", down), ("up", up)], "down/up adder")
+    finish_operator(m, rs, &fmt.ty(), &DownUp { down, up }, "down/up adder")
 }

@@ -3,8 +3,11 @@
 //! sign-magnitude integers; no unpacking is needed.
 
 use super::{finish_operator, Format};
+use crate::arith::ports::Comparison;
+use crate::arith::ports::{Pair, PairPorts};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Two encodings read as sign and magnitude (the magnitude of an encoding
@@ -102,13 +105,7 @@ pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
         ),
         stages,
     );
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
+    let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let (lt, le, eq) = compare(&mut m, fmt, a, b);
-    finish_operator(
-        m,
-        stages,
-        &[("lt", lt), ("le", le), ("eq", eq)],
-        "comparator",
-    )
+    finish_operator(m, stages, &(), &Comparison { lt, le, eq }, "comparator")
 }

@@ -6,8 +6,10 @@
 use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::{lsb_exp, unpack};
 use super::{spread, Format, Rm, RoundSel};
+use crate::arith::ports::Source;
 use crate::builder::ModuleBuilder;
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps before the rounder: unpack.
@@ -39,8 +41,8 @@ pub fn convert_module(
         .param("to_frac_bits", to.frac_bits)
         .param("round", mode)
         .param("stages", stages);
-    let a = m.input("a", Ty::UInt(from.width()));
-    let rm = Rm::declare(&mut m, mode);
+    let Source { a, rm } = declare_inputs(&mut m, &(from.ty(), mode.is_port()));
+    let rm = Rm::new(mode, rm);
     let plan = spread(stages, CONVERT_RAW_STEPS + ROUND_STEPS);
     let u = unpack(&mut m, from, a);
     let class = class_of(&mut m, u.nan, u.inf);

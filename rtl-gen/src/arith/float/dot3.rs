@@ -34,8 +34,10 @@ use super::sum::{sum_two, Term};
 use super::unpack::{normalize, unpack, Unpacked};
 use super::{spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
+use crate::arith::ports::{product, DotTerms};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps before the rounder: normalise; multiply (2); sort and
@@ -91,15 +93,9 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
         stages,
     );
     m.param("round", mode);
-    let w = fmt.width();
-    let ins: Vec<(Sig, Sig)> = (0..3)
-        .map(|i| {
-            let a = m.input(&format!("a{i}"), Ty::UInt(w));
-            let b = m.input(&format!("b{i}"), Ty::UInt(w));
-            (a, b)
-        })
-        .collect();
-    let rm = Rm::declare(&mut m, mode);
+    let terms: DotTerms<Sig> = declare_inputs(&mut m, &(fmt.ty(), fmt.ty(), mode.is_port()));
+    let ins: Vec<(Sig, Sig)> = (0..3).map(|i| (terms.a[i], terms.b[i])).collect();
+    let rm = Rm::new(mode, terms.rm);
     let plan = spread(stages, DOT3_RAW_STEPS + ROUND_STEPS);
     let ups: Vec<(Unpacked, Unpacked)> = ins
         .iter()
@@ -164,10 +160,7 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let mul = umul_module(f + 1, f + 1, mul_stages);
     let mut prods = Vec::new();
     for (k, &(sa, sb)) in sig_pairs.iter().enumerate() {
-        let p = m
-            .instance(&format!("u_mul{k}"), &mul, &[("a", sa), ("b", sb)])
-            .get("p")
-            .expect("multiplier has output p");
+        let p = product(&mut m, &format!("u_mul{k}"), &mul, sa, sb);
         prods.push(p);
     }
     for _ in 0..mul_stages {

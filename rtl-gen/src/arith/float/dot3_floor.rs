@@ -27,16 +27,15 @@ use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, Rounding};
 use crate::arith::int::umul_module;
+use crate::arith::ports::{product, rounded, DotTerms};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps before the rounder: the product (2, inside the integer
 /// multiplier), the alignment, the sum and its magnitude.
 pub const DOT3_FLOOR_RAW_STEPS: u32 = 4;
-
-/// Input ports, per term: the `fa` and the `fb` factor.
-const PORTS: [[&str; 2]; 3] = [["a0", "b0"], ["a1", "b1"], ["a2", "b2"]];
 
 /// Instantiates `module` (a [`dot3_floor_module`]) as `inst` on the factors
 /// `a` and `b` and returns its result `z`.
@@ -48,14 +47,7 @@ pub fn dot3_floor_instance(
     a: [Sig; 3],
     b: [Sig; 3],
 ) -> Sig {
-    let ports: Vec<(&str, Sig)> = PORTS
-        .iter()
-        .zip(a.iter().zip(&b))
-        .flat_map(|(&[pa, pb], (&x, &y))| [(pa, x), (pb, y)])
-        .collect();
-    m.instance(inst, module, &ports)
-        .get("z")
-        .expect("dot3_floor has output z")
+    rounded(m, inst, module, &DotTerms::new(a, b))
 }
 
 /// Module name of the operator.
@@ -90,14 +82,8 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
         to.tag()
     ));
     mixed_format_params(&mut m, fa, fb, to).param("stages", stages);
-    let ins: Vec<(Sig, Sig)> = PORTS
-        .iter()
-        .map(|&[a, b]| {
-            let a = m.input(a, Ty::UInt(fa.width()));
-            let b = m.input(b, Ty::UInt(fb.width()));
-            (a, b)
-        })
-        .collect();
+    let terms: DotTerms<Sig> = declare_inputs(&mut m, &(fa.ty(), fb.ty(), false));
+    let ins: Vec<(Sig, Sig)> = (0..3).map(|i| (terms.a[i], terms.b[i])).collect();
     let plan = spread(stages, DOT3_FLOOR_RAW_STEPS + ROUND_STEPS);
 
     // specials and the product exponents. Product i's lsb exponent is
@@ -158,11 +144,7 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     let prods: Vec<Sig> = terms
         .iter()
         .enumerate()
-        .map(|(i, &(_, sa, sb, _))| {
-            m.instance(&format!("u_mul{i}"), &mul, &[("a", sa), ("b", sb)])
-                .get("p")
-                .expect("multiplier has output p")
-        })
+        .map(|(i, &(_, sa, sb, _))| product(&mut m, &format!("u_mul{i}"), &mul, sa, sb))
         .collect();
     for _ in 0..mul_stages {
         m.stage();

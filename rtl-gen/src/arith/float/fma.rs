@@ -18,7 +18,9 @@ use super::sum::{sum_two, Term};
 use super::unpack::{norm_exp_width, normalize, unpack};
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
-use crate::ir::{Module, Ty};
+use crate::arith::ports::{product, Triple};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps before the rounder: normalise; multiply (2); align; add.
@@ -54,10 +56,8 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
         stages,
     );
     m.param("round", mode);
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
-    let c = m.input("c", Ty::UInt(fmt.width()));
-    let rm = Rm::declare(&mut m, mode);
+    let Triple { a, b, c, rm } = declare_inputs(&mut m, &(fmt.ty(), mode.is_port()));
+    let rm = Rm::new(mode, rm);
     let plan = spread(stages, FMA_RAW_STEPS + ROUND_STEPS);
     let ua = unpack(&mut m, fmt, a);
     let ub = unpack(&mut m, fmt, b);
@@ -101,10 +101,7 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     // steps 2-3: exact product of the significands
     let mul_stages = plan[1] + plan[2];
     let mul = umul_module(f + 1, f + 1, mul_stages);
-    let p = m
-        .instance("u_mul", &mul, &[("a", na.sig), ("b", nb.sig)])
-        .get("p")
-        .expect("multiplier has output p");
+    let p = product(&mut m, "u_mul", &mul, na.sig, nb.sig);
     for _ in 0..mul_stages {
         m.stage();
     }

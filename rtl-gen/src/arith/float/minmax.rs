@@ -3,8 +3,11 @@
 
 use super::compare::SignMagnitude;
 use super::{finish_operator, Format};
+use crate::arith::ports::MinMax;
+use crate::arith::ports::{Pair, PairPorts};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// `(min, max)` of `a` and `b` (encodings of `fmt`).
@@ -58,8 +61,7 @@ pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
         ),
         stages,
     );
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
+    let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let (min, max) = min_max(&mut m, fmt, a, b);
-    finish_operator(m, stages, &[("min", min), ("max", max)], "min/max")
+    finish_operator(m, stages, &fmt.ty(), &MinMax { min, max }, "min/max")
 }

@@ -34,6 +34,7 @@ pub mod unpack;
 
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::Module;
+use crate::ports::Record;
 use std::fmt;
 use std::sync::Arc;
 
@@ -103,6 +104,11 @@ impl Format {
     /// Total width 1 + E + F.
     pub fn width(self) -> u32 {
         1 + self.exp_bits + self.frac_bits
+    }
+
+    /// The type of an encoding: `UInt(width)`.
+    pub fn ty(self) -> crate::ir::Ty {
+        crate::ir::Ty::UInt(self.width())
     }
 
     /// Exponent bias 2^(E-1) - 1.
@@ -221,6 +227,11 @@ impl RoundSel {
         }
     }
 
+    /// The mode is the `rm` input port.
+    pub fn is_port(self) -> bool {
+        self == RoundSel::Port
+    }
+
     /// The parameter word: the fixed mode's, or `dyn`.
     pub const fn word(self) -> &'static str {
         match self {
@@ -277,13 +288,10 @@ pub struct Rm {
 }
 
 impl Rm {
-    /// Declares the `rm` input port if `sel` asks for it (call after the data inputs).
-    #[track_caller]
-    pub fn declare(m: &mut crate::builder::ModuleBuilder, sel: RoundSel) -> Rm {
-        let port = match sel {
-            RoundSel::Port => Some(m.input(RM_PORT, crate::ir::Ty::UInt(2))),
-            RoundSel::Fixed(_) => None,
-        };
+    /// The mode `sel` of an operator whose inputs record gave `port` (its
+    /// `rm` input, there when `sel` is [`RoundSel::Port`]).
+    pub fn new(sel: RoundSel, port: Option<Sig>) -> Rm {
+        assert_eq!(port.is_some(), sel.is_port(), "an rm port exactly for dyn");
         Rm { sel, port }
     }
 
@@ -310,22 +318,21 @@ impl Rm {
 }
 
 /// The common end of an operator's module: `stages` registers carry the
-/// pipeline to the `outputs` (in port order), then the module is finished;
-/// `what` names the generator in the message of a type error, which would
-/// be a bug of the generator.
+/// pipeline to the `outputs` (the record its instances read, of `ports`),
+/// then the module is finished; `what` names the generator in the message
+/// of a type error, which would be a bug of the generator.
 #[track_caller]
-pub fn finish_operator(
+pub fn finish_operator<O: Record<Sig>>(
     mut m: ModuleBuilder,
     stages: u32,
-    outputs: &[(&str, Sig)],
+    ports: &O::Config,
+    outputs: &O,
     what: &str,
 ) -> Arc<Module> {
     for _ in 0..stages {
         m.stage();
     }
-    for &(name, value) in outputs {
-        m.output(name, value);
-    }
+    crate::ports::declare_outputs(&mut m, ports, outputs);
     Arc::new(
         m.finish()
             .unwrap_or_else(|e| panic!("{what} generator is type-correct for every format: {e}")),
@@ -373,20 +380,6 @@ pub fn spread_over<const N: usize>(stages: u32, segments: [u32; N]) -> [u32; N] 
 pub fn negate(m: &mut ModuleBuilder, fmt: Format, x: crate::builder::Sig) -> crate::builder::Sig {
     let sign = m.uint(fmt.width(), 1u128 << (fmt.width() - 1));
     m.xor(x, sign)
-}
-
-/// Instantiates operator `module` as `inst` with `inputs` and returns its
-/// result, the output `z` every operator of this module has.
-#[track_caller]
-pub fn operator_result(
-    m: &mut ModuleBuilder,
-    module: &std::sync::Arc<crate::ir::Module>,
-    inst: &str,
-    inputs: &[(&str, crate::builder::Sig)],
-) -> crate::builder::Sig {
-    m.instance(inst, module, inputs)
-        .get("z")
-        .expect("float operators have output z")
 }
 
 /// Smallest width of a two's complement value holding every integer in `lo..=hi`.

@@ -13,8 +13,10 @@ use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
+use crate::arith::ports::{product, Pair, PairPorts};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// Logical steps of the exact product (both belong to the integer multiplier).
@@ -83,10 +85,7 @@ pub fn mul_mixed_raw(
     let exp = add_const(m, esum, -k, xw);
     let exp = m.name(exp, "prod_exp");
     let mul = umul_module(fa.frac_bits + 1, fb.frac_bits + 1, mul_stages);
-    let p = m
-        .instance(inst, &mul, &[("a", ua.sig), ("b", ub.sig)])
-        .get("p")
-        .expect("multiplier has output p");
+    let p = product(m, inst, &mul, ua.sig, ub.sig);
     for _ in 0..mul_stages {
         m.stage();
     }
@@ -114,9 +113,13 @@ pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
         stages,
     );
     m.param("round", mode);
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
-    let rm = Rm::declare(&mut m, mode);
+    let ports = PairPorts {
+        a: fmt.ty(),
+        b: fmt.ty(),
+        rm: mode.is_port(),
+    };
+    let Pair { a, b, rm } = declare_inputs(&mut m, &ports);
+    let rm = Rm::new(mode, rm);
     let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
@@ -173,8 +176,12 @@ pub fn mul_mixed_module(
     mixed_format_params(&mut m, fa, fb, to)
         .param("round", mode)
         .param("stages", stages);
-    let a = m.input("a", Ty::UInt(fa.width()));
-    let b = m.input("b", Ty::UInt(fb.width()));
+    let ports = PairPorts {
+        a: fa.ty(),
+        b: fb.ty(),
+        rm: false,
+    };
+    let Pair { a, b, .. } = declare_inputs(&mut m, &ports);
     let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_mixed_raw(&mut m, fa, fb, a, b, raw_cuts.iter().sum(), "u_mul");

@@ -12,7 +12,10 @@
 use super::mul::{mul_raw, MUL_RAW_STEPS};
 use super::round::{round, ROUND_STEPS};
 use super::{finish_operator, spread, Format, Rounding};
-use crate::ir::{Module, Ty};
+use crate::arith::ports::Rounded;
+use crate::arith::ports::{Pair, PairPorts};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// The exact-product format (E + 2, 2F + 1) of `fmt`, if supported.
@@ -39,12 +42,11 @@ pub fn mul_exact_module(fmt: Format, stages: u32) -> Arc<Module> {
         ),
         stages,
     );
-    let a = m.input("a", Ty::UInt(fmt.width()));
-    let b = m.input("b", Ty::UInt(fmt.width()));
+    let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let plan = spread(stages, MUL_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
     let z = round(&mut m, wide, Rounding::Rne, &raw, rs, "u_pack");
-    finish_operator(m, rs, &[("z", z)], "exact multiplier")
+    finish_operator(m, rs, &wide.ty(), &Rounded { z }, "exact multiplier")
 }

@@ -24,6 +24,7 @@ use super::bits::{add_const, to_sint};
 use super::unpack::{normalize, unpack, Normalized};
 use super::{sint_width, Format};
 use crate::arith::int::{sext, umul_module};
+use crate::arith::ports::product;
 use crate::builder::{ModuleBuilder, Sig};
 
 /// One factor, unpacked and normalised once, shared by every product it
@@ -126,10 +127,7 @@ pub fn start_product(
 ) -> ProductStart {
     let f = fmt.frac_bits;
     let mul = umul_module(f + 1, f + 1, mul_stages);
-    let sig = m
-        .instance(inst, &mul, &[("a", a.sig), ("b", b.sig)])
-        .get("p")
-        .expect("multiplier has output p");
+    let sig = product(m, inst, &mul, a.sig, b.sig);
     m.scope(inst, |m| {
         let w = sint_width(term_exp_min(fmt), term_exp_max(fmt));
         let ea = sext(m, a.exp, w);

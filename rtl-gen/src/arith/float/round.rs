@@ -33,10 +33,12 @@
 
 use super::bits::{add_const, lzc, lzc_width, shr_sticky, to_sint};
 use super::unpack::{CLASS_INF, CLASS_NAN, CLASS_ZERO};
-use super::{finish_operator, sint_width, spread, Format, Rm, RoundSel, Rounding, RM_PORT};
+use super::{finish_operator, sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::zext;
+use crate::arith::ports::{call, rounded, DownUp, RawDownUp, RawValue, Rounded};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// The widest significand whose left shift is limited by a stop mask (a
@@ -121,15 +123,19 @@ pub fn round_module(
         .param("round", mode)
         .param("stages", stages);
     let plan = spread(stages, ROUND_STEPS);
-    let sign = m.input("sign", Ty::Bool);
-    let class = m.input("cls", Ty::UInt(2));
-    let exp = m.input("exp", Ty::SInt(exp_width));
-    let sig = m.input("sig", Ty::UInt(sw));
-    let sticky_in = m.input("sticky", Ty::Bool);
-    let rm = Rm::declare(&mut m, mode);
+    let ports = (Ty::SInt(exp_width), Ty::UInt(sw), mode.is_port());
+    let RawValue {
+        sign,
+        cls: class,
+        exp,
+        sig,
+        sticky: sticky_in,
+        rm,
+    } = declare_inputs(&mut m, &ports);
+    let rm = Rm::new(mode, rm);
     let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
     let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n);
-    finish_operator(m, plan[2], &[("z", z)], "rounder")
+    finish_operator(m, plan[2], &fmt.ty(), &Rounded { z }, "rounder")
 }
 
 /// Module name of the down/up rounder.
@@ -168,12 +174,14 @@ pub fn round_down_up_module(
         .param("exp_width", exp_width)
         .param("stages", stages);
     let plan = spread(stages, ROUND_STEPS);
-    let sign_down = m.input("sign_down", Ty::Bool);
-    let sign_up = m.input("sign_up", Ty::Bool);
-    let class = m.input("cls", Ty::UInt(2));
-    let exp = m.input("exp", Ty::SInt(exp_width));
-    let sig = m.input("sig", Ty::UInt(sw));
-    let sticky_in = m.input("sticky", Ty::Bool);
+    let RawDownUp {
+        sign_down,
+        sign_up,
+        cls: class,
+        exp,
+        sig,
+        sticky: sticky_in,
+    } = declare_inputs(&mut m, &(Ty::SInt(exp_width), Ty::UInt(sw)));
     let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
     let rdn = Rm::fixed(Rounding::Rdn);
     let rup = Rm::fixed(Rounding::Rup);
@@ -183,7 +191,13 @@ pub fn round_down_up_module(
     let up = m.scope("up", |m| {
         round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n)
     });
-    finish_operator(m, plan[2], &[("down", down), ("up", up)], "down/up rounder")
+    finish_operator(
+        m,
+        plan[2],
+        &fmt.ty(),
+        &DownUp { down, up },
+        "down/up rounder",
+    )
 }
 
 /// A raw significand moved onto the result's grid (steps 1 and 2 of the
@@ -426,7 +440,7 @@ pub fn finish_rounded(
     what: &str,
 ) -> Arc<Module> {
     let z = round_rm(&mut m, fmt, rm, raw, stages, "u_round");
-    finish_operator(m, stages, &[("z", z)], what)
+    finish_operator(m, stages, &fmt.ty(), &Rounded { z }, what)
 }
 
 /// [`round`] in the mode `rm` (fixed, or the module's `rm` port, which is
@@ -442,19 +456,15 @@ pub fn round_rm(
 ) -> Sig {
     let (sig, exp) = padded(m, fmt, raw);
     let module = round_module(fmt, sig.width(), exp.width(), rm.sel, stages);
-    let mut ports = vec![
-        ("sign", raw.sign),
-        ("cls", raw.class),
-        ("exp", exp),
-        ("sig", sig),
-        ("sticky", raw.sticky),
-    ];
-    if let Some(p) = rm.port {
-        ports.push((RM_PORT, p));
-    }
-    m.instance(inst, &module, &ports)
-        .get("z")
-        .expect("rounder has output z")
+    let value = RawValue {
+        sign: raw.sign,
+        cls: raw.class,
+        exp,
+        sig,
+        sticky: raw.sticky,
+        rm: rm.port,
+    };
+    rounded(m, inst, &module, &value)
 }
 
 /// The raw significand and exponent, the significand padded with zeros to
@@ -490,20 +500,14 @@ pub fn round_down_up(
 ) -> (Sig, Sig) {
     let (sig, exp) = padded(m, fmt, raw);
     let module = round_down_up_module(fmt, sig.width(), exp.width(), stages);
-    let out = m.instance(
-        inst,
-        &module,
-        &[
-            ("sign_down", sign_down),
-            ("sign_up", sign_up),
-            ("cls", raw.class),
-            ("exp", exp),
-            ("sig", sig),
-            ("sticky", raw.sticky),
-        ],
-    );
-    (
-        out.get("down").expect("rounder has output down"),
-        out.get("up").expect("rounder has output up"),
-    )
+    let value = RawDownUp {
+        sign_down,
+        sign_up,
+        cls: raw.class,
+        exp,
+        sig,
+        sticky: raw.sticky,
+    };
+    let DownUp { down, up } = call(m, inst, &module, &value, &fmt.ty());
+    (down, up)
 }

@@ -4,8 +4,10 @@
 
 use super::bits::{add_const, lzc, ssub, to_sint};
 use super::{finish_operator, sint_width, Format};
+use crate::arith::ports::{Fields, Operand};
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::{Module, Ty};
+use crate::ir::Module;
+use crate::ports::declare_inputs;
 use std::sync::Arc;
 
 /// 2-bit class encoding of the RTL (the golden model's `Class`): zero.
@@ -158,7 +160,7 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
         ),
         stages,
     );
-    let x = m.input("x", Ty::UInt(fmt.width()));
+    let Operand { x } = declare_inputs(&mut m, &fmt.ty());
     let u = unpack(&mut m, fmt, x);
     let class = class_code(&mut m, &u);
     let special = m.or(u.inf, u.nan);
@@ -167,6 +169,11 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
     let exp = m.mux(special, e0, e);
     let s0 = m.uint(fmt.frac_bits + 1, 0);
     let sig = m.mux(special, s0, u.sig);
-    let outputs = [("sign", u.sign), ("cls", class), ("exp", exp), ("sig", sig)];
-    finish_operator(m, stages, &outputs, "unpack")
+    let fields = Fields {
+        sign: u.sign,
+        cls: class,
+        exp,
+        sig,
+    };
+    finish_operator(m, stages, &(exp.ty(), sig.ty()), &fields, "unpack")
 }

@@ -3,6 +3,7 @@
 //! every exit bound.
 
 use super::*;
+use crate::arith::ports::{rounded, Source};
 
 /// `x` of `from` widened exactly into `to` (`from`'s exponent and fraction
 /// no wider than `to`'s). Equal exponent widths: the fraction padded with
@@ -28,7 +29,7 @@ pub fn widen(m: &mut ModuleBuilder, from: Format, to: Format, x: Sig, inst: &str
     }
     if from.emin() - (from.frac_bits as i64) < to.emin() {
         let cv = convert_module(from, to, Rounding::Rne, 0);
-        return m.instance(inst, &cv, &[("a", x)]).get("z").expect("z");
+        return rounded(m, inst, &cv, &Source::new(x));
     }
     let (e, f) = (to.exp_bits, from.frac_bits);
     let u = unpack(m, from, x);
@@ -186,6 +187,52 @@ pub fn plane_name(cfg: &Config, plan: &StagePlan) -> String {
     )
 }
 
+/// The inputs of a per-plane block: the plane's distance, and the ray's
+/// terms for the plane's normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlaneIn<T> {
+    /// the plane's distance, plane format
+    pub w: T,
+    /// `≤ n·(o − r)`, ray format
+    pub no_lo: T,
+    /// `≤ 1/|b_lo|`, crossing format
+    pub rcp_lo: T,
+    /// `≥ 1/|b_lo|`, crossing format
+    pub rcp_hi: T,
+}
+
+impl<T: Copy> Record<T> for PlaneIn<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let (ray, crossing) = (cfg.ray.ty(), cfg.crossing().ty());
+        PlaneIn {
+            w: w.one("w", cfg.plane.ty(), |r| r.w),
+            no_lo: w.one("no_lo", ray, |r| r.no_lo),
+            rcp_lo: w.one("rcp_lo", crossing, |r| r.rcp_lo),
+            rcp_hi: w.one("rcp_hi", crossing, |r| r.rcp_hi),
+        }
+    }
+}
+
+/// The outputs of a per-plane block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlaneOut<T> {
+    /// `RUP(D · rcp)`, ray format
+    pub q: T,
+    /// `D < 0`
+    pub dist_neg: T,
+}
+
+impl<T: Copy> Record<T> for PlaneOut<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        PlaneOut {
+            q: w.one("q", cfg.ray.ty(), |r| r.q),
+            dist_neg: w.one("dist_neg", Ty::Bool, |r| r.dist_neg),
+        }
+    }
+}
+
 /// The per-plane block: `D = RUP(w − no_lo)` with `w` widened exactly,
 /// `rcp = D > 0 ? rcp_hi : rcp_lo`, `q = RUP(D · rcp)` (the exact product
 /// of a ray-format and a crossing-format significand, one rounding).
@@ -205,10 +252,12 @@ pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
         .param("plane_exp_bits", pf.exp_bits)
         .param("plane_frac_bits", pf.frac_bits)
         .param("stages", plan.plane());
-    let w = m.input("w", Ty::UInt(pf.width()));
-    let no_lo = m.input("no_lo", Ty::UInt(f.width()));
-    let rcp_lo = m.input("rcp_lo", Ty::UInt(cf.width()));
-    let rcp_hi = m.input("rcp_hi", Ty::UInt(cf.width()));
+    let PlaneIn {
+        w,
+        no_lo,
+        rcp_lo,
+        rcp_hi,
+    } = ports::declare_inputs(&mut m, cfg);
     let wf = widen(&mut m, pf, f, w, "u_widen");
     for _ in 0..plan.widen {
         m.stage();
@@ -236,8 +285,7 @@ pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     for _ in 0..plan.mul_round {
         m.stage();
     }
-    m.output("q", q);
-    m.output("dist_neg", neg);
+    ports::declare_outputs(&mut m, cfg, &PlaneOut { q, dist_neg: neg });
     Arc::new(
         m.finish()
             .expect("cull plane generator is type-correct for every accepted configuration"),
@@ -290,23 +338,21 @@ pub fn build(cfg: &Config) -> Module {
     let mut qs = Vec::new();
     let mut par = Vec::new();
     for j in 0..k {
-        let out = m.instance(
-            &format!("u_plane{j}"),
-            &block,
-            &[
-                ("w", w[j]),
-                ("no_lo", terms[j].no_lo),
-                ("rcp_lo", terms[j].rcp_lo),
-                ("rcp_hi", terms[j].rcp_hi),
-            ],
-        );
-        qs.push(out.get("q").expect("q"));
+        let plane = PlaneIn {
+            w: w[j],
+            no_lo: terms[j].no_lo,
+            rcp_lo: terms[j].rcp_lo,
+            rcp_hi: terms[j].rcp_hi,
+        };
+        let out: PlaneOut<Sig> =
+            ports::instance(&mut m, &format!("u_plane{j}"), &block, cfg, &plane, cfg);
+        qs.push(out.q);
         let dir = terms[j].dir;
         let c_exit = m.uint(DIR_WIDTH, DIR_EXIT);
         let c_entry = m.uint(DIR_WIDTH, DIR_ENTRY);
         let is_exit = m.eq(dir, c_exit);
         let is_entry = m.eq(dir, c_entry);
-        par.push((out.get("dist_neg").expect("dist_neg"), is_exit, is_entry));
+        par.push((out.dist_neg, is_exit, is_entry));
     }
     for _ in 0..plan.plane() {
         m.stage();

@@ -2,6 +2,7 @@
 //! directions are `>= 0`, and its numerators (the only rounded values).
 
 use super::*;
+use crate::arith::ports::{call, rounded, DownUp, Pair};
 
 /// Module name of the axis block.
 pub fn axis_name(cfg: &Config, stages: u32) -> String {
@@ -64,7 +65,6 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
     let a = m.mux(neg, d_hi_abs, d_lo_abs);
 
     // The numerators (the only rounded values).
-    let z = |io: InstanceOutputs| io.get("z").expect("adder has output z");
     let outputs = if cfg.ray() {
         let (entry, exit) = match cfg.policy {
             Policy::Conservative => (Rounding::Rdn, Rounding::Rup),
@@ -72,9 +72,18 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
         };
         let entry = add_module(f, entry, false, stages);
         let exit = add_module(f, exit, false, stages);
-        let n = z(m.instance("u_entry", &entry, &[("a", near), ("b", m_lo)]));
-        let x = z(m.instance("u_exit", &exit, &[("a", far), ("b", m_lo)]));
-        vec![("a", a), ("n", n), ("x", x)]
+        let n = rounded(&mut m, "u_entry", &entry, &Pair::new(near, m_lo));
+        let x = rounded(&mut m, "u_exit", &exit, &Pair::new(far, m_lo));
+        AxisOut {
+            neg: None,
+            pos: None,
+            a,
+            b: a,
+            n_any: n,
+            x_any: x,
+            n_all: n,
+            x_all: x,
+        }
     } else {
         let pos = is_positive(&mut m, f, d_hi);
         let pos = m.name(pos, "pos");
@@ -83,55 +92,50 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
             (Origin::Shared, Policy::Conservative) => {
                 // one exact sum per plane, rounded both ways
                 let adu = add_down_up_module(f, stages);
-                let n = m.instance("u_entry", &adu, &[("a", near), ("b", m_lo)]);
-                let x = m.instance("u_exit", &adu, &[("a", far), ("b", m_lo)]);
-                let n_any = n.get("down").expect("down");
-                let n_all = n.get("up").expect("up");
-                let x_any = x.get("up").expect("up");
-                let x_all = x.get("down").expect("down");
-                (n_any, x_any, n_all, x_all)
+                let ty = f.ty();
+                let n: DownUp<Sig> = call(&mut m, "u_entry", &adu, &Pair::new(near, m_lo), &ty);
+                let x: DownUp<Sig> = call(&mut m, "u_exit", &adu, &Pair::new(far, m_lo), &ty);
+                (n.down, x.up, n.up, x.down)
             }
             (Origin::Bounded, Policy::Conservative) => {
                 let dn = add_module(f, Rounding::Rdn, false, stages);
                 let up = add_module(f, Rounding::Rup, false, stages);
-                let n_any = z(m.instance("u_n_any", &dn, &[("a", near), ("b", m_hi)]));
-                let x_any = z(m.instance("u_x_any", &up, &[("a", far), ("b", m_lo)]));
-                let n_all = z(m.instance("u_n_all", &up, &[("a", near), ("b", m_lo)]));
-                let x_all = z(m.instance("u_x_all", &dn, &[("a", far), ("b", m_hi)]));
+                let n_any = rounded(&mut m, "u_n_any", &dn, &Pair::new(near, m_hi));
+                let x_any = rounded(&mut m, "u_x_any", &up, &Pair::new(far, m_lo));
+                let n_all = rounded(&mut m, "u_n_all", &up, &Pair::new(near, m_lo));
+                let x_all = rounded(&mut m, "u_x_all", &dn, &Pair::new(far, m_hi));
                 (n_any, x_any, n_all, x_all)
             }
             (Origin::Shared, Policy::Nearest) => {
                 let rne = add_module(f, Rounding::Rne, false, stages);
-                let n = z(m.instance("u_entry", &rne, &[("a", near), ("b", m_lo)]));
-                let x = z(m.instance("u_exit", &rne, &[("a", far), ("b", m_lo)]));
+                let n = rounded(&mut m, "u_entry", &rne, &Pair::new(near, m_lo));
+                let x = rounded(&mut m, "u_exit", &rne, &Pair::new(far, m_lo));
                 (n, x, n, x)
             }
             (Origin::Bounded, Policy::Nearest) => {
                 let rne = add_module(f, Rounding::Rne, false, stages);
-                let n_any = z(m.instance("u_n_any", &rne, &[("a", near), ("b", m_hi)]));
-                let x_any = z(m.instance("u_x_any", &rne, &[("a", far), ("b", m_lo)]));
-                let n_all = z(m.instance("u_n_all", &rne, &[("a", near), ("b", m_lo)]));
-                let x_all = z(m.instance("u_x_all", &rne, &[("a", far), ("b", m_hi)]));
+                let n_any = rounded(&mut m, "u_n_any", &rne, &Pair::new(near, m_hi));
+                let x_any = rounded(&mut m, "u_x_any", &rne, &Pair::new(far, m_lo));
+                let n_all = rounded(&mut m, "u_n_all", &rne, &Pair::new(near, m_lo));
+                let x_all = rounded(&mut m, "u_x_all", &rne, &Pair::new(far, m_hi));
                 (n_any, x_any, n_all, x_all)
             }
         };
-        vec![
-            ("neg", neg),
-            ("pos", pos),
-            ("a", a),
-            ("b", b),
-            ("n_any", n_any),
-            ("x_any", x_any),
-            ("n_all", n_all),
-            ("x_all", x_all),
-        ]
+        AxisOut {
+            neg: Some(neg),
+            pos: Some(pos),
+            a,
+            b,
+            n_any,
+            x_any,
+            n_all,
+            x_all,
+        }
     };
     for _ in 0..stages {
         m.stage();
     }
-    for (name, value) in outputs {
-        m.output(name, value);
-    }
+    ports::declare_outputs(&mut m, cfg, &outputs);
     Arc::new(
         m.finish()
             .expect("silhouette axis generator is type-correct for every accepted format"),

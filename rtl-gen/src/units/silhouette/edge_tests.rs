@@ -69,11 +69,11 @@ pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     });
     m.param("exp_bits", f.exp_bits)
         .param("frac_bits", f.frac_bits)
-        .param("mode", format!("{:?}", cfg.mode).to_lowercase())
+        .param("mode", cfg.mode)
         .param("norm_stages", plan.norm)
         .param("product_stages", plan.product)
         .param("compare_stages", plan.compare);
-    let ty = Ty::UInt(f.width());
+    let _ty = Ty::UInt(f.width());
     let tests: &[&str] = if cfg.ray() { &[""] } else { &["any", "all"] };
     let prefix = |t: &str, v: &str| {
         if t.is_empty() {
@@ -83,31 +83,13 @@ pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
         }
     };
     // Inputs, then every factor unpacked once.
-    let mut nx: Vec<(Vec<Sig>, Vec<Sig>)> = Vec::new();
-    for t in tests {
-        let n: Vec<Sig> = AXES
-            .iter()
-            .map(|ax| m.input(&format!("{}_{ax}", prefix(t, "n")), ty))
-            .collect();
-        let x: Vec<Sig> = AXES
-            .iter()
-            .map(|ax| m.input(&format!("{}_{ax}", prefix(t, "x")), ty))
-            .collect();
-        nx.push((n, x));
-    }
-    let bound = |m: &mut ModuleBuilder, name: &str| -> Vec<Sig> {
-        AXES.iter()
-            .map(|ax| m.input(&format!("{name}_{ax}"), ty))
-            .collect()
-    };
-    let (a_in, b_in) = if cfg.ray() {
-        let d = bound(&mut m, "d");
-        (d.clone(), d)
+    let ins: TestsIn<Sig> = ports::declare_inputs(&mut m, cfg);
+    let nx: Vec<([Sig; 3], [Sig; 3])> = if cfg.ray() {
+        vec![(ins.n_any, ins.x_any)]
     } else {
-        (bound(&mut m, "a"), bound(&mut m, "b"))
+        vec![(ins.n_any, ins.x_any), (ins.n_all, ins.x_all)]
     };
-    let t_min = m.input("t_min", ty);
-    let t_max = m.input("t_max", ty);
+    let (a_in, b_in, t_min, t_max) = (ins.a, ins.b, ins.t_min, ins.t_max);
 
     let fa: Vec<Factor> = (0..3)
         .map(|i| {
@@ -216,11 +198,16 @@ pub fn tests_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     for _ in 0..plan.compare {
         m.stage();
     }
-    for (t, ok) in tests.iter().zip(&oks) {
-        let name = prefix(t, "pass");
-        let pass = all_of(&mut m, ok, &name);
-        m.output(&name, pass);
-    }
+    let passes: Vec<Sig> = tests
+        .iter()
+        .zip(&oks)
+        .map(|(t, ok)| all_of(&mut m, ok, &prefix(t, "pass")))
+        .collect();
+    let outputs = TestsOut {
+        pass_any: passes[0],
+        pass_all: *passes.last().expect("one test at least"),
+    };
+    ports::declare_outputs(&mut m, cfg, &outputs);
     Arc::new(
         m.finish()
             .expect("silhouette tests generator is type-correct for every accepted format"),

@@ -57,7 +57,7 @@ use crate::arith::float::product_compare::{
 };
 use crate::arith::float::round::ROUND_STEPS;
 use crate::arith::float::{spread_over, Format, Rounding};
-use crate::builder::{InstanceOutputs, ModuleBuilder, Sig};
+use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
 use std::sync::Arc;
@@ -290,6 +290,164 @@ impl<T: Copy> Record<T> for AxisIn<T> {
     }
 }
 
+/// The axis block's outputs. Ray: `a` (`|d|`), `n` (entry numerator,
+/// rounded down), `x` (exit numerator, rounded up), read as both corners'
+/// (`b = a`, `n_all = n_any = n`, `x_all = x_any = x`). Bundle: `neg`
+/// (`d_lo < 0`: the axis is mirrored), `pos` (`d_hi > 0`), `a`/`b`
+/// (smallest / largest `|d|`), `n_any x_any n_all x_all`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisOut<T> {
+    /// the axis is mirrored (bundle)
+    pub neg: Option<T>,
+    /// the largest direction is positive (bundle)
+    pub pos: Option<T>,
+    /// the smallest `|d|`
+    pub a: T,
+    /// the largest `|d|`
+    pub b: T,
+    /// AnyHit entry numerator
+    pub n_any: T,
+    /// AnyHit exit numerator
+    pub x_any: T,
+    /// AllHit entry numerator
+    pub n_all: T,
+    /// AllHit exit numerator
+    pub x_all: T,
+}
+
+impl<T: Copy> Record<T> for AxisOut<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        if cfg.ray() {
+            let a = w.one("a", ty, |r| r.a);
+            let n = w.one("n", ty, |r| r.n_any);
+            let x = w.one("x", ty, |r| r.x_any);
+            return AxisOut {
+                neg: None,
+                pos: None,
+                a,
+                b: a,
+                n_any: n,
+                x_any: x,
+                n_all: n,
+                x_all: x,
+            };
+        }
+        let bundle_only = "a bundle's axis has its signs";
+        AxisOut {
+            neg: Some(w.one("neg", Ty::Bool, |r| r.neg.expect(bundle_only))),
+            pos: Some(w.one("pos", Ty::Bool, |r| r.pos.expect(bundle_only))),
+            a: w.one("a", ty, |r| r.a),
+            b: w.one("b", ty, |r| r.b),
+            n_any: w.one("n_any", ty, |r| r.n_any),
+            x_any: w.one("x_any", ty, |r| r.x_any),
+            n_all: w.one("n_all", ty, |r| r.n_all),
+            x_all: w.one("x_all", ty, |r| r.x_all),
+        }
+    }
+}
+
+/// The tests block's inputs: per axis the numerators and the bounds of
+/// `|d|` of every axis block, then the segment. Ray: `n_* x_* d_* t_min
+/// t_max` (one corner); bundle: `n_any_* x_any_* n_all_* x_all_* a_* b_*
+/// t_min t_max`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TestsIn<T> {
+    /// AnyHit entry numerators
+    pub n_any: [T; 3],
+    /// AnyHit exit numerators
+    pub x_any: [T; 3],
+    /// AllHit entry numerators
+    pub n_all: [T; 3],
+    /// AllHit exit numerators
+    pub x_all: [T; 3],
+    /// smallest `|d|`
+    pub a: [T; 3],
+    /// largest `|d|`
+    pub b: [T; 3],
+    /// segment start
+    pub t_min: T,
+    /// segment end
+    pub t_max: T,
+}
+
+impl<T: Copy> TestsIn<T> {
+    /// The inputs from the three axis blocks' outputs and the segment.
+    pub fn from_axes(axes: &[AxisOut<T>; 3], t_min: T, t_max: T) -> Self {
+        let per_axis = |f: fn(&AxisOut<T>) -> T| [f(&axes[0]), f(&axes[1]), f(&axes[2])];
+        TestsIn {
+            n_any: per_axis(|a| a.n_any),
+            x_any: per_axis(|a| a.x_any),
+            n_all: per_axis(|a| a.n_all),
+            x_all: per_axis(|a| a.x_all),
+            a: per_axis(|a| a.a),
+            b: per_axis(|a| a.b),
+            t_min,
+            t_max,
+        }
+    }
+}
+
+impl<T: Copy> Record<T> for TestsIn<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        let (n_any, x_any, n_all, x_all, a, b) = if cfg.ray() {
+            let n = w.xyz("n", ty, |r| r.n_any);
+            let x = w.xyz("x", ty, |r| r.x_any);
+            let d = w.xyz("d", ty, |r| r.a);
+            (n, x, n, x, d, d)
+        } else {
+            (
+                w.xyz("n_any", ty, |r| r.n_any),
+                w.xyz("x_any", ty, |r| r.x_any),
+                w.xyz("n_all", ty, |r| r.n_all),
+                w.xyz("x_all", ty, |r| r.x_all),
+                w.xyz("a", ty, |r| r.a),
+                w.xyz("b", ty, |r| r.b),
+            )
+        };
+        TestsIn {
+            n_any,
+            x_any,
+            n_all,
+            x_all,
+            a,
+            b,
+            t_min: w.one("t_min", ty, |r| r.t_min),
+            t_max: w.one("t_max", ty, |r| r.t_max),
+        }
+    }
+}
+
+/// The tests block's outputs: ray `pass` (read as both), bundle `pass_any
+/// pass_all`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TestsOut<T> {
+    /// every AnyHit test passes
+    pub pass_any: T,
+    /// every AllHit test passes
+    pub pass_all: T,
+}
+
+impl<T: Copy> Record<T> for TestsOut<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        if cfg.ray() {
+            let pass = w.one("pass", Ty::Bool, |r| r.pass_any);
+            return TestsOut {
+                pass_any: pass,
+                pass_all: pass,
+            };
+        }
+        TestsOut {
+            pass_any: w.one("pass_any", Ty::Bool, |r| r.pass_any),
+            pass_all: w.one("pass_all", Ty::Bool, |r| r.pass_all),
+        }
+    }
+}
+
 /// The data outputs. Ray: `hit nan invalid` (`hit` is `any_hit`); bundle:
 /// `all_hit any_hit nan invalid mixed_sign`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -480,39 +638,18 @@ pub fn build(cfg: &Config) -> Module {
 
     // Steps 2 and 3: per axis, mirror and form the numerators.
     let axis = axis_module(cfg, plan.diff);
-    let axis_out: Vec<InstanceOutputs> = (0..3)
-        .map(|i| {
-            let ins = ports::connections(cfg, &inputs.axis(i));
-            m.instance(&format!("u_axis_{}", AXES[i]), &axis, &ins)
-        })
-        .collect();
+    let axes: [AxisOut<Sig>; 3] = [0, 1, 2].map(|i| {
+        let name = format!("u_axis_{}", AXES[i]);
+        ports::instance(&mut m, &name, &axis, cfg, &inputs.axis(i), cfg)
+    });
     for _ in 0..plan.diff {
         m.stage();
     }
-    let g = |i: usize, p: &str| axis_out[i].get(p).expect("axis block output");
 
     // Step 4: the tests (two corners of a bundle, or the ray's one).
     let tests = tests_module(cfg, &plan);
-    // (tests block port, axis block output) per axis
-    let wiring: &[(&str, &str)] = if cfg.ray() {
-        &[("n", "n"), ("x", "x"), ("d", "a")]
-    } else {
-        &[
-            ("n_any", "n_any"),
-            ("x_any", "x_any"),
-            ("n_all", "n_all"),
-            ("x_all", "x_all"),
-            ("a", "a"),
-            ("b", "b"),
-        ]
-    };
-    let mut ins: Vec<(String, Sig)> = (0..3)
-        .flat_map(|i| wiring.iter().map(move |&(to, from)| (i, to, from)))
-        .map(|(i, to, from)| (format!("{to}_{}", AXES[i]), g(i, from)))
-        .collect();
-    ins.push(("t_min".into(), t_min));
-    ins.push(("t_max".into(), t_max));
-    let passes = m.instance("u_tests", &tests, &ins);
+    let tests_in = TestsIn::from_axes(&axes, t_min, t_max);
+    let passes: TestsOut<Sig> = ports::instance(&mut m, "u_tests", &tests, cfg, &tests_in, cfg);
     for _ in 0..plan.norm + plan.product + plan.compare {
         m.stage();
     }
@@ -523,26 +660,19 @@ pub fn build(cfg: &Config) -> Module {
     let not_empty = m.not(empty);
     let ok = m.and(valid, not_empty);
     let outputs = if cfg.ray() {
-        let pass = passes.get("pass").expect("tests block has output pass");
         SilhouetteOut {
             all_hit: None,
-            any_hit: m.and(ok, pass),
+            any_hit: m.and(ok, passes.pass_any),
             nan,
             invalid,
             mixed_sign: None,
         }
     } else {
-        let pass_any = passes
-            .get("pass_any")
-            .expect("tests block has output pass_any");
-        let pass_all = passes
-            .get("pass_all")
-            .expect("tests block has output pass_all");
-        let straddles: Vec<Sig> = (0..3)
-            .map(|i| {
-                let (neg, pos) = (g(i, "neg"), g(i, "pos"));
-                m.and(neg, pos)
-            })
+        let TestsOut { pass_any, pass_all } = passes;
+        let bundle_only = "a bundle's axes have their signs";
+        let straddles: Vec<Sig> = axes
+            .iter()
+            .map(|ax| m.and(ax.neg.expect(bundle_only), ax.pos.expect(bundle_only)))
             .collect();
         let mixed = any_of(&mut m, &straddles, "mixed");
         let not_mixed = m.not(mixed);

@@ -1,15 +1,20 @@
-//! A unit's ports as typed records: one `In` and one `Out` struct per unit,
-//! generic over what a port carries — a [`Sig`] in the generator, a `u64`
-//! word in a testbench, `usize` for positions, `()` for the list of names.
-//! The record's one [`Record::walk`] names its ports in order, so the
-//! module's ports, its `ports.json` and every testbench's packing come from
-//! the same lines and a port added to a unit cannot shift the others.
+//! Ports as typed records: one `In` and one `Out` struct per unit and per
+//! sub-block (an operator, a unit's block), generic over what a port
+//! carries — a [`Sig`] in the generator, a `u64` word in a testbench,
+//! `usize` for positions, `()` for the list of names. The record's one
+//! [`Record::walk`] names its ports in order, so a module's ports, every
+//! instance's connections ([`instance`]), its `ports.json` and every
+//! testbench's packing come from the same lines and a port added to a
+//! module cannot shift the others.
 
-use super::AXES;
 use crate::builder::{ModuleBuilder, Sig};
-use crate::ir::Ty;
+use crate::ir::{Module, Ty};
 use std::fmt::Display;
 use std::marker::PhantomData;
+use std::sync::Arc;
+
+/// The axes of a vector, in port order.
+pub const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// A walk's visitor: given each port's name (formatted only where it is
 /// needed, so packing a vector allocates nothing), type, and the record's
@@ -119,6 +124,37 @@ pub fn connections<R: Record<Sig>>(cfg: &R::Config, rec: &R) -> Vec<(String, Sig
         value
     });
     named
+}
+
+/// Instantiates `module` as `inst`, its inputs connected from the record
+/// `inputs` and its outputs read into a record: both records are the ones
+/// the module declared its ports with, so no port is named twice. Its
+/// outputs belong to the stage `module.latency` cycles after the current
+/// one. A port the module lacks, or of another type, is a generator bug
+/// (the builder reports an unconnected input; an output panics here).
+#[track_caller]
+pub fn instance<I: Record<Sig>, O: Record<Sig>>(
+    m: &mut ModuleBuilder,
+    inst: &str,
+    module: &Arc<Module>,
+    inputs_cfg: &I::Config,
+    inputs: &I,
+    outputs_cfg: &O::Config,
+) -> O {
+    let outs = m.instance(inst, module, &connections(inputs_cfg, inputs));
+    let mut k = 0;
+    make(outputs_cfg, |name, ty, _| {
+        let (port, _) = &module.outputs[k];
+        assert!(
+            port.name == name.to_string() && port.ty == ty,
+            "{inst}: output {k} of {} is {} {}, the record says {name} {ty}",
+            module.name,
+            port.name,
+            port.ty
+        );
+        k += 1;
+        outs.all()[k - 1]
+    })
 }
 
 /// Writes the record's words into `words` in port order (a vector's inputs,
