@@ -1,5 +1,6 @@
-//! Bring-your-own vectors through the CLI: the README's script, `sim`,
-//! `golden`, `vectors`, `convert`, bad input files, reports.
+//! Bring-your-own vectors through the CLI: the README's script, the worked
+//! examples of docs/flow.md, `sim`, `golden`, `vectors`, `convert`, bad input
+//! files, reports.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -27,16 +28,18 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-fn readme() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap()
+/// A document of the repository, by its path from the workspace root.
+fn doc(path: &str) -> String {
+    let full = format!("{}/../{path}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{full}: {e}"))
 }
 
-/// The fenced block after `marker` in the README.
-fn readme_block(marker: &str) -> String {
-    let r = readme();
+/// The first fenced block after `marker` in the document at `path`.
+fn block_after(path: &str, marker: &str) -> String {
+    let r = doc(path);
     let at = r
         .find(marker)
-        .unwrap_or_else(|| panic!("README lacks {marker}"));
+        .unwrap_or_else(|| panic!("{path} lacks {marker}"));
     let rest = &r[at..];
     let start = rest.find("```").unwrap();
     let body = &rest[start..];
@@ -44,9 +47,14 @@ fn readme_block(marker: &str) -> String {
     body[..body.find("```").unwrap()].to_string()
 }
 
-/// The fenced blocks of the README that follow a line containing `after`.
-fn readme_block_after(after: &str) -> String {
-    readme_block(after)
+/// The fenced block after `marker` in the README.
+fn readme_block(marker: &str) -> String {
+    block_after("README.md", marker)
+}
+
+/// The fenced block after `marker` in docs/flow.md (the worked examples).
+fn flow_block_after(marker: &str) -> String {
+    block_after("docs/flow.md", marker)
 }
 
 #[test]
@@ -142,7 +150,7 @@ fn the_readme_worked_examples_give_the_results_shown() {
     let dir = scratch("cli_byo_examples");
     std::fs::write(
         dir.join("mulcmp_in.txt"),
-        readme_block_after("`mulcmp_in.txt`:"),
+        flow_block_after("`mulcmp_in.txt`:"),
     )
     .unwrap();
     let o = rtl_gen_in(
@@ -159,11 +167,11 @@ fn the_readme_worked_examples_give_the_results_shown() {
     assert!(o.status.success(), "{}", text(&o));
     assert_eq!(
         std::fs::read_to_string(dir.join("results.txt")).unwrap(),
-        readme_block_after("--out results.txt` writes:")
+        flow_block_after("--out results.txt` writes:")
     );
     std::fs::write(
         dir.join("fadd_in.txt"),
-        readme_block_after("(`fadd`, binary32 by default"),
+        flow_block_after("(`fadd`, binary32 by default"),
     )
     .unwrap();
     let o = rtl_gen_in(
