@@ -226,7 +226,7 @@ mod records;
 
 pub use axis::{axis_module, axis_name};
 pub use edge_tests::{tests_module, tests_name};
-pub use records::{AxisIn, AxisOut, SilhouetteIn, SilhouetteOut, TestsIn, TestsOut};
+pub use records::{AxisIn, AxisOut, Bounds, SilhouetteIn, SilhouetteOut, TestsIn, TestsOut};
 
 /// Module name of the top.
 pub fn silhouette_name(cfg: &Config) -> String {

@@ -32,28 +32,14 @@ impl<T: Copy> Record<T> for SilhouetteIn<T> {
     type Config = Config;
     fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let ty = Ty::UInt(cfg.fmt.width());
-        let ray = cfg.ray();
-        let p_min = w.xyz("p_min", ty, |r| r.p_min);
-        let p_max = w.xyz("p_max", ty, |r| r.p_max);
-        let o_lo = w.xyz(if ray { "o" } else { "o_lo" }, ty, |r| r.o_lo);
-        let o_hi = if cfg.bounded() {
-            w.xyz("o_hi", ty, |r| r.o_hi)
-        } else {
-            o_lo
-        };
-        let d_lo = w.xyz(if ray { "d" } else { "d_lo" }, ty, |r| r.d_lo);
-        let d_hi = if ray {
-            d_lo
-        } else {
-            w.xyz("d_hi", ty, |r| r.d_hi)
-        };
+        let b = Bounds::from_ports(cfg, |name, field| w.xyz(name, ty, |r| field(&r.bounds())));
         SilhouetteIn {
-            p_min,
-            p_max,
-            o_lo,
-            o_hi,
-            d_lo,
-            d_hi,
+            p_min: b.p_min,
+            p_max: b.p_max,
+            o_lo: b.o_lo,
+            o_hi: b.o_hi,
+            d_lo: b.d_lo,
+            d_hi: b.d_hi,
             t_min: w.one("t_min", ty, |r| r.t_min),
             t_max: w.one("t_max", ty, |r| r.t_max),
         }
@@ -61,59 +47,69 @@ impl<T: Copy> Record<T> for SilhouetteIn<T> {
 }
 
 impl<T: Copy> SilhouetteIn<T> {
+    /// The box, origin and direction bounds, a vector each.
+    fn bounds(&self) -> Bounds<[T; 3]> {
+        Bounds {
+            p_min: self.p_min,
+            p_max: self.p_max,
+            o_lo: self.o_lo,
+            o_hi: self.o_hi,
+            d_lo: self.d_lo,
+            d_hi: self.d_hi,
+        }
+    }
+
     /// The box, origin and direction bounds of axis `i`: the axis block's
     /// inputs.
     pub fn axis(&self, i: usize) -> AxisIn<T> {
-        AxisIn {
-            p_min: self.p_min[i],
-            p_max: self.p_max[i],
-            o_lo: self.o_lo[i],
-            o_hi: self.o_hi[i],
-            d_lo: self.d_lo[i],
-            d_hi: self.d_hi[i],
+        let b = self.bounds();
+        Bounds {
+            p_min: b.p_min[i],
+            p_max: b.p_max[i],
+            o_lo: b.o_lo[i],
+            o_hi: b.o_hi[i],
+            d_lo: b.d_lo[i],
+            d_hi: b.d_hi[i],
         }
     }
 }
 
-/// The axis block's inputs: one axis of [`SilhouetteIn`], the same ports
-/// without the axis suffix (ray `p_min p_max o d`; bundle `p_min p_max o_lo
-/// [o_hi if bounded] d_lo d_hi`).
+/// The box, origin and direction bounds of a test's inputs: a vector each
+/// at the top ([`SilhouetteIn`]), one axis in the axis block ([`AxisIn`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct AxisIn<T> {
+pub struct Bounds<P> {
     /// the box's lower bound
-    pub p_min: T,
+    pub p_min: P,
     /// the box's upper bound
-    pub p_max: T,
+    pub p_max: P,
     /// the origins' lower bound (a ray's origin)
-    pub o_lo: T,
+    pub o_lo: P,
     /// the origins' upper bound
-    pub o_hi: T,
+    pub o_hi: P,
     /// the directions' lower bound (a ray's direction)
-    pub d_lo: T,
+    pub d_lo: P,
     /// the directions' upper bound
-    pub d_hi: T,
+    pub d_hi: P,
 }
 
-impl<T: Copy> Record<T> for AxisIn<T> {
-    type Config = Config;
-    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
-        let ty = Ty::UInt(cfg.fmt.width());
+impl<P: Copy> Bounds<P> {
+    /// The ports' rules, once for the top and the axis block: ray `p_min
+    /// p_max o d` (its upper bounds are its lower ones); bundle `p_min p_max
+    /// o_lo [o_hi if bounded] d_lo d_hi` (a shared origin has no `o_hi`).
+    /// `port(name, field)` makes or reads the port of the bound `field`.
+    fn from_ports(cfg: &Config, mut port: impl FnMut(&'static str, fn(&Self) -> P) -> P) -> Self {
         let ray = cfg.ray();
-        let p_min = w.one("p_min", ty, |r| r.p_min);
-        let p_max = w.one("p_max", ty, |r| r.p_max);
-        let o_lo = w.one(if ray { "o" } else { "o_lo" }, ty, |r| r.o_lo);
+        let p_min = port("p_min", |b| b.p_min);
+        let p_max = port("p_max", |b| b.p_max);
+        let o_lo = port(if ray { "o" } else { "o_lo" }, |b| b.o_lo);
         let o_hi = if cfg.bounded() {
-            w.one("o_hi", ty, |r| r.o_hi)
+            port("o_hi", |b| b.o_hi)
         } else {
             o_lo
         };
-        let d_lo = w.one(if ray { "d" } else { "d_lo" }, ty, |r| r.d_lo);
-        let d_hi = if ray {
-            d_lo
-        } else {
-            w.one("d_hi", ty, |r| r.d_hi)
-        };
-        AxisIn {
+        let d_lo = port(if ray { "d" } else { "d_lo" }, |b| b.d_lo);
+        let d_hi = if ray { d_lo } else { port("d_hi", |b| b.d_hi) };
+        Bounds {
             p_min,
             p_max,
             o_lo,
@@ -121,6 +117,18 @@ impl<T: Copy> Record<T> for AxisIn<T> {
             d_lo,
             d_hi,
         }
+    }
+}
+
+/// The axis block's inputs: one axis of [`SilhouetteIn`], the same ports
+/// without the axis suffix.
+pub type AxisIn<T> = Bounds<T>;
+
+impl<T: Copy> Record<T> for Bounds<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let ty = Ty::UInt(cfg.fmt.width());
+        Bounds::from_ports(cfg, |name, field| w.one(name, ty, field))
     }
 }
 
