@@ -3,7 +3,7 @@
 //! connects and reads them through the same records ([`call`]), so a port is
 //! named in one place.
 
-use super::float::RM_PORT;
+use super::float::{RoundSel, RM_PORT};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::ports::{self, Record, Visit, Walk};
@@ -78,6 +78,15 @@ pub struct PairPorts {
 }
 
 impl PairPorts {
+    /// Two operands of type `ty`, and `rm` if the mode `sel` is an input.
+    pub fn rounded(ty: Ty, sel: RoundSel) -> Self {
+        PairPorts {
+            a: ty,
+            b: ty,
+            rm: sel.is_port(),
+        }
+    }
+
     /// Two operands of type `ty`, no `rm`.
     pub fn same(ty: Ty) -> Self {
         PairPorts {

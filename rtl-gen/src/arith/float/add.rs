@@ -160,12 +160,7 @@ pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32
         stages,
     );
     m.param("round", mode);
-    let ports = PairPorts {
-        a: fmt.ty(),
-        b: fmt.ty(),
-        rm: mode.is_port(),
-    };
-    let Pair { a, b, rm } = declare_inputs(&mut m, &ports);
+    let Pair { a, b, rm } = declare_inputs(&mut m, &PairPorts::rounded(fmt.ty(), mode));
     let rm = Rm::new(mode, rm);
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);

@@ -74,16 +74,7 @@ pub fn axis_module(cfg: &Config, stages: u32) -> Arc<Module> {
         let exit = add_module(f, exit, false, stages);
         let n = rounded(&mut m, "u_entry", &entry, &Pair::new(near, m_lo));
         let x = rounded(&mut m, "u_exit", &exit, &Pair::new(far, m_lo));
-        AxisOut {
-            neg: None,
-            pos: None,
-            a,
-            b: a,
-            n_any: n,
-            x_any: x,
-            n_all: n,
-            x_all: x,
-        }
+        AxisOut::ray(a, n, x)
     } else {
         let pos = is_positive(&mut m, f, d_hi);
         let pos = m.name(pos, "pos");

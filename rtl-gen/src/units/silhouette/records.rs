@@ -157,6 +157,22 @@ pub struct AxisOut<T> {
     pub x_all: T,
 }
 
+impl<T: Copy> AxisOut<T> {
+    /// A ray's axis: `|d|`, its entry and exit numerators, as both corners.
+    pub fn ray(a: T, n: T, x: T) -> Self {
+        AxisOut {
+            neg: None,
+            pos: None,
+            a,
+            b: a,
+            n_any: n,
+            x_any: x,
+            n_all: n,
+            x_all: x,
+        }
+    }
+}
+
 impl<T: Copy> Record<T> for AxisOut<T> {
     type Config = Config;
     fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
@@ -165,16 +181,7 @@ impl<T: Copy> Record<T> for AxisOut<T> {
             let a = w.one("a", ty, |r| r.a);
             let n = w.one("n", ty, |r| r.n_any);
             let x = w.one("x", ty, |r| r.x_any);
-            return AxisOut {
-                neg: None,
-                pos: None,
-                a,
-                b: a,
-                n_any: n,
-                x_any: x,
-                n_all: n,
-                x_all: x,
-            };
+            return AxisOut::ray(a, n, x);
         }
         let bundle_only = "a bundle's axis has its signs";
         AxisOut {
