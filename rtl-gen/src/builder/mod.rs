@@ -143,8 +143,41 @@ pub struct ModuleBuilder {
 }
 
 /// Longest name derived from an operation and its operands' names; a longer
-/// one is replaced by the scope and the operation (`edge_xy_add`).
+/// one is shortened by [`shortened`].
 const DERIVED_NAME_MAX: usize = 40;
+
+/// A derived name `full` made short: each word said once, a number staying
+/// with the word before it (`and_all_t_30_23_any_t_22_0` becomes
+/// `and_all_t_30_23_any_22_0`); when that is still longer than
+/// [`DERIVED_NAME_MAX`], the scoped operation `head` followed by each
+/// operand's last word, said once (`lzc_mux_zero_count`). Never the bare
+/// operation: an operand's role stays in the name.
+fn shortened(full: &str, head: &str, operands: &[&str]) -> String {
+    let once = |words: &mut dyn Iterator<Item = &str>| {
+        let mut tokens: Vec<String> = Vec::new();
+        for w in words {
+            match tokens.last_mut() {
+                Some(last) if w.bytes().all(|b| b.is_ascii_digit()) => {
+                    *last = format!("{last}_{w}")
+                }
+                _ => tokens.push(w.to_string()),
+            }
+        }
+        let mut said: Vec<String> = Vec::new();
+        for t in tokens {
+            if !said.contains(&t) {
+                said.push(t);
+            }
+        }
+        said.join("_")
+    };
+    let short = once(&mut full.split('_'));
+    if short.len() <= DERIVED_NAME_MAX {
+        return short;
+    }
+    let roles = operands.iter().map(|o| o.rsplit('_').next().unwrap_or(o));
+    once(&mut head.split('_').chain(roles))
+}
 
 impl ModuleBuilder {
     /// Starts a module without valid ports (a datapath meant to be instantiated).
@@ -172,7 +205,7 @@ impl ModuleBuilder {
     /// Runs `body` in the naming scope `scope`: a name given inside
     /// ([`ModuleBuilder::name`]) becomes `scope_name`, scopes nest
     /// (`a_x_lzc_hi`), and a value left unnamed whose derived name would be
-    /// too long is called after its scope and operation (`a_x_lzc_mux`).
+    /// too long is shortened by a rule (`shortened`): never a bare operation.
     /// Helpers open a scope and name their results after their role, so two
     /// uses of one helper get different names without counters.
     #[track_caller]
@@ -262,9 +295,8 @@ impl ModuleBuilder {
     }
 
     /// The name of an unnamed value: the operation and its operands' names
-    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out; when
-    /// that is longer than [`DERIVED_NAME_MAX`], the open scopes and the
-    /// operation (`a_x_lzc_mux`; the emitter numbers repeats).
+    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out. A name
+    /// longer than [`DERIVED_NAME_MAX`] is shortened by [`shortened`].
     fn derived_name(&self, op: &Op) -> String {
         let operands: Vec<&str> = op
             .operands()
@@ -285,7 +317,7 @@ impl ModuleBuilder {
         if full.len() <= DERIVED_NAME_MAX {
             return full;
         }
-        self.scoped(verb(op))
+        shortened(&full, &self.scoped(verb(op)), &operands)
     }
 
     /// A placeholder returned after an error so that building can go on.
