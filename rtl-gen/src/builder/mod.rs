@@ -149,10 +149,11 @@ const DERIVED_NAME_MAX: usize = 40;
 /// A derived name `full` made short: each word said once, a number staying
 /// with the word before it (`and_all_t_30_23_any_t_22_0` becomes
 /// `and_all_t_30_23_any_22_0`); when that is still longer than
-/// [`DERIVED_NAME_MAX`], the scoped operation `head` followed by each
-/// operand's last word, said once (`lzc_mux_zero_count`). Never the bare
-/// operation: an operand's role stays in the name.
-fn shortened(full: &str, head: &str, operands: &[&str]) -> String {
+/// [`DERIVED_NAME_MAX`], `head` (the scoped operation, or a slice's source
+/// role) followed by each of `parts`' last word, said once
+/// (`lzc_mux_zero_count`, `sum_9_0`). Never the bare operation: an
+/// operand's role stays in the name.
+fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
     let once = |words: &mut dyn Iterator<Item = &str>| {
         let mut tokens: Vec<String> = Vec::new();
         for w in words {
@@ -175,7 +176,12 @@ fn shortened(full: &str, head: &str, operands: &[&str]) -> String {
     if short.len() <= DERIVED_NAME_MAX {
         return short;
     }
-    let roles = operands.iter().map(|o| o.rsplit('_').next().unwrap_or(o));
+    let roles = parts.iter().map(|o| match o.rsplit_once('_') {
+        // a bit range is one part
+        Some((_, _)) if o.split('_').all(|w| w.bytes().all(|b| b.is_ascii_digit())) => o,
+        Some((_, last)) => last,
+        None => o,
+    });
     once(&mut head.split('_').chain(roles))
 }
 
@@ -298,17 +304,28 @@ impl ModuleBuilder {
     /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out. A name
     /// longer than [`DERIVED_NAME_MAX`] is shortened by [`shortened`].
     fn derived_name(&self, op: &Op) -> String {
+        if let Op::Slice(a, h, l) = *op {
+            let (source, h, l) = self.slice_source(a, h, l);
+            let range = match h == l {
+                true => format!("b{h}"),
+                false => format!("{h}_{l}"),
+            };
+            let full = format!("{source}_{range}");
+            if full.len() <= DERIVED_NAME_MAX {
+                return full;
+            }
+            let role = source.rsplit('_').next().unwrap_or(source);
+            let head = self.scoped(role);
+            return shortened(&full, &head, &[&range]);
+        }
         let operands: Vec<&str> = op
             .operands()
             .into_iter()
             .filter(|o| !matches!(self.nodes[o.0 as usize].op, Op::Const(_)))
             .map(|o| self.name_of(o))
             .collect();
-        let first = operands.first().copied().unwrap_or("k");
         let full = match op {
-            Op::Slice(_, h, l) if h == l => format!("{first}_b{h}"),
-            Op::Slice(_, h, l) => format!("{first}_{h}_{l}"),
-            Op::Cast(_) => first.to_string(),
+            Op::Cast(_) => operands.first().copied().unwrap_or("k").to_string(),
             _ => std::iter::once(verb(op))
                 .chain(operands.iter().copied())
                 .collect::<Vec<_>>()
@@ -318,6 +335,18 @@ impl ModuleBuilder {
             return full;
         }
         shortened(&full, &self.scoped(verb(op)), &operands)
+    }
+
+    /// The name bits `h..=l` of `a` are read from: a slice of an unnamed
+    /// slice reads its source (`x_8_0` of `x_9_0` is `x_8_0` of `x`), so
+    /// ranges do not pile up in a name.
+    fn slice_source(&self, a: NodeId, h: u32, l: u32) -> (&str, u32, u32) {
+        let node = &self.nodes[a.0 as usize];
+        match node.op {
+            Op::Slice(src, _, lo) if !node.named => self.slice_source(src, h + lo, l + lo),
+            Op::Cast(src) if !node.named => self.slice_source(src, h, l),
+            _ => (self.name_of(a), h, l),
+        }
     }
 
     /// A placeholder returned after an error so that building can go on.

@@ -104,7 +104,7 @@ pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
     );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
-    let (lt, le, eq) = compare(&mut m, fmt, a, b);
+    let (lt, le, eq) = m.scope("ab", |m| compare(m, fmt, a, b));
     finish_operator(
         m,
         stages,

@@ -288,7 +288,7 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let zero_sign = m.mux(zero_same, signs[0], zero_sign);
     let sign = m.mux(sum_zero, zero_sign, s.sign);
     let sign = m.mux(inf, neg_inf, sign);
-    let sign = m.name(sign, "sign");
+    let sign = m.name(sign, "z_sign");
     let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[7] {
         m.stage();

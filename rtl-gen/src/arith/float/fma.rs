@@ -147,7 +147,7 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     // an infinite result has the sign of the infinite term
     let inf_sign = m.mux(p_inf, sp, uc.sign);
     let sign = m.mux(inf, inf_sign, sign);
-    let sign = m.name(sign, "sign");
+    let sign = m.name(sign, "z_sign");
     let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[4] {
         m.stage();

@@ -60,6 +60,6 @@ pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
     );
     let a = m.input("a", Ty::UInt(fmt.width()));
     let b = m.input("b", Ty::UInt(fmt.width()));
-    let (min, max) = min_max(&mut m, fmt, a, b);
+    let (min, max) = m.scope("ab", |m| min_max(m, fmt, a, b));
     finish_operator(m, stages, &[("min", min), ("max", max)], "min/max")
 }
