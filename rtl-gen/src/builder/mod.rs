@@ -146,24 +146,14 @@ pub struct ModuleBuilder {
 /// one is shortened by [`shortened`].
 const DERIVED_NAME_MAX: usize = 40;
 
-/// A derived name `full` made short: each word said once, a number staying
-/// with the word before it (`and_all_t_30_23_any_t_22_0` becomes
-/// `and_all_t_30_23_any_22_0`); when that is still longer than
-/// [`DERIVED_NAME_MAX`], `head` (the scoped operation, or a slice's source
-/// role) followed by each of `parts`' last word, said once
-/// (`lzc_mux_zero_count`, `sum_9_0`). Never the bare operation: an
-/// operand's role stays in the name.
+/// A derived name `full` made short: each of its [`tokens`] said once
+/// (`or_a_x_is_nan_a_x_is_inf` becomes `or_a_x_is_nan_inf`); when that is
+/// still longer than [`DERIVED_NAME_MAX`], `head` (the scoped operation, or
+/// a slice's source role) followed by the last token of each of `parts`,
+/// said once (`lzc_mux_zero_count`, `sum_b10_11_0`). Never the bare
+/// operation: an operand's role stays in the name.
 fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
-    let once = |words: &mut dyn Iterator<Item = &str>| {
-        let mut tokens: Vec<String> = Vec::new();
-        for w in words {
-            match tokens.last_mut() {
-                Some(last) if w.bytes().all(|b| b.is_ascii_digit()) => {
-                    *last = format!("{last}_{w}")
-                }
-                _ => tokens.push(w.to_string()),
-            }
-        }
+    let once = |tokens: Vec<String>| {
         let mut said: Vec<String> = Vec::new();
         for t in tokens {
             if !said.contains(&t) {
@@ -172,17 +162,25 @@ fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
         }
         said.join("_")
     };
-    let short = once(&mut full.split('_'));
+    let short = once(tokens(full));
     if short.len() <= DERIVED_NAME_MAX {
         return short;
     }
-    let roles = parts.iter().map(|o| match o.rsplit_once('_') {
-        // a bit range is one part
-        Some((_, _)) if o.split('_').all(|w| w.bytes().all(|b| b.is_ascii_digit())) => o,
-        Some((_, last)) => last,
-        None => o,
-    });
-    once(&mut head.split('_').chain(roles))
+    let roles = parts.iter().filter_map(|p| tokens(p).pop());
+    once(tokens(head).into_iter().chain(roles).collect())
+}
+
+/// The words of a name, a number staying with the word before it
+/// (`a_x_9_0_lt` is `a`, `x_9_0`, `lt`): the last one is a value's role.
+fn tokens(name: &str) -> Vec<String> {
+    let mut tokens: Vec<String> = Vec::new();
+    for w in name.split('_') {
+        match tokens.last_mut() {
+            Some(last) if w.bytes().all(|b| b.is_ascii_digit()) => *last = format!("{last}_{w}"),
+            _ => tokens.push(w.to_string()),
+        }
+    }
+    tokens
 }
 
 impl ModuleBuilder {
@@ -314,9 +312,8 @@ impl ModuleBuilder {
             if full.len() <= DERIVED_NAME_MAX {
                 return full;
             }
-            let role = source.rsplit('_').next().unwrap_or(source);
-            let head = self.scoped(role);
-            return shortened(&full, &head, &[&range]);
+            let role = tokens(source).pop().unwrap_or_default();
+            return shortened(&full, &self.scoped(&role), &[&range]);
         }
         let operands: Vec<&str> = op
             .operands()

@@ -342,6 +342,7 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
     }
     names.instance = m.instances.iter().map(|i| names.claim(&i.name)).collect();
     names.reg = m.registers.iter().map(|r| names.claim(&r.name)).collect();
+    let drives = port_values(m, lv, same, inline);
     for (i, node) in m.nodes.iter().enumerate() {
         let id = NodeId(i as u32);
         match node.op {
@@ -352,6 +353,9 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
                 names.node.insert(id, names.reg[r].clone());
             }
             Op::Const(_) | Op::Cast(_) => {}
+            _ if drives.contains_key(&id) => {
+                names.node.insert(id, drives[&id].clone());
+            }
             _ if lv.live[i] && same[i].0 as usize == i && !inline[i] => {
                 let n = names.claim(&node.name);
                 names.node.insert(id, n);
@@ -378,6 +382,30 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
         }
     }
     names
+}
+
+/// The computed values named like an output port they drive: such a value
+/// is the port (`assign hit = ...`), not a wire `hit_1` copied into it.
+fn port_values(
+    m: &Module,
+    lv: &Liveness,
+    same: &[NodeId],
+    inline: &[bool],
+) -> HashMap<NodeId, String> {
+    let mut drives = HashMap::new();
+    for (p, id) in &m.outputs {
+        let c = same[id.0 as usize];
+        let node = m.node(c);
+        let computed = !matches!(
+            node.op,
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) | Op::InstOut { .. }
+        );
+        let emitted = lv.live[c.0 as usize] && !inline[c.0 as usize];
+        if computed && emitted && node.name == p.name && !drives.contains_key(&c) {
+            drives.insert(c, p.name.clone());
+        }
+    }
+    drives
 }
 
 fn decl(name: &str, ty: Ty, unused: Option<String>) -> Decl {
@@ -646,8 +674,11 @@ impl Writer<'_> {
                 _ => self.expression(id),
             };
             let name = names.node[&id].clone();
-            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
-            items.push(Item::Wire(decl(&name, node.ty, unused)));
+            let is_port = m.outputs.iter().any(|(p, _)| p.name == name);
+            if !is_port {
+                let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
+                items.push(Item::Wire(decl(&name, node.ty, unused)));
+            }
             if options.source_lines {
                 let at = node.location;
                 assigns.push(Item::Comment(format!("src: {}:{}", at.file(), at.line())));
@@ -669,7 +700,11 @@ impl Writer<'_> {
         items.push(Item::Blank);
         items.extend(assigns);
         for (p, id) in &m.outputs {
-            items.push(Item::Assign(p.name.clone(), self.reference(*id)));
+            let value = self.reference(*id);
+            // a value named like its port was assigned to the port above
+            if value != Expr::Ident(p.name.clone()) {
+                items.push(Item::Assign(p.name.clone(), value));
+            }
         }
         items
     }

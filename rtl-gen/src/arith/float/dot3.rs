@@ -135,7 +135,9 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
         let inf = m.name(inf, &format!("{p}_inf"));
         let ns = m.not(s);
         let pi = m.and(inf, ns);
+        let pi = m.name(pi, &format!("{p}_pos_inf"));
         let ni = m.and(inf, s);
+        let ni = m.name(ni, &format!("{p}_neg_inf"));
         pos_inf = m.or(pos_inf, pi);
         neg_inf = m.or(neg_inf, ni);
         let z = m.or(ua.zero, ub.zero);
@@ -144,9 +146,14 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
         signs.push(s);
         zeros.push(z);
     }
+    let pos_inf = m.name(pos_inf, "pos_inf");
+    let neg_inf = m.name(neg_inf, "neg_inf");
+    let all_zero = m.name(all_zero, "all_zero");
     let both_inf = m.and(pos_inf, neg_inf);
     let nan = m.or(nan, both_inf);
+    let nan = m.name(nan, "nan");
     let inf = m.or(pos_inf, neg_inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(&mut m, nan, inf);
     let s01 = m.eq(signs[0], signs[1]);
     let s12 = m.eq(signs[1], signs[2]);
