@@ -153,13 +153,16 @@ const DERIVED_NAME_MAX: usize = 40;
 /// said once (`lzc_mux_zero_count`, `sum_b10_11_0`). Never the bare
 /// operation: an operand's role stays in the name.
 fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
-    let once = |tokens: Vec<String>| {
+    // the last token (the role, a slice's range) always stays last
+    let once = |mut tokens: Vec<String>| {
+        let last = tokens.pop().unwrap_or_default();
         let mut said: Vec<String> = Vec::new();
         for t in tokens {
-            if !said.contains(&t) {
+            if !said.contains(&t) && t != last {
                 said.push(t);
             }
         }
+        said.push(last);
         said.join("_")
     };
     let short = once(tokens(full));
