@@ -68,8 +68,10 @@ pub struct Raw {
 #[track_caller]
 pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
     let special = m.or(nan, inf);
+    let special = m.name(special, "class_hi");
     let not_inf = m.not(inf);
     let lo = m.or(nan, not_inf);
+    let lo = m.name(lo, "class_lo");
     let hi = m.as_uint(special);
     let lo = m.as_uint(lo);
     let class = m.cat(&[hi, lo]);
