@@ -731,8 +731,21 @@ impl ModuleBuilder {
         }
         let last = self.current_stage;
         let mut outputs = std::mem::take(&mut self.outputs);
-        for (_, id) in outputs.iter_mut() {
-            *id = self.at_stage(*id, last);
+        for (port, id) in outputs.iter_mut() {
+            let value = *id;
+            *id = self.at_stage(value, last);
+            // a value named like its port and carried there by registers
+            // (`hit_s1`, `hit_s2`) is the port's value in its own stage
+            let node = &self.nodes[value.0 as usize];
+            let computed = !matches!(
+                node.op,
+                Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. }
+            );
+            if let Some(stage) = self.stage_of[value.0 as usize].filter(|s| *s < last) {
+                if computed && node.named && node.name == port.name {
+                    self.nodes[value.0 as usize].name = format!("{}_s{stage}", port.name);
+                }
+            }
         }
         let handshake = self.valid.as_ref().map(|v| {
             let out_valid = *v.last().unwrap();
