@@ -416,7 +416,13 @@ impl ModuleBuilder {
     #[track_caller]
     pub fn name(&mut self, value: Sig, name: &str) -> Sig {
         let name = self.scoped(name);
-        if !is_identifier(&name) {
+        self.rename(value, &name)
+    }
+
+    /// Gives `value` the name `name` as it is (no scope added).
+    #[track_caller]
+    fn rename(&mut self, value: Sig, name: &str) -> Sig {
+        if !is_identifier(name) {
             self.error(name, "signal name is not a Verilog identifier");
             return value;
         }
@@ -440,6 +446,23 @@ impl ModuleBuilder {
             }
         }
         value
+    }
+
+    /// Names `value` after the value `of` it describes and its `role`
+    /// (`t_lo_is_nan` for `role` `is_nan`), for a helper that computes one
+    /// property of its operand. Left to the derived name when `of` has none
+    /// to give (a constant) or the name would pass [`DERIVED_NAME_MAX`].
+    #[track_caller]
+    pub fn name_after(&mut self, value: Sig, of: Sig, role: &str) -> Sig {
+        if matches!(self.nodes[of.id.0 as usize].op, Op::Const(_)) {
+            return value;
+        }
+        let name = format!("{}_{role}", self.name_of(of.id));
+        match name.len() <= DERIVED_NAME_MAX {
+            // the operand's name already carries its scope
+            true => self.rename(value, &name),
+            false => value,
+        }
     }
 
     /// A constant of type `ty`.
