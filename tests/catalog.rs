@@ -190,7 +190,10 @@ fn every_registered_unit_names_its_wires_by_role() {
                 let at = format!("{unit} {given:?} {}", file.module);
                 if a.numbered.len() > allowed {
                     let n = a.numbered.len();
-                    broken.push(format!("{at}: {n} of {} numbered: {:?}", a.names, a.numbered));
+                    broken.push(format!(
+                        "{at}: {n} of {} numbered: {:?}",
+                        a.names, a.numbered
+                    ));
                 }
                 if !a.bare.is_empty() {
                     broken.push(format!("{at}: operation words as names: {:?}", a.bare));
@@ -204,7 +207,11 @@ fn every_registered_unit_names_its_wires_by_role() {
             }
             println!(
                 "names {unit} {}: {names} names, {numbered} numbered ({:.1} %)",
-                if given.is_empty() { "defaults".to_string() } else { given.join(" ") },
+                if given.is_empty() {
+                    "defaults".to_string()
+                } else {
+                    given.join(" ")
+                },
                 100.0 * numbered as f64 / names.max(1) as f64
             );
         }
