@@ -94,7 +94,7 @@ pub fn umul_module(width_a: u32, width_b: u32, stages: u32) -> Arc<Module> {
                 let s = m.add(x, y_weighted);
                 // the sum of the covered partial products fits w bits: the carry out is zero
                 let s = zext(&mut m, s, w);
-                (m.name(s, &format!("sum_l{level}_{i}")), lo, hi)
+                (m.name(s, &format!("l{level}_sum{i}")), lo, hi)
             })
             .collect();
     }

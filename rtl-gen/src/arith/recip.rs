@@ -46,10 +46,10 @@ pub fn recip_raw(m: &mut ModuleBuilder, fmt: Format, x: Sig, cuts: &[u32]) -> Ra
     let f = fmt.frac_bits;
     let steps = recip_raw_steps(fmt);
     assert_eq!(cuts.len(), steps as usize, "one cut count per step");
-    let u = unpack(m, fmt, x);
+    let u = m.scope("x", |m| unpack(m, fmt, x));
     // 1/NaN = NaN, 1/0 = inf, 1/inf = 0 (a finite raw value with sig 0 is a zero)
     let class = class_of(m, u.nan, u.zero);
-    let n = normalize(m, fmt, &u);
+    let n = m.scope("x", |m| normalize(m, fmt, &u));
     let xw = sint_width(-fmt.emax() - f as i64 - 4, -fmt.emin() + 2 * f as i64 + 4);
     let e = to_sint(m, n.exp, xw);
     let zero = m.sint(xw, 0);

@@ -147,8 +147,48 @@ pub struct ModuleBuilder {
 }
 
 /// Longest name derived from an operation and its operands' names; a longer
-/// one is replaced by the scope and the operation (`edge_xy_add`).
+/// one is shortened by [`shortened`].
 const DERIVED_NAME_MAX: usize = 40;
+
+/// A derived name `full` made short: each of its [`tokens`] said once
+/// (`or_a_x_is_nan_a_x_is_inf` becomes `or_a_x_is_nan_inf`); when that is
+/// still longer than [`DERIVED_NAME_MAX`], `head` (the scoped operation, or
+/// a slice's source role) followed by the last token of each of `parts`,
+/// said once (`lzc_mux_zero_count`, `sum_b10_11_0`). Never the bare
+/// operation: an operand's role stays in the name.
+fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
+    // the last token (the role, a slice's range) always stays last
+    let once = |mut tokens: Vec<String>| {
+        let last = tokens.pop().unwrap_or_default();
+        let mut said: Vec<String> = Vec::new();
+        for t in tokens {
+            if !said.contains(&t) && t != last {
+                said.push(t);
+            }
+        }
+        said.push(last);
+        said.join("_")
+    };
+    let short = once(tokens(full));
+    if short.len() <= DERIVED_NAME_MAX {
+        return short;
+    }
+    let roles = parts.iter().filter_map(|p| tokens(p).pop());
+    once(tokens(head).into_iter().chain(roles).collect())
+}
+
+/// The words of a name, a number staying with the word before it
+/// (`a_x_9_0_lt` is `a`, `x_9_0`, `lt`): the last one is a value's role.
+fn tokens(name: &str) -> Vec<String> {
+    let mut tokens: Vec<String> = Vec::new();
+    for w in name.split('_') {
+        match tokens.last_mut() {
+            Some(last) if w.bytes().all(|b| b.is_ascii_digit()) => *last = format!("{last}_{w}"),
+            _ => tokens.push(w.to_string()),
+        }
+    }
+    tokens
+}
 
 impl ModuleBuilder {
     /// Starts a module without valid ports (a datapath meant to be instantiated).
@@ -176,7 +216,7 @@ impl ModuleBuilder {
     /// Runs `body` in the naming scope `scope`: a name given inside
     /// ([`ModuleBuilder::name`]) becomes `scope_name`, scopes nest
     /// (`a_x_lzc_hi`), and a value left unnamed whose derived name would be
-    /// too long is called after its scope and operation (`a_x_lzc_mux`).
+    /// too long is shortened by a rule (`shortened`): never a bare operation.
     /// Helpers open a scope and name their results after their role, so two
     /// uses of one helper get different names without counters.
     #[track_caller]
@@ -266,21 +306,30 @@ impl ModuleBuilder {
     }
 
     /// The name of an unnamed value: the operation and its operands' names
-    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out; when
-    /// that is longer than [`DERIVED_NAME_MAX`], the open scopes and the
-    /// operation (`a_x_lzc_mux`; the emitter numbers repeats).
+    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out. A name
+    /// longer than [`DERIVED_NAME_MAX`] is shortened by [`shortened`].
     fn derived_name(&self, op: &Op) -> String {
+        if let Op::Slice(a, h, l) = *op {
+            let (source, h, l) = self.slice_source(a, h, l);
+            let range = match h == l {
+                true => format!("b{h}"),
+                false => format!("{h}_{l}"),
+            };
+            let full = format!("{source}_{range}");
+            if full.len() <= DERIVED_NAME_MAX {
+                return full;
+            }
+            let role = tokens(source).pop().unwrap_or_default();
+            return shortened(&full, &self.scoped(&role), &[&range]);
+        }
         let operands: Vec<&str> = op
             .operands()
             .into_iter()
             .filter(|o| !matches!(self.nodes[o.0 as usize].op, Op::Const(_)))
             .map(|o| self.name_of(o))
             .collect();
-        let first = operands.first().copied().unwrap_or("k");
         let full = match op {
-            Op::Slice(_, h, l) if h == l => format!("{first}_b{h}"),
-            Op::Slice(_, h, l) => format!("{first}_{h}_{l}"),
-            Op::Cast(_) => first.to_string(),
+            Op::Cast(_) => operands.first().copied().unwrap_or("k").to_string(),
             _ => std::iter::once(verb(op))
                 .chain(operands.iter().copied())
                 .collect::<Vec<_>>()
@@ -289,7 +338,19 @@ impl ModuleBuilder {
         if full.len() <= DERIVED_NAME_MAX {
             return full;
         }
-        self.scoped(verb(op))
+        shortened(&full, &self.scoped(verb(op)), &operands)
+    }
+
+    /// The name bits `h..=l` of `a` are read from: a slice of an unnamed
+    /// slice reads its source (`x_8_0` of `x_9_0` is `x_8_0` of `x`), so
+    /// ranges do not pile up in a name.
+    fn slice_source(&self, a: NodeId, h: u32, l: u32) -> (&str, u32, u32) {
+        let node = &self.nodes[a.0 as usize];
+        match node.op {
+            Op::Slice(src, _, lo) if !node.named => self.slice_source(src, h + lo, l + lo),
+            Op::Cast(src) if !node.named => self.slice_source(src, h, l),
+            _ => (self.name_of(a), h, l),
+        }
     }
 
     /// A placeholder returned after an error so that building can go on.
@@ -359,7 +420,13 @@ impl ModuleBuilder {
     #[track_caller]
     pub fn name(&mut self, value: Sig, name: &str) -> Sig {
         let name = self.scoped(name);
-        if !is_identifier(&name) {
+        self.rename(value, &name)
+    }
+
+    /// Gives `value` the name `name` as it is (no scope added).
+    #[track_caller]
+    fn rename(&mut self, value: Sig, name: &str) -> Sig {
+        if !is_identifier(name) {
             self.error(name, "signal name is not a Verilog identifier");
             return value;
         }
@@ -383,6 +450,23 @@ impl ModuleBuilder {
             }
         }
         value
+    }
+
+    /// Names `value` after the value `of` it describes and its `role`
+    /// (`t_lo_is_nan` for `role` `is_nan`), for a helper that computes one
+    /// property of its operand. Left to the derived name when `of` has none
+    /// to give (a constant) or the name would pass [`DERIVED_NAME_MAX`].
+    #[track_caller]
+    pub fn name_after(&mut self, value: Sig, of: Sig, role: &str) -> Sig {
+        if matches!(self.nodes[of.id.0 as usize].op, Op::Const(_)) {
+            return value;
+        }
+        let name = format!("{}_{role}", self.name_of(of.id));
+        match name.len() <= DERIVED_NAME_MAX {
+            // the operand's name already carries its scope
+            true => self.rename(value, &name),
+            false => value,
+        }
     }
 
     /// A constant of type `ty`.
@@ -674,8 +758,21 @@ impl ModuleBuilder {
         }
         let last = self.current_stage;
         let mut outputs = std::mem::take(&mut self.outputs);
-        for (_, id) in outputs.iter_mut() {
-            *id = self.at_stage(*id, last);
+        for (port, id) in outputs.iter_mut() {
+            let value = *id;
+            *id = self.at_stage(value, last);
+            // a value named like its port and carried there by registers
+            // (`hit_s1`, `hit_s2`) is the port's value in its own stage
+            let node = &self.nodes[value.0 as usize];
+            let computed = !matches!(
+                node.op,
+                Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. }
+            );
+            if let Some(stage) = self.stage_of[value.0 as usize].filter(|s| *s < last) {
+                if computed && node.named && node.name == port.name {
+                    self.nodes[value.0 as usize].name = format!("{}_s{stage}", port.name);
+                }
+            }
         }
         let handshake = self.valid.as_ref().map(|v| {
             let out_valid = *v.last().unwrap();

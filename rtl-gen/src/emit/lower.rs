@@ -109,6 +109,21 @@ fn same_expressions(m: &Module, live: &[bool]) -> Vec<NodeId> {
     same
 }
 
+/// For every node, the node whose name it is emitted under: of equal
+/// expressions (see [`same_expressions`]) the first one named by the
+/// generator, else the first one, so hash-consing never drops a given name
+/// for a derived one.
+fn name_sources(m: &Module, same: &[NodeId]) -> Vec<NodeId> {
+    let mut source = same.to_vec();
+    for (i, node) in m.nodes.iter().enumerate() {
+        let c = same[i].0 as usize;
+        if node.named && !m.nodes[source[c].0 as usize].named {
+            source[c] = NodeId(i as u32);
+        }
+    }
+    source
+}
+
 /// Operators in one inlined expression at most, so a line stays readable.
 const INLINE_OPERATORS: u32 = 6;
 
@@ -152,6 +167,7 @@ fn inlined(m: &Module, lv: &Liveness, same: &[NodeId]) -> Vec<bool> {
     let n = m.nodes.len();
     let canon = |id: NodeId| same[id.0 as usize].0 as usize;
     let emitted = |i: usize| lv.live[i] && same[i].0 as usize == i;
+    let source = name_sources(m, same);
     let mut readers = vec![0u32; n];
     for (_, node) in m.nodes.iter().enumerate().filter(|(i, _)| emitted(*i)) {
         node.op
@@ -172,7 +188,7 @@ fn inlined(m: &Module, lv: &Liveness, same: &[NodeId]) -> Vec<bool> {
     let candidate = |c: usize| {
         let node = &m.nodes[c];
         emitted(c)
-            && !node.named
+            && !m.node(source[c]).named
             && readers[c] == 1
             && !node.ty.is_signed()
             && !matches!(
@@ -342,6 +358,8 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
     }
     names.instance = m.instances.iter().map(|i| names.claim(&i.name)).collect();
     names.reg = m.registers.iter().map(|r| names.claim(&r.name)).collect();
+    let drives = port_values(m, lv, same, inline);
+    let source = name_sources(m, same);
     for (i, node) in m.nodes.iter().enumerate() {
         let id = NodeId(i as u32);
         match node.op {
@@ -352,8 +370,11 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
                 names.node.insert(id, names.reg[r].clone());
             }
             Op::Const(_) | Op::Cast(_) => {}
+            _ if drives.contains_key(&id) => {
+                names.node.insert(id, drives[&id].clone());
+            }
             _ if lv.live[i] && same[i].0 as usize == i && !inline[i] => {
-                let n = names.claim(&node.name);
+                let n = names.claim(&m.node(source[i]).name);
                 names.node.insert(id, n);
             }
             _ => {}
@@ -378,6 +399,32 @@ fn assign_names(m: &Module, lv: &Liveness, same: &[NodeId], inline: &[bool]) -> 
         }
     }
     names
+}
+
+/// The computed values named like an output port they drive: such a value
+/// is the port (`assign hit = ...`), not a wire `hit_1` copied into it.
+fn port_values(
+    m: &Module,
+    lv: &Liveness,
+    same: &[NodeId],
+    inline: &[bool],
+) -> HashMap<NodeId, String> {
+    let mut drives = HashMap::new();
+    let source = name_sources(m, same);
+    for (p, id) in &m.outputs {
+        let c = same[id.0 as usize];
+        let node = m.node(c);
+        let computed = !matches!(
+            node.op,
+            Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::Cast(_) | Op::InstOut { .. }
+        );
+        let emitted = lv.live[c.0 as usize] && !inline[c.0 as usize];
+        let named_as = &m.node(source[c.0 as usize]).name;
+        if computed && emitted && *named_as == p.name && !drives.contains_key(&c) {
+            drives.insert(c, p.name.clone());
+        }
+    }
+    drives
 }
 
 fn decl(name: &str, ty: Ty, unused: Option<String>) -> Decl {
@@ -646,8 +693,11 @@ impl Writer<'_> {
                 _ => self.expression(id),
             };
             let name = names.node[&id].clone();
-            let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
-            items.push(Item::Wire(decl(&name, node.ty, unused)));
+            let is_port = m.outputs.iter().any(|(p, _)| p.name == name);
+            if !is_port {
+                let unused = unused_reason(node.ty.width(), lv.used_bits[i], "wire");
+                items.push(Item::Wire(decl(&name, node.ty, unused)));
+            }
             if options.source_lines {
                 let at = node.location;
                 assigns.push(Item::Comment(format!("src: {}:{}", at.file(), at.line())));
@@ -669,7 +719,11 @@ impl Writer<'_> {
         items.push(Item::Blank);
         items.extend(assigns);
         for (p, id) in &m.outputs {
-            items.push(Item::Assign(p.name.clone(), self.reference(*id)));
+            let value = self.reference(*id);
+            // a value named like its port was assigned to the port above
+            if value != Expr::Ident(p.name.clone()) {
+                items.push(Item::Assign(p.name.clone(), value));
+            }
         }
         items
     }

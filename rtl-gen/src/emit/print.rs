@@ -5,6 +5,32 @@ use std::fmt::Write;
 
 const INDENT: &str = "    ";
 
+/// Width a line is filled to before it breaks (at a space, so an identifier
+/// or literal is never split): long expressions and comments stay readable.
+const LINE_WIDTH: usize = 100;
+
+/// Writes `text` after `first` as lines of at most [`LINE_WIDTH`] characters
+/// where spaces allow, each continuation line starting with `next`. Every
+/// space of a printed expression separates two tokens, so a break there
+/// keeps the Verilog's meaning.
+fn wrapped(out: &mut String, first: &str, next: &str, text: &str) {
+    let mut line = first.to_string();
+    let mut empty = true;
+    for word in text.split(' ') {
+        if !empty && line.len() + 1 + word.len() > LINE_WIDTH {
+            let _ = writeln!(out, "{}", line.trim_end());
+            line = next.to_string();
+            empty = true;
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line.push_str(word);
+        empty = false;
+    }
+    let _ = writeln!(out, "{line}");
+}
+
 /// A sized literal: decimal when short, hexadecimal otherwise.
 fn literal(width: u32, value: u128) -> String {
     if width == 1 {
@@ -67,7 +93,8 @@ fn range(d: &Decl) -> String {
 fn waived(out: &mut String, indent: &str, d: &Decl, line: &str) {
     match &d.unused {
         Some(reason) => {
-            let _ = writeln!(out, "{indent}// {reason}");
+            let (first, next) = (format!("{indent}// "), format!("{indent}//     "));
+            wrapped(out, &first, &next, reason);
             let _ = writeln!(out, "{indent}/* verilator lint_off UNUSEDSIGNAL */");
             let _ = writeln!(out, "{indent}{line}");
             let _ = writeln!(out, "{indent}/* verilator lint_on UNUSEDSIGNAL */");
@@ -83,7 +110,8 @@ fn stmts(out: &mut String, depth: usize, body: &[Stmt]) {
     for s in body {
         match s {
             Stmt::NonBlocking(l, r) => {
-                let _ = writeln!(out, "{ind}{l} <= {};", expr(r));
+                let next = format!("{ind}{INDENT}");
+                wrapped(out, &ind, &next, &format!("{l} <= {};", expr(r)));
             }
             Stmt::If(c, t, f) => {
                 let _ = writeln!(out, "{ind}if ({}) begin", expr(c));
@@ -107,7 +135,7 @@ pub fn module(m: &VModule) -> String {
         if h.is_empty() {
             out.push_str("//\n");
         } else {
-            let _ = writeln!(out, "// {h}");
+            wrapped(&mut out, "// ", "//     ", h);
         }
     }
     out.push_str("`default_nettype none\n\n");
@@ -132,12 +160,13 @@ fn items(out: &mut String, items_: &[Item]) {
     for item in items_ {
         match item {
             Item::Comment(c) => {
-                let _ = writeln!(out, "{INDENT}// {c}");
+                wrapped(out, &format!("{INDENT}// "), &format!("{INDENT}//     "), c)
             }
             Item::Wire(d) => waived(out, INDENT, d, &format!("wire {}{};", range(d), d.name)),
             Item::Reg(d) => waived(out, INDENT, d, &format!("reg {}{};", range(d), d.name)),
             Item::Assign(l, r) => {
-                let _ = writeln!(out, "{INDENT}assign {l} = {};", expr(r));
+                let text = format!("assign {l} = {};", expr(r));
+                wrapped(out, INDENT, &INDENT.repeat(2), &text);
             }
             Item::AlwaysPosedge(clk, body) => {
                 let _ = writeln!(out, "{INDENT}always @(posedge {clk}) begin");

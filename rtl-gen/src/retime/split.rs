@@ -82,7 +82,7 @@ pub(super) fn split_product(
     for &(x, wx) in &pa {
         for &(y, wy) in &pb {
             let (xw, yw) = (nodes[x].ty.width(), nodes[y].ty.width());
-            let block = format!("{name}_block{}_{}", wx / DSP_BITS, wy / DSP_BITS);
+            let block = format!("{name}_block{}x{}", wx / DSP_BITS, wy / DSP_BITS);
             let p = if xw.max(yw) <= CORNER_BITS {
                 lut_product(nodes, x, y, Ty::UInt(xw + yw), &block)
             } else {
@@ -123,26 +123,30 @@ fn sum_terms(nodes: &mut Vec<FlatNode>, mut terms: Vec<(usize, u32)>, ty: Ty, na
                         nodes,
                         Op::Concat(vec![NodeId(hi as u32), NodeId(z as u32)]),
                         Ty::UInt(w),
-                        format!("{name}_shift_l{level}_{i}"),
+                        format!("{name}_l{level}_shift{i}"),
                     )
                 } else {
                     hi
                 };
                 let w = nodes[lo].ty.width().max(nodes[shifted].ty.width()) + 1;
+                // the partial sums never exceed the product: keep at most its width
+                let keep = total.saturating_sub(wlo);
+                let sum_name = format!("{name}_l{level}_sum{i}");
                 let sum = push(
                     nodes,
                     Op::Add(NodeId(lo as u32), NodeId(shifted as u32)),
                     Ty::UInt(w),
-                    format!("{name}_sum_l{level}_{i}"),
+                    match w > keep {
+                        true => format!("{sum_name}_carry"),
+                        false => sum_name.clone(),
+                    },
                 );
-                // the partial sums never exceed the product: keep at most its width
-                let keep = total.saturating_sub(wlo);
                 let sum = if w > keep {
                     push(
                         nodes,
                         Op::Slice(NodeId(sum as u32), keep - 1, 0),
                         Ty::UInt(keep),
-                        format!("{name}_sum_l{level}_{i}"),
+                        sum_name,
                     )
                 } else {
                     sum

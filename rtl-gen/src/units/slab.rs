@@ -257,7 +257,7 @@ pub fn slab_axis_module(fmt: Format, diff: u32, product: u32) -> Arc<Module> {
     for _ in 0..product {
         m.stage();
     }
-    let (t_near, t_far) = min_max(&mut m, fmt, t0, t1);
+    let (t_near, t_far) = m.scope("t", |m| min_max(m, fmt, t0, t1));
     ports::declare_outputs(&mut m, &fmt, &SlabAxisOut { t_near, t_far });
     Arc::new(
         m.finish()
@@ -344,8 +344,8 @@ pub fn slab_axis_cons_module(fmt: Format, diff: u32, product: u32) -> Arc<Module
     let u = m.name(u, "u");
     let v = m.name(v, "v");
     let zero = m.uint(w, 0);
-    let (u_neg, u_le0, _) = compare(&mut m, fmt, u, zero);
-    let (v_pos, v_ge0, _) = compare(&mut m, fmt, zero, v);
+    let (u_neg, u_le0, _) = m.scope("u_sign", |m| compare(m, fmt, u, zero));
+    let (v_pos, v_ge0, _) = m.scope("v_sign", |m| compare(m, fmt, zero, v));
     let r_u = m.mux(u_neg, r_hi, r_lo);
     let r_v = m.mux(v_pos, r_hi, r_lo);
     let inside = m.and(u_le0, v_ge0);
@@ -426,20 +426,23 @@ pub fn build(fmt: Format, rounding: SlabRounding, stages: u32) -> Module {
     for _ in 0..plan.diff + plan.product + plan.min_max {
         m.stage();
     }
-    let max = |m: &mut ModuleBuilder, a: Sig, b: Sig| min_max(m, fmt, a, b).1;
-    let min = |m: &mut ModuleBuilder, a: Sig, b: Sig| min_max(m, fmt, a, b).0;
-    let e0 = max(&mut m, t_min, near[0]);
-    let e1 = max(&mut m, near[1], near[2]);
-    let t_enter = max(&mut m, e0, e1);
+    // each min/max in the scope of what it reduces
+    let max =
+        |m: &mut ModuleBuilder, at: &str, a: Sig, b: Sig| m.scope(at, |m| min_max(m, fmt, a, b).1);
+    let min =
+        |m: &mut ModuleBuilder, at: &str, a: Sig, b: Sig| m.scope(at, |m| min_max(m, fmt, a, b).0);
+    let e0 = max(&mut m, "enter_tx", t_min, near[0]);
+    let e1 = max(&mut m, "enter_yz", near[1], near[2]);
+    let t_enter = max(&mut m, "enter_all", e0, e1);
     let t_enter = m.name(t_enter, "t_enter");
-    let x0 = min(&mut m, t_max, far[0]);
-    let x1 = min(&mut m, far[1], far[2]);
-    let t_exit = min(&mut m, x0, x1);
+    let x0 = min(&mut m, "exit_tx", t_max, far[0]);
+    let x1 = min(&mut m, "exit_yz", far[1], far[2]);
+    let t_exit = min(&mut m, "exit_all", x0, x1);
     let t_exit = m.name(t_exit, "t_exit");
     for _ in 0..plan.reduce {
         m.stage();
     }
-    let hit = compare(&mut m, fmt, t_enter, t_exit).1;
+    let hit = m.scope("order", |m| compare(m, fmt, t_enter, t_exit).1);
     let hit = m.name(hit, "hit");
     for _ in 0..plan.compare {
         m.stage();

@@ -198,13 +198,19 @@ pub fn build(cfg: &Config) -> Module {
 
     // invalid: a non-finite o, s or vertex, a NaN bound, kz = 3
     let mut invalid = m.all_ones(kz);
-    for x in o.iter().chain(&s).chain(verts.iter().flatten()) {
-        let u = unpack(&mut m, fmt, *x);
-        let bad = m.or(u.nan, u.inf);
-        invalid = m.or(invalid, bad);
+    let points = [("o", o), ("s", s), ("a", a), ("b", b), ("c", c)];
+    for (p, xyz) in points {
+        for (axis, x) in AXES.iter().zip(xyz) {
+            let bad = m.scope(&format!("{p}_{axis}"), |m| {
+                let u = unpack(m, fmt, x);
+                let bad = m.or(u.nan, u.inf);
+                m.name(bad, "not_finite")
+            });
+            invalid = m.or(invalid, bad);
+        }
     }
-    for x in [t_min, t_max] {
-        let u = unpack(&mut m, fmt, x);
+    for (name, x) in [("t_min", t_min), ("t_max", t_max)] {
+        let u = m.scope(name, |m| unpack(m, fmt, x));
         invalid = m.or(invalid, u.nan);
     }
     let invalid = m.name(invalid, "invalid_input");
@@ -280,13 +286,16 @@ pub fn build(cfg: &Config) -> Module {
     let mut negative = m.bool(false);
     let mut positive = m.bool(false);
     let mut nan_edge = m.bool(false);
-    for e in [e_u, e_v, e_w] {
-        let (lt0, _, _) = compare(&mut m, fmt, e, zero);
-        let (gt0, _, _) = compare(&mut m, fmt, zero, e);
+    for (name, e) in [("e_u", e_u), ("e_v", e_v), ("e_w", e_w)] {
+        let (lt0, gt0, nan) = m.scope(name, |m| {
+            let (lt0, _, _) = m.scope("below", |m| compare(m, fmt, e, zero));
+            let (gt0, _, _) = m.scope("above", |m| compare(m, fmt, zero, e));
+            let u = unpack(m, fmt, e);
+            (lt0, gt0, u.nan)
+        });
         negative = m.or(negative, lt0);
         positive = m.or(positive, gt0);
-        let u = unpack(&mut m, fmt, e);
-        nan_edge = m.or(nan_edge, u.nan);
+        nan_edge = m.or(nan_edge, nan);
     }
     let mixed = m.and(negative, positive);
     let outside = m.or(mixed, nan_edge);
@@ -305,14 +314,14 @@ pub fn build(cfg: &Config) -> Module {
         &dot,
         &DotTerms::new([e_u, e_v, e_w], [a[2], b[2], c[2]]),
     );
-    let det_zero = unpack(&mut m, fmt, det).zero;
+    let det_zero = m.scope("det", |m| unpack(m, fmt, det).zero);
 
     // step 5
     let recip = recip_module(fmt, mode, 0);
     let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
     let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
-    let (_, after_min, _) = compare(&mut m, fmt, t_min, t);
-    let (_, before_max, _) = compare(&mut m, fmt, t, t_max);
+    let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, fmt, t_min, t));
+    let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, fmt, t, t_max));
     let valid = m.not(invalid);
     let det_ok = m.not(det_zero);
     let mut hit = m.and(valid, inside);

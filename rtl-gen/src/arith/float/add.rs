@@ -99,7 +99,9 @@ pub fn add_raw(
     let inf_minus_inf = m.and(both_inf, eff_sub);
     let any_nan = m.or(ua.nan, ub.nan);
     let nan = m.or(any_nan, inf_minus_inf);
+    let nan = m.name(nan, "nan");
     let inf = m.or(ua.inf, ub.inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(m, nan, inf);
     let xw = add_exp_width(fmt);
     let exp = add_const(m, exp_big, -(fmt.bias() + f as i64 + 3), xw);

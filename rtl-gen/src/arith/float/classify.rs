@@ -9,14 +9,16 @@ use crate::builder::{ModuleBuilder, Sig};
 pub fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     let mag = m.slice(v, fmt.width() - 2, 0);
     let any = m.any_set(mag);
-    m.not(any)
+    let zero = m.not(any);
+    m.name_after(zero, v, "is_zero")
 }
 
 /// `v` is a NaN or an infinity (exponent field all ones).
 #[track_caller]
 pub fn is_special(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     let e = m.slice(v, fmt.width() - 2, fmt.frac_bits);
-    m.all_ones(e)
+    let special = m.all_ones(e);
+    m.name_after(special, v, "is_special")
 }
 
 /// `v` is a NaN (exponent all ones, fraction not zero).
@@ -25,7 +27,8 @@ pub fn is_nan(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     let special = is_special(m, fmt, v);
     let frac = m.slice(v, fmt.frac_bits - 1, 0);
     let any = m.any_set(frac);
-    m.and(special, any)
+    let nan = m.and(special, any);
+    m.name_after(nan, v, "is_nan")
 }
 
 /// `v` is ±∞ (exponent all ones, fraction zero).
@@ -35,7 +38,8 @@ pub fn is_any_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     let frac = m.slice(v, fmt.frac_bits - 1, 0);
     let any = m.any_set(frac);
     let none = m.not(any);
-    m.and(special, none)
+    let inf = m.and(special, none);
+    m.name_after(inf, v, "is_inf")
 }
 
 /// `v` is +∞ (`negative = false`) or −∞.
@@ -44,7 +48,9 @@ pub fn is_inf(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -> Sig
     let inf = is_any_inf(m, fmt, v);
     let sign = m.msb(v);
     let sign = if negative { sign } else { m.not(sign) };
-    m.and(inf, sign)
+    let inf = m.and(inf, sign);
+    let role = if negative { "is_neg_inf" } else { "is_pos_inf" };
+    m.name_after(inf, v, role)
 }
 
 /// `v < 0` by value: the sign bit set, not a zero (−0 is not negative),
@@ -70,7 +76,9 @@ fn strictly_signed(m: &mut ModuleBuilder, fmt: Format, v: Sig, negative: bool) -
     let nan = is_nan(m, fmt, v);
     let ok = m.not(nan);
     let r = m.and(s, nz);
-    m.and(r, ok)
+    let r = m.and(r, ok);
+    let role = if negative { "is_neg" } else { "is_pos" };
+    m.name_after(r, v, role)
 }
 
 /// OR of `flags` (Bool): one reduction over their concatenation `{name}_flags`, named `name`.

@@ -106,6 +106,6 @@ pub fn compare_module(fmt: Format, stages: u32) -> Arc<Module> {
         stages,
     );
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
-    let (lt, le, eq) = compare(&mut m, fmt, a, b);
+    let (lt, le, eq) = m.scope("ab", |m| compare(m, fmt, a, b));
     finish_operator(m, stages, &(), &Comparison { lt, le, eq }, "comparator")
 }

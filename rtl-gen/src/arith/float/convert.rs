@@ -44,7 +44,7 @@ pub fn convert_module(
     let Source { a, rm } = declare_inputs(&mut m, &(from.ty(), mode.is_port()));
     let rm = Rm::new(mode, rm);
     let plan = spread(stages, CONVERT_RAW_STEPS + ROUND_STEPS);
-    let u = unpack(&mut m, from, a);
+    let u = m.scope("a", |m| unpack(m, from, a));
     let class = class_of(&mut m, u.nan, u.inf);
     let exp = lsb_exp(&mut m, from, &u);
     let sticky = m.bool(false);

@@ -99,7 +99,12 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let plan = spread(stages, DOT3_RAW_STEPS + ROUND_STEPS);
     let ups: Vec<(Unpacked, Unpacked)> = ins
         .iter()
-        .map(|&(a, b)| (unpack(&mut m, fmt, a), unpack(&mut m, fmt, b)))
+        .enumerate()
+        .map(|(k, &(a, b))| {
+            let ua = m.scope(&format!("a{k}"), |m| unpack(m, fmt, a));
+            let ub = m.scope(&format!("b{k}"), |m| unpack(m, fmt, b));
+            (ua, ub)
+        })
         .collect();
 
     // specials, signs, zero products
@@ -111,28 +116,40 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let mut all_zero = m.bool(true);
     let mut signs = Vec::new();
     let mut zeros = Vec::new();
-    for (ua, ub) in &ups {
+    for (k, (ua, ub)) in ups.iter().enumerate() {
+        let p = format!("p{k}");
         let s = m.xor(ua.sign, ub.sign);
+        let s = m.name(s, &format!("{p}_sign"));
         let inf_zero = m.and(ua.inf, ub.zero);
         let zero_inf = m.and(ua.zero, ub.inf);
         let bad = m.or(inf_zero, zero_inf);
         let n = m.or(ua.nan, ub.nan);
         let n = m.or(n, bad);
+        let n = m.name(n, &format!("{p}_nan"));
         nan = m.or(nan, n);
         let inf = m.or(ua.inf, ub.inf);
+        let inf = m.name(inf, &format!("{p}_inf"));
         let ns = m.not(s);
         let pi = m.and(inf, ns);
+        let pi = m.name(pi, &format!("{p}_pos_inf"));
         let ni = m.and(inf, s);
+        let ni = m.name(ni, &format!("{p}_neg_inf"));
         pos_inf = m.or(pos_inf, pi);
         neg_inf = m.or(neg_inf, ni);
         let z = m.or(ua.zero, ub.zero);
+        let z = m.name(z, &format!("{p}_zero"));
         all_zero = m.and(all_zero, z);
         signs.push(s);
         zeros.push(z);
     }
+    let pos_inf = m.name(pos_inf, "pos_inf");
+    let neg_inf = m.name(neg_inf, "neg_inf");
+    let all_zero = m.name(all_zero, "all_zero");
     let both_inf = m.and(pos_inf, neg_inf);
     let nan = m.or(nan, both_inf);
+    let nan = m.name(nan, "nan");
     let inf = m.or(pos_inf, neg_inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(&mut m, nan, inf);
     let s01 = m.eq(signs[0], signs[1]);
     let s12 = m.eq(signs[1], signs[2]);
@@ -143,8 +160,8 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let mut tops = Vec::new();
     let mut sig_pairs = Vec::new();
     for (k, (ua, ub)) in ups.iter().enumerate() {
-        let na = normalize(&mut m, fmt, ua);
-        let nb = normalize(&mut m, fmt, ub);
+        let na = m.scope(&format!("a{k}"), |m| normalize(m, fmt, ua));
+        let nb = m.scope(&format!("b{k}"), |m| normalize(m, fmt, ub));
         let esum = m.add(na.exp, nb.exp);
         let t = add_const(&mut m, esum, 1, xw);
         let t = m.mux(zeros[k], min, t);
@@ -193,41 +210,44 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
     let not_max1 = m.not(max1);
     let not_min1 = m.not(min1);
     let mid1 = m.and(not_max1, not_min1);
-    let t1 = pick(&mut m, max0, max1, t);
-    let t2 = pick(&mut m, mid0, mid1, t);
-    let t3 = pick(&mut m, min0, min1, t);
+    // the products by top exponent, largest first
+    let t1 = m.scope("largest", |m| pick(m, max0, max1, t));
+    let t2 = m.scope("middle", |m| pick(m, mid0, mid1, t));
+    let t3 = m.scope("smallest", |m| pick(m, min0, min1, t));
     let gap = m.sub(t1.top, t2.top);
     let three = m.sint(gap.width(), 3);
     let close = m.le(gap, three);
     let close = m.name(close, "close");
-    let x = pick2(&mut m, close, t1, t2);
-    let y = pick2(&mut m, close, t2, t3);
-    let z = pick2(&mut m, close, t3, t1);
+    let x = m.scope("x", |m| pick2(m, close, t1, t2));
+    let y = m.scope("y", |m| pick2(m, close, t2, t3));
+    let z = m.scope("z", |m| pick2(m, close, t3, t1));
 
     // steps 4-5: first two-term sum, exact or with the smaller term jammed
     let w1 = 2 * f + 6;
-    let r = sum_two(
-        &mut m,
-        Term {
-            sign: x.sign,
-            sig: x.sig,
-            top: x.top,
-        },
-        Term {
-            sign: y.sign,
-            sig: y.sig,
-            top: y.top,
-        },
-        w1,
-        xw,
-        plan[3],
-    );
+    let r = m.scope("sum2", |m| {
+        sum_two(
+            m,
+            Term {
+                sign: x.sign,
+                sig: x.sig,
+                top: x.top,
+            },
+            Term {
+                sign: y.sign,
+                sig: y.sig,
+                top: y.top,
+            },
+            w1,
+            xw,
+            plan[3],
+        )
+    });
     for _ in 0..plan[4] {
         m.stage();
     }
 
     // step 6: normalise the partial sum
-    let lz = lzc(&mut m, r.sig);
+    let lz = m.scope("partial", |m| lzc(m, r.sig));
     let rn = m.shl(r.sig, lz);
     let rn = m.name(rn, "partial_norm");
     let lz_s = to_sint(&mut m, lz, xw + 1);
@@ -244,28 +264,31 @@ pub fn dot3_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<M
 
     // steps 7-8: add the third product
     let w2 = 2 * f + 10;
-    let s = sum_two(
-        &mut m,
-        Term {
-            sign: r.sign,
-            sig: rn,
-            top: er,
-        },
-        Term {
-            sign: z.sign,
-            sig: z.sig,
-            top: z.top,
-        },
-        w2,
-        xw,
-        plan[6],
-    );
+    let s = m.scope("sum3", |m| {
+        sum_two(
+            m,
+            Term {
+                sign: r.sign,
+                sig: rn,
+                top: er,
+            },
+            Term {
+                sign: z.sign,
+                sig: z.sig,
+                top: z.top,
+            },
+            w2,
+            xw,
+            plan[6],
+        )
+    });
     let sum_any = m.any_set(s.sig);
     let sum_zero = m.not(sum_any);
     let zero_sign = rm.is(&mut m, Rounding::Rdn);
     let zero_sign = m.mux(zero_same, signs[0], zero_sign);
     let sign = m.mux(sum_zero, zero_sign, s.sign);
     let sign = m.mux(inf, neg_inf, sign);
+    let sign = m.name(sign, "z_sign");
     let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[7] {
         m.stage();

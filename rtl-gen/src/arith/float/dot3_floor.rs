@@ -104,16 +104,23 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
     for (i, &(a, b)) in ins.iter().enumerate() {
         let ua = m.scope(&format!("a{i}"), |m| unpack(m, fa, a));
         let ub = m.scope(&format!("b{i}"), |m| unpack(m, fb, b));
+        let p = format!("p{i}");
         let n = m.or(ua.nan, ub.nan);
+        let n = m.name(n, &format!("{p}_nan"));
         nan = m.or(nan, n);
         let zero = m.or(ua.zero, ub.zero);
+        let zero = m.name(zero, &format!("{p}_zero"));
         let inf = m.or(ua.inf, ub.inf);
         let nz = m.not(zero);
         let inf = m.and(inf, nz);
+        let inf = m.name(inf, &format!("{p}_inf"));
         let sign = m.xor(ua.sign, ub.sign);
+        let sign = m.name(sign, &format!("{p}_sign"));
         let pos = m.not(sign);
         let pi = m.and(inf, pos);
+        let pi = m.name(pi, &format!("{p}_pos_inf"));
         let ni = m.and(inf, sign);
+        let ni = m.name(ni, &format!("{p}_neg_inf"));
         pos_inf = m.or(pos_inf, pi);
         neg_inf = m.or(neg_inf, ni);
         let e = m.add(ua.eff_exp, ub.eff_exp);
@@ -121,9 +128,13 @@ pub fn dot3_floor_module(fa: Format, fb: Format, to: Format, stages: u32) -> Arc
         let e = m.name(e, &format!("exp_sum{i}"));
         terms.push((sign, ua.sig, ub.sig, e));
     }
+    let pos_inf = m.name(pos_inf, "pos_inf");
+    let neg_inf = m.name(neg_inf, "neg_inf");
     let both = m.and(pos_inf, neg_inf);
     let nan = m.or(nan, both);
+    let nan = m.name(nan, "nan");
     let inf = m.or(pos_inf, neg_inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(&mut m, nan, inf);
     // the largest of the three: the three comparisons side by side, then
     // one selection (not two compare-and-select steps in a row)

@@ -59,31 +59,39 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     let Triple { a, b, c, rm } = declare_inputs(&mut m, &(fmt.ty(), mode.is_port()));
     let rm = Rm::new(mode, rm);
     let plan = spread(stages, FMA_RAW_STEPS + ROUND_STEPS);
-    let ua = unpack(&mut m, fmt, a);
-    let ub = unpack(&mut m, fmt, b);
-    let uc = unpack(&mut m, fmt, c);
+    let ua = m.scope("a", |m| unpack(m, fmt, a));
+    let ub = m.scope("b", |m| unpack(m, fmt, b));
+    let uc = m.scope("c", |m| unpack(m, fmt, c));
 
     // specials and signs
     let sp = m.xor(ua.sign, ub.sign);
+    let sp = m.name(sp, "prod_sign");
     let inf_zero = m.and(ua.inf, ub.zero);
     let zero_inf = m.and(ua.zero, ub.inf);
     let invalid_mul = m.or(inf_zero, zero_inf);
+    let invalid_mul = m.name(invalid_mul, "invalid_mul");
     let nan_ab = m.or(ua.nan, ub.nan);
     let nan_in = m.or(nan_ab, uc.nan);
+    let nan_in = m.name(nan_in, "nan_in");
     let p_inf = m.or(ua.inf, ub.inf);
+    let p_inf = m.name(p_inf, "prod_inf");
     let eff_sub_sign = m.xor(sp, uc.sign);
     let inf_inf = m.and(p_inf, uc.inf);
     let invalid_add = m.and(inf_inf, eff_sub_sign);
+    let invalid_add = m.name(invalid_add, "invalid_add");
     let nan = m.or(nan_in, invalid_mul);
     let nan = m.or(nan, invalid_add);
+    let nan = m.name(nan, "nan");
     let inf = m.or(p_inf, uc.inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(&mut m, nan, inf);
     let p_zero = m.or(ua.zero, ub.zero);
+    let p_zero = m.name(p_zero, "prod_zero");
 
     // step 1: normalise the operands, product exponent
-    let na = normalize(&mut m, fmt, &ua);
-    let nb = normalize(&mut m, fmt, &ub);
-    let nc = normalize(&mut m, fmt, &uc);
+    let na = m.scope("a", |m| normalize(m, fmt, &ua));
+    let nb = m.scope("b", |m| normalize(m, fmt, &ub));
+    let nc = m.scope("c", |m| normalize(m, fmt, &uc));
     let xw = fused_exp_width(fmt);
     let min = m.sint(xw, zero_term_exp(fmt) as i128);
     let esum = m.add(na.exp, nb.exp);
@@ -108,31 +116,35 @@ pub fn fma_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
 
     // steps 4-5: align and add
     let window = 2 * f + 6;
-    let s = sum_two(
-        &mut m,
-        Term {
-            sign: sp,
-            sig: p,
-            top: ep,
-        },
-        Term {
-            sign: uc.sign,
-            sig: nc.sig,
-            top: ec,
-        },
-        window,
-        xw,
-        plan[3],
-    );
+    let s = m.scope("sum", |m| {
+        sum_two(
+            m,
+            Term {
+                sign: sp,
+                sig: p,
+                top: ep,
+            },
+            Term {
+                sign: uc.sign,
+                sig: nc.sig,
+                top: ec,
+            },
+            window,
+            xw,
+            plan[3],
+        )
+    });
     // an exact zero of opposite-signed terms is -0 in RDN, +0 otherwise
     let sum_any = m.any_set(s.sig);
     let sum_zero = m.not(sum_any);
     let cancel = m.and(sum_zero, s.eff_sub);
+    let cancel = m.name(cancel, "cancel");
     let zero_sign = rm.is(&mut m, Rounding::Rdn);
     let sign = m.mux(cancel, zero_sign, s.sign);
     // an infinite result has the sign of the infinite term
     let inf_sign = m.mux(p_inf, sp, uc.sign);
     let sign = m.mux(inf, inf_sign, sign);
+    let sign = m.name(sign, "z_sign");
     let raw = s.to_raw(&mut m, sign, class, xw);
     for _ in 0..plan[4] {
         m.stage();

@@ -62,6 +62,6 @@ pub fn min_max_module(fmt: Format, stages: u32) -> Arc<Module> {
         stages,
     );
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
-    let (min, max) = min_max(&mut m, fmt, a, b);
+    let (min, max) = m.scope("ab", |m| min_max(m, fmt, a, b));
     finish_operator(m, stages, &fmt.ty(), &MinMax { min, max }, "min/max")
 }

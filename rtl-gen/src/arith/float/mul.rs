@@ -74,7 +74,9 @@ pub fn mul_mixed_raw(
     let invalid = m.or(inf_zero, zero_inf);
     let any_nan = m.or(ua.nan, ub.nan);
     let nan = m.or(any_nan, invalid);
+    let nan = m.name(nan, "nan");
     let inf = m.or(ua.inf, ub.inf);
+    let inf = m.name(inf, "inf");
     let class = class_of(m, nan, inf);
     let xw = mul_mixed_exp_width(fa, fb);
     let iw = fa.exp_bits.max(fb.exp_bits) + 2;

@@ -70,8 +70,10 @@ pub struct Raw {
 #[track_caller]
 pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
     let special = m.or(nan, inf);
+    let special = m.name(special, "class_hi");
     let not_inf = m.not(inf);
     let lo = m.or(nan, not_inf);
+    let lo = m.name(lo, "class_lo");
     let hi = m.as_uint(special);
     let lo = m.as_uint(lo);
     let class = m.cat(&[hi, lo]);
@@ -269,10 +271,12 @@ fn shift_to_grid(m: &mut ModuleBuilder, fmt: Format, exp: Sig, sig: Sig, plan: &
     let base = m.name(base, "exp_base");
     let zero_d = m.sint(dw, 0);
     let neg_d = m.sub(zero_d, d);
+    let neg_d = m.name(neg_d, "d_neg");
     let rshift = m.slice(neg_d, dw - 1, 0);
     let rshift = m.name(rshift, "rshift");
     let sig_any = m.any_set(sig);
     let sig_zero = m.not(sig_any);
+    let sig_zero = m.name(sig_zero, "sig_zero");
     for _ in 0..plan[0] {
         m.stage();
     }
@@ -284,6 +288,7 @@ fn shift_to_grid(m: &mut ModuleBuilder, fmt: Format, exp: Sig, sig: Sig, plan: &
     let shifted = m.name(shifted, "sig_shifted");
     let no_loss = m.bool(false);
     let lost = m.mux(d_neg, lost, no_loss);
+    let lost = m.name(lost, "lost");
     for _ in 0..plan[1] {
         m.stage();
     }
@@ -348,27 +353,28 @@ fn round_and_pack(
     let max_mag = m.uint(mag_w, fmt.inf_bits() - 1);
     let zero_mag = m.uint(mag_w, 0);
     let sat = m.mux(to_inf, inf_mag, max_mag);
+    let sat = m.name(sat, "saturated");
     let packed_mag = m.slice(packed, mag_w - 1, 0);
     let fin = m.mux(ovf, sat, packed_mag);
     let fin = m.mux(sig_zero, zero_mag, fin);
-    let is_zero = {
-        let k = m.uint(2, CLASS_ZERO);
-        m.eq(class, k)
+    let fin = m.name(fin, "finite_mag");
+    let mut class_is = |code: u128, role: &str| {
+        let k = m.uint(2, code);
+        let is = m.eq(class, k);
+        m.name(is, role)
     };
-    let is_inf = {
-        let k = m.uint(2, CLASS_INF);
-        m.eq(class, k)
-    };
-    let is_nan = {
-        let k = m.uint(2, CLASS_NAN);
-        m.eq(class, k)
-    };
+    let is_zero = class_is(CLASS_ZERO, "class_zero");
+    let is_inf = class_is(CLASS_INF, "class_inf");
+    let is_nan = class_is(CLASS_NAN, "class_nan");
     let mag = m.mux(is_inf, inf_mag, fin);
     let mag = m.mux(is_zero, zero_mag, mag);
+    let mag = m.name(mag, "mag");
     let sign_u = m.as_uint(sign);
     let signed = m.cat(&[sign_u, mag]);
+    let signed = m.name(signed, "with_sign");
     let nan = m.uint(fmt.width(), fmt.nan_bits());
-    m.mux(is_nan, nan, signed)
+    let z = m.mux(is_nan, nan, signed);
+    m.name(z, "result")
 }
 
 /// The increment and the overflow-to-infinity choice of mode `rm` for a
@@ -383,6 +389,7 @@ fn decide(
     lsb: Sig,
 ) -> (Sig, Sig) {
     let inexact = m.or(guard, sticky);
+    let inexact = m.name(inexact, "inexact");
     let pos = m.not(sign);
     let tie_or_above = m.or(sticky, lsb);
     let rne_inc = m.and(guard, tie_or_above);

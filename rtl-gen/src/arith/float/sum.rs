@@ -84,12 +84,15 @@ pub fn sum_two(
     let xt = to_sint(m, x.top, exp_width);
     let yt = to_sint(m, y.top, exp_width);
     let x_big = m.ge(xt, yt);
+    let x_big = m.name(x_big, "x_big");
     let anchor = m.mux(x_big, xt, yt);
     let anchor = m.name(anchor, "anchor");
     let dx = m.sub(anchor, xt);
     let dx = m.as_uint(dx);
+    let dx = m.name(dx, "x_shift");
     let dy = m.sub(anchor, yt);
     let dy = m.as_uint(dy);
+    let dy = m.name(dy, "y_shift");
     let place = |m: &mut ModuleBuilder, s: Sig| {
         let low = window - 1 - s.width();
         let hi = m.uint(1, 0);
@@ -100,13 +103,20 @@ pub fn sum_two(
             m.cat(&[hi, s, lo])
         }
     };
-    let xe = place(m, x.sig);
-    let ye = place(m, y.sig);
-    let xa = shr_jam(m, xe, dx);
-    let xa = m.name(xa, "x_aligned");
-    let ya = shr_jam(m, ye, dy);
-    let ya = m.name(ya, "y_aligned");
+    let xa = m.scope("x", |m| {
+        let xe = place(m, x.sig);
+        let xe = m.name(xe, "placed");
+        let xa = shr_jam(m, xe, dx);
+        m.name(xa, "aligned")
+    });
+    let ya = m.scope("y", |m| {
+        let ye = place(m, y.sig);
+        let ye = m.name(ye, "placed");
+        let ya = shr_jam(m, ye, dy);
+        m.name(ya, "aligned")
+    });
     let eff_sub = m.xor(x.sign, y.sign);
+    let eff_sub = m.name(eff_sub, "eff_sub");
     let top = add_const(
         m,
         anchor,
@@ -118,13 +128,17 @@ pub fn sum_two(
     }
     let s_add = m.add(xa, ya);
     let s_add = zext(m, s_add, window);
+    let s_add = m.name(s_add, "added");
     let diff = m.sub(xa, ya);
+    let diff = m.name(diff, "diff");
     let neg = m.msb(diff);
     let mag = abs(m, diff, window);
+    let mag = m.name(mag, "diff_mag");
     let sig = m.mux(eff_sub, mag, s_add);
     let sig = m.name(sig, "sum");
     let neg_sub = m.and(eff_sub, neg);
     let sign = m.mux(neg_sub, y.sign, x.sign);
+    let sign = m.name(sign, "sign");
     Sum {
         sign,
         sig,

@@ -161,7 +161,7 @@ pub fn unpack_module(fmt: Format, stages: u32) -> Arc<Module> {
         stages,
     );
     let Operand { x } = declare_inputs(&mut m, &fmt.ty());
-    let u = unpack(&mut m, fmt, x);
+    let u = m.scope("x", |m| unpack(m, fmt, x));
     let class = class_code(&mut m, &u);
     let special = m.or(u.inf, u.nan);
     let e = lsb_exp(&mut m, fmt, &u);

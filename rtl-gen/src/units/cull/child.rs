@@ -32,8 +32,11 @@ pub fn widen(m: &mut ModuleBuilder, from: Format, to: Format, x: Sig, inst: &str
         return rounded(m, inst, &cv, &Source::new(x));
     }
     let (e, f) = (to.exp_bits, from.frac_bits);
-    let u = unpack(m, from, x);
-    let n = normalize(m, from, &u);
+    let (u, n) = m.scope("narrow", |m| {
+        let u = unpack(m, from, x);
+        let n = normalize(m, from, &u);
+        (u, n)
+    });
     let exp = add_const(m, n.exp, to.bias(), e + 2);
     let exp = m.slice(exp, e - 1, 0);
     let frac = m.slice(n.sig, f - 1, 0);
@@ -77,17 +80,20 @@ impl Bound {
         let low = m.mux(s, flipped, mag);
         let ns = m.not(s);
         let top = m.as_uint(ns);
+        let key = m.cat(&[top, low]);
+        let zero = is_zero(m, fmt, v);
         Bound {
-            key: m.cat(&[top, low]),
-            zero: is_zero(m, fmt, v),
+            key: m.name(key, "key"),
+            zero: m.name(zero, "zero"),
         }
     }
 
     /// The bound of `−v`: the key complemented.
     #[track_caller]
     fn negated(&self, m: &mut ModuleBuilder) -> Bound {
+        let key = m.not(self.key);
         Bound {
-            key: m.not(self.key),
+            key: m.name(key, "neg_key"),
             zero: self.zero,
         }
     }
@@ -262,7 +268,9 @@ pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     for _ in 0..plan.widen {
         m.stage();
     }
-    let sum = add_raw(&mut m, f, wf, no_lo, true, &plan.add_raw);
+    let sum = m.scope("distance", |m| {
+        add_raw(m, f, wf, no_lo, true, &plan.add_raw)
+    });
     let raw = sum.for_mode(&mut m, Rounding::Rup);
     let d = round(
         &mut m,
@@ -277,10 +285,14 @@ pub fn plane_module(cfg: &Config, plan: &StagePlan) -> Arc<Module> {
     }
     let d = m.name(d, "dist_up");
     let pos = is_positive(&mut m, f, d);
+    let pos = m.name(pos, "dist_pos");
     let neg = is_negative(&mut m, f, d);
+    let neg = m.name(neg, "dist_neg");
     let rcp = m.mux(pos, rcp_hi, rcp_lo);
     let rcp = m.name(rcp, "rcp");
-    let raw = mul_mixed_raw(&mut m, f, cf, d, rcp, plan.mul_raw, "u_mul");
+    let raw = m.scope("q", |m| {
+        mul_mixed_raw(m, f, cf, d, rcp, plan.mul_raw, "u_mul")
+    });
     let q = round(&mut m, f, Rounding::Rup, &raw, plan.mul_round, "u_round_q");
     for _ in 0..plan.mul_round {
         m.stage();
@@ -328,7 +340,7 @@ pub fn build(cfg: &Config) -> Module {
         bad.push(is_nan(&mut m, cf, terms[j].rcp_lo));
         bad.push(is_nan(&mut m, cf, terms[j].rcp_hi));
     }
-    let invalid = any_of(&mut m, &bad, "invalid");
+    let invalid = any_of(&mut m, &bad, "invalid_in");
     let t_lo_neg = is_negative(&mut m, f, t_lo);
     let planes_on = m.not(t_lo_neg);
     let planes_on = m.name(planes_on, "planes_on");
@@ -351,7 +363,9 @@ pub fn build(cfg: &Config) -> Module {
         let c_exit = m.uint(DIR_WIDTH, DIR_EXIT);
         let c_entry = m.uint(DIR_WIDTH, DIR_ENTRY);
         let is_exit = m.eq(dir, c_exit);
+        let is_exit = m.name(is_exit, &format!("dir{j}_exit"));
         let is_entry = m.eq(dir, c_entry);
+        let is_entry = m.name(is_entry, &format!("dir{j}_entry"));
         par.push((out.dist_neg, is_exit, is_entry));
     }
     for _ in 0..plan.plane() {
@@ -373,8 +387,8 @@ pub fn build(cfg: &Config) -> Module {
     // one entry -q_i against one exit q_j is -q_i <= q_j, which is
     // -q_j <= q_i: one comparison per pair of planes, whichever is the
     // exit. A pair that does not apply, and an invalid input, pass.
-    let lo = Bound::of(&mut m, f, t_lo);
-    let hi = Bound::of(&mut m, f, t_hi);
+    let lo = m.scope("t_lo", |m| Bound::of(m, f, t_lo));
+    let hi = m.scope("t_hi", |m| Bound::of(m, f, t_hi));
     let mut ok = vec![lo.le(&mut m, &hi, invalid, "box_ok")];
     let mut planes = Vec::new();
     for j in 0..k {
@@ -383,19 +397,25 @@ pub fn build(cfg: &Config) -> Module {
         let nan = is_nan(&mut m, f, q);
         let usable = m.not(nan);
         let usable = m.and(usable, planes_on);
+        let usable = m.name(usable, &format!("q{j}_usable"));
         let ex = m.and(is_exit, usable);
         let ex = m.name(ex, &format!("exit{j}"));
         let en = m.and(is_entry, usable);
         let en = m.name(en, &format!("entry{j}"));
-        let exit = Bound::of(&mut m, f, q);
-        let entry = exit.negated(&mut m);
+        let (exit, entry) = m.scope(&format!("q{j}"), |m| {
+            let exit = Bound::of(m, f, q);
+            (exit, exit.negated(m))
+        });
         let skip = unless(&mut m, ex, invalid);
+        let skip = m.name(skip, &format!("exit{j}_skip"));
         ok.push(lo.le(&mut m, &exit, skip, &format!("exit{j}_ok")));
         let skip = unless(&mut m, en, invalid);
+        let skip = m.name(skip, &format!("entry{j}_skip"));
         ok.push(entry.le(&mut m, &hi, skip, &format!("entry{j}_ok")));
         let pc = m.and(pc, planes_on);
         let npc = m.not(pc);
-        ok.push(m.or(npc, invalid));
+        let par_ok = m.or(npc, invalid);
+        ok.push(m.name(par_ok, &format!("par{j}_ok")));
         planes.push((ex, en, exit, entry));
     }
     for j in 0..k {
@@ -406,6 +426,7 @@ pub fn build(cfg: &Config) -> Module {
             let ji = m.and(en_j, ex_i);
             let pair = m.or(ij, ji);
             let skip = unless(&mut m, pair, invalid);
+            let skip = m.name(skip, &format!("pair{i}{j}_skip"));
             ok.push(entry_i.le(&mut m, &exit_j, skip, &format!("pair{i}{j}_ok")));
         }
     }
