@@ -11,7 +11,9 @@
 //! exactly the values live across a boundary are registered, together with
 //! the `valid` bit. The latency of the module is the number of stages closed.
 
+mod names;
 mod ops;
+mod pipeline;
 
 use crate::eval::eval_op;
 use crate::ir::*;
@@ -146,50 +148,6 @@ pub struct ModuleBuilder {
     scopes: Vec<String>,
 }
 
-/// Longest name derived from an operation and its operands' names; a longer
-/// one is shortened by [`shortened`].
-const DERIVED_NAME_MAX: usize = 40;
-
-/// A derived name `full` made short: each of its [`tokens`] said once
-/// (`or_a_x_is_nan_a_x_is_inf` becomes `or_a_x_is_nan_inf`); when that is
-/// still longer than [`DERIVED_NAME_MAX`], `head` (the scoped operation, or
-/// a slice's source role) followed by the last token of each of `parts`,
-/// said once (`lzc_mux_zero_count`, `sum_b10_11_0`). Never the bare
-/// operation: an operand's role stays in the name.
-fn shortened(full: &str, head: &str, parts: &[&str]) -> String {
-    // the last token (the role, a slice's range) always stays last
-    let once = |mut tokens: Vec<String>| {
-        let last = tokens.pop().unwrap_or_default();
-        let mut said: Vec<String> = Vec::new();
-        for t in tokens {
-            if !said.contains(&t) && t != last {
-                said.push(t);
-            }
-        }
-        said.push(last);
-        said.join("_")
-    };
-    let short = once(tokens(full));
-    if short.len() <= DERIVED_NAME_MAX {
-        return short;
-    }
-    let roles = parts.iter().filter_map(|p| tokens(p).pop());
-    once(tokens(head).into_iter().chain(roles).collect())
-}
-
-/// The words of a name, a number staying with the word before it
-/// (`a_x_9_0_lt` is `a`, `x_9_0`, `lt`): the last one is a value's role.
-fn tokens(name: &str) -> Vec<String> {
-    let mut tokens: Vec<String> = Vec::new();
-    for w in name.split('_') {
-        match tokens.last_mut() {
-            Some(last) if w.bytes().all(|b| b.is_ascii_digit()) => *last = format!("{last}_{w}"),
-            _ => tokens.push(w.to_string()),
-        }
-    }
-    tokens
-}
-
 impl ModuleBuilder {
     /// Starts a module without valid ports (a datapath meant to be instantiated).
     pub fn new(name: impl Into<String>) -> Self {
@@ -211,23 +169,6 @@ impl ModuleBuilder {
             valid: None,
             scopes: Vec::new(),
         }
-    }
-
-    /// Runs `body` in the naming scope `scope`: a name given inside
-    /// ([`ModuleBuilder::name`]) becomes `scope_name`, scopes nest
-    /// (`a_x_lzc_hi`), and a value left unnamed whose derived name would be
-    /// too long is shortened by a rule (`shortened`): never a bare operation.
-    /// Helpers open a scope and name their results after their role, so two
-    /// uses of one helper get different names without counters.
-    #[track_caller]
-    pub fn scope<T>(&mut self, scope: &str, body: impl FnOnce(&mut Self) -> T) -> T {
-        if !is_identifier(scope) {
-            self.error(scope, "scope name is not a Verilog identifier");
-        }
-        self.scopes.push(scope.to_string());
-        let out = body(self);
-        self.scopes.pop();
-        out
     }
 
     /// `name` inside the open scopes.
@@ -259,11 +200,6 @@ impl ModuleBuilder {
         self
     }
 
-    /// The stage new operations are computed in (= cycles since the inputs).
-    pub fn current_stage(&self) -> u32 {
-        self.current_stage
-    }
-
     #[track_caller]
     fn error(&mut self, signal: impl Into<String>, message: impl Into<String>) {
         self.errors.push(DslError {
@@ -281,15 +217,6 @@ impl ModuleBuilder {
         }
     }
 
-    /// The name of a value; an unnamed cast goes by its source's (current) name.
-    fn name_of(&self, id: NodeId) -> &str {
-        let node = &self.nodes[id.0 as usize];
-        match node.op {
-            Op::Cast(src) if !node.named => self.name_of(src),
-            _ => &node.name,
-        }
-    }
-
     #[track_caller]
     fn push(&mut self, op: Op, ty: Ty, name: String, stage: Option<u32>) -> Sig {
         let id = NodeId(self.nodes.len() as u32);
@@ -303,54 +230,6 @@ impl ModuleBuilder {
         });
         self.stage_of.push(stage);
         Sig { id, ty }
-    }
-
-    /// The name of an unnamed value: the operation and its operands' names
-    /// (`not_a_x_zero`, `a_x_8_4` for a slice), constants left out. A name
-    /// longer than [`DERIVED_NAME_MAX`] is shortened by [`shortened`].
-    fn derived_name(&self, op: &Op) -> String {
-        if let Op::Slice(a, h, l) = *op {
-            let (source, h, l) = self.slice_source(a, h, l);
-            let range = match h == l {
-                true => format!("b{h}"),
-                false => format!("{h}_{l}"),
-            };
-            let full = format!("{source}_{range}");
-            if full.len() <= DERIVED_NAME_MAX {
-                return full;
-            }
-            let role = tokens(source).pop().unwrap_or_default();
-            return shortened(&full, &self.scoped(&role), &[&range]);
-        }
-        let operands: Vec<&str> = op
-            .operands()
-            .into_iter()
-            .filter(|o| !matches!(self.nodes[o.0 as usize].op, Op::Const(_)))
-            .map(|o| self.name_of(o))
-            .collect();
-        let full = match op {
-            Op::Cast(_) => operands.first().copied().unwrap_or("k").to_string(),
-            _ => std::iter::once(verb(op))
-                .chain(operands.iter().copied())
-                .collect::<Vec<_>>()
-                .join("_"),
-        };
-        if full.len() <= DERIVED_NAME_MAX {
-            return full;
-        }
-        shortened(&full, &self.scoped(verb(op)), &operands)
-    }
-
-    /// The name bits `h..=l` of `a` are read from: a slice of an unnamed
-    /// slice reads its source (`x_8_0` of `x_9_0` is `x_8_0` of `x`), so
-    /// ranges do not pile up in a name.
-    fn slice_source(&self, a: NodeId, h: u32, l: u32) -> (&str, u32, u32) {
-        let node = &self.nodes[a.0 as usize];
-        match node.op {
-            Op::Slice(src, _, lo) if !node.named => self.slice_source(src, h + lo, l + lo),
-            Op::Cast(src) if !node.named => self.slice_source(src, h, l),
-            _ => (self.name_of(a), h, l),
-        }
     }
 
     /// A placeholder returned after an error so that building can go on.
@@ -416,13 +295,6 @@ impl ModuleBuilder {
         ));
     }
 
-    /// Gives a value the name it will carry in the Verilog.
-    #[track_caller]
-    pub fn name(&mut self, value: Sig, name: &str) -> Sig {
-        let name = self.scoped(name);
-        self.rename(value, &name)
-    }
-
     /// Gives `value` the name `name` as it is (no scope added).
     #[track_caller]
     fn rename(&mut self, value: Sig, name: &str) -> Sig {
@@ -450,23 +322,6 @@ impl ModuleBuilder {
             }
         }
         value
-    }
-
-    /// Names `value` after the value `of` it describes and its `role`
-    /// (`t_lo_is_nan` for `role` `is_nan`), for a helper that computes one
-    /// property of its operand. Left to the derived name when `of` has none
-    /// to give (a constant) or the name would pass [`DERIVED_NAME_MAX`].
-    #[track_caller]
-    pub fn name_after(&mut self, value: Sig, of: Sig, role: &str) -> Sig {
-        if matches!(self.nodes[of.id.0 as usize].op, Op::Const(_)) {
-            return value;
-        }
-        let name = format!("{}_{role}", self.name_of(of.id));
-        match name.len() <= DERIVED_NAME_MAX {
-            // the operand's name already carries its scope
-            true => self.rename(value, &name),
-            false => value,
-        }
     }
 
     /// A constant of type `ty`.
@@ -512,42 +367,6 @@ impl ModuleBuilder {
         self.constant_unchecked(Ty::Bool, value as u128)
     }
 
-    /// Brings `id` into stage `stage`, inserting or reusing pipeline registers.
-    #[track_caller]
-    fn at_stage(&mut self, id: NodeId, stage: u32) -> NodeId {
-        let Some(from) = self.stage_of[id.0 as usize] else {
-            return id;
-        };
-        if from == stage {
-            return id;
-        }
-        if from > stage {
-            let name = self.name_of(id).to_string();
-            self.error(
-                name,
-                format!("value of stage {from} read in earlier stage {stage}"),
-            );
-            return id;
-        }
-        if let Some(&c) = self.carried.get(&(id, stage)) {
-            return c;
-        }
-        let prev = self.at_stage(id, stage - 1);
-        let ty = self.nodes[id.0 as usize].ty;
-        let name = format!("{}_s{stage}", self.name_of(id));
-        let index = self.registers.len();
-        self.registers.push(Register {
-            name: name.clone(),
-            ty,
-            next: prev,
-            reset: None,
-            enable: None,
-        });
-        let q = self.push(Op::Reg(index), ty, name, Some(stage));
-        self.carried.insert((id, stage), q.id);
-        q.id
-    }
-
     /// Adds an operation in the current stage, after aligning its operands.
     #[track_caller]
     fn op(&mut self, op: Op, ty: Ty) -> Sig {
@@ -580,81 +399,6 @@ impl ModuleBuilder {
         let op = op.map_operands(|id| self.at_stage(id, stage));
         let name = self.derived_name(&op);
         self.push(op, ty, name, Some(stage))
-    }
-
-    /// Closes the current pipeline stage: later operations are one cycle later.
-    pub fn stage(&mut self) {
-        self.current_stage += 1;
-        let stage = self.current_stage;
-        if let Some(valid) = &self.valid {
-            let prev = *valid.last().expect("valid starts with in_valid");
-            let index = self.registers.len();
-            let name = format!("valid_s{stage}");
-            self.registers.push(Register {
-                name: name.clone(),
-                ty: Ty::Bool,
-                next: prev,
-                reset: Some(0),
-                enable: None,
-            });
-            let q = self.push(Op::Reg(index), Ty::Bool, name, Some(stage));
-            self.valid.as_mut().unwrap().push(q.id);
-        }
-    }
-
-    /// A register of the current stage, reset to `reset` if given. Its next value
-    /// is set with [`ModuleBuilder::set_next`].
-    #[track_caller]
-    pub fn reg(&mut self, name: &str, ty: Ty, reset: Option<u128>) -> RegHandle {
-        if !is_identifier(name) {
-            self.error(name, "register name is not a Verilog identifier");
-        }
-        if reset.is_some_and(|r| ty.width() < 128 && r >> ty.width() != 0) {
-            self.error(name, format!("reset value does not fit {ty}"));
-        }
-        let index = self.registers.len();
-        let placeholder = NodeId(0);
-        self.registers.push(Register {
-            name: name.to_string(),
-            ty,
-            next: placeholder,
-            reset,
-            enable: None,
-        });
-        self.pending_regs.push((index, Location::caller()));
-        let q = self.push(
-            Op::Reg(index),
-            ty,
-            name.to_string(),
-            Some(self.current_stage),
-        );
-        RegHandle { index, q }
-    }
-
-    /// Sets the value a register loads at each rising edge (when `enable` is true, if given).
-    #[track_caller]
-    pub fn set_next(&mut self, reg: RegHandle, next: Sig, enable: Option<Sig>) {
-        let name = self.registers[reg.index].name.clone();
-        if next.ty != reg.q.ty {
-            self.error(
-                name.clone(),
-                format!("next value is {}, register is {}", next.ty, reg.q.ty),
-            );
-        }
-        if enable.is_some_and(|e| e.ty != Ty::Bool) {
-            self.error(name.clone(), "register enable must be Bool");
-        }
-        let Some(pos) = self.pending_regs.iter().position(|(i, _)| *i == reg.index) else {
-            self.error(name, "next value set twice");
-            return;
-        };
-        self.pending_regs.remove(pos);
-        let stage = self.current_stage;
-        let next = self.at_stage(next.id, stage);
-        let enable = enable.map(|e| self.at_stage(e.id, stage));
-        let r = &mut self.registers[reg.index];
-        r.next = next;
-        r.enable = enable;
     }
 
     /// Instantiates `module`, connecting its data inputs by name (`&str` or
@@ -813,30 +557,5 @@ impl ModuleBuilder {
             }])
         })?;
         Ok(module)
-    }
-}
-
-/// The short word for an operation in derived names.
-fn verb(op: &Op) -> &'static str {
-    match op {
-        Op::Input(_) | Op::Const(_) | Op::Reg(_) | Op::InstOut { .. } | Op::Cast(_) => "n",
-        Op::Add(..) => "add",
-        Op::Sub(..) => "sub",
-        Op::Mul(..) => "mul",
-        Op::Not(_) => "not",
-        Op::Bit(BitOp::And, ..) => "and",
-        Op::Bit(BitOp::Or, ..) => "or",
-        Op::Bit(BitOp::Xor, ..) => "xor",
-        Op::Cmp(CmpOp::Eq, ..) => "eq",
-        Op::Cmp(CmpOp::Lt, ..) => "lt",
-        Op::Cmp(CmpOp::Le, ..) => "le",
-        Op::Shl(..) => "shl",
-        Op::Shr(..) => "shr",
-        Op::Mux(..) => "mux",
-        Op::Concat(_) => "cat",
-        Op::Slice(..) => "bits",
-        Op::Reduce(ReduceOp::And, _) => "all",
-        Op::Reduce(ReduceOp::Or, _) => "any",
-        Op::Reduce(ReduceOp::Xor, _) => "par",
     }
 }

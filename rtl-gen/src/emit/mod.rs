@@ -2,8 +2,10 @@
 //! Runs in-process; no external tool is on the emission path.
 
 pub mod lower;
+mod names;
 pub mod print;
 pub mod vast;
+mod wires;
 
 use crate::ir::Module;
 
