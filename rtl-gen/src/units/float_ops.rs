@@ -131,9 +131,8 @@ impl<P: FloatParams> Unit for FloatOp<P> {
     fn params(&self) -> &'static [ParamSpec] {
         P::SPECS
     }
-    /// The header is the operator module's own (the wrapper mirrors it).
     fn build(&self, p: &Params) -> Result<Module, ParamError> {
-        Ok(wrap(operator(&self.configured(p)?)?))
+        self.build_typed(P::from_params(p))
     }
     fn build_datapath(&self, p: &Params) -> Result<Option<Module>, ParamError> {
         let mut typed = P::from_params(p);
@@ -141,7 +140,17 @@ impl<P: FloatParams> Unit for FloatOp<P> {
             Some(stages) => *stages = 0,
             None => return Ok(None),
         }
-        Ok(Some(wrap(operator(&self.config(&typed)?)?)))
+        self.build_typed(typed).map(Some)
+    }
+}
+
+impl<P: FloatParams> FloatOp<P> {
+    /// The wrapped operator of typed parameters, its header written from
+    /// them (every parameter, `fadd`'s `op` too).
+    fn build_typed(&self, p: P) -> Result<Module, ParamError> {
+        let mut module = wrap(operator(&self.config(&p)?)?);
+        module.params = p.header();
+        Ok(module)
     }
 }
 
