@@ -349,7 +349,7 @@ pub enum ChildRef {
 /// The per-node frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Frame {
-    /// origin per axis, bits of the ray format (finite)
+    /// origin per axis, bits of the ray format (finite, never −0)
     pub origin: [u64; 3],
     /// unbiased scale exponent per axis, `emin ..= emax` of the ray format
     pub exp: [i32; 3],
@@ -436,6 +436,8 @@ impl Frame {
             if !fmt.is_finite(o) {
                 return Err(EncodeError::OriginOutOfRange { axis: a, min: lo });
             }
+            // one encoding per origin: +0, never −0
+            let o = if o == fmt.zero(true) { fmt.zero(false) } else { o };
             let o64 = f64::from_bits(convert(fmt, FloatFormat::BINARY64, o, RoundingMode::Down));
             // D = n / 2^s relative to scale 2^0: find the smallest e with
             // ⌈D / 2^e⌉ ≤ 2^q − 1, starting from D's leading bit
@@ -593,7 +595,7 @@ impl Node {
         let below = (1u8 << i) - 1;
         if self.leaf >> i & 1 == 1 {
             let skip: u32 = (0..i)
-                .filter(|&j| self.valid & self.leaf >> j & 1 == 1)
+                .filter(|&j| (self.valid & self.leaf) >> j & 1 == 1)
                 .map(|j| self.count[j] as u32)
                 .sum();
             ChildRef::Leaf {
@@ -735,7 +737,7 @@ impl Node {
             return Err(record("leaf bit of an empty slot"));
         }
         for i in 0..w.children {
-            let valid_leaf = n.valid & n.leaf >> i & 1 == 1;
+            let valid_leaf = (n.valid & n.leaf) >> i & 1 == 1;
             if valid_leaf != (n.count[i] != 0) {
                 return Err(EncodeError::Record(format!(
                     "slot {i}: count {} for a {} slot",
