@@ -427,17 +427,16 @@ impl Frame {
                 .iter()
                 .map(|b| b.max[a])
                 .fold(f64::NEG_INFINITY, f64::max);
-            let o = convert(
-                FloatFormat::BINARY64,
-                fmt,
-                lo.to_bits(),
-                RoundingMode::Down,
-            );
+            let o = convert(FloatFormat::BINARY64, fmt, lo.to_bits(), RoundingMode::Down);
             if !fmt.is_finite(o) {
                 return Err(EncodeError::OriginOutOfRange { axis: a, min: lo });
             }
             // one encoding per origin: +0, never −0
-            let o = if o == fmt.zero(true) { fmt.zero(false) } else { o };
+            let o = if o == fmt.zero(true) {
+                fmt.zero(false)
+            } else {
+                o
+            };
             let o64 = f64::from_bits(convert(fmt, FloatFormat::BINARY64, o, RoundingMode::Down));
             // D = n / 2^s relative to scale 2^0: find the smallest e with
             // ⌈D / 2^e⌉ ≤ 2^q − 1, starting from D's leading bit
@@ -722,7 +721,9 @@ impl Node {
         let fmt = w.fmt;
         for a in 0..3 {
             if !fmt.is_finite(n.frame.origin[a]) {
-                return Err(EncodeError::Record(format!("origin of axis {a} not finite")));
+                return Err(EncodeError::Record(format!(
+                    "origin of axis {a} not finite"
+                )));
             }
             if !(fmt.emin()..=fmt.emax()).contains(&n.frame.exp[a]) {
                 return Err(EncodeError::Record(format!(
@@ -788,7 +789,13 @@ mod tests {
         // 0.1·128 = 12.8 rounds up to 13
         assert_eq!(n.hi[1], [64, 96, 13]);
         assert_eq!(n.child(0), ChildRef::Inner(7));
-        assert_eq!(n.child(1), ChildRef::Leaf { first: 40, count: 3 });
+        assert_eq!(
+            n.child(1),
+            ChildRef::Leaf {
+                first: 40,
+                count: 3
+            }
+        );
         assert_eq!(n.child(2), ChildRef::Empty);
         assert_eq!(Node::unpack(w, &n.pack(w)), Ok(n));
     }

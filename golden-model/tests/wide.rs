@@ -65,7 +65,10 @@ fn lt(a: &V, b: &V) -> bool {
 /// Node bounds of the valid children, per axis.
 fn node_bounds(slots: &Slots, a: usize) -> (f64, f64) {
     let boxes = slots.iter().flatten().map(|(b, _)| b);
-    let lo = boxes.clone().map(|b| b.min[a]).fold(f64::INFINITY, f64::min);
+    let lo = boxes
+        .clone()
+        .map(|b| b.min[a])
+        .fold(f64::INFINITY, f64::min);
     let hi = boxes.map(|b| b.max[a]).fold(f64::NEG_INFINITY, f64::max);
     (lo, hi)
 }
@@ -119,7 +122,9 @@ fn check_node(w: WideFormat, slots: &Slots, n: &Node) -> Result<(), String> {
             let e = n.frame.exp[a];
             let (ql, qh) = (n.lo[i][a] as u64, n.hi[i][a] as u64);
             if ql > qh || qh > q_max {
-                return Err(format!("slot {i} axis {a}: integers {ql}, {qh} out of order"));
+                return Err(format!(
+                    "slot {i} axis {a}: integers {ql}, {qh} out of order"
+                ));
             }
             let dec_lo = add(&o, &scaled(ql, e));
             let dec_hi = add(&o, &scaled(qh, e));
@@ -211,7 +216,12 @@ fn coord(rng: &mut Rng, fmt: FloatFormat, family: u64) -> f64 {
         // scene-like: moderate magnitudes
         0 => sign * rng.range(1, 1 << 20) as f64 * pow(rng.range(-24, 4)),
         // far from the origin, near the top of the format
-        1 => sign * to_f64(fmt, fmt.max_finite(false) - rng.below(1 << 8.min(fmt.frac_bits()))),
+        1 => {
+            sign * to_f64(
+                fmt,
+                fmt.max_finite(false) - rng.below(1 << 8.min(fmt.frac_bits())),
+            )
+        }
         // tiny: multiples of the smallest subnormal
         2 => sign * rng.range(0, 1 << 12) as f64 * tiny,
         // any finite value of the format
@@ -224,8 +234,15 @@ fn coord(rng: &mut Rng, fmt: FloatFormat, family: u64) -> f64 {
         // binary64 values that the format cannot hold, within its range
         4 => sign * (rng.next() >> 11) as f64 * pow(-53) * max * pow(-rng.range(0, 30)),
         // the ends of the range
-        _ => [max, -max, tiny, -tiny, 0.0, -0.0, to_f64(fmt, fmt.min_normal(false))]
-            [rng.below(7) as usize],
+        _ => [
+            max,
+            -max,
+            tiny,
+            -tiny,
+            0.0,
+            -0.0,
+            to_f64(fmt, fmt.min_normal(false)),
+        ][rng.below(7) as usize],
     }
 }
 
@@ -241,15 +258,19 @@ fn random_slots(rng: &mut Rng, w: WideFormat) -> Slots {
             if rng.below(6) == 0 {
                 return None;
             }
-            let f = if rng.below(4) == 0 { rng.below(6) } else { family };
+            let f = if rng.below(4) == 0 {
+                rng.below(6)
+            } else {
+                family
+            };
             let mut min = [0.0; 3];
             let mut max = [0.0; 3];
             for a in 0..3 {
                 let mut x = coord(rng, fmt, f);
                 let mut y = match rng.below(5) {
-                    0 => x,                   // flat
-                    1 => -x,                  // symmetric about zero
-                    2 => coord(rng, fmt, f),  // independent
+                    0 => x,                       // flat
+                    1 => -x,                      // symmetric about zero
+                    2 => coord(rng, fmt, f),      // independent
                     3 if f == 1 => x - far / 1e6, // a small box far out
                     _ => x + (x.abs() + 1.0) * 2f64.powi(-(rng.range(0, 40) as i32)),
                 };
@@ -311,7 +332,10 @@ fn decoded_boxes_contain_the_exact_boxes_and_are_tight() {
     }
     println!("{nodes} nodes ({children} children) checked exactly, {errors} rightly refused");
     // the families reach both outcomes, and mostly encode
-    assert!(nodes > 150_000 && errors > 1000, "{nodes} nodes, {errors} errors");
+    assert!(
+        nodes > 150_000 && errors > 1000,
+        "{nodes} nodes, {errors} errors"
+    );
 }
 
 #[test]
@@ -321,13 +345,16 @@ fn adversarial_nodes_at_the_ends_of_the_formats() {
         let tiny = to_f64(fmt, fmt.min_subnormal(false));
         let min_normal = to_f64(fmt, fmt.min_normal(false));
         let cases: Vec<[(f64, f64); 2]> = vec![
-            [(-max, max), (0.0, 0.0)],              // the whole range: largest scale
-            [(max, max), (max, max)],               // flat at the top
-            [(-max, -max), (-max, -max)],           // flat at the bottom
-            [(0.0, tiny), (tiny, 2.0 * tiny)],      // subnormal boxes: scale 2^emin
-            [(-tiny, tiny), (-0.0, 0.0)],           // straddling zero, tiny
+            [(-max, max), (0.0, 0.0)],         // the whole range: largest scale
+            [(max, max), (max, max)],          // flat at the top
+            [(-max, -max), (-max, -max)],      // flat at the bottom
+            [(0.0, tiny), (tiny, 2.0 * tiny)], // subnormal boxes: scale 2^emin
+            [(-tiny, tiny), (-0.0, 0.0)],      // straddling zero, tiny
             [(min_normal, min_normal * 3.0), (min_normal, min_normal)],
-            [(max / 2.0, max / 2.0 + max / 1024.0), (max / 2.0, max / 2.0)], // far, narrow
+            [
+                (max / 2.0, max / 2.0 + max / 1024.0),
+                (max / 2.0, max / 2.0),
+            ], // far, narrow
             [(-1.0, 1.0), (0.5, 0.5)],
             [(-3.0 * tiny, -tiny), (-2.0 * tiny, -2.0 * tiny)],
         ];
@@ -417,15 +444,27 @@ fn bad_input_is_an_error() {
     let err = |w, s: &Slots| encode(w, s, 0, 0).unwrap_err();
     assert!(matches!(
         err(f32w, &with(1, f64::NAN, 1.0)),
-        EncodeError::NonFinite { slot: 1, axis: 1, .. }
+        EncodeError::NonFinite {
+            slot: 1,
+            axis: 1,
+            ..
+        }
     ));
     assert!(matches!(
         err(f32w, &with(2, 0.0, f64::INFINITY)),
-        EncodeError::NonFinite { slot: 1, axis: 2, .. }
+        EncodeError::NonFinite {
+            slot: 1,
+            axis: 2,
+            ..
+        }
     ));
     assert!(matches!(
         err(f32w, &with(0, 2.0, 1.0)),
-        EncodeError::Inverted { slot: 1, axis: 0, .. }
+        EncodeError::Inverted {
+            slot: 1,
+            axis: 0,
+            ..
+        }
     ));
     // below binary32's range: no origin
     assert!(matches!(
@@ -436,9 +475,16 @@ fn bad_input_is_an_error() {
     let h = WideFormat::new(FloatFormat::BINARY16, 2, 4).unwrap();
     assert!(matches!(
         err(h, &with(2, 0.0, 1e7)),
-        EncodeError::ScaleOutOfRange { axis: 2, exp: 20, emax: 15 }
+        EncodeError::ScaleOutOfRange {
+            axis: 2,
+            exp: 20,
+            emax: 15
+        }
     ));
-    assert!(matches!(err(f32w, &vec![None, None]), EncodeError::NoChildren));
+    assert!(matches!(
+        err(f32w, &vec![None, None]),
+        EncodeError::NoChildren
+    ));
     assert!(matches!(
         err(f32w, &vec![Some((unit, ChildKind::Inner)); 5]),
         EncodeError::TooManyChildren { given: 5, slots: 4 }
@@ -458,7 +504,9 @@ fn bad_input_is_an_error() {
         Err(EncodeError::Format(_))
     ));
     // every message names what is wrong
-    assert!(err(f32w, &with(0, 2.0, 1.0)).to_string().contains("above max"));
+    assert!(err(f32w, &with(0, 2.0, 1.0))
+        .to_string()
+        .contains("above max"));
 }
 
 #[test]
@@ -470,7 +518,11 @@ fn corrupted_records_are_refused() {
     };
     let node = encode(
         w,
-        &[Some((unit, ChildKind::Inner)), None, Some((unit, ChildKind::Leaf(2)))],
+        &[
+            Some((unit, ChildKind::Inner)),
+            None,
+            Some((unit, ChildKind::Leaf(2))),
+        ],
         5,
         11,
     )
@@ -511,7 +563,7 @@ fn corrupted_records_are_refused() {
     assert!(bad(flip(FieldKind::Count(2), 1))); // leaf count 2 -> 0 is refused
     assert!(bad(flip(FieldKind::Lo(1, 0), 0))); // a bit in the empty slot
     assert!(bad(flip(FieldKind::Leaf, 3))); // leaf bit of an empty slot
-    // lo = 129 above hi = 128
+                                            // lo = 129 above hi = 128
     let mut b = bytes.clone();
     let l = field(FieldKind::Lo(0, 2));
     for bit in [0, 7] {

@@ -85,9 +85,10 @@ impl Collapse {
                 continue; // a leaf costs nothing in any collapse
             };
             let (l, r) = (left as usize, right as usize);
+            let (cl, cr) = (cost[l], cost[r]);
             let split = |j: usize| {
                 (1..j)
-                    .map(|k| (cost[l][k - 1] + cost[r][j - k - 1], k as u8))
+                    .map(|k| (cl[k - 1] + cr[j - k - 1], k as u8))
                     .fold((f64::INFINITY, 0u8), |a, b| if b.0 < a.0 { b } else { a })
             };
             let e = [0, 1, 2].map(|i| (node.max[i] as f64 - node.min[i] as f64).max(0.0));
