@@ -32,7 +32,7 @@
 use crate::bvh::Accel;
 use crate::render::Cam;
 use crate::scene::Scene;
-use crate::trace::{intersect, Hit, TRay, NONE};
+use crate::trace::{intersect, Hit, TRay};
 use crate::units::{GoldenUnits, Units};
 use golden_model::cull::bvh::{Bvh, Mesh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
@@ -469,5 +469,91 @@ impl<'a> WideTracer<'a> {
     }
 }
 
-/// A miss, as [`WideTracer::primary`] reports it.
-pub const MISS: (u32, u32) = (NONE, NONE);
+/// One row of [`report`]: a scene's wide BVH of one shape and its camera rays.
+#[derive(Debug, Clone)]
+pub struct ReportRow {
+    /// the node shape
+    pub format: WideFormat,
+    /// wide nodes (TLAS and every BLAS)
+    pub nodes: u64,
+    /// the traversal with the decoded child boxes
+    pub compressed: WideStats,
+    /// the same tree with exact binary32 child boxes
+    pub exact: WideStats,
+    /// both traversals found the same nearest hit on every pixel
+    pub same_hits: bool,
+}
+
+impl ReportRow {
+    /// Child tests per ray with the decoded boxes over those with exact binary32 boxes.
+    pub fn child_test_ratio(&self) -> f64 {
+        self.compressed.per_ray(self.compressed.child_tests)
+            / self.exact.per_ray(self.exact.child_tests)
+    }
+}
+
+/// Builds the wide BVH of every shape and traces the `w`×`h` camera rays
+/// through it twice (decoded boxes, exact binary32 boxes).
+pub fn report(
+    scene: &Scene,
+    accel: &Accel,
+    shapes: &[WideFormat],
+    w: u32,
+    h: u32,
+) -> Result<Vec<ReportRow>, String> {
+    shapes
+        .iter()
+        .map(|&format| {
+            let wide = WideAccel::build(accel, format)?;
+            let (hq, sq) =
+                WideTracer::new(scene, accel, &wide, Boxes::Compressed).primary(scene, w, h);
+            let (he, se) = WideTracer::new(scene, accel, &wide, Boxes::Exact).primary(scene, w, h);
+            let key = |h: &Hit| (h.inst, h.prim, h.t.to_bits());
+            Ok(ReportRow {
+                format,
+                nodes: wide.nodes(),
+                compressed: sq,
+                exact: se,
+                same_hits: hq.iter().map(key).eq(he.iter().map(key)),
+            })
+        })
+        .collect()
+}
+
+/// The table of [`report`] rows of several scenes (markdown), then one line
+/// per row `child tests per ray q=<q> / binary32 (N=<n>): <scene> <ratio>`.
+pub fn report_table(rows: &[(String, ReportRow)]) -> String {
+    let mut s = String::from(
+        "| scene | N | q | nodes | bytes/node | node bytes | node visits/ray | bytes/ray | child tests/ray | binary32 boxes: bytes/node | bytes/ray | child tests/ray | child tests q / binary32 | same hits |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (name, r) in rows {
+        let (c, e) = (&r.compressed, &r.exact);
+        let f = r.format;
+        s += &format!(
+            "| {name} | {} | {} | {} | {} | {} | {:.2} | {:.0} | {:.2} | {} | {:.0} | {:.2} | {:.4} | {} |\n",
+            f.children(),
+            f.box_bits(),
+            r.nodes,
+            f.record_bytes(),
+            r.nodes * f.record_bytes() as u64,
+            c.per_ray(c.node_visits),
+            c.per_ray(c.bytes),
+            c.per_ray(c.child_tests),
+            f.baseline_bytes(),
+            e.per_ray(e.bytes),
+            e.per_ray(e.child_tests),
+            r.child_test_ratio(),
+            if r.same_hits { "yes" } else { "NO" }
+        );
+    }
+    s.push('\n');
+    for (name, r) in rows {
+        s += &format!(
+            "child tests per ray q={} / binary32 (N={}): {name} {:.4}\n",
+            r.format.box_bits(),
+            r.format.children(),
+            r.child_test_ratio()
+        );
+    }
+    s
+}
