@@ -579,3 +579,62 @@ fn corrupted_records_are_refused() {
         assert!(bad(Node::unpack(w, &b)));
     }
 }
+
+/// The body rows of the table after `<!-- table:{name} -->` in docs/wide.md.
+fn doc_table(name: &str) -> Vec<Vec<String>> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/wide.md");
+    let doc = std::fs::read_to_string(path).expect("docs/wide.md");
+    let start = doc
+        .find(&format!("<!-- table:{name} -->"))
+        .unwrap_or_else(|| panic!("no table {name}"));
+    let body = &doc[start..];
+    let end = body.find("<!-- end -->").expect("table end marker");
+    let rows: Vec<Vec<String>> = body[..end]
+        .lines()
+        .filter(|l| l.starts_with('|'))
+        .skip(2)
+        .map(|l| {
+            l.trim_matches('|')
+                .split('|')
+                .map(|c| c.trim().trim_matches('`').to_string())
+                .collect()
+        })
+        .collect();
+    assert!(!rows.is_empty(), "table {name} is empty");
+    rows
+}
+
+#[test]
+fn docs_tables_match_the_record() {
+    let w = WideFormat::new(FloatFormat::BINARY32, 4, 8).unwrap();
+    let fields = w.fields();
+    let rows = doc_table("wide-record");
+    for r in &rows {
+        let f = fields
+            .iter()
+            .find(|f| f.kind.name() == r[0])
+            .unwrap_or_else(|| panic!("no field {}", r[0]));
+        assert_eq!(r[1], f.width.to_string(), "width of {}", r[0]);
+        assert_eq!(r[2], f.offset.to_string(), "offset of {}", r[0]);
+    }
+    // the table's last row is the record's last field
+    let last = fields.last().unwrap();
+    assert_eq!(rows.last().unwrap()[0], last.kind.name());
+    // the fields tile the record without gaps
+    let mut at = 0;
+    for f in &fields {
+        assert_eq!(f.offset, at, "{}", f.kind.name());
+        at += f.width;
+    }
+    assert_eq!(at, w.record_bits());
+    for r in doc_table("wide-bytes") {
+        let n: usize = r[0].parse().unwrap();
+        let q: u32 = r[1].parse().unwrap();
+        let w = WideFormat::new(FloatFormat::BINARY32, n, q).unwrap();
+        assert_eq!(r[2], w.record_bits().to_string(), "N={n} q={q} bits");
+        assert_eq!(r[3], w.record_bytes().to_string(), "N={n} q={q} bytes");
+        assert_eq!(r[4], w.baseline_bytes().to_string(), "N={n} q={q} baseline");
+        let ratio = w.record_bytes() as f64 / w.baseline_bytes() as f64;
+        assert_eq!(r[5], format!("{ratio:.2}"), "N={n} q={q} ratio");
+    }
+}
