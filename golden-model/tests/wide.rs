@@ -573,7 +573,7 @@ fn corrupted_records_are_refused() {
     assert!(bad(Node::unpack(w, &b)));
     // a padding bit above the record (608 bits fill 76 bytes: pad a 4-slot record)
     let last = w.record_bits();
-    if last % 8 != 0 {
+    if !last.is_multiple_of(8) {
         let mut b = bytes.clone();
         b[(last / 8) as usize] |= 1 << (last % 8);
         assert!(bad(Node::unpack(w, &b)));

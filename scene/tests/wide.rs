@@ -280,8 +280,7 @@ fn wide_traversals_find_the_binary_bvh_nearest_hits() {
                     .unwrap();
             for boxes in [Boxes::Compressed, Boxes::Exact] {
                 let (got, st) = WideTracer::new(&s, &acc, &wide, boxes).primary(&s, w, h);
-                for p in 0..got.len() {
-                    let g = &got[p];
+                for (p, g) in got.iter().enumerate() {
                     assert_eq!(
                         (g.inst, g.prim),
                         bin.ids[p],
