@@ -624,7 +624,7 @@ impl Node {
         for a in 0..3 {
             let o = self.frame.origin_f64(w.fmt, a);
             // n < 2^16 and 2^e normal in binary64 (E ≤ 10): the product is exact
-            let step = 2f64.powi(self.frame.exp[a]);
+            let step = f64::from_bits(((self.frame.exp[a] + 1023) as u64) << 52);
             let down = add_down_up_f64(o, self.lo[i][a] as f64 * step).0;
             let up = add_down_up_f64(o, self.hi[i][a] as f64 * step).1;
             let to = |v: f64, m| convert(FloatFormat::BINARY64, out, v.to_bits(), m);

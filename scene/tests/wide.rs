@@ -6,7 +6,7 @@
 //! as the binary BVH renderer.
 
 use dashu::integer::IBig;
-use golden_model::cull::bvh::{Bvh, NodeKind};
+use golden_model::cull::bvh::{Bvh, Node, NodeKind};
 use golden_model::float::FloatFormat;
 use golden_model::wide::{ChildRef, WideFormat, MAX_CHILDREN};
 use scene::bvh::Accel;
@@ -296,6 +296,120 @@ fn wide_traversals_find_the_binary_bvh_nearest_hits() {
                 }
                 assert!(st.node_visits > 0 && st.child_tests >= st.node_visits);
             }
+        }
+    }
+}
+
+/// A random binary tree of `leaves` one-primitive leaves with random boxes,
+/// parents the exact union of their children (parent before children).
+fn random_tree(seed: &mut u64, leaves: usize) -> Bvh {
+    fn next(seed: &mut u64) -> f32 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn make(b: &mut Bvh, seed: &mut u64, leaves: usize, first: &mut u32) -> usize {
+        let me = b.nodes.len();
+        b.nodes.push(Node {
+            min: [0.0; 3],
+            max: [0.0; 3],
+            kind: NodeKind::Leaf { first: 0, count: 0 },
+        });
+        if leaves == 1 {
+            let lo = [0, 1, 2].map(|_| next(seed) * 10.0);
+            let hi = lo.map(|x| x + next(seed) * next(seed) * 4.0);
+            b.nodes[me] = Node {
+                min: lo,
+                max: hi,
+                kind: NodeKind::Leaf {
+                    first: *first,
+                    count: 1,
+                },
+            };
+            *first += 1;
+            return me;
+        }
+        let k = 1 + (next(seed) * (leaves - 1) as f32) as usize;
+        let l = make(b, seed, k.min(leaves - 1), first);
+        let r = make(b, seed, leaves - k.min(leaves - 1), first);
+        let (a, c) = (b.nodes[l], b.nodes[r]);
+        b.nodes[me] = Node {
+            min: [0, 1, 2].map(|i| a.min[i].min(c.min[i])),
+            max: [0, 1, 2].map(|i| a.max[i].max(c.max[i])),
+            kind: NodeKind::Inner {
+                left: l as u32,
+                right: r as u32,
+            },
+        };
+        me
+    }
+    let mut b = Bvh {
+        nodes: Vec::new(),
+        tri_order: (0..leaves as u32).collect(),
+    };
+    make(&mut b, seed, leaves, &mut 0);
+    b
+}
+
+/// The least `Σ area` over every wide tree of `b` by brute force: a wide
+/// node at `n` takes any frontier of at most `n_max` subtree roots below it.
+fn brute_force(b: &Bvh, n_max: usize) -> f64 {
+    fn area(b: &Bvh, id: usize) -> f64 {
+        let n = &b.nodes[id];
+        let e = [0, 1, 2].map(|a| n.max[a] as f64 - n.min[a] as f64);
+        2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+    }
+    /// Every frontier of the subtree of `id` (sets of roots covering its leaves).
+    fn fronts(b: &Bvh, id: usize, cap: usize) -> Vec<Vec<usize>> {
+        let mut out = vec![vec![id]];
+        if let NodeKind::Inner { left, right } = b.nodes[id].kind {
+            for x in fronts(b, left as usize, cap) {
+                for y in fronts(b, right as usize, cap) {
+                    if x.len() + y.len() <= cap {
+                        out.push([x.clone(), y].concat());
+                    }
+                }
+            }
+        }
+        out
+    }
+    fn best(b: &Bvh, id: usize, n_max: usize) -> f64 {
+        let NodeKind::Inner { left, right } = b.nodes[id].kind else {
+            return 0.0;
+        };
+        let mut m = f64::INFINITY;
+        for x in fronts(b, left as usize, n_max) {
+            for y in fronts(b, right as usize, n_max) {
+                if x.len() + y.len() <= n_max {
+                    let c: f64 = x.iter().chain(&y).map(|&f| best(b, f, n_max)).sum();
+                    m = m.min(c);
+                }
+            }
+        }
+        area(b, id) + m
+    }
+    match b.nodes[0].kind {
+        NodeKind::Inner { .. } => best(b, 0, n_max),
+        NodeKind::Leaf { .. } => area(b, 0),
+    }
+}
+
+#[test]
+fn the_collapse_is_the_least_sah_cost_by_brute_force() {
+    let mut seed = 36;
+    for trial in 0..300 {
+        let leaves = 2 + trial % 11;
+        let b = random_tree(&mut seed, leaves);
+        for n in [2, 4, 8] {
+            let w =
+                WideBvh::build(&b, WideFormat::new(FloatFormat::BINARY32, n, 8).unwrap()).unwrap();
+            check_structure(&b, &w, "random tree");
+            let (got, want) = (sah(&w), brute_force(&b, n));
+            assert!(
+                (got - want).abs() <= want * 1e-9,
+                "trial {trial}, {leaves} leaves, N={n}: collapse {got}, least {want}"
+            );
         }
     }
 }
