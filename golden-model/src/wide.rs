@@ -586,9 +586,10 @@ fn add_down_up_f64(a: f64, b: f64) -> (f64, f64) {
 
 impl Node {
     /// What slot `i` references (inner children count from `child_base` in
-    /// slot order, leaf ranges follow each other from `prim_base`).
+    /// slot order, leaf ranges follow each other from `prim_base`); a slot
+    /// past the last is empty.
     pub fn child(&self, i: usize) -> ChildRef {
-        if self.valid >> i & 1 == 0 {
+        if i >= MAX_CHILDREN || self.valid >> i & 1 == 0 {
             return ChildRef::Empty;
         }
         let below = (1u8 << i) - 1;
@@ -616,7 +617,7 @@ impl Node {
         i: usize,
         out: FloatFormat,
     ) -> Option<([u64; 3], [u64; 3])> {
-        if self.valid >> i & 1 == 0 {
+        if i >= MAX_CHILDREN || self.valid >> i & 1 == 0 {
             return None;
         }
         let mut lo = [0u64; 3];
@@ -797,6 +798,7 @@ mod tests {
             }
         );
         assert_eq!(n.child(2), ChildRef::Empty);
+        assert_eq!(n.child(MAX_CHILDREN), ChildRef::Empty);
         assert_eq!(Node::unpack(w, &n.pack(w)), Ok(n));
     }
 
