@@ -1,6 +1,6 @@
 //! The wide BVHs of the shipped scenes (`scene::wide`): every decoded child
 //! box contains the exact child box (big-integer check, not f64) and is
-//! tight, at several N and q; the collapse keeps every primitive once and
+//! tight, at several N and q, with binary32 and e5m10 frames; the collapse keeps every primitive once and
 //! costs no more SAH than a fixed two-level merge; and traversals of the
 //! wide trees find the same nearest hit (instance, primitive, t) per pixel
 //! as the binary BVH renderer.
@@ -230,6 +230,14 @@ fn every_node_of_the_shipped_scenes_decodes_to_a_box_containing_its_child() {
                 worst < ceiling,
                 "{name} N={n} q={q}: excess {worst} ≥ {ceiling}"
             );
+        }
+        // frames in e5m10: the origin rounds down to 11 bits, the children stay inside
+        for (n, q) in [(4, 8), (8, 12)] {
+            let w = WideFormat::new(FloatFormat::BINARY16, n, q).unwrap();
+            for (b, what) in &trees {
+                let wb = WideBvh::build(b, w).unwrap();
+                check_tree(&wb, &format!("{what} e5m10 N={n} q={q}"));
+            }
         }
     }
 }
