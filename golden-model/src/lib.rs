@@ -13,3 +13,4 @@ pub mod silhouette;
 pub mod slab;
 pub mod transform;
 pub mod triangle;
+pub mod wide;

@@ -15,6 +15,7 @@ use crate::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use crate::trace::{BundleOpts, TraceOpts, TriTest};
 use clap::{Subcommand, ValueEnum};
 use golden_model::float::FloatFormat;
+use golden_model::wide::WideFormat;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -124,6 +125,28 @@ pub enum Command {
         /// (default: target/rtl-loop/<pid>)
         #[arg(long)]
         work: Option<PathBuf>,
+    },
+    /// Wide BVH with compressed nodes (docs/wide.md): per scene and node shape, the nodes,
+    /// bytes per node, node bytes, and the node bytes fetched per camera ray (record bytes ×
+    /// node visits), with the decoded child boxes and, as the baseline, with exact binary32
+    /// child boxes in the same wide BVH (child tests per ray q / binary32). Exit 1 when the two
+    /// find different hits.
+    Wide {
+        /// scene files (TOML)
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+        /// child slots per node, 2, 4 or 8 (a comma-separated list reports each)
+        #[arg(long, value_delimiter = ',', default_value = "4")]
+        children: Vec<usize>,
+        /// bits per child box integer, 4..=16 (a comma-separated list reports each)
+        #[arg(long, value_delimiter = ',', default_value = "8")]
+        box_bits: Vec<u32>,
+        /// width of the camera-ray image (default: the scene's)
+        #[arg(long)]
+        width: Option<u32>,
+        /// height (default: the scene's, scaled with --width)
+        #[arg(long)]
+        height: Option<u32>,
     },
     /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same
     /// run; the last line is `golden/slab rays/s ratio: R` (golden with bundles).
@@ -369,6 +392,50 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             println!("{r}");
             if !r.ok() {
+                return Ok(ExitCode::from(1));
+            }
+        }
+        Command::Wide {
+            scenes,
+            children,
+            box_bits,
+            width,
+            height,
+        } => {
+            let mut shapes = Vec::new();
+            for &n in &children {
+                for &q in &box_bits {
+                    shapes.push(
+                        WideFormat::new(FloatFormat::BINARY32, n, q).map_err(|e| e.to_string())?,
+                    );
+                }
+            }
+            let mut rows = Vec::new();
+            for path in &scenes {
+                let s = Scene::load(path).map_err(|e| e.to_string())?;
+                let w = width.unwrap_or(s.render.width);
+                let h = height.unwrap_or(
+                    ((s.render.height as u64 * w as u64) / s.render.width as u64).max(1) as u32,
+                );
+                let acc = Accel::build(&s, false);
+                let binary: usize = acc.tlas.nodes.len()
+                    + acc.blas.iter().map(|b| b.bvh.nodes.len()).sum::<usize>();
+                println!(
+                    "{}: {w}x{h} camera rays; binary BVH {binary} nodes",
+                    path.display()
+                );
+                let name = path.file_stem().map_or_else(
+                    || path.display().to_string(),
+                    |x| x.to_string_lossy().into(),
+                );
+                for r in crate::wide::report(&s, &acc, &shapes, w, h)
+                    .map_err(|e| format!("{}: {e}", path.display()))?
+                {
+                    rows.push((name.clone(), r));
+                }
+            }
+            println!("\n{}", crate::wide::report_table(&rows));
+            if rows.iter().any(|(_, r)| !r.same_hits) {
                 return Ok(ExitCode::from(1));
             }
         }

@@ -18,3 +18,4 @@ pub mod stats;
 pub mod tester;
 pub mod trace;
 pub mod units;
+pub mod wide;

@@ -1,7 +1,7 @@
 //! `rtl-gen`: the one command of the project. Its subcommands are the
 //! flow's (`rtl_flow::cli`: list, emit, check, sim, golden, vectors,
 //! convert, merge-reports, replay, transform-accuracy), the renderer's
-//! (`scene::cli`: render, hybrid, rtl-loop, bench), the cost tools'
+//! (`scene::cli`: render, hybrid, rtl-loop, bench, wide), the cost tools'
 //! (`cost::cli`: synth, fit, boxes, cull, depth, per-ray, dot-styles,
 //! charts, bringup) and `fpga`, which runs `scripts/fpga.sh`. It is the
 //! workspace's only binary.

@@ -136,7 +136,7 @@ fn check_reports_zero_mismatches_and_throughput_and_replay_traces() {
 }
 
 /// Every subcommand of the flow, the renderer, the cost tools and `fpga`.
-const SUBCOMMANDS: [&str; 24] = [
+const SUBCOMMANDS: [&str; 25] = [
     "list",
     "emit",
     "check",
@@ -151,6 +151,7 @@ const SUBCOMMANDS: [&str; 24] = [
     "hybrid",
     "rtl-loop",
     "bench",
+    "wide",
     "synth",
     "fit",
     "boxes",
