@@ -623,7 +623,7 @@ fn report(name: &str, t: &Tally) {
 /// False hits per exact miss, over all families: the ceiling the default
 /// configuration must stay under (docs/node.md §5 gives the measured rates
 /// and those of the looser configurations below, which break it).
-const FALSE_HIT_CEILING: f64 = 0.062;
+const FALSE_HIT_CEILING: f64 = 0.060;
 
 fn rate(t: &Tally) -> f64 {
     let (m, f) = t.iter().fold((0, 0), |(m, f), r| (m + r[2], f + r[3]));
@@ -656,12 +656,12 @@ fn no_false_miss_and_false_hits_under_the_ceiling() {
 
 #[test]
 fn a_looser_configuration_breaks_the_ceiling() {
-    // a grid and a step four bits coarser: still conservative, but looser
+    // a grid four bits coarser, no fraction bits: still conservative, but looser
     let t = run(cases(), 0x9e37_79b9_7f4a_7c15, |p| {
-        let (k, s) = (p.grid_bits() - 4, p.step_bits() - 4);
-        NodeParams::with_precision(p.fmt(), p.children(), p.box_bits(), k, s).expect("params")
+        let (k, f) = (p.grid_bits() - 4, 0);
+        NodeParams::with_precision(p.fmt(), p.children(), p.box_bits(), k, f).expect("params")
     });
-    report("node, K and S four bits fewer", &t);
+    report("node, K four bits fewer, f = 0", &t);
     assert!(rate(&t) > FALSE_HIT_CEILING, "rate {}", rate(&t));
     // the per-node part in the ray's precision only
     let t = run(cases(), 0x9e37_79b9_7f4a_7c15, |p| {
