@@ -243,7 +243,7 @@ struct Case {
     family: usize,
 }
 
-const FAMILIES: [&str; 8] = [
+const FAMILIES: [&str; 9] = [
     "random",
     "aimed at a plane",
     "aimed at an edge",
@@ -252,6 +252,7 @@ const FAMILIES: [&str; 8] = [
     "axis-parallel",
     "far from the origin",
     "scale extremes",
+    "ends of the format",
 ];
 
 fn rand_float(fmt: FloatFormat, rng: &mut Rng, lg_lo: i64, lg_hi: i64) -> u64 {
@@ -325,7 +326,7 @@ fn make_case(rng: &mut Rng, fmt: FloatFormat, children: usize, q: u32) -> Case {
         valid = 1;
         hi[0] = [qmax as u16; 3];
     }
-    let node = NodeIn {
+    let mut node = NodeIn {
         origin,
         exp,
         valid,
@@ -435,6 +436,35 @@ fn make_case(rng: &mut Rng, fmt: FloatFormat, children: usize, q: u32) -> Case {
             rtz(fmt, &X::int(1), &dv)
         };
     }
+    if family == 8 {
+        // the ends of the format in some of the inputs: ±0, the smallest
+        // subnormal, the smallest normal, the largest finite value
+        let ends = |rng: &mut Rng| {
+            let neg = rng.chance(1, 2);
+            match rng.below(4) {
+                0 => fmt.zero(neg),
+                1 => fmt.min_subnormal(neg),
+                2 => fmt.min_normal(neg),
+                _ => fmt.max_finite(neg),
+            }
+        };
+        for a in 0..3 {
+            if rng.chance(1, 4) {
+                o[a] = ends(rng);
+            }
+            if rng.chance(1, 4) {
+                node.origin[a] = ends(rng) & !fmt.sign_bit() | node.origin[a] & fmt.sign_bit();
+            }
+            if rng.chance(1, 4) {
+                d[a] = ends(rng);
+                inv_d[a] = if d[a] & !fmt.sign_bit() == 0 {
+                    fmt.inf(d[a] & fmt.sign_bit() != 0)
+                } else {
+                    rtz(fmt, &X::int(1), &dec(fmt, d[a]).expect("finite"))
+                };
+            }
+        }
+    }
     // the segment: mostly around the target's parameter t (t_max just past
     // or just short of it), sometimes unbounded or random
     let near_t = |rng: &mut Rng| {
@@ -449,11 +479,12 @@ fn make_case(rng: &mut Rng, fmt: FloatFormat, children: usize, q: u32) -> Case {
             fmt.max_finite(false)
         }
     };
-    let (t_min, t_max) = match rng.below(6) {
+    let (t_min, t_max) = match rng.below(7) {
         0 => (fmt.zero(false), fmt.inf(false)),
         1 | 2 => (fmt.zero(false), near_t(rng)),
         3 => (fmt.inf(true), fmt.inf(false)),
         4 => (near_t(rng), fmt.inf(false)),
+        5 => (fmt.min_subnormal(false), fmt.max_finite(false)),
         _ => {
             let a = rand_float(fmt, rng, -10, 20) & !fmt.sign_bit();
             let b = rand_float(fmt, rng, -10, 20) & !fmt.sign_bit();
