@@ -331,13 +331,6 @@ impl Dyadic {
     fn ilog2(&self) -> i64 {
         (&self.m).unsigned_abs().bit_len() as i64 - 1 + self.e
     }
-    /// Approximately, as `f64` (for reports).
-    pub fn to_f64(&self) -> f64 {
-        let len = (&self.m).unsigned_abs().bit_len() as i64;
-        let sh = (len - 60).max(0);
-        let top: i64 = (&self.m >> sh as usize).try_into().unwrap_or(0);
-        top as f64 * 2f64.powi((self.e + sh).clamp(-2000, 2000) as i32)
-    }
 }
 
 /// A finite input decoded exactly; `None` for NaN and ±∞.
