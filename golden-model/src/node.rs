@@ -79,7 +79,7 @@ pub struct NodeParams {
 impl NodeParams {
     /// `children` 2, 4 or 8; `box_bits` (q) 4..=16; `fmt` with at most 10
     /// exponent bits (as [`crate::wide::WideFormat`]); the grid at its
-    /// default, `K = q + 4`, `f = 4` (`docs/node.md` §5 measures others).
+    /// default, `K = q + 4`, `f = 4` (`docs/node.md` §4 measures others).
     pub fn new(fmt: FloatFormat, children: usize, box_bits: u32) -> Result<Self, String> {
         Self::with_precision(fmt, children, box_bits, box_bits + 4, 4)
     }
@@ -374,7 +374,7 @@ enum High {
 /// where the line crosses the window start (`line(n0) ≤ T0 < line(n0 + 1)`
 /// unless clamped to `0` or `2^q − 1`): the line at planes `n0 − 1`, `n0`,
 /// `n0 + 1` minus `T0`, and its slope rounded down and up, all in grid units
-/// `2^(G − f)`, saturated at `±Z` (`docs/node.md` §3).
+/// `2^(G − f)`, saturated at `±Z` (`docs/node.md` §2).
 struct Line<B> {
     n0: i64,
     at: [B; 3],

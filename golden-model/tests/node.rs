@@ -652,7 +652,7 @@ fn report(name: &str, t: &Tally) {
 }
 
 /// False hits per exact miss, over all families: the ceiling the default
-/// configuration must stay under (docs/node.md §5 gives the measured rates
+/// configuration must stay under (docs/node.md §4 gives the measured rates
 /// and those of the looser configurations below, which break it).
 const FALSE_HIT_CEILING: f64 = 0.060;
 
