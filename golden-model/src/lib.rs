@@ -9,6 +9,7 @@ pub mod cull;
 pub mod exact;
 pub mod float;
 pub mod mulcmp;
+pub mod node;
 pub mod silhouette;
 pub mod slab;
 pub mod transform;
