@@ -1,15 +1,18 @@
-//! The tables in docs/float.md marked `<!-- table:NAME -->` are checked
-//! against the code's constants, so the written spec cannot drift.
+//! The tables in docs/float.md and docs/wide.md marked `<!-- table:NAME -->`
+//! are checked against the code's constants, so the written spec cannot
+//! drift.
 
 use golden_model::float::{
     dot3_accumulator_bits, Class, FloatFormat, RoundingMode, RAW_CLASS_BITS, RAW_EXP_BITS,
     RAW_SIGN_BITS, RAW_SIG_BITS, RAW_STICKY_BITS, RAW_STICKY_MIN_EXTRA_BITS,
 };
+use golden_model::wide::WideFormat;
 
-/// The body rows of the table after `<!-- table:{name} -->`, split into cells.
-fn table(name: &str) -> Vec<Vec<String>> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/float.md");
-    let doc = std::fs::read_to_string(path).expect("docs/float.md");
+/// The body rows of the table after `<!-- table:{name} -->` in `docs/{doc}`,
+/// split into cells (code quotes dropped).
+fn table_in(doc: &str, name: &str) -> Vec<Vec<String>> {
+    let path = format!("{}/../docs/{doc}", env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let start = doc
         .find(&format!("<!-- table:{name} -->"))
         .unwrap_or_else(|| panic!("no table {name}"));
@@ -22,12 +25,17 @@ fn table(name: &str) -> Vec<Vec<String>> {
         .map(|l| {
             l.trim_matches('|')
                 .split('|')
-                .map(|c| c.trim().to_string())
+                .map(|c| c.trim().trim_matches('`').to_string())
                 .collect()
         })
         .collect();
     assert!(!rows.is_empty(), "table {name} is empty");
     rows
+}
+
+/// A table of docs/float.md.
+fn table(name: &str) -> Vec<Vec<String>> {
+    table_in("float.md", name)
 }
 
 #[test]
@@ -93,5 +101,40 @@ fn format_table_matches_code() {
             dot3_accumulator_bits(f).to_string(),
         ];
         assert_eq!(row, &want, "format table row for {name}");
+    }
+}
+
+#[test]
+fn wide_record_tables_match_the_record() {
+    let w = WideFormat::new(FloatFormat::BINARY32, 4, 8).unwrap();
+    let fields = w.fields();
+    let rows = table_in("wide.md", "wide-record");
+    for r in &rows {
+        let f = fields
+            .iter()
+            .find(|f| f.kind.name() == r[0])
+            .unwrap_or_else(|| panic!("no field {}", r[0]));
+        assert_eq!(r[1], f.width.to_string(), "width of {}", r[0]);
+        assert_eq!(r[2], f.offset.to_string(), "offset of {}", r[0]);
+    }
+    // the table's last row is the record's last field
+    let last = fields.last().unwrap();
+    assert_eq!(rows.last().unwrap()[0], last.kind.name());
+    // the fields tile the record without gaps
+    let mut at = 0;
+    for f in &fields {
+        assert_eq!(f.offset, at, "{}", f.kind.name());
+        at += f.width;
+    }
+    assert_eq!(at, w.record_bits());
+    for r in table_in("wide.md", "wide-bytes") {
+        let n: usize = r[0].parse().unwrap();
+        let q: u32 = r[1].parse().unwrap();
+        let w = WideFormat::new(FloatFormat::BINARY32, n, q).unwrap();
+        assert_eq!(r[2], w.record_bits().to_string(), "N={n} q={q} bits");
+        assert_eq!(r[3], w.record_bytes().to_string(), "N={n} q={q} bytes");
+        assert_eq!(r[4], w.baseline_bytes().to_string(), "N={n} q={q} baseline");
+        let ratio = w.record_bytes() as f64 / w.baseline_bytes() as f64;
+        assert_eq!(r[5], format!("{ratio:.2}"), "N={n} q={q} ratio");
     }
 }
