@@ -780,16 +780,7 @@ fn fixed_cases() {
         node.hi[i] = [2 * (3 - i as u16) + 1, 1, 1];
     }
     // along +x through y = z = 0.5: every slot hit, nearer x first: slot 3 (x in [0,1]) first
-    let ray = Ray {
-        o: [f(-1.0), f(0.5), f(0.5)],
-        inv_d: [
-            f(1.0),
-            f32::INFINITY.to_bits() as u64,
-            f32::INFINITY.to_bits() as u64,
-        ],
-        t_min: f(0.0),
-        t_max: f32::INFINITY.to_bits() as u64,
-    };
+    let ray = binary32_ray_along_x([-1.0, 0.5, 0.5]);
     let out = eval(p, &ray, &node);
     let order: Vec<u8> = out.slots.iter().map(|s| s.child).collect();
     assert!(out.slots.iter().all(|s| s.hit));
@@ -865,21 +856,22 @@ fn wide_nodes_round_trip_into_the_tester() {
     let n = encode(w, &[slot(0.0), slot(3.0), None, slot(1.0)], 0, 0).expect("encode");
     let node = NodeIn::from_wide(&n);
     let p = NodeParams::new(FloatFormat::BINARY32, 4, 8).expect("params");
-    let f = |v: f32| v.to_bits() as u64;
-    let ray = Ray {
-        o: [f(-2.0), f(0.5), f(0.0)],
-        inv_d: [
-            f(1.0),
-            f32::INFINITY.to_bits() as u64,
-            f32::INFINITY.to_bits() as u64,
-        ],
-        t_min: f(0.0),
-        t_max: f32::INFINITY.to_bits() as u64,
-    };
+    let ray = binary32_ray_along_x([-2.0, 0.5, 0.0]);
     let order: Vec<(u8, bool)> = eval(p, &ray, &node)
         .slots
         .iter()
         .map(|s| (s.child, s.hit))
         .collect();
     assert_eq!(order, [(0, true), (3, true), (1, true), (2, false)]);
+}
+
+/// A binary32 ray from `o` along +x (`inv_d = (1, inf, inf)`), t in [0, inf).
+fn binary32_ray_along_x(o: [f32; 3]) -> Ray {
+    let f = |v: f32| v.to_bits() as u64;
+    Ray {
+        o: o.map(f),
+        inv_d: [f(1.0), f(f32::INFINITY), f(f32::INFINITY)],
+        t_min: f(0.0),
+        t_max: f(f32::INFINITY),
+    }
 }
