@@ -47,6 +47,11 @@
 //! **entry** is `max near`, standing for the distance `T0 + entry·2^G`, a
 //! lower bound of the exact entry parameter.
 //!
+//! [`terms`] computes steps 1-4 (the per-node integers, [`NodeTerms`]) and
+//! [`child`] step 5 for one slot: the boundary of the RTL blocks
+//! `node_child` and `node_sort` (`docs/node.md` §7-8); [`eval`] is both and
+//! the sort.
+//!
 //! **Sort**: hits first, smaller entry first, ties (and misses among
 //! themselves) by slot index ascending; a miss reports the sentinel entry
 //! [`NodeParams::miss_entry`] (all ones, `K + 1` bits).
