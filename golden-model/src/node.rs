@@ -47,6 +47,11 @@
 //! **entry** is `max near`, standing for the distance `T0 + entry·2^G`, a
 //! lower bound of the exact entry parameter.
 //!
+//! [`terms`] computes steps 1-4 (the per-node integers, [`NodeTerms`]) and
+//! [`child`] step 5 for one slot: the boundary of the RTL blocks
+//! `node_child` and `node_sort` (`docs/node.md` §7-8); [`eval`] is both and
+//! the sort.
+//!
 //! **Sort**: hits first, smaller entry first, ties (and misses among
 //! themselves) by slot index ascending; a miss reports the sentinel entry
 //! [`NodeParams::miss_entry`] (all ones, `K + 1` bits).
@@ -408,13 +413,10 @@ fn floor_div_clamped(num: &Dyadic, den: &Dyadic, max: i64) -> i64 {
 
 /// Evaluates one node test (module doc; `docs/node.md`).
 pub fn eval(p: NodeParams, ray: &Ray, node: &NodeIn) -> NodeOut {
-    let fmt = p.fmt;
-    let n_slots = p.children;
-    let q_max = (1i64 << p.box_bits) - 1;
-    let prec = p.node_bits;
     let valid = |i: usize| node.valid >> i & 1 == 1;
-    let bad_out = || {
-        let mut slots: Vec<SlotOut> = (0..n_slots)
+    let Some((terms, t_base, grid_exp)) = analyse(p, ray, node) else {
+        // bad input: every valid slot a hit with entry 0
+        let mut slots: Vec<SlotOut> = (0..p.children)
             .map(|i| SlotOut {
                 hit: valid(i),
                 entry: if valid(i) { 0 } else { p.miss_entry() },
@@ -422,13 +424,47 @@ pub fn eval(p: NodeParams, ray: &Ray, node: &NodeIn) -> NodeOut {
             })
             .collect();
         sort(&mut slots);
-        NodeOut {
+        return NodeOut {
             bad: true,
             t_base: Bound::NegInf,
             grid_exp: 0,
             slots,
-        }
+        };
     };
+    // step 5: per child, integers only
+    let mut slots: Vec<SlotOut> = (0..p.children)
+        .map(|i| {
+            let entry = child(p, &terms, valid(i), node.lo[i], node.hi[i]);
+            SlotOut {
+                hit: entry.is_some(),
+                entry: entry.unwrap_or(p.miss_entry()),
+                child: i as u8,
+            }
+        })
+        .collect();
+    sort(&mut slots);
+    NodeOut {
+        bad: false,
+        t_base,
+        grid_exp,
+        slots,
+    }
+}
+
+/// The per-node integers the per-child test reads (steps 1-4 of
+/// `docs/node.md` §2), or `None` on bad input.
+pub fn terms(p: NodeParams, ray: &Ray, node: &NodeIn) -> Option<NodeTerms> {
+    analyse(p, ray, node).map(|(t, _, _)| t)
+}
+
+/// Steps 1-4: the per-node integers, `T0` (−∞ on a node miss) and `G`;
+/// `None` on bad input.
+fn analyse(p: NodeParams, ray: &Ray, node: &NodeIn) -> Option<(NodeTerms, Bound, i64)> {
+    let fmt = p.fmt;
+    let n_slots = p.children;
+    let q_max = (1i64 << p.box_bits) - 1;
+    let prec = p.node_bits;
+    let valid = |i: usize| node.valid >> i & 1 == 1;
     // bad input (module doc)
     let slot_bad = (0..n_slots).any(|i| {
         valid(i) && (0..3).any(|a| node.lo[i][a] > node.hi[i][a] || node.hi[i][a] as i64 > q_max)
@@ -443,7 +479,7 @@ pub fn eval(p: NodeParams, ray: &Ray, node: &NodeIn) -> NodeOut {
     }) || fmt.is_nan(ray.t_min)
         || fmt.is_nan(ray.t_max);
     if slot_bad || frame_bad || ray_bad {
-        return bad_out();
+        return None;
     }
     let max_finite = finite(fmt, fmt.max_finite(false)).expect("finite");
     // 1/min_subnormal: the largest |1/d| of a nonzero d
@@ -654,55 +690,120 @@ pub fn eval(p: NodeParams, ray: &Ray, node: &NodeIn) -> NodeOut {
         })
         .collect();
 
-    // step 5: per child, integers only
-    let mut slots = Vec::with_capacity(n_slots);
-    for i in 0..n_slots {
-        let mut hit = valid(i) && !node_miss;
-        let mut near_max = 0i64;
-        let mut far_min = far_top;
-        if hit {
-            for (a, ax) in axes.iter().enumerate() {
-                let (lo, hi) = (node.lo[i][a] as i64, node.hi[i][a] as i64);
-                let (nq, fq) = match (ax, &slabs[a]) {
-                    (Axis::Parallel { lo: pl, hi: ph }, _) => {
-                        if lo <= *ph && *pl <= hi {
-                            (0, far_top)
-                        } else {
-                            (top + 1, -1)
-                        }
-                    }
-                    (Axis::Slab { .. }, Some(sa)) => {
-                        // entry and exit planes in mirrored indices
-                        let (me, mx) = if sa.mirror {
-                            (q_max - hi, q_max - lo)
-                        } else {
-                            (lo, hi)
-                        };
-                        (
-                            near_cell(&sa.near, me - sa.near.n0, f, top),
-                            far_cell(&sa.far, mx - sa.far.n0, f, far_top),
-                        )
-                    }
-                    (Axis::Slab { .. }, None) => unreachable!("every slab axis has its integers"),
-                };
-                near_max = near_max.max(nq);
-                far_min = far_min.min(fq);
+    let axes = [0, 1, 2].map(|a| match (&axes[a], &slabs[a]) {
+        (Axis::Parallel { lo, hi }, _) => ChildAxis::Parallel { lo: *lo, hi: *hi },
+        (Axis::Slab { .. }, Some(sa)) => ChildAxis::Slab(SlabTerms {
+            mirror: sa.mirror,
+            near_n0: sa.near.n0,
+            near_at: [sa.near.at[1], sa.near.at[2]].map(|v| match v {
+                Low::NegInf => None,
+                Low::V(v) => Some(v),
+            }),
+            near_slope: sa.near.slope_dn,
+            far_n0: sa.far.n0,
+            far_at: sa.far.at.map(|v| match v {
+                High::PosInf => None,
+                High::V(v) => Some(v),
+            }),
+            far_slope_dn: sa.far.slope_dn,
+            far_slope_up: sa.far.slope_up,
+        }),
+        (Axis::Slab { .. }, None) => unreachable!("every slab axis has its integers"),
+    });
+    let terms = NodeTerms {
+        miss: node_miss,
+        far_top,
+        axes,
+    };
+    let t_base = if node_miss { Bound::NegInf } else { t0 };
+    Some((terms, t_base, grid_exp))
+}
+
+/// The per-node integers of one axis that the per-child test reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChildAxis {
+    /// `inv_d = ±∞`: the origin lies within frame steps `[lo, hi]` (`−1 ..= 2^q`)
+    Parallel {
+        /// lowest step
+        lo: i64,
+        /// highest step
+        hi: i64,
+    },
+    /// a slab axis
+    Slab(SlabTerms),
+}
+
+/// One slab axis's lines in grid units `2^(G − f)` (`docs/node.md` §2 step
+/// 4), each within `±Z = ±2^(K + f + 1)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SlabTerms {
+    /// plane indices mirrored (`inv_d < 0`)
+    pub mirror: bool,
+    /// the lower line's anchor plane (`0 ..= 2^q − 1`)
+    pub near_n0: i64,
+    /// the lower line at `n0`, `n0 + 1` minus `T0`, rounded down; `None` is −∞
+    pub near_at: [Option<i64>; 2],
+    /// the lower line's slope rounded down (`0 ..= Z`)
+    pub near_slope: i64,
+    /// the upper line's anchor plane
+    pub far_n0: i64,
+    /// the upper line at `n0 − 1`, `n0`, `n0 + 1` minus `T0`, rounded up; `None` is +∞
+    pub far_at: [Option<i64>; 3],
+    /// the upper line's slope rounded down (`0 ..= Z`)
+    pub far_slope_dn: i64,
+    /// the upper line's slope rounded up; `None` above `Z`
+    pub far_slope_up: Option<i64>,
+}
+
+/// What the per-child test reads of a node: computed once per node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeTerms {
+    /// every slot misses (empty window, or a parallel axis outside the node)
+    pub miss: bool,
+    /// `⌈(T1 − T0)/2^G⌉ ≤ 2^K`, the grid cell of the window's end
+    pub far_top: i64,
+    /// per axis
+    pub axes: [ChildAxis; 3],
+}
+
+/// Step 5, one slot: its entry in grid steps if it may be hit, `None` if
+/// it misses (integers only; `docs/node.md` §2).
+pub fn child(p: NodeParams, t: &NodeTerms, valid: bool, lo: [u16; 3], hi: [u16; 3]) -> Option<u32> {
+    if !valid || t.miss {
+        return None;
+    }
+    let q_max = (1i64 << p.box_bits) - 1;
+    let f = p.grid_frac as i64;
+    let top = 1i64 << p.grid_bits;
+    let mut near_max = 0i64;
+    let mut far_min = t.far_top;
+    for (a, ax) in t.axes.iter().enumerate() {
+        let (lo, hi) = (lo[a] as i64, hi[a] as i64);
+        let (nq, fq) = match ax {
+            ChildAxis::Parallel { lo: pl, hi: ph } => {
+                if lo <= *ph && *pl <= hi {
+                    (0, t.far_top)
+                } else {
+                    (top + 1, -1)
+                }
             }
-            hit = near_max <= far_min;
-        }
-        slots.push(SlotOut {
-            hit,
-            entry: if hit { near_max as u32 } else { p.miss_entry() },
-            child: i as u8,
-        });
+            ChildAxis::Slab(sa) => {
+                // entry and exit planes in mirrored indices
+                let (me, mx) = if sa.mirror {
+                    (q_max - hi, q_max - lo)
+                } else {
+                    (lo, hi)
+                };
+                (
+                    near_cell(sa, me - sa.near_n0, f, top),
+                    far_cell(sa, mx - sa.far_n0, f, t.far_top),
+                )
+            }
+        };
+        near_max = near_max.max(nq);
+        far_min = far_min.min(fq);
     }
-    sort(&mut slots);
-    NodeOut {
-        bad: false,
-        t_base: if node_miss { Bound::NegInf } else { t0 },
-        grid_exp,
-        slots,
-    }
+    (near_max <= far_min).then_some(near_max as u32)
 }
 
 /// The entry bound's grid cell `clamp(⌊v / 2^f⌋, 0, 2^K + 1)` for the plane
@@ -710,28 +811,28 @@ pub fn eval(p: NodeParams, ray: &Ray, node: &NodeIn) -> NodeOut {
 /// the window start there), `v = at[n0]` for `d = 0`, and
 /// `v = at[n0 + 1] + (d − 1)·slope_dn` after it (never −∞: the anchor puts
 /// the next plane at or after the window start).
-fn near_cell(l: &Line<Low>, d: i64, f: i64, top: i64) -> i64 {
-    let v = match (d, l.at[1], l.at[2]) {
-        (..=-1, _, _) | (0, Low::NegInf, _) | (1.., _, Low::NegInf) => return 0,
-        (0, Low::V(b), _) => b as i128,
-        (1.., _, Low::V(b)) => b as i128 + (d - 1) as i128 * l.slope_dn as i128,
+fn near_cell(l: &SlabTerms, d: i64, f: i64, top: i64) -> i64 {
+    let v = match (d, l.near_at[0], l.near_at[1]) {
+        (..=-1, _, _) | (0, None, _) | (1.., _, None) => return 0,
+        (0, Some(b), _) => b as i128,
+        (1.., _, Some(b)) => b as i128 + (d - 1) as i128 * l.near_slope as i128,
     };
     (v >> f).clamp(0, top as i128 + 1) as i64
 }
 
 /// The exit bound's grid cell `clamp(⌈v / 2^f⌉, −1, far_top)`, with
 /// `v = at[n0 − 1] + (d + 1)·slope_dn`, `at[n0]` or `at[n0 + 1] + (d − 1)·slope_up`.
-fn far_cell(l: &Line<High>, d: i64, f: i64, far_top: i64) -> i64 {
+fn far_cell(l: &SlabTerms, d: i64, f: i64, far_top: i64) -> i64 {
     let (base, k, slope) = match d {
-        ..=-1 => (l.at[0], d + 1, Some(l.slope_dn)),
-        0 => (l.at[1], 0, Some(0)),
-        _ => (l.at[2], d - 1, l.slope_up),
+        ..=-1 => (l.far_at[0], d + 1, Some(l.far_slope_dn)),
+        0 => (l.far_at[1], 0, Some(0)),
+        _ => (l.far_at[2], d - 1, l.far_slope_up),
     };
     let v = match (base, slope) {
-        (High::PosInf, _) => return far_top,
+        (None, _) => return far_top,
         (_, None) if k > 0 => return far_top,
-        (High::V(b), None) => b as i128,
-        (High::V(b), Some(s)) => b as i128 + k as i128 * s as i128,
+        (Some(b), None) => b as i128,
+        (Some(b), Some(s)) => b as i128 + k as i128 * s as i128,
     };
     // ⌈v / 2^f⌉ = −⌊−v / 2^f⌋
     (-((-v) >> f)).clamp(-1, far_top as i128) as i64

@@ -11,6 +11,8 @@ pub mod cull_ray;
 pub mod float_ops;
 pub mod fstim;
 pub mod mulcmp;
+pub mod node_child;
+pub mod node_sort;
 pub mod params;
 pub mod rays;
 pub mod regress;
@@ -104,6 +106,8 @@ pub fn catalog() -> Vec<Entry> {
         entry!(units::cull_ray::CullRay, cull_ray::CullRayBench),
         entry!(units::transform::Transform, transform::TransformBench),
         entry!(units::triangle::Triangle, triangle::TriangleBench),
+        entry!(units::node_child::NodeChild, node_child::NodeChildBench),
+        entry!(units::node_sort::NodeSort, node_sort::NodeSortBench),
         entry!(units::float_ops::FADD),
         entry!(units::float_ops::FADD_DOWN_UP),
         entry!(units::float_ops::FMUL),
