@@ -199,6 +199,20 @@ fn clamp(m: &mut ModuleBuilder, a: Sig, lo: Sig, hi: Sig, w: u32) -> Sig {
 }
 
 /// The entry and exit cells of one axis: `(near, far)`, SInt of `K + 3` bits.
+/// A plane's offset `d = plane − anchor` from its line's anchor plane (q + 1
+/// bits, signed), whether the plane is before the anchor (`d < 0`), and
+/// whether it is the anchor (`d = 0`).
+#[track_caller]
+fn anchor_offset(m: &mut ModuleBuilder, plane: Sig, anchor: Sig, q: u32) -> (Sig, Sig, Sig) {
+    let d = m.sub(plane, anchor);
+    let d = m.name(d, "plane_offset");
+    let before = m.msb(d);
+    let zero_d = m.sint(q + 1, 0);
+    let at_anchor = m.eq(d, zero_d);
+    let at_anchor = m.name(at_anchor, "at_anchor");
+    (d, before, at_anchor)
+}
+
 fn axis_cells(
     m: &mut ModuleBuilder,
     cfg: &Config,
@@ -236,12 +250,7 @@ fn axis_cells(
     let mx = m.mux(mirror, not_lo, hi);
     let mx = m.name(mx, "exit_plane");
     let near = m.scope("entry_bound", |m| {
-        let d = m.sub(me, r.near_n0[a]);
-        let d = m.name(d, "plane_offset");
-        let before = m.msb(d);
-        let zero_d = m.sint(q + 1, 0);
-        let at_anchor = m.eq(d, zero_d);
-        let at_anchor = m.name(at_anchor, "at_anchor");
+        let (d, before, at_anchor) = anchor_offset(m, me, r.near_n0[a], q);
         // d − 1 for d > 0: q bits
         let one = m.sint(q + 1, 1);
         let steps = m.sub(d, one);
@@ -267,12 +276,7 @@ fn axis_cells(
         m.mux(no_bound, zero, cell)
     });
     let far = m.scope("exit_bound", |m| {
-        let d = m.sub(mx, r.far_n0[a]);
-        let d = m.name(d, "plane_offset");
-        let before = m.msb(d);
-        let zero_d = m.sint(q + 1, 0);
-        let at_anchor = m.eq(d, zero_d);
-        let at_anchor = m.name(at_anchor, "at_anchor");
+        let (d, before, at_anchor) = anchor_offset(m, mx, r.far_n0[a], q);
         // planes beyond the line's point: −d − 1 = ~d before it, d − 1 after
         let one = m.sint(q + 1, 1);
         let after_steps = m.sub(d, one);
