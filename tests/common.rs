@@ -43,6 +43,33 @@ pub fn cross_check(
     sim::cross_check(&h, tb.as_ref(), tb.as_ref(), &opts).expect("cross-check runs")
 }
 
+/// Runs `vectors` vectors of the unit's stimulus through the IR evaluator
+/// against its golden model; panics on any mismatch.
+pub fn evaluated(g: &Generated, vectors: u64, seed: u64) {
+    let r = g.evaluate(g.testbench().as_ref(), vectors, seed);
+    assert_eq!(
+        (r.vectors, r.mismatches),
+        (vectors, 0),
+        "{}: IR evaluator: {r}",
+        g.module.name
+    );
+}
+
+/// Lints, builds and cross-checks `vectors` vectors in Verilator against the
+/// golden model ([`cross_check`]); panics on any mismatch, prints the report.
+pub fn cross_checked(
+    g: &Generated,
+    dir: &std::path::Path,
+    vectors: u64,
+    seed: u64,
+) -> sim::CheckReport {
+    let report = cross_check(g, dir, vectors, seed);
+    assert_eq!(report.vectors, vectors);
+    assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
+    eprintln!("{}: {report}", g.module.name);
+    report
+}
+
 /// The whole check of one configuration: `eval_vectors` vectors through the
 /// IR evaluator, then lint, build and `vectors` vectors through Verilator,
 /// each compared with the golden model; panics on any mismatch.
@@ -55,16 +82,7 @@ pub fn check_unit(
     seed: u64,
 ) -> (Generated, sim::CheckReport) {
     let (g, dir) = generate(test, unit, params);
-    let evaluated = g.evaluate(g.testbench().as_ref(), eval_vectors, seed);
-    assert_eq!(
-        (evaluated.vectors, evaluated.mismatches),
-        (eval_vectors, 0),
-        "{}: IR evaluator: {evaluated}",
-        g.module.name
-    );
-    let report = cross_check(&g, &dir, vectors, seed);
-    assert_eq!(report.vectors, vectors);
-    assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
-    eprintln!("{}: {report}", g.module.name);
+    evaluated(&g, eval_vectors, seed);
+    let report = cross_checked(&g, &dir, vectors, seed);
     (g, report)
 }

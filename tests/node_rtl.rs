@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::{cross_check, generate};
+use common::{cross_checked, evaluated, generate};
 use rtl_gen::units::node_child::{Config as ChildConfig, NodeChildOut};
 use rtl_gen::units::ports;
 
@@ -48,13 +48,7 @@ fn node_sort_evaluator_matches_golden_model() {
             g.module.name,
             format!("node_sort_n{}_q{}_s{}", c.0, c.1, c.2)
         );
-        let r = g.evaluate(g.testbench().as_ref(), 3_000, 11);
-        assert_eq!(
-            (r.vectors, r.mismatches),
-            (3_000, 0),
-            "{}: {r}",
-            g.module.name
-        );
+        evaluated(&g, 3_000, 11);
     }
 }
 
@@ -64,10 +58,7 @@ fn node_sort_matches_golden_model_in_verilator() {
         let p = params(c);
         let p: Vec<&str> = p.iter().map(String::as_str).collect();
         let (g, dir) = generate("node_sort_verilator", "node_sort", &p);
-        let report = cross_check(&g, &dir, c.3, 7);
-        assert_eq!(report.vectors, c.3);
-        assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
-        eprintln!("{}: {report}", g.module.name);
+        cross_checked(&g, &dir, c.3, 7);
     }
 }
 
@@ -86,13 +77,7 @@ fn node_child_evaluator_matches_golden_model() {
         let (g, _) = generate("node_child_eval", "node_child", &p);
         assert_eq!(g.module.latency, c.1);
         assert_eq!(g.module.name, format!("node_child_q{}_s{}", c.0, c.1));
-        let r = g.evaluate(g.testbench().as_ref(), 3_000, 11);
-        assert_eq!(
-            (r.vectors, r.mismatches),
-            (3_000, 0),
-            "{}: {r}",
-            g.module.name
-        );
+        evaluated(&g, 3_000, 11);
     }
 }
 
@@ -102,10 +87,7 @@ fn node_child_matches_golden_model_in_verilator() {
         let p = child_params(c);
         let p: Vec<&str> = p.iter().map(String::as_str).collect();
         let (g, dir) = generate("node_child_verilator", "node_child", &p);
-        let report = cross_check(&g, &dir, c.2, 7);
-        assert_eq!(report.vectors, c.2);
-        assert_eq!(report.mismatches, 0, "{}\n{report}", g.module.name);
-        eprintln!("{}: {report}", g.module.name);
+        cross_checked(&g, &dir, c.2, 7);
     }
 }
 
