@@ -12,7 +12,7 @@
 //! `[0, t_best·(1 + 2⁻²⁰)]` (rounded up), so every triangle whose computed `t`
 //! ties or beats the best one is still reached with any conservative box test.
 
-use crate::bvh::{f32_up, Accel, PLANES_K};
+use crate::bvh::{f32_up, Accel, InstanceXf, PLANES_K};
 use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::{BoxTester, BundleBox, RayBox};
@@ -71,6 +71,32 @@ pub struct TRay {
     /// `golden_model::triangle::shear(d)` of the model-space direction, set
     /// with it when the ray enters an instance (`--tri golden`)
     pub(crate) shear: (u32, [u64; 3]),
+}
+
+impl TRay {
+    /// Brings the world ray into instance `x`'s model space through the
+    /// transform unit of `units` (golden model or RTL; ray id `id`), with
+    /// the slab's reciprocal direction.
+    pub fn enter_instance(&mut self, units: &dyn Units, x: &InstanceXf, id: u64) {
+        let bits = |v: f32| v.to_bits() as u64;
+        let m = units.transform(
+            &WorldRay {
+                origin: self.o_w.map(bits),
+                dir: self.d_w.map(bits),
+                t_min: 0,
+                t_max: bits(f32::INFINITY),
+                id,
+            },
+            &InstanceTransform {
+                linear: x.inv_bits,
+                translation: x.t_bits,
+                rotation_hint: false,
+            },
+        );
+        self.o = m.origin;
+        self.d = m.dir;
+        self.inv_d = slab_reciprocal(FloatFormat::BINARY32, &self.d);
+    }
 }
 
 fn bits(v: f32) -> u64 {
@@ -505,23 +531,7 @@ impl<'a> Tracer<'a> {
                 r.d = mv(r.d_w).map(bits);
                 r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
             } else {
-                let m = self.units.transform(
-                    &WorldRay {
-                        origin: r.o_w.map(bits),
-                        dir: r.d_w.map(bits),
-                        t_min: 0,
-                        t_max: bits(f32::INFINITY),
-                        id: i as u64,
-                    },
-                    &InstanceTransform {
-                        linear: x.inv_bits,
-                        translation: x.t_bits,
-                        rotation_hint: false,
-                    },
-                );
-                r.o = m.origin;
-                r.d = m.dir;
-                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
+                r.enter_instance(self.units, x, i as u64);
             }
             if self.opts.tri == TriTest::Golden {
                 r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);

@@ -33,12 +33,11 @@ use crate::bvh::Accel;
 use crate::render::Cam;
 use crate::scene::Scene;
 use crate::trace::{intersect, Hit, TRay};
-use crate::units::{GoldenUnits, Units};
+use crate::units::GoldenUnits;
 use golden_model::cull::bvh::{Bvh, Mesh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
 use golden_model::float::FloatFormat;
 use golden_model::slab::{eval_conservative, SlabIn};
-use golden_model::transform::{InstanceTransform, WorldRay};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
 use rayon::prelude::*;
 
@@ -397,23 +396,8 @@ impl<'a> WideTracer<'a> {
     fn enter_instance(&self, inst: u32, r: &mut TRay, st: &mut WideStats) {
         let x = &self.accel.instances[inst as usize];
         st.transforms += 1;
-        let m = GoldenUnits::get().transform(
-            &WorldRay {
-                origin: r.o_w.map(|v| v.to_bits() as u64),
-                dir: r.d_w.map(|v| v.to_bits() as u64),
-                t_min: 0,
-                t_max: f32::INFINITY.to_bits() as u64,
-                id: 0,
-            },
-            &InstanceTransform {
-                linear: x.inv_bits,
-                translation: x.t_bits,
-                rotation_hint: false,
-            },
-        );
-        r.o = m.origin;
-        r.d = m.dir;
-        let inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
+        r.enter_instance(GoldenUnits::get(), x, 0);
+        let inv_d = r.inv_d;
         let mesh = self.meshes[x.mesh];
         let blas = &self.wide.blas[x.mesh];
         if blas.nodes.is_empty() {
