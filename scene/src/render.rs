@@ -400,8 +400,27 @@ pub fn render(
     h: u32,
     progress: bool,
 ) -> Frame {
+    render_with(
+        scene,
+        accel,
+        &Tracer::new(scene, accel, tester, opts),
+        w,
+        h,
+        progress,
+    )
+}
+
+/// [`render`] with a tracer of the caller's (e.g. over a wide BVH,
+/// `Tracer::with_wide`).
+pub fn render_with(
+    scene: &Scene,
+    accel: &Accel,
+    tracer: &Tracer,
+    w: u32,
+    h: u32,
+    progress: bool,
+) -> Frame {
     let start = Instant::now();
-    let tracer = Tracer::new(scene, accel, tester, opts);
     let cam = Cam::new(scene, w, h);
     let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
@@ -421,7 +440,7 @@ pub fn render(
     let outs: Vec<TileOut> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
-            let out = render_tile(scene, accel, &tracer, &cam, x0, y0, w, h);
+            let out = render_tile(scene, accel, tracer, &cam, x0, y0, w, h);
             pb.inc(1);
             out
         })
