@@ -7,12 +7,14 @@
 //! pay for themselves.
 
 use crate::synth;
+use golden_model::wide::WideFormat;
 use scene::bvh::Accel;
-use scene::render::render;
+use scene::render::{render, render_with};
 use scene::scene::Scene;
 use scene::stats::KindStats;
 use scene::tester::Golden;
-use scene::trace::{BundleOpts, TraceOpts};
+use scene::trace::{BundleOpts, TraceOpts, Tracer};
+use scene::wide::{Boxes, WideAccel};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -131,6 +133,116 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
         }
     }
     Ok(out)
+}
+
+/// One scene's render over a wide BVH (`per-ray --wide N`): the same tree
+/// traced with its compressed nodes through the node tester's golden model,
+/// and with exact binary32 child boxes (the denominator that keeps a looser
+/// node test from hiding behind an identical image).
+#[derive(Debug, Clone)]
+pub struct WideWorkload {
+    /// scene file name
+    pub scene: String,
+    /// the node shape
+    pub format: WideFormat,
+    /// counters with the compressed nodes (node tester)
+    pub node: KindStats,
+    /// counters with exact binary32 child boxes
+    pub exact: KindStats,
+    /// both renders equal the binary32 single-ray render (hits, `t`, colour)
+    pub same_image: bool,
+}
+
+impl WideWorkload {
+    /// Child tests per ray with the compressed nodes over those with exact boxes.
+    pub fn child_test_ratio(&self) -> f64 {
+        self.node.child_tests as f64 / self.exact.child_tests.max(1) as f64
+    }
+}
+
+/// Renders `scene` (golden models, single rays, no planes) at `width` pixels
+/// over its wide BVH of `format`, with the compressed nodes and with exact
+/// boxes, and checks both against the binary BVH's render.
+pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<WideWorkload, String> {
+    let s = Scene::load(scene).map_err(|e| e.to_string())?;
+    let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+    let acc = Accel::build(&s, false);
+    let wide = WideAccel::build(&acc, format)?;
+    let opts = TraceOpts {
+        planes: false,
+        bundles: BundleOpts {
+            enabled: false,
+            ..BundleOpts::default()
+        },
+        ..TraceOpts::default()
+    };
+    let golden = Golden::default();
+    let binary = render(&s, &acc, &golden, opts, width, h, false);
+    let run = |boxes: Boxes| {
+        let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
+        render_with(&s, &acc, &tracer, width, h, false)
+    };
+    let (node, exact) = (run(Boxes::Compressed), run(Boxes::Exact));
+    let same = |f: &scene::render::Frame| {
+        f.ids == binary.ids
+            && f.t == binary.t
+            && f.color
+                .iter()
+                .zip(&binary.color)
+                .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
+    };
+    Ok(WideWorkload {
+        scene: scene
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        format,
+        same_image: same(&node) && same(&exact),
+        node: node.stats.total(),
+        exact: exact.stats.total(),
+    })
+}
+
+/// The wide report: per scene the transactions per ray with the compressed
+/// nodes and with exact boxes, then one line per scene
+/// `child tests per ray q=<q> / binary32: <scene> <ratio>`.
+pub fn wide_markdown(loads: &[WideWorkload]) -> String {
+    let mut s = String::from(
+        "Per ray over a wide BVH (golden render, single rays, no planes; the node unit's \
+         per-node block is not built yet, so no LUT-cycles):\n\n\
+         | scene | N | q | rays | node tests / ray | child tests / ray | node bytes / ray | transforms / ray | triangle tests / ray | binary32 boxes: child tests / ray | node bytes / ray | image = binary32 single-ray render |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for w in loads {
+        let (k, e) = (&w.node, &w.exact);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.2} | {:.2} | {:.0} | {} |",
+            w.scene,
+            w.format.children(),
+            w.format.box_bits(),
+            k.rays,
+            k.per_ray(k.node_visits),
+            k.per_ray(k.child_tests),
+            k.per_ray(k.node_bytes),
+            k.per_ray(k.transforms),
+            k.per_ray(k.tri_tests),
+            e.per_ray(e.child_tests),
+            e.per_ray(e.node_bytes),
+            if w.same_image { "yes" } else { "NO" }
+        );
+    }
+    s.push('\n');
+    for w in loads {
+        let _ = writeln!(
+            s,
+            "child tests per ray q={} / binary32: {} {:.4}",
+            w.format.box_bits(),
+            w.scene,
+            w.child_test_ratio()
+        );
+    }
+    s
 }
 
 /// LUT-cycles per ray of `w` with the units' `luts`.
