@@ -3,10 +3,11 @@
 # depths and both register placements (issue 39): each pipelined design against the same unit at
 # stages=0. Prints a markdown table (unit, parameters, depth, placement, result, seconds) and
 # exits 1 if any proof fails. Usage: bash scripts/prove-equiv.sh [rtl-gen binary] > table.md
-# (docs/proofs.md has the last run's table; about 10 minutes on 2 cores).
+# (docs/proofs.md has the last run's table and its time). PROVE_TIMEOUT: seconds per proof.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bin="${1:-target/release/rtl-gen}"
+limit="${PROVE_TIMEOUT:-600}"  # seconds per proof
 [ -x "$bin" ] || { echo "no $bin: cargo build --release --bin rtl-gen first" >&2; exit 2; }
 
 # the small format of each unit (parameters besides stages and pipeline); a unit not named
@@ -33,11 +34,15 @@ for u in $units; do
         for p in plan balanced; do
             t0=$(date +%s.%N)
             # shellcheck disable=SC2046
-            line=$("$bin" prove "$u" $(small "$u") -p stages=$s -p pipeline=$p \
-                --work "out/prove-equiv/$u-s$s-$p" 2>&1 | tail -1)
+            out=$(timeout "$limit" "$bin" prove "$u" $(small "$u") -p stages=$s -p pipeline=$p \
+                --work "out/prove-equiv/$u-s$s-$p" 2>&1)
+            rc=$?
+            line=$(tail -1 <<< "$out")
             t1=$(date +%s.%N)
+            [ $rc -eq 124 ] && line="timeout"
             case "$line" in
                 proved:*) result="proved" ;;
+                timeout) result="not finished in $limit s"; failed=1 ;;
                 counterexample:*) result="**counterexample**"; failed=1 ;;
                 *) result="error: ${line//|/\\|}"; failed=1 ;;
             esac

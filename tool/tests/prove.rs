@@ -2,8 +2,8 @@
 //! units proved equal to their stages=0 reference in both placements, and
 //! two planted bugs (a wrong comparison, a valid bit one stage early) found,
 //! each with a vector file that `rtl-gen sim --verilog` replays in Verilator
-//! to the same wrong answer. Needs the pinned toolchain (scripts/setup.sh:
-//! yowasp-sby and z3 in the FPGA venv); without it the test fails saying so.
+//! to the same wrong answer. Needs the pinned Yosys (scripts/setup.sh);
+//! without it the test fails saying so.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -119,7 +119,7 @@ fn planted(name: &str, from: &str, to: &str, port: &str) {
         file.starts_with("a b c d\n") && file.lines().count() >= 2,
         "{file}"
     );
-    assert!(d.join("job/equiv_prove/engine_0/trace.vcd").is_file());
+    assert!(d.join("job/counterexample.vcd").is_file());
     if port == "out_valid" {
         // a valid bit out of step is a timing bug: the cycle-accurate trace shows it
         // (on out_valid, or on an output compared in a cycle it is not valid in);

