@@ -15,13 +15,13 @@ limit="${PROVE_TIMEOUT:-600}"  # seconds per proof
 small() {
     case "$1" in
         mulcmp) echo "-p a_width=6 -p b_width=6" ;;
-        cull | cull_ray) echo "-p exp_bits=3 -p frac_bits=2 -p plane_exp_bits=2 -p plane_frac_bits=2 -p k=2" ;;
-        transform) echo "-p exp_bits=3 -p frac_bits=2 -p id_bits=2" ;;
+        cull | cull_ray) echo "-p exp_bits=2 -p frac_bits=1 -p plane_exp_bits=2 -p plane_frac_bits=1 -p k=1" ;;
+        transform) echo "-p exp_bits=2 -p frac_bits=1 -p id_bits=1" ;;
         fcvt) echo "-p exp_bits=3 -p frac_bits=2 -p to_exp_bits=2 -p to_frac_bits=1" ;;
         node_child) echo "-p box_bits=4" ;;
         node_sort) echo "-p children=4 -p box_bits=4" ;;
         raycull) echo "" ;;
-        *) echo "-p exp_bits=3 -p frac_bits=2" ;;
+        *) echo "-p exp_bits=2 -p frac_bits=1" ;;
     esac
 }
 

@@ -168,14 +168,7 @@ pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<Wid
     let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
     let acc = Accel::build(&s, false);
     let wide = WideAccel::build(&acc, format)?;
-    let opts = TraceOpts {
-        planes: false,
-        bundles: BundleOpts {
-            enabled: false,
-            ..BundleOpts::default()
-        },
-        ..TraceOpts::default()
-    };
+    let opts = TraceOpts::single_rays();
     let golden = Golden::default();
     let binary = render(&s, &acc, &golden, opts, width, h, false);
     let run = |boxes: Boxes| {
@@ -183,21 +176,14 @@ pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<Wid
         render_with(&s, &acc, &tracer, width, h, false)
     };
     let (node, exact) = (run(Boxes::Compressed), run(Boxes::Exact));
-    let same = |f: &scene::render::Frame| {
-        f.ids == binary.ids
-            && f.t == binary.t
-            && f.color
-                .iter()
-                .zip(&binary.color)
-                .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
-    };
+
     Ok(WideWorkload {
         scene: scene
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),
         format,
-        same_image: same(&node) && same(&exact),
+        same_image: node.same_image(&binary) && exact.same_image(&binary),
         node: node.stats.total(),
         exact: exact.stats.total(),
     })

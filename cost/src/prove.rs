@@ -137,7 +137,10 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
     if lag > 0 {
         let mut chain = |name: &str, w: u32, reset: bool| {
             for k in 1..=lag {
-                line(&mut v, format!("    (* keep *) reg {}ref_{name}_d{k};", range(w)));
+                line(
+                    &mut v,
+                    format!("    (* keep *) reg {}ref_{name}_d{k};", range(w)),
+                );
             }
             let mut body = String::from("    always @(posedge clk) begin\n");
             for k in 1..=lag {
@@ -322,11 +325,8 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
         shown.push(format!("dut_{}", x.name));
         shown.push(delayed_name(&x.name, lag));
     }
-    std::fs::write(
-        job.work.join("prove.ys"),
-        yosys_script(&files, lag, &shown),
-    )
-    .map_err(|e| e.to_string())?;
+    std::fs::write(job.work.join("prove.ys"), yosys_script(&files, lag, &shown))
+        .map_err(|e| e.to_string())?;
 
     let what = format!(
         "{} ({} {}) ≡ {} ({} {})",
@@ -384,7 +384,8 @@ fn counterexample(job: &EquivJob, lag: u32, what: &str) -> Result<Outcome, Strin
     let mut output = "out_valid".to_string();
     if !valid_differs {
         for x in &p.outputs {
-            if value(step, &format!("dut_{}", x.name))? != value(step, &delayed_name(&x.name, lag))? {
+            if value(step, &format!("dut_{}", x.name))? != value(step, &delayed_name(&x.name, lag))?
+            {
                 output = x.name.clone();
                 break;
             }

@@ -357,6 +357,17 @@ impl Frame {
     pub fn same_hits(&self, other: &Frame) -> bool {
         self.w == other.w && self.h == other.h && self.ids == other.ids && self.t == other.t
     }
+    /// Every pixel's primary hit, `t` and colour (bits) equal `other`'s.
+    pub fn same_image(&self, other: &Frame) -> bool {
+        self.ids == other.ids
+            && self.t == other.t
+            && self
+                .color
+                .iter()
+                .zip(&other.color)
+                .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
+    }
+
     /// Total rays traced.
     pub fn rays(&self) -> u64 {
         self.stats.total().rays

@@ -197,6 +197,21 @@ pub struct TraceOpts {
     pub tri: TriTest,
 }
 
+impl TraceOpts {
+    /// Single rays without cull planes (the reference of the wide traversal,
+    /// which traces that way).
+    pub fn single_rays() -> TraceOpts {
+        TraceOpts {
+            planes: false,
+            bundles: BundleOpts {
+                enabled: false,
+                ..BundleOpts::default()
+            },
+            ..TraceOpts::default()
+        }
+    }
+}
+
 impl Default for TraceOpts {
     fn default() -> Self {
         TraceOpts {

@@ -13,7 +13,7 @@ use scene::bvh::Accel;
 use scene::render::{render, render_with, Frame};
 use scene::scene::Scene;
 use scene::tester::Golden;
-use scene::trace::{BundleOpts, TraceOpts, Tracer};
+use scene::trace::{TraceOpts, Tracer};
 use scene::wide::{primary, Boxes, WideAccel, WideBvh};
 use std::cmp::Ordering;
 use std::path::Path;
@@ -282,14 +282,7 @@ fn wide_renders_are_the_binary32_single_ray_render() {
         s.render.ao_rays = 2;
         let acc = Accel::build(&s, false);
         let (w, h) = (40, 28);
-        let opts = TraceOpts {
-            planes: false,
-            bundles: BundleOpts {
-                enabled: false,
-                ..BundleOpts::default()
-            },
-            ..TraceOpts::default()
-        };
+        let opts = TraceOpts::single_rays();
         let golden = Golden::default();
         let bin = render(&s, &acc, &golden, opts, w, h, false);
         let hits = bin.ids.iter().filter(|k| k.0 != u32::MAX).count();
