@@ -145,7 +145,7 @@ pub enum Command {
         #[command(flatten)]
         to: ReportTo,
     },
-    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and chart cost_per_ray
+    /// Hardware cost per ray on scenes: each unit's xc7 LUT and DSP48E1 (synthesis estimate, cached) times its transactions per ray in a golden render (every unit the render uses, the cull test's box interval and reciprocals included), with and without cull planes and bundles; table and chart cost_per_ray
     PerRay {
         /// scene files (TOML)
         #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
@@ -359,13 +359,13 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             for s in &scenes {
                 loads.extend(crate::per_ray::workloads(s, width)?);
             }
-            let luts = match no_synth {
+            let areas = match no_synth {
                 true => None,
-                false => Some(crate::per_ray::unit_luts(cached_only)?),
+                false => Some(crate::per_ray::unit_areas(cached_only)?),
             };
-            to.text(&crate::per_ray::markdown(luts.as_deref(), &loads))?;
-            if let (Some(dir), Some(luts)) = (&to.chart_dir, &luts) {
-                wrote(crate::per_ray::chart(luts, &loads, dir)?);
+            to.text(&crate::per_ray::markdown(areas.as_deref(), &loads))?;
+            if let (Some(dir), Some(areas)) = (&to.chart_dir, &areas) {
+                wrote(crate::per_ray::chart(areas, &loads, dir)?);
             }
         }
         Command::DotStyles {

@@ -28,8 +28,11 @@ pub struct Role {
     pub params: &'static [&'static str],
 }
 
-/// The units of a ray's traversal, in the order of the table.
-pub const ROLES: [Role; 6] = [
+/// The units of a ray's traversal, in the order of the table. The cull
+/// test folds its planes into the child's box interval, which a conservative
+/// slab beside it computes from the ray's reciprocal direction (three
+/// reciprocals per instance entry): both are counted.
+pub const ROLES: [Role; 8] = [
     Role {
         role: "box test, single ray",
         unit: "silhouette",
@@ -44,6 +47,16 @@ pub const ROLES: [Role; 6] = [
         role: "cull test (per child)",
         unit: "cull",
         params: &["k=4", "plane_exp_bits=5", "plane_frac_bits=10", "stages=4"],
+    },
+    Role {
+        role: "box interval for a cull test",
+        unit: "slab",
+        params: &["rounding=conservative", "stages=4"],
+    },
+    Role {
+        role: "reciprocal direction for the interval (3 per instance entry)",
+        unit: "frecip",
+        params: &["round=rtz", "stages=4"],
     },
     Role {
         role: "cull terms (per ray and parent)",
@@ -62,15 +75,28 @@ pub const ROLES: [Role; 6] = [
     },
 ];
 
-/// The Xilinx LUT estimate of each role's unit ([`synth::xilinx_estimate`];
+/// The area of one unit: Xilinx 7-series LUTs and DSP48E1 blocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Area {
+    /// LUT1..LUT6
+    pub luts: u64,
+    /// DSP48E1
+    pub dsps: u64,
+}
+
+/// The Xilinx estimate of each role's unit ([`synth::xilinx_estimate`];
 /// `cached_only`: never run Yosys).
-pub fn unit_luts(cached_only: bool) -> Result<Vec<u64>, String> {
+pub fn unit_areas(cached_only: bool) -> Result<Vec<Area>, String> {
     ROLES
         .iter()
         .map(|r| {
             let p: Vec<String> = r.params.iter().map(|s| s.to_string()).collect();
             let g = rtl_flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
-            Ok(synth::xilinx_estimate(&g, cached_only)?.luts)
+            let x = synth::xilinx_estimate(&g, cached_only)?;
+            Ok(Area {
+                luts: x.luts,
+                dsps: x.dsps,
+            })
         })
         .collect()
 }
@@ -87,7 +113,7 @@ pub struct Workload {
     /// rays traced
     pub rays: u64,
     /// transactions per role
-    pub tests: [u64; 6],
+    pub tests: [u64; 8],
 }
 
 /// Renders `scene` (golden models) at `width` pixels with and without planes
@@ -125,6 +151,8 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
                     t.ray_box_tests,
                     t.bundle_tests,
                     t.cull_tests,
+                    t.cull_tests,
+                    if planes { 3 * t.transforms } else { 0 },
                     t.cull_ray_terms,
                     t.transforms,
                     t.tri_tests,
@@ -231,28 +259,36 @@ pub fn wide_markdown(loads: &[WideWorkload]) -> String {
     s
 }
 
-/// LUT-cycles per ray of `w` with the units' `luts`.
-pub fn cost_per_ray(w: &Workload, luts: &[u64]) -> f64 {
-    let total: f64 = w
-        .tests
-        .iter()
-        .zip(luts)
-        .map(|(&n, &l)| n as f64 * l as f64)
-        .sum();
-    total / w.rays.max(1) as f64
+/// LUT-cycles and DSP-cycles per ray of `w` with the units' `areas`.
+pub fn cost_per_ray(w: &Workload, areas: &[Area]) -> (f64, f64) {
+    let rays = w.rays.max(1) as f64;
+    let sum = |f: fn(&Area) -> u64| {
+        w.tests
+            .iter()
+            .zip(areas)
+            .map(|(&n, a)| n as f64 * f(a) as f64)
+            .sum::<f64>()
+            / rays
+    };
+    (sum(|a| a.luts), sum(|a| a.dsps))
 }
 
 /// The report: the units' areas (when synthesised), then per scene and
 /// configuration the transactions per ray and, with areas, the LUT-cycles
-/// per ray.
-pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
+/// and DSP-cycles per ray (a design must not meet a LUT figure by moving
+/// logic into DSP blocks unreported).
+pub fn markdown(areas: Option<&[Area]>, loads: &[Workload]) -> String {
     let mut s = String::new();
-    if let Some(luts) = luts {
-        s += "Units (binary32; Xilinx 7-series LUT, `synth_xilinx -flatten` synthesis estimates):\n\n\
-              | role | unit | parameters | xc7 LUT |\n|---|---|---|---|\n";
-        for (r, l) in ROLES.iter().zip(luts) {
+    if let Some(areas) = areas {
+        s += "Units (binary32; Xilinx 7-series, `synth_xilinx -flatten` synthesis estimates):\n\n\
+              | role | unit | parameters | xc7 LUT | DSP48E1 |\n|---|---|---|---|---|\n";
+        for (r, a) in ROLES.iter().zip(areas) {
             let p = r.params.join(" ");
-            let _ = writeln!(s, "| {} | `{}` | {p} | {l} |", r.role, r.unit);
+            let _ = writeln!(
+                s,
+                "| {} | `{}` | {p} | {} | {} |",
+                r.role, r.unit, a.luts, a.dsps
+            );
         }
         s.push('\n');
     }
@@ -261,8 +297,8 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
     for r in &ROLES {
         let _ = write!(s, " {} / ray |", r.role);
     }
-    s += if luts.is_some() {
-        " LUT-cycles / ray |\n|---|---|---|---|---|"
+    s += if areas.is_some() {
+        " LUT-cycles / ray | DSP-cycles / ray |\n|---|---|---|---|---|---|"
     } else {
         "\n|---|---|---|---|"
     };
@@ -283,8 +319,9 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
         for &n in &w.tests {
             let _ = write!(s, " {:.2} |", n as f64 / w.rays.max(1) as f64);
         }
-        if let Some(l) = luts {
-            let _ = write!(s, " {:.0} |", cost_per_ray(w, l));
+        if let Some(a) = areas {
+            let (luts, dsps) = cost_per_ray(w, a);
+            let _ = write!(s, " {luts:.0} | {dsps:.1} |");
         }
         s.push('\n');
     }
@@ -294,7 +331,7 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
 /// Bars of LUT-cycles per ray, one series per configuration, one group per
 /// scene: `<dir>/cost_per_ray.png` and `.svg`.
 pub fn chart(
-    luts: &[u64],
+    areas: &[Area],
     loads: &[Workload],
     dir: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
@@ -330,7 +367,7 @@ pub fn chart(
                 .map(|w| {
                     // the four configurations side by side around the scene's index
                     let x = scenes.iter().position(|s| *s == w.scene).unwrap_or(0) as f64;
-                    let v = cost_per_ray(w, luts);
+                    let v = cost_per_ray(w, areas).0;
                     let x = x + 1.0 + (k as f64 - 1.5) * 0.12;
                     // (leading spaces: the label starts under the marker)
                     let label = if v >= 1e6 {
