@@ -74,3 +74,104 @@ fn bad_shapes_are_errors() {
         assert!(o.stdout.is_empty());
     }
 }
+
+/// `render --wide` and `per-ray --wide` as a user runs them: the same hits as
+/// the binary32 single-ray render, the report's ratio lines, bad shapes refused.
+#[test]
+fn renders_and_per_ray_over_the_wide_bvh() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = root.join("scenes/field.toml");
+    let scene = scene.to_str().unwrap();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-render-wide");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let path = |n: &str| dir.join(n).to_str().unwrap().to_string();
+    let (bin_png, bin_hits, wide_png, wide_hits) = (
+        path("bin.png"),
+        path("bin.txt"),
+        path("wide.png"),
+        path("wide.txt"),
+    );
+    let common = ["--width", "32", "--ao", "1"];
+    let mut a = vec!["render", scene];
+    a.extend(common);
+    a.extend([
+        "--bundle",
+        "0",
+        "--no-planes",
+        "-o",
+        &bin_png,
+        "--dump-hits",
+        &bin_hits,
+    ]);
+    assert!(run(&a).status.success());
+    let mut b = vec!["render", scene];
+    b.extend(common);
+    b.extend(["--wide", "4", "-o", &wide_png, "--dump-hits", &wide_hits]);
+    let o = run(&b);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    assert!(out.contains("node tester N=4 q=8"), "{out}");
+    assert!(out.contains("| node visits/ray |"), "{out}");
+    // the hit dumps agree below their headers (which name the tester)
+    let body = |p: &str| {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .skip(2)
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(body(&bin_hits), body(&wide_hits));
+    assert_eq!(
+        std::fs::read(&bin_png).unwrap(),
+        std::fs::read(&wide_png).unwrap()
+    );
+
+    let o = run(&["per-ray", scene, "--width", "24", "--wide", "4"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("child tests per ray q=8 / binary32: field.toml "))
+        .unwrap_or_else(|| panic!("{out}"));
+    let ratio: f64 = line.rsplit(' ').next().unwrap().parse().unwrap();
+    assert!((1.0..=1.10).contains(&ratio), "{line}");
+    assert!(out.contains("| yes |"), "{out}");
+
+    for (args, says) in [
+        (
+            vec!["render", scene, "--wide", "3", "-o", &path("x.png")],
+            "expected 2, 4 or 8",
+        ),
+        (
+            vec![
+                "render",
+                scene,
+                "--wide",
+                "4",
+                "--box",
+                "exact",
+                "-o",
+                &path("x.png"),
+            ],
+            "no --box",
+        ),
+        (
+            vec!["per-ray", scene, "--wide", "4", "--box-bits", "17"],
+            "4..=16",
+        ),
+    ] {
+        let o = run(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    assert!(!dir.join("x.png").exists(), "nothing written on an error");
+}
