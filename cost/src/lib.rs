@@ -18,6 +18,7 @@ pub mod dot_styles;
 pub mod fit;
 pub mod per_ray;
 pub mod prove;
+pub mod prove_sound;
 pub mod shell;
 pub mod sweep;
 pub mod synth;

@@ -470,7 +470,7 @@ fn delayed_name(name: &str, lag: u32) -> String {
 /// `\\u_dut.name`), as `0x` hex, from the VCD of Yosys's `sat -dump_vcd`:
 /// step 0 is the initial state (`$dumpvars`), step 1 follows it without a
 /// time mark, step `k ≥ 2` follows `#k`. A wire keeps its value until changed.
-fn vcd_steps(vcd: &str) -> Result<Vec<BTreeMap<String, String>>, String> {
+pub(crate) fn vcd_steps(vcd: &str) -> Result<Vec<BTreeMap<String, String>>, String> {
     let mut ids: BTreeMap<String, String> = BTreeMap::new();
     let mut lines = vcd.lines();
     for l in lines.by_ref() {
@@ -498,7 +498,11 @@ fn vcd_steps(vcd: &str) -> Result<Vec<BTreeMap<String, String>>, String> {
             continue;
         }
         if let Some(t) = l.strip_prefix('#') {
-            let k: usize = t.parse().map_err(|_| format!("bad time `{l}`"))?;
+            let k: i64 = t.parse().map_err(|_| format!("bad time `{l}`"))?;
+            // a combinational model is dumped at #-1 (then #0): one step
+            let Ok(k) = usize::try_from(k) else {
+                continue;
+            };
             while steps.len() <= k {
                 steps.push(steps.last().cloned().unwrap_or_default());
             }
