@@ -88,17 +88,18 @@ pub fn from_record(r: &RayCullIn<u64>) -> CullIn {
 }
 
 /// The unit's output record of a golden-model verdict.
-pub fn out_record(o: &model::CullOut) -> RayCullOut<u64> {
+pub fn out_record(u: &Config, o: &model::CullOut) -> RayCullOut<u64> {
     let f = |g: fn(&model::Verdict) -> bool| o.slots.iter().map(|v| g(v) as u64).collect();
+    let flags = u.depth == Depth::Binary32;
     RayCullOut {
         group_cull: o.group_cull as u64,
-        group_bad: o.group_bad as u64,
+        group_bad: flags.then_some(o.group_bad as u64),
         tile_cull: f(|v| v.tile_cull),
         depth_cull: f(|v| v.depth_cull),
         generation_cull: f(|v| v.generation_cull),
         cull: f(|v| v.cull),
         current: f(|v| v.current),
-        bad: f(|v| v.bad),
+        bad: flags.then(|| f(|v| v.bad)),
     }
 }
 
@@ -149,7 +150,7 @@ impl sim::Golden for RayCullBench {
     fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
         let r: RayCullIn<u64> = ports::unpack(&self.unit, inputs);
         let o = model::cull(&self.model, &from_record(&r));
-        ports::pack(&self.unit, &out_record(&o), outputs)
+        ports::pack(&self.unit, &out_record(&self.unit, &o), outputs)
     }
 }
 
@@ -243,3 +244,24 @@ impl sim::Stimulus for RayCullBench {
 }
 
 impl Testbench for RayCullBench {}
+
+/// The golden-model verdict of the unit's output record (the flags a port
+/// cannot carry, `id_bad`, are false; `bad` false when the format has none).
+pub fn from_out_record(r: &RayCullOut<u64>) -> model::CullOut {
+    let bad = |i: usize| r.bad.as_ref().is_some_and(|b| b[i] != 0);
+    model::CullOut {
+        group_cull: r.group_cull != 0,
+        group_bad: r.group_bad.is_some_and(|b| b != 0),
+        slots: (0..r.cull.len())
+            .map(|i| model::Verdict {
+                tile_cull: r.tile_cull[i] != 0,
+                depth_cull: r.depth_cull[i] != 0,
+                generation_cull: r.generation_cull[i] != 0,
+                cull: r.cull[i] != 0,
+                current: r.current[i] != 0,
+                bad: bad(i),
+                id_bad: false,
+            })
+            .collect(),
+    }
+}

@@ -201,15 +201,16 @@ impl<T: Copy> Record<T> for RayCullIn<T> {
     }
 }
 
-/// The outputs: `group_cull`, `group_bad`, then per slot `slot{i}_tile_cull`,
-/// `slot{i}_depth_cull`, `slot{i}_generation_cull`, `slot{i}_cull`,
-/// `slot{i}_current`, `slot{i}_bad`.
+/// The outputs: `group_cull`, `group_bad` (binary32), then per slot
+/// `slot{i}_tile_cull`, `slot{i}_depth_cull`, `slot{i}_generation_cull`,
+/// `slot{i}_cull`, `slot{i}_current`, `slot{i}_bad` (binary32: a unorm code is
+/// never bad, so the flags exist only for binary32).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RayCullOut<T> {
     /// the group's depth range is beyond the tile's far end
     pub group_cull: T,
-    /// some valid slot has a bad depth code
-    pub group_bad: T,
+    /// some valid slot has a bad depth code (binary32)
+    pub group_bad: Option<T>,
     /// per slot: culled by the tile stage
     pub tile_cull: Vec<T>,
     /// per slot: culled by the sample depth
@@ -220,15 +221,17 @@ pub struct RayCullOut<T> {
     pub cull: Vec<T>,
     /// per slot: the contribution check passes
     pub current: Vec<T>,
-    /// per slot: a depth code is bad
-    pub bad: Vec<T>,
+    /// per slot: a depth code is bad (binary32)
+    pub bad: Option<Vec<T>>,
 }
 
 impl<T: Copy> Record<T> for RayCullOut<T> {
     type Config = Config;
     fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
         let group_cull = w.one("group_cull", Ty::Bool, |r| r.group_cull);
-        let group_bad = w.one("group_bad", Ty::Bool, |r| r.group_bad);
+        let flags = cfg.depth == Depth::Binary32;
+        let group_bad =
+            flags.then(|| w.one("group_bad", Ty::Bool, |r| r.group_bad.expect("binary32")));
         let mut x = RayCullOut {
             group_cull,
             group_bad,
@@ -237,7 +240,7 @@ impl<T: Copy> Record<T> for RayCullOut<T> {
             generation_cull: Vec::new(),
             cull: Vec::new(),
             current: Vec::new(),
-            bad: Vec::new(),
+            bad: flags.then(Vec::new),
         };
         let b = Ty::Bool;
         for i in 0..cfg.group as usize {
@@ -257,8 +260,11 @@ impl<T: Copy> Record<T> for RayCullOut<T> {
                 .push(w.one(format_args!("slot{i}_cull"), b, move |r| r.cull[i]));
             x.current
                 .push(w.one(format_args!("slot{i}_current"), b, move |r| r.current[i]));
-            x.bad
-                .push(w.one(format_args!("slot{i}_bad"), b, move |r| r.bad[i]));
+            if let Some(bad) = x.bad.as_mut() {
+                bad.push(w.one(format_args!("slot{i}_bad"), b, move |r| {
+                    r.bad.as_ref().expect("binary32")[i]
+                }));
+            }
         }
         x
     }
@@ -340,13 +346,13 @@ pub fn build(cfg: &Config) -> Module {
     let n = cfg.group as usize;
     let mut out = RayCullOut {
         group_cull: x.enable,
-        group_bad: x.enable,
+        group_bad: None,
         tile_cull: Vec::new(),
         depth_cull: Vec::new(),
         generation_cull: Vec::new(),
         cull: Vec::new(),
         current: Vec::new(),
-        bad: Vec::new(),
+        bad: tile_ok.map(|_| Vec::new()),
     };
     // per slot: the depth the group range sees (an empty slot stands at the
     // code that never decides: all ones, or 0 when reversed)
@@ -362,12 +368,15 @@ pub fn build(cfg: &Config) -> Module {
                     let ok = and_all(m, &[r, s, t]);
                     let not_ok = m.not(ok);
                     let bad = m.and(valid, not_ok);
-                    m.name(bad, "is_bad")
+                    Some(m.name(bad, "is_bad"))
                 }
-                _ => m.bool(false),
+                _ => None,
             };
-            let not_bad = m.not(bad);
-            let may = and_all(m, &[x.enable, valid, not_bad]);
+            let mut may = vec![x.enable, valid];
+            if let Some(bad) = bad {
+                may.push(m.not(bad));
+            }
+            let may = and_all(m, &may);
             let may = m.name(may, "may_cull");
             let far_side = if cfg.reversed() {
                 m.lt(rd, x.tile_min)
@@ -406,7 +415,9 @@ pub fn build(cfg: &Config) -> Module {
             out.generation_cull.push(generation_cull);
             out.cull.push(cull);
             out.current.push(current);
-            out.bad.push(bad);
+            if let (Some(all), Some(bad)) = (out.bad.as_mut(), bad) {
+                all.push(bad);
+            }
         });
     }
     m.scope("group", |m| {
@@ -428,15 +439,15 @@ pub fn build(cfg: &Config) -> Module {
         let outside = m.name(outside, "beyond_tile");
         let any_valid = or_all(m, &x.valid);
         let any_valid = m.name(any_valid, "any_valid");
-        let bad = or_all(m, &out.bad);
-        let bad = m.name(bad, "any_bad");
-        let not_bad = m.not(bad);
-        let cull = and_all(
-            m,
-            &[x.enable, x.tile_drop_farther, any_valid, not_bad, outside],
-        );
+        let mut terms = vec![x.enable, x.tile_drop_farther, any_valid, outside];
+        if let Some(bad) = out.bad.as_ref() {
+            let bad = or_all(m, bad);
+            let bad = m.name(bad, "any_bad");
+            terms.push(m.not(bad));
+            out.group_bad = Some(bad);
+        }
+        let cull = and_all(m, &terms);
         out.group_cull = m.name(cull, "culled");
-        out.group_bad = bad;
     });
     ports::declare_outputs(&mut m, cfg, &out);
     let datapath = m.finish().expect("raycull datapath is well formed");
