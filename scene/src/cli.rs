@@ -123,6 +123,9 @@ pub enum Command {
         /// and rendered again from the RTL's answers)
         #[arg(long)]
         rtl: bool,
+        /// shuffled orders to run (shuffle seeds 1..=N), besides the four fixed orders
+        #[arg(long, default_value_t = 1)]
+        shuffles: u64,
         /// with --rtl: directory for the generated Verilog and the vector streams
         /// (default: target/rtl-loop/<pid>)
         #[arg(long)]
@@ -333,6 +336,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             group,
             no_cull,
             rtl,
+            shuffles,
             work,
         } => {
             let work = work.unwrap_or_else(crate::rtl::default_work_dir);
@@ -366,7 +370,17 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             println!("| order | emitted | culled: tile range | sample depth | generation | groups culled (rays) | traced | discarded (contribution check) | superseded | used | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|");
             let mut differ = Vec::new();
-            for (name, order) in orders(&s, &acc, 1) {
+            let mut runs = Vec::new();
+            for seed in 1..=shuffles.max(1) {
+                for (name, order) in orders(&s, &acc, seed) {
+                    if name == "shuffled" {
+                        runs.push((format!("shuffled {seed}"), order));
+                    } else if seed == 1 {
+                        runs.push((name.to_string(), order));
+                    }
+                }
+            }
+            for (name, order) in runs {
                 let hopts = HybridOpts {
                     order,
                     rays_per_step,
