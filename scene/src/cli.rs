@@ -368,7 +368,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 sync.time.as_secs_f64(),
                 out.display()
             );
-            println!("| order | emitted | culled: tile range | sample depth | generation | groups culled (rays) | traced | discarded (contribution check) | superseded | used | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|");
+            println!("| order | emitted | culled: tile range | sample depth | generation | groups culled (rays) | traced | discarded (contribution check) | superseded | used | raycull transactions | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
             let mut differ = Vec::new();
             let mut runs = Vec::new();
             for seed in 1..=shuffles.max(1) {
@@ -403,7 +403,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                         .zip(&sync.color)
                         .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits));
                 println!(
-                    "| {name} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} |",
+                    "| {name} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} |",
                     k.emitted,
                     k.culled_tile,
                     k.culled_depth,
@@ -414,6 +414,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     k.discarded,
                     k.superseded,
                     k.used,
+                    k.unit_calls,
                     if same { "yes" } else { "NO" }
                 );
                 if !same {
