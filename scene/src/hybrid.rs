@@ -1,37 +1,39 @@
-//! Hybrid rasterisation + ray tracing with depth-based ray culling (seed 002).
+//! Hybrid rasterisation + ray tracing with depth-based ray culling (seed 002),
+//! every cull decision by the golden model of the `raycull` unit
+//! (`golden_model::raycull`, docs/raycull.md).
 //!
 //! The raster pass finds the visible surface of each sample (one sample per
-//! pixel, at its centre): coverage and depth of a triangle at a sample are the
+//! pixel, at its centre): coverage and `t` of a triangle at a sample are the
 //! edge functions and `t` of the camera ray through the sample
-//! ([`crate::trace::intersect`], i.e. homogeneous 2D rasterisation), the depth
-//! test is LESS on `(t, instance, triangle)`, so ties are broken by the
-//! primitive id and the final surface does not depend on the primitive order.
+//! ([`crate::trace::intersect`], i.e. homogeneous 2D rasterisation); the
+//! depth is the **quantised code** of its view-space depth between the scene's
+//! near and far planes ([`depth_planes`], [`golden_model::raycull::quantize`];
+//! unorm16, unorm24 or binary32), and the depth test is LESS on `(code,
+//! primitive index)`, so ties are broken by the primitive and the final
+//! surface does not depend on the primitive order.
 //!
 //! **Asynchronous mode** ([`render_async`]): primitives are rasterised in a
-//! given order; whenever a primitive becomes the visible surface of a sample,
-//! the sample's generation (3 bits, FIG. 14 layout `pixel 26 | sample 3 |
-//! generation 3`) is incremented and the surface is shaded at once: it emits
-//! its shadow and AO rays, each tagged with the sample, the generation and the
-//! depth of the emitting surface. After each primitive a ray processor takes
-//! up to `rays_per_step` rays from the queue and
-//!
-//! 1. **tile stage** (claim 1): culls a ray whose depth lies outside its
-//!    8×8 tile's current `[min, max]` depth range (only `depth > max` can occur
-//!    with a LESS test; both sides are checked), no per-sample lookup;
-//! 2. **sample stage** (claims 5-8): culls a ray whose sample is now closer
-//!    than the ray's depth, or, at equal depth, whose generation differs
-//!    (a tie broken by primitive id);
-//! 3. traces the survivors (bundled, through the golden models);
-//! 4. **contribution check** (the description's verification logic): a result
-//!    is stored only if the ray's emitting surface (full instance/triangle id,
-//!    not the wrapping 3-bit generation) is still the sample's surface; a later
-//!    change of surface discards the sample's stored results.
+//! given order into one [`golden_model::raycull::TileBuffer`] per 8×8 tile;
+//! whenever a primitive becomes the visible surface of a sample, the sample's
+//! generation (3 bits, FIG. 14 layout `pixel 26 | sample 3 | generation 3`) is
+//! incremented and the surface is shaded at once: it emits its shadow and AO
+//! rays, each tagged with the depth code, the generation and the primitive.
+//! After each primitive a ray processor takes up to `rays_per_step` rays from
+//! the queue, in groups of up to G consecutive rays of one tile, and asks the
+//! unit: stage 1 (tile range, per ray and per group), stage 2 (sample depth,
+//! and generation at equal depth); it traces the survivors (bundled, through
+//! the golden models); when a result arrives the unit's **contribution
+//! check** (full primitive id and generation of the sample then) decides
+//! whether it is stored; a later change of surface discards the sample's
+//! stored results.
 //!
 //! When all primitives are done, the queue is drained the same way and each
 //! sample combines the results of its final surface's rays in emission order.
-//! **Synchronous mode** ([`render_sync`]): rasterise everything, shade the
-//! final surfaces, trace, combine. Both produce the same bits for every
-//! primitive order and interleaving (test `hybrid_identical.rs`).
+//! **Synchronous mode** ([`render_sync`]): rasterise everything (the same
+//! codes), shade the final surfaces, trace, combine. Both produce the same bits
+//! for every primitive order and interleaving (tests `hybrid_identical.rs`,
+//! `hybrid_rtl.rs`). [`render_async_with`] takes any answerer for the unit's
+//! transactions (`crate::hybrid_rtl`: the Verilated unit).
 
 use crate::bvh::Accel;
 use crate::render::{
