@@ -268,8 +268,9 @@ pub fn verdict(cfg: &Config, enable: bool, tile: &TileRange, s: &Slot) -> Verdic
         return Verdict::default();
     }
     let f = cfg.format;
-    let bad = !(f.valid(s.ray.depth) && f.valid(s.sample.depth))
-        || !(f.valid(tile.min) && f.valid(tile.max));
+    let bad = ![s.ray.depth, s.sample.depth, tile.min, tile.max]
+        .iter()
+        .all(|&d| f.valid(d));
     let id_bad = s.ray.gen > cfg.gen_mask()
         || s.sample.gen > cfg.gen_mask()
         || s.ray.prim > cfg.prim_mask()
