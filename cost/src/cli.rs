@@ -145,7 +145,7 @@ pub enum Command {
         #[command(flatten)]
         to: ReportTo,
     },
-    /// Hardware cost per ray on scenes: each unit's xc7 LUT (synthesis estimate, cached) times its transactions per ray in a golden render, with and without cull planes and bundles; table and chart cost_per_ray
+    /// Hardware cost per ray on scenes: each unit's xc7 LUT and DSP48E1 (synthesis estimate, cached) times its transactions per ray in a golden render (every unit the render uses, the cull test's box interval and reciprocals included), with and without cull planes and bundles; table and chart cost_per_ray
     PerRay {
         /// scene files (TOML)
         #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
@@ -159,6 +159,15 @@ pub enum Command {
         /// transactions per ray only: no synthesis, no LUT-cycles, no chart
         #[arg(long)]
         no_synth: bool,
+        /// over a wide BVH of N = 2, 4 or 8 children per compressed node instead (node tester
+        /// golden model, single rays, no planes), beside the same tree with exact binary32
+        /// child boxes; ends with one line per scene `child tests per ray q=<q> / binary32:
+        /// <scene> <ratio>`; an error (exit 2) when an image differs from the binary32 single-ray render
+        #[arg(long, value_name = "N")]
+        wide: Option<usize>,
+        /// with --wide: bits per child box integer, 4..=16
+        #[arg(long, default_value_t = 8, requires = "wide")]
+        box_bits: u32,
         #[command(flatten)]
         to: ReportTo,
     },
@@ -223,12 +232,51 @@ pub enum Command {
     /// Emit the UART bring-up wrapper of a unit (cost/src/bringup.rs) and its board top, and
     /// lint them with Verilator; scripts/fpga.sh (`rtl-gen fpga`) builds the bitstream from them.
     Bringup(BringupArgs),
+    /// Formal proof with SymbiYosys (pinned yowasp toolchain, z3): `--property equiv` proves the
+    /// unit as generated (or an edited copy of its Verilog) equal to its reference, the same
+    /// unit at stages=0, on every output of every valid cycle, by k-induction. Ends with
+    /// `proved: ...` (exit 0) or `counterexample: ...` (exit 1, with a vector file that
+    /// `rtl-gen sim` replays); exit 2 on an error
+    Prove(ProveArgs),
+}
+
+/// What to prove.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum Property {
+    /// the unit (any stages, either placement) against its combinational reference
+    Equiv,
+}
+
+#[derive(clap::Args)]
+pub struct ProveArgs {
+    /// unit name (`rtl-gen list`)
+    unit: String,
+    /// parameter key=value (repeatable)
+    #[arg(short = 'p', value_name = "KEY=VALUE")]
+    params: Vec<String>,
+    /// the property
+    #[arg(long, value_enum, default_value = "equiv")]
+    property: Property,
+    /// the reference's parameters over the unit's (repeatable; default stages=0
+    /// pipeline=plan)
+    #[arg(long = "reference", value_name = "KEY=VALUE")]
+    reference: Vec<String>,
+    /// prove the Verilog in DIR (files named as the generated ones, e.g. a hand-edited copy)
+    /// instead of the generated design
+    #[arg(long, value_name = "DIR")]
+    verilog: Option<PathBuf>,
+    /// job directory (default out/prove/<module>), emptied first
+    #[arg(long, value_name = "DIR")]
+    work: Option<PathBuf>,
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
 pub fn main(command: Command) -> ExitCode {
     if let Command::Bringup(args) = command {
         return bringup(&args);
+    }
+    if let Command::Prove(args) = command {
+        return prove(&args);
     }
     match run(command) {
         Ok(()) => ExitCode::SUCCESS,
@@ -241,7 +289,7 @@ pub fn main(command: Command) -> ExitCode {
 
 fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
     match command {
-        Command::Bringup(_) => unreachable!("run by main"),
+        Command::Bringup(_) | Command::Prove(_) => unreachable!("run by main"),
         Command::Synth {
             unit,
             params,
@@ -286,19 +334,38 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             width,
             cached_only,
             no_synth,
+            wide,
+            box_bits,
             to,
         } => {
+            if let Some(n) = wide {
+                let format = golden_model::wide::WideFormat::new(
+                    golden_model::float::FloatFormat::BINARY32,
+                    n,
+                    box_bits,
+                )
+                .map_err(|e| format!("--wide {n} --box-bits {box_bits}: {e}"))?;
+                let mut loads = Vec::new();
+                for s in &scenes {
+                    loads.push(crate::per_ray::wide_workload(s, width, format)?);
+                }
+                to.text(&crate::per_ray::wide_markdown(&loads))?;
+                if loads.iter().any(|w| !w.same_image) {
+                    return Err("a wide render differs from the binary32 single-ray render".into());
+                }
+                return Ok(());
+            }
             let mut loads = Vec::new();
             for s in &scenes {
                 loads.extend(crate::per_ray::workloads(s, width)?);
             }
-            let luts = match no_synth {
+            let areas = match no_synth {
                 true => None,
-                false => Some(crate::per_ray::unit_luts(cached_only)?),
+                false => Some(crate::per_ray::unit_areas(cached_only)?),
             };
-            to.text(&crate::per_ray::markdown(luts.as_deref(), &loads))?;
-            if let (Some(dir), Some(luts)) = (&to.chart_dir, &luts) {
-                wrote(crate::per_ray::chart(luts, &loads, dir)?);
+            to.text(&crate::per_ray::markdown(areas.as_deref(), &loads))?;
+            if let (Some(dir), Some(areas)) = (&to.chart_dir, &areas) {
+                wrote(crate::per_ray::chart(areas, &loads, dir)?);
             }
         }
         Command::DotStyles {
@@ -595,6 +662,61 @@ pub fn bringup(a: &BringupArgs) -> ExitCode {
         }
         Err(e) => {
             eprintln!("bringup: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// `rtl-gen prove`: exit 0 proved, 1 counterexample (or not proved), 2 error.
+pub fn prove(a: &ProveArgs) -> ExitCode {
+    let run = || -> Result<crate::prove::Outcome, String> {
+        let mut dut = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
+        if let Some(dir) = &a.verilog {
+            dut.use_verilog_from(dir).map_err(|e| e.to_string())?;
+        }
+        let mut given = a.params.clone();
+        given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
+        given.extend(a.reference.iter().cloned());
+        // the last value of a key wins, as on the command line
+        let mut by_key: Vec<(String, String)> = Vec::new();
+        for kv in &given {
+            let (k, _) = kv
+                .split_once('=')
+                .ok_or_else(|| format!("`{kv}`: expected key=value"))?;
+            by_key.retain(|(x, _)| x != k);
+            by_key.push((k.to_string(), kv.clone()));
+        }
+        let given: Vec<String> = by_key.into_iter().map(|(_, kv)| kv).collect();
+        let reference = rtl_flow::generate(&a.unit, &given)
+            .map_err(|e| format!("the reference ({}): {e}", given.join(" ")))?;
+        let work = a
+            .work
+            .clone()
+            .unwrap_or_else(|| crate::prove::default_work(&dut));
+        match a.property {
+            Property::Equiv => crate::prove::equiv(&crate::prove::EquivJob {
+                dut: &dut,
+                dut_verilog: a.verilog.as_deref(),
+                reference: &reference,
+                work: &work,
+            }),
+        }
+    };
+    match run() {
+        Ok(crate::prove::Outcome::Proved(m)) => {
+            println!("proved: {m}");
+            ExitCode::SUCCESS
+        }
+        Ok(crate::prove::Outcome::Counterexample(m)) => {
+            println!("counterexample: {m}");
+            ExitCode::from(1)
+        }
+        Ok(crate::prove::Outcome::Unknown(m)) => {
+            println!("not proved: {m}");
+            ExitCode::from(1)
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::from(2)
         }
     }

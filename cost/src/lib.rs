@@ -17,6 +17,7 @@ pub mod depth;
 pub mod dot_styles;
 pub mod fit;
 pub mod per_ray;
+pub mod prove;
 pub mod shell;
 pub mod sweep;
 pub mod synth;

@@ -7,12 +7,14 @@
 //! pay for themselves.
 
 use crate::synth;
+use golden_model::wide::WideFormat;
 use scene::bvh::Accel;
-use scene::render::render;
+use scene::render::{render, render_with};
 use scene::scene::Scene;
 use scene::stats::KindStats;
 use scene::tester::Golden;
-use scene::trace::{BundleOpts, TraceOpts};
+use scene::trace::{BundleOpts, TraceOpts, Tracer};
+use scene::wide::{Boxes, WideAccel};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -26,8 +28,11 @@ pub struct Role {
     pub params: &'static [&'static str],
 }
 
-/// The units of a ray's traversal, in the order of the table.
-pub const ROLES: [Role; 6] = [
+/// The units of a ray's traversal, in the order of the table. The cull
+/// test folds its planes into the child's box interval, which a conservative
+/// slab beside it computes from the ray's reciprocal direction (three
+/// reciprocals per instance entry): both are counted.
+pub const ROLES: [Role; 8] = [
     Role {
         role: "box test, single ray",
         unit: "silhouette",
@@ -42,6 +47,16 @@ pub const ROLES: [Role; 6] = [
         role: "cull test (per child)",
         unit: "cull",
         params: &["k=4", "plane_exp_bits=5", "plane_frac_bits=10", "stages=4"],
+    },
+    Role {
+        role: "box interval for a cull test",
+        unit: "slab",
+        params: &["rounding=conservative", "stages=4"],
+    },
+    Role {
+        role: "reciprocal direction for the interval (3 per instance entry)",
+        unit: "frecip",
+        params: &["round=rtz", "stages=4"],
     },
     Role {
         role: "cull terms (per ray and parent)",
@@ -60,15 +75,28 @@ pub const ROLES: [Role; 6] = [
     },
 ];
 
-/// The Xilinx LUT estimate of each role's unit ([`synth::xilinx_estimate`];
+/// The area of one unit: Xilinx 7-series LUTs and DSP48E1 blocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Area {
+    /// LUT1..LUT6
+    pub luts: u64,
+    /// DSP48E1
+    pub dsps: u64,
+}
+
+/// The Xilinx estimate of each role's unit ([`synth::xilinx_estimate`];
 /// `cached_only`: never run Yosys).
-pub fn unit_luts(cached_only: bool) -> Result<Vec<u64>, String> {
+pub fn unit_areas(cached_only: bool) -> Result<Vec<Area>, String> {
     ROLES
         .iter()
         .map(|r| {
             let p: Vec<String> = r.params.iter().map(|s| s.to_string()).collect();
             let g = rtl_flow::generate(r.unit, &p).map_err(|e| format!("{}: {e}", r.unit))?;
-            Ok(synth::xilinx_estimate(&g, cached_only)?.luts)
+            let x = synth::xilinx_estimate(&g, cached_only)?;
+            Ok(Area {
+                luts: x.luts,
+                dsps: x.dsps,
+            })
         })
         .collect()
 }
@@ -85,7 +113,7 @@ pub struct Workload {
     /// rays traced
     pub rays: u64,
     /// transactions per role
-    pub tests: [u64; 6],
+    pub tests: [u64; 8],
 }
 
 /// Renders `scene` (golden models) at `width` pixels with and without planes
@@ -123,6 +151,8 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
                     t.ray_box_tests,
                     t.bundle_tests,
                     t.cull_tests,
+                    t.cull_tests,
+                    if planes { 3 * t.transforms } else { 0 },
                     t.cull_ray_terms,
                     t.transforms,
                     t.tri_tests,
@@ -133,28 +163,132 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
     Ok(out)
 }
 
-/// LUT-cycles per ray of `w` with the units' `luts`.
-pub fn cost_per_ray(w: &Workload, luts: &[u64]) -> f64 {
-    let total: f64 = w
-        .tests
-        .iter()
-        .zip(luts)
-        .map(|(&n, &l)| n as f64 * l as f64)
-        .sum();
-    total / w.rays.max(1) as f64
+/// One scene's render over a wide BVH (`per-ray --wide N`): the same tree
+/// traced with its compressed nodes through the node tester's golden model,
+/// and with exact binary32 child boxes (the denominator that keeps a looser
+/// node test from hiding behind an identical image).
+#[derive(Debug, Clone)]
+pub struct WideWorkload {
+    /// scene file name
+    pub scene: String,
+    /// the node shape
+    pub format: WideFormat,
+    /// counters with the compressed nodes (node tester)
+    pub node: KindStats,
+    /// counters with exact binary32 child boxes
+    pub exact: KindStats,
+    /// both renders equal the binary32 single-ray render (hits, `t`, colour)
+    pub same_image: bool,
+}
+
+impl WideWorkload {
+    /// Child tests per ray with the compressed nodes over those with exact boxes.
+    pub fn child_test_ratio(&self) -> f64 {
+        self.node.child_tests as f64 / self.exact.child_tests.max(1) as f64
+    }
+}
+
+/// Renders `scene` (golden models, single rays, no planes) at `width` pixels
+/// over its wide BVH of `format`, with the compressed nodes and with exact
+/// boxes, and checks both against the binary BVH's render.
+pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<WideWorkload, String> {
+    let s = Scene::load(scene).map_err(|e| e.to_string())?;
+    let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+    let acc = Accel::build(&s, false);
+    let wide = WideAccel::build(&acc, format)?;
+    let opts = TraceOpts::single_rays();
+    let golden = Golden::default();
+    let binary = render(&s, &acc, &golden, opts, width, h, false);
+    let run = |boxes: Boxes| {
+        let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
+        render_with(&s, &acc, &tracer, width, h, false)
+    };
+    let (node, exact) = (run(Boxes::Compressed), run(Boxes::Exact));
+
+    Ok(WideWorkload {
+        scene: scene
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        format,
+        same_image: node.same_image(&binary) && exact.same_image(&binary),
+        node: node.stats.total(),
+        exact: exact.stats.total(),
+    })
+}
+
+/// The wide report: per scene the transactions per ray with the compressed
+/// nodes and with exact boxes, then one line per scene
+/// `child tests per ray q=<q> / binary32: <scene> <ratio>`.
+pub fn wide_markdown(loads: &[WideWorkload]) -> String {
+    let mut s = String::from(
+        "Per ray over a wide BVH (golden render, single rays, no planes; the node unit's \
+         per-node block is not built yet, so no LUT-cycles):\n\n\
+         | scene | N | q | rays | node tests / ray | child tests / ray | node bytes / ray | transforms / ray | triangle tests / ray | binary32 boxes: child tests / ray | node bytes / ray | image = binary32 single-ray render |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for w in loads {
+        let (k, e) = (&w.node, &w.exact);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.2} | {:.2} | {:.0} | {} |",
+            w.scene,
+            w.format.children(),
+            w.format.box_bits(),
+            k.rays,
+            k.per_ray(k.node_visits),
+            k.per_ray(k.child_tests),
+            k.per_ray(k.node_bytes),
+            k.per_ray(k.transforms),
+            k.per_ray(k.tri_tests),
+            e.per_ray(e.child_tests),
+            e.per_ray(e.node_bytes),
+            if w.same_image { "yes" } else { "NO" }
+        );
+    }
+    s.push('\n');
+    for w in loads {
+        let _ = writeln!(
+            s,
+            "child tests per ray q={} / binary32: {} {:.4}",
+            w.format.box_bits(),
+            w.scene,
+            w.child_test_ratio()
+        );
+    }
+    s
+}
+
+/// LUT-cycles and DSP-cycles per ray of `w` with the units' `areas`.
+pub fn cost_per_ray(w: &Workload, areas: &[Area]) -> (f64, f64) {
+    let rays = w.rays.max(1) as f64;
+    let sum = |f: fn(&Area) -> u64| {
+        w.tests
+            .iter()
+            .zip(areas)
+            .map(|(&n, a)| n as f64 * f(a) as f64)
+            .sum::<f64>()
+            / rays
+    };
+    (sum(|a| a.luts), sum(|a| a.dsps))
 }
 
 /// The report: the units' areas (when synthesised), then per scene and
 /// configuration the transactions per ray and, with areas, the LUT-cycles
-/// per ray.
-pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
+/// and DSP-cycles per ray (a design must not meet a LUT figure by moving
+/// logic into DSP blocks unreported).
+pub fn markdown(areas: Option<&[Area]>, loads: &[Workload]) -> String {
     let mut s = String::new();
-    if let Some(luts) = luts {
-        s += "Units (binary32; Xilinx 7-series LUT, `synth_xilinx -flatten` synthesis estimates):\n\n\
-              | role | unit | parameters | xc7 LUT |\n|---|---|---|---|\n";
-        for (r, l) in ROLES.iter().zip(luts) {
+    if let Some(areas) = areas {
+        s += "Units (binary32; Xilinx 7-series, `synth_xilinx -flatten` synthesis estimates):\n\n\
+              | role | unit | parameters | xc7 LUT | DSP48E1 |\n|---|---|---|---|---|\n";
+        for (r, a) in ROLES.iter().zip(areas) {
             let p = r.params.join(" ");
-            let _ = writeln!(s, "| {} | `{}` | {p} | {l} |", r.role, r.unit);
+            let _ = writeln!(
+                s,
+                "| {} | `{}` | {p} | {} | {} |",
+                r.role, r.unit, a.luts, a.dsps
+            );
         }
         s.push('\n');
     }
@@ -163,8 +297,8 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
     for r in &ROLES {
         let _ = write!(s, " {} / ray |", r.role);
     }
-    s += if luts.is_some() {
-        " LUT-cycles / ray |\n|---|---|---|---|---|"
+    s += if areas.is_some() {
+        " LUT-cycles / ray | DSP-cycles / ray |\n|---|---|---|---|---|---|"
     } else {
         "\n|---|---|---|---|"
     };
@@ -185,8 +319,9 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
         for &n in &w.tests {
             let _ = write!(s, " {:.2} |", n as f64 / w.rays.max(1) as f64);
         }
-        if let Some(l) = luts {
-            let _ = write!(s, " {:.0} |", cost_per_ray(w, l));
+        if let Some(a) = areas {
+            let (luts, dsps) = cost_per_ray(w, a);
+            let _ = write!(s, " {luts:.0} | {dsps:.1} |");
         }
         s.push('\n');
     }
@@ -196,7 +331,7 @@ pub fn markdown(luts: Option<&[u64]>, loads: &[Workload]) -> String {
 /// Bars of LUT-cycles per ray, one series per configuration, one group per
 /// scene: `<dir>/cost_per_ray.png` and `.svg`.
 pub fn chart(
-    luts: &[u64],
+    areas: &[Area],
     loads: &[Workload],
     dir: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Box<dyn std::error::Error>> {
@@ -232,7 +367,7 @@ pub fn chart(
                 .map(|w| {
                     // the four configurations side by side around the scene's index
                     let x = scenes.iter().position(|s| *s == w.scene).unwrap_or(0) as f64;
-                    let v = cost_per_ray(w, luts);
+                    let v = cost_per_ray(w, areas).0;
                     let x = x + 1.0 + (k as f64 - 1.5) * 0.12;
                     // (leading spaces: the label starts under the marker)
                     let label = if v >= 1e6 {

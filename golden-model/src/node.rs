@@ -820,7 +820,8 @@ fn near_cell(l: &SlabTerms, d: i64, f: i64, top: i64) -> i64 {
     (v >> f).clamp(0, top as i128 + 1) as i64
 }
 
-/// The exit bound's grid cell `clamp(⌈v / 2^f⌉, −1, far_top)`, with
+/// The exit bound's grid cell `clamp(⌈v / 2^f⌉, −1, far_top)`, or −1 when
+/// `v < 0` (the exit is before the window start), with
 /// `v = at[n0 − 1] + (d + 1)·slope_dn`, `at[n0]` or `at[n0 + 1] + (d − 1)·slope_up`.
 fn far_cell(l: &SlabTerms, d: i64, f: i64, far_top: i64) -> i64 {
     let (base, k, slope) = match d {
@@ -834,6 +835,11 @@ fn far_cell(l: &SlabTerms, d: i64, f: i64, far_top: i64) -> i64 {
         (Some(b), None) => b as i128,
         (Some(b), Some(s)) => b as i128 + k as i128 * s as i128,
     };
+    if v < 0 {
+        // the exit is before the window start: no `t` of the window is in the
+        // child, however close (rays leaving a surface start just past its box)
+        return -1;
+    }
     // ⌈v / 2^f⌉ = −⌊−v / 2^f⌋
     (-((-v) >> f)).clamp(-1, far_top as i128) as i64
 }

@@ -352,6 +352,32 @@ impl Generated {
         Ok(written)
     }
 
+    /// Takes the text of every module file present in `dir` (same file name)
+    /// instead of the generated one: an engineer's edited copy of the design,
+    /// simulated (`rtl-gen sim --verilog`) or proved (`rtl-gen prove
+    /// --verilog`) as the unit. The top module's file must be there; returns
+    /// how many files were taken.
+    pub fn use_verilog_from(&mut self, dir: &Path) -> Result<usize, FlowError> {
+        let top = format!("{}.v", self.module.name);
+        if !dir.join(&top).is_file() {
+            return Err(FlowError::Sim(sim::SimError::Invalid(format!(
+                "--verilog {}: no {top} there (the top module of {} {})",
+                dir.display(),
+                self.unit,
+                self.param_args()
+            ))));
+        }
+        let mut taken = 0;
+        for f in &mut self.files {
+            let path = dir.join(&f.file_name);
+            if path.is_file() {
+                f.text = std::fs::read_to_string(&path).map_err(|e| FlowError::Io(path, e))?;
+                taken += 1;
+            }
+        }
+        Ok(taken)
+    }
+
     /// The testbench of this unit and parameters.
     pub fn testbench(&self) -> Box<dyn Testbench> {
         let entry = find(&self.unit).expect("generated from a catalog unit");

@@ -8,11 +8,12 @@
 
 use crate::bvh::Accel;
 use crate::hybrid::{orders, render_async, render_sync, HybridOpts};
-use crate::render::render;
+use crate::render::{render, render_with};
 use crate::scene::Scene;
-use crate::stats::{bundle_savings, plane_savings, table};
+use crate::stats::{bundle_savings, plane_savings, table, wide_table};
 use crate::tester::{BoxTester, Exact, Golden, Reduced, Slab};
-use crate::trace::{BundleOpts, TraceOpts, TriTest};
+use crate::trace::{BundleOpts, TraceOpts, Tracer, TriTest};
+use crate::wide::{Boxes, WideAccel};
 use clap::{Subcommand, ValueEnum};
 use golden_model::float::FloatFormat;
 use golden_model::raycull::DepthFormat;
@@ -56,6 +57,54 @@ pub struct Common {
     tri: TriKind,
 }
 
+/// A traversal over a wide BVH instead of the binary one (docs/wide.md, docs/node.md).
+#[derive(clap::Args, Clone, Copy)]
+pub struct WideOpts {
+    /// trace through a wide BVH of N = 2, 4 or 8 children per compressed node, each node
+    /// tested by the node tester's golden model (single rays: no bundles, no cull planes)
+    #[arg(long, value_name = "N")]
+    wide: Option<usize>,
+    /// with --wide: bits per child box integer, q = 4..=16
+    #[arg(long, default_value_t = 8, requires = "wide")]
+    box_bits: u32,
+    /// with --wide: test the exact binary32 child boxes of the same tree (conservative slab)
+    /// instead of the compressed node
+    #[arg(long, requires = "wide")]
+    exact_boxes: bool,
+}
+
+impl WideOpts {
+    /// The wide shape and the boxes tested, if `--wide` is given.
+    pub fn shape(&self) -> Result<Option<(WideFormat, Boxes)>, String> {
+        let Some(n) = self.wide else {
+            return Ok(None);
+        };
+        let format = WideFormat::new(FloatFormat::BINARY32, n, self.box_bits)
+            .map_err(|e| format!("--wide {n} --box-bits {}: {e}", self.box_bits))?;
+        let boxes = if self.exact_boxes {
+            Boxes::Exact
+        } else {
+            Boxes::Compressed
+        };
+        Ok(Some((format, boxes)))
+    }
+}
+
+/// What a wide render's boxes are, for its summary line.
+fn wide_name(format: WideFormat, boxes: Boxes) -> String {
+    match boxes {
+        Boxes::Compressed => format!(
+            "node tester N={} q={}",
+            format.children(),
+            format.box_bits()
+        ),
+        Boxes::Exact => format!(
+            "conservative slab on exact binary32 child boxes, wide BVH N={}",
+            format.children()
+        ),
+    }
+}
+
 /// The ray/triangle test of a render.
 #[derive(Clone, Copy, ValueEnum)]
 pub enum TriKind {
@@ -93,6 +142,8 @@ pub enum Command {
         /// write every pixel's primary hit (instance, primitive, t) as text
         #[arg(long, value_name = "FILE")]
         dump_hits: Option<PathBuf>,
+        #[command(flatten)]
+        wide: WideOpts,
     },
     /// Hybrid raster + ray tracing (seed 002): synchronous and asynchronous
     /// renders for several primitive orders, counts of emitted/culled/traced rays.
@@ -233,8 +284,22 @@ fn run(command: Command) -> Result<ExitCode, String> {
             bundle_savings: bs,
             box_format,
             dump_hits,
+            wide,
         } => {
             let (s, w, h, mut opts) = setup(&c)?;
+            let wide = wide.shape()?;
+            if wide.is_some() && (box_format.is_some() || !matches!(box_kind, BoxKind::Golden)) {
+                return Err(
+                    "--wide tests boxes with the node tester: no --box or --box-format".into(),
+                );
+            }
+            if wide.is_some() && (ps || bs) {
+                return Err("--wide traces single rays without cull planes: no --plane-savings or --bundle-savings".into());
+            }
+            if wide.is_some() {
+                opts.planes = false;
+                opts.bundles.enabled = false;
+            }
             let reduced = match &box_format {
                 None => None,
                 Some(name) => {
@@ -259,13 +324,26 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 BoxKind::Exact => Box::new(Exact),
                 BoxKind::Slab => Box::new(Slab),
             };
-            let f = render(&s, &acc, tester.as_ref(), opts, w, h, true);
+            let tracer = Tracer::new(&s, &acc, tester.as_ref(), opts);
+            let wide_accel = match wide {
+                Some((format, _)) => Some(WideAccel::build(&acc, format)?),
+                None => None,
+            };
+            let tracer = match (&wide_accel, wide) {
+                (Some(wa), Some((_, boxes))) => tracer.with_wide(wa, boxes),
+                _ => tracer,
+            };
+            let f = render_with(&s, &acc, &tracer, w, h, true);
+            let tester_name = match wide {
+                Some((format, boxes)) => wide_name(format, boxes),
+                None => tester.name().to_string(),
+            };
             f.save_png(&out)?;
             if let Some(path) = &dump_hits {
                 let header = format!(
                     "render --dump-hits: {} {w}x{h}, box tester {}{}\ncamera: pixel (x, y) looks along forward + sx*right + sy*up, sx, sy the pixel centre on the image plane at distance 1 (x right, y down); t in units of that direction",
                     s.path.display(),
-                    tester.name(),
+                    tester_name,
                     box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default()
                 );
                 std::fs::write(path, f.hits_text(&header))
@@ -276,7 +354,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 s.path.display(),
                 w,
                 h,
-                tester.name(),
+                tester_name,
                 box_format
                     .as_deref()
                     .map(|b| format!(" {b}"))
@@ -291,7 +369,11 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 f.rays() as f64 / f.time.as_secs_f64(),
                 out.display()
             );
-            println!("\n{}", table(&f.stats));
+            if wide.is_some() {
+                println!("\n{}", wide_table(&f.stats));
+            } else {
+                println!("\n{}", table(&f.stats));
+            }
             if ps && opts.planes {
                 let g = render(
                     &s,

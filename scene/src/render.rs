@@ -357,6 +357,17 @@ impl Frame {
     pub fn same_hits(&self, other: &Frame) -> bool {
         self.w == other.w && self.h == other.h && self.ids == other.ids && self.t == other.t
     }
+    /// Every pixel's primary hit, `t` and colour (bits) equal `other`'s.
+    pub fn same_image(&self, other: &Frame) -> bool {
+        self.ids == other.ids
+            && self.t == other.t
+            && self
+                .color
+                .iter()
+                .zip(&other.color)
+                .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
+    }
+
     /// Total rays traced.
     pub fn rays(&self) -> u64 {
         self.stats.total().rays
@@ -400,8 +411,27 @@ pub fn render(
     h: u32,
     progress: bool,
 ) -> Frame {
+    render_with(
+        scene,
+        accel,
+        &Tracer::new(scene, accel, tester, opts),
+        w,
+        h,
+        progress,
+    )
+}
+
+/// [`render`] with a tracer of the caller's (e.g. over a wide BVH,
+/// `Tracer::with_wide`).
+pub fn render_with(
+    scene: &Scene,
+    accel: &Accel,
+    tracer: &Tracer,
+    w: u32,
+    h: u32,
+    progress: bool,
+) -> Frame {
     let start = Instant::now();
-    let tracer = Tracer::new(scene, accel, tester, opts);
     let cam = Cam::new(scene, w, h);
     let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
@@ -421,7 +451,7 @@ pub fn render(
     let outs: Vec<TileOut> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
-            let out = render_tile(scene, accel, &tracer, &cam, x0, y0, w, h);
+            let out = render_tile(scene, accel, tracer, &cam, x0, y0, w, h);
             pb.inc(1);
             out
         })

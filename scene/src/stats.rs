@@ -67,6 +67,12 @@ pub struct KindStats {
     pub culled_leaf_tris: u64,
     /// instance transforms (per ray)
     pub transforms: u64,
+    /// wide traversal (`render --wide`): wide nodes tested (TLAS and BLAS)
+    pub node_visits: u64,
+    /// ... node record bytes fetched
+    pub node_bytes: u64,
+    /// ... child boxes tested (valid slots of the visited nodes)
+    pub child_tests: u64,
 }
 
 impl KindStats {
@@ -90,6 +96,13 @@ impl KindStats {
         self.culled_leaves += o.culled_leaves;
         self.culled_leaf_tris += o.culled_leaf_tris;
         self.transforms += o.transforms;
+        self.node_visits += o.node_visits;
+        self.node_bytes += o.node_bytes;
+        self.child_tests += o.child_tests;
+    }
+    /// `x` per ray.
+    pub fn per_ray(&self, x: u64) -> f64 {
+        x as f64 / self.rays.max(1) as f64
     }
     /// Box tests (single and bundle) per ray.
     pub fn box_tests_per_ray(&self) -> f64 {
@@ -157,6 +170,34 @@ pub fn table(s: &Stats) -> String {
     }
     out += &row("all", &s.total());
     out.push('\n');
+    out
+}
+
+/// Markdown table of a wide traversal's counters (`render --wide`) per ray type and in total.
+pub fn wide_table(s: &Stats) -> String {
+    let row = |name: &str, k: &KindStats| {
+        format!(
+            "| {name} | {} | {} | {:.2} | {:.0} | {:.2} | {:.2} | {:.2} | {} |\n",
+            k.rays,
+            k.hits,
+            k.per_ray(k.node_visits),
+            k.per_ray(k.node_bytes),
+            k.per_ray(k.child_tests),
+            k.per_ray(k.leaf_visits),
+            k.per_ray(k.tri_tests),
+            k.transforms,
+        )
+    };
+    let mut out = String::from(
+        "| rays | count | hits | node visits/ray | node bytes/ray | child tests/ray | leaf visits/ray | tri tests/ray | transforms |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for k in RayKind::ALL {
+        let ks = &s.kinds[k as usize];
+        if ks.rays > 0 {
+            out += &row(k.name(), ks);
+        }
+    }
+    out += &row("all", &s.total());
     out
 }
 

@@ -17,6 +17,7 @@ use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use crate::units::{ChildTestIn, RayTermsIn, Units};
+use crate::wide::{Boxes, WideAccel};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{box_interval, slab_reciprocal, NormalTerm};
 use golden_model::float::FloatFormat;
@@ -196,6 +197,21 @@ pub struct TraceOpts {
     pub tri: TriTest,
 }
 
+impl TraceOpts {
+    /// Single rays without cull planes (the reference of the wide traversal,
+    /// which traces that way).
+    pub fn single_rays() -> TraceOpts {
+        TraceOpts {
+            planes: false,
+            bundles: BundleOpts {
+                enabled: false,
+                ..BundleOpts::default()
+            },
+            ..TraceOpts::default()
+        }
+    }
+}
+
 impl Default for TraceOpts {
     fn default() -> Self {
         TraceOpts {
@@ -292,7 +308,9 @@ pub struct Tracer<'a> {
     /// options
     pub opts: TraceOpts,
     /// the transform, cull and triangle units (the box tester's)
-    units: &'a dyn Units,
+    pub(crate) units: &'a dyn Units,
+    /// traverse this wide BVH instead ([`Tracer::with_wide`])
+    wide: Option<(&'a WideAccel, Boxes)>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -406,14 +424,83 @@ impl<'a> Tracer<'a> {
             tester,
             opts,
             units: tester.units(),
+            wide: None,
         }
     }
 
-    /// Traces the rays `idxs` of `rays` as one bundle (or one ray).
+    /// The same tracer over the wide BVH `wide` of its [`Accel`]
+    /// (`render --wide`): single rays, no planes, each wide node tested by the
+    /// node tester's golden model ([`Boxes::Compressed`]) or by the
+    /// conservative slab on exact binary32 child boxes ([`Boxes::Exact`]).
+    pub fn with_wide(mut self, wide: &'a WideAccel, boxes: Boxes) -> Tracer<'a> {
+        self.opts.bundles.enabled = false;
+        self.opts.planes = false;
+        self.wide = Some((wide, boxes));
+        self
+    }
+
+    /// Brings ray `r` (id `id`) into instance `x`'s model space: the
+    /// transform unit (or plain f32 arithmetic for the f32 baseline), the
+    /// slab's reciprocal and, for `--tri golden`, the triangle unit's shear.
+    pub(crate) fn enter_model(&self, r: &mut TRay, x: &InstanceXf, id: u64) {
+        if self.opts.f32_transform {
+            let inv = x.inv_bits.map(|b| f32::from_bits(b as u32));
+            let t = x.t_bits.map(|b| f32::from_bits(b as u32));
+            let xo = [0, 1, 2].map(|k| r.o_w[k] - t[k]);
+            let mv = |v: [f32; 3]| {
+                [0, 1, 2].map(|k| inv[3 * k] * v[0] + inv[3 * k + 1] * v[1] + inv[3 * k + 2] * v[2])
+            };
+            r.o = mv(xo).map(bits);
+            r.d = mv(r.d_w).map(bits);
+            r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
+        } else {
+            r.enter_instance(self.units, x, id);
+        }
+        if self.opts.tri == TriTest::Golden {
+            r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);
+        }
+    }
+
+    /// The triangles `tris` of mesh `m` (instance `inst`) against the
+    /// model-space ray `r`: the nearest hit kept as the minimum of `(t,
+    /// instance, triangle)`, an any-hit ray done at its first hit.
+    pub(crate) fn leaf(&self, r: &mut TRay, inst: u32, m: &Mesh, tris: &[u32], st: &mut KindStats) {
+        let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
+        let d = r.d.map(|b| f32::from_bits(b as u32) as f64);
+        for &t in tris {
+            st.tri_tests += 1;
+            let v = m.corners(t);
+            let found = match self.opts.tri {
+                TriTest::F64 => intersect(&o, &d, &v, r.hit.t),
+                TriTest::Golden => unit_triangle(self.units, r, &v),
+                TriTest::Exact => exact_triangle(r, &v),
+            };
+            if let Some(th) = found {
+                if (th, inst, t) < (r.hit.t, r.hit.inst, r.hit.prim) {
+                    r.hit = Hit {
+                        t: th,
+                        inst,
+                        prim: t,
+                    };
+                }
+                if r.any {
+                    r.done = true;
+                    return;
+                }
+            }
+        }
+    }
+
+    /// Traces the rays `idxs` of `rays` as one bundle (or one ray; over a
+    /// wide BVH, one by one).
     pub fn trace(&self, rays: &mut [TRay], idxs: &[usize], kind: RayKind, st: &mut Stats) {
         let ks = &mut st.kinds[kind as usize];
         ks.rays += idxs.len() as u64;
-        if !self.accel.tlas.nodes.is_empty() {
+        if let Some((wide, boxes)) = self.wide {
+            for &i in idxs {
+                self.trace_wide(wide, boxes, &mut rays[i], i as u64, ks);
+            }
+        } else if !self.accel.tlas.nodes.is_empty() {
             // lists are recycled across the traversals of one thread
             let mut scratch = SCRATCH.with(|p| std::mem::take(&mut *p.borrow_mut()));
             let list = scratch.list_of(idxs);
@@ -517,25 +604,8 @@ impl<'a> Tracer<'a> {
         let mut live = scratch.list_of(idxs);
         live.retain(|&i| !rays[i].done);
         for &i in &live {
-            let r = &mut rays[i];
             st.transforms += 1;
-            if self.opts.f32_transform {
-                let inv = x.inv_bits.map(|b| f32::from_bits(b as u32));
-                let t = x.t_bits.map(|b| f32::from_bits(b as u32));
-                let xo = [0, 1, 2].map(|k| r.o_w[k] - t[k]);
-                let mv = |v: [f32; 3]| {
-                    [0, 1, 2]
-                        .map(|k| inv[3 * k] * v[0] + inv[3 * k + 1] * v[1] + inv[3 * k + 2] * v[2])
-                };
-                r.o = mv(xo).map(bits);
-                r.d = mv(r.d_w).map(bits);
-                r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
-            } else {
-                r.enter_instance(self.units, x, i as u64);
-            }
-            if self.opts.tri == TriTest::Golden {
-                r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);
-            }
+            self.enter_model(&mut rays[i], x, i as u64);
         }
         let blas = &self.accel.blas[x.mesh];
         let mut root_terms =
@@ -659,33 +729,8 @@ impl<'a> Tracer<'a> {
                 let m = self.meshes[mesh];
                 let tris = blas.bvh.leaf_tris(node);
                 for &i in surv.iter() {
-                    let r = &mut rays[i];
                     st.leaf_visits += 1;
-                    let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
-                    let d = r.d.map(|b| f32::from_bits(b as u32) as f64);
-                    for &t in tris {
-                        st.tri_tests += 1;
-                        let v = m.corners(t);
-                        let found = match self.opts.tri {
-                            TriTest::F64 => intersect(&o, &d, &v, r.hit.t),
-                            TriTest::Golden => unit_triangle(self.units, r, &v),
-                            TriTest::Exact => exact_triangle(r, &v),
-                        };
-                        if let Some(th) = found {
-                            let better = (th, inst, t) < (r.hit.t, r.hit.inst, r.hit.prim);
-                            if better {
-                                r.hit = Hit {
-                                    t: th,
-                                    inst,
-                                    prim: t,
-                                };
-                            }
-                            if r.any {
-                                r.done = true;
-                                break;
-                            }
-                        }
-                    }
+                    self.leaf(&mut rays[i], inst, m, tris, st);
                 }
             }
             NodeKind::Inner { left, right } => {

@@ -20,11 +20,13 @@
 //! are consecutive from its `child_base`, its leaf slots' primitives
 //! consecutive in [`WideBvh::prims`] from its `prim_base`.
 //!
-//! **Traversal** ([`WideTracer`]): per node, every valid slot's box is tested
-//! by the conservative slab (`golden_model::slab::eval_conservative`,
-//! binary32) against the decoded box rounded outward to binary32
-//! ([`Boxes::Compressed`]) or against the exact binary32 child box
-//! ([`Boxes::Exact`], the baseline); hit children nearer first. A
+//! **Traversal** (`trace::Tracer::with_wide`, single rays): per node, the
+//! node tester's golden model (`golden_model::node`, the `node` unit's
+//! transaction: every valid slot tested conservatively against its decoded
+//! box, the slots returned sorted, hits first and nearer first;
+//! [`Boxes::Compressed`]), or as the baseline the conservative slab
+//! (`golden_model::slab::eval_conservative`, binary32) on every exact
+//! binary32 child box, hits sorted by entry ([`Boxes::Exact`]). A
 //! conservative test never misses a child the ray truly reaches, and the
 //! decoded box contains the exact one, so both find the same nearest hit as
 //! the binary BVH (docs/scene.md §3's argument; tested).
@@ -32,11 +34,13 @@
 use crate::bvh::Accel;
 use crate::render::Cam;
 use crate::scene::Scene;
-use crate::trace::{intersect, Hit, TRay};
-use crate::units::GoldenUnits;
-use golden_model::cull::bvh::{Bvh, Mesh, NodeKind};
+use crate::stats::{KindStats, RayKind, Stats};
+use crate::tester::Exact;
+use crate::trace::{Hit, TRay, TraceOpts, Tracer};
+use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
 use golden_model::float::FloatFormat;
+use golden_model::node::{self, NodeIn, NodeParams, Ray as NodeRay};
 use golden_model::slab::{eval_conservative, SlabIn};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
 use rayon::prelude::*;
@@ -54,8 +58,6 @@ pub struct WideBvh {
     /// per node and slot: the exact child box (the binary node's binary32
     /// box; zero in empty slots)
     pub exact: Vec<[Box32; MAX_CHILDREN]>,
-    /// per node and slot: the decoded box rounded outward to binary32
-    pub decoded: Vec<[Box32; MAX_CHILDREN]>,
     /// primitive (triangle or instance) indices, grouped by leaf slot
     pub prims: Vec<u32>,
 }
@@ -141,7 +143,6 @@ impl WideBvh {
             format,
             nodes: Vec::new(),
             exact: Vec::new(),
-            decoded: Vec::new(),
             prims: Vec::new(),
         };
         if bvh.nodes.is_empty() {
@@ -180,19 +181,8 @@ impl WideBvh {
             }
             let node = encode(format, &slots, child_base, prim_base)
                 .map_err(|e| format!("wide node {} (binary node {at}): {e}", w.nodes.len()))?;
-            let mut decoded = [([0f32; 3], [0f32; 3]); MAX_CHILDREN];
-            for (i, d) in decoded.iter_mut().enumerate().take(roots.len()) {
-                let (lo, hi) = node
-                    .decoded_outward(format, i, FloatFormat::BINARY32)
-                    .expect("a valid slot");
-                *d = (
-                    lo.map(|b| f32::from_bits(b as u32)),
-                    hi.map(|b| f32::from_bits(b as u32)),
-                );
-            }
             w.nodes.push(node);
             w.exact.push(exact);
-            w.decoded.push(decoded);
         }
         Ok(w)
     }
@@ -236,108 +226,74 @@ impl WideAccel {
 /// Which boxes a traversal tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Boxes {
-    /// the compressed node's decoded boxes, rounded outward to binary32
+    /// the compressed node, tested by the node tester (`golden_model::node`)
     Compressed,
     /// the exact binary32 child boxes (an uncompressed node of the same tree)
     Exact,
 }
 
-/// Counters of a wide traversal.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct WideStats {
-    /// rays traced
-    pub rays: u64,
-    /// wide nodes fetched (TLAS and BLAS)
-    pub node_visits: u64,
-    /// node bytes fetched
-    pub bytes: u64,
-    /// child box tests (valid slots of the visited nodes)
-    pub child_tests: u64,
-    /// ray/triangle tests
-    pub tri_tests: u64,
-    /// instance transforms
-    pub transforms: u64,
-}
-
-impl WideStats {
-    fn add(&mut self, o: &WideStats) {
-        self.rays += o.rays;
-        self.node_visits += o.node_visits;
-        self.bytes += o.bytes;
-        self.child_tests += o.child_tests;
-        self.tri_tests += o.tri_tests;
-        self.transforms += o.transforms;
-    }
-    /// Per ray.
-    pub fn per_ray(&self, v: u64) -> f64 {
-        v as f64 / self.rays.max(1) as f64
-    }
-}
-
-/// Traces rays through a [`WideAccel`].
-pub struct WideTracer<'a> {
-    /// the binary structure (instances, for the transforms)
-    pub accel: &'a Accel,
-    /// the wide trees
-    pub wide: &'a WideAccel,
-    /// the meshes (same indices as the BLAS)
-    pub meshes: Vec<&'a Mesh>,
-    /// the boxes tested
-    pub boxes: Boxes,
-}
-
-impl<'a> WideTracer<'a> {
-    /// A tracer over `wide`, built from `accel` of `scene`.
-    pub fn new(scene: &'a Scene, accel: &'a Accel, wide: &'a WideAccel, boxes: Boxes) -> Self {
-        WideTracer {
-            accel,
-            wide,
-            meshes: scene.meshes.iter().map(|(_, m)| m).collect(),
-            boxes,
-        }
-    }
-
-    fn node_bytes(&self) -> u64 {
-        match self.boxes {
-            Boxes::Compressed => self.wide.format.record_bytes() as u64,
-            Boxes::Exact => self.wide.format.baseline_bytes() as u64,
-        }
-    }
-
-    /// Traces one closest-hit or any-hit ray (its hit is updated).
-    pub fn trace(&self, r: &mut TRay, st: &mut WideStats) {
-        st.rays += 1;
-        let tlas = &self.wide.tlas;
-        if tlas.nodes.is_empty() {
-            return;
-        }
+impl Tracer<'_> {
+    /// Traces one ray (id `id`) through the wide BVH, counting into `st`.
+    pub(crate) fn trace_wide(
+        &self,
+        wide: &WideAccel,
+        boxes: Boxes,
+        r: &mut TRay,
+        id: u64,
+        st: &mut KindStats,
+    ) {
         let o = r.o_w.map(|v| v.to_bits() as u64);
         let inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d_w.map(|v| v.to_bits() as u64));
-        self.walk(tlas, o, inv_d, r, st, &mut |r, insts, st| {
-            for &i in insts {
-                self.enter_instance(i, r, st);
+        self.walk(&wide.tlas, boxes, o, inv_d, r, st, &mut |r, insts, st| {
+            for &inst in insts {
+                let x = &self.accel.instances[inst as usize];
+                st.transforms += 1;
+                self.enter_model(r, x, id);
+                let (o, inv_d) = (r.o, r.inv_d);
+                let mesh = self.meshes[x.mesh];
+                self.walk(
+                    &wide.blas[x.mesh],
+                    boxes,
+                    o,
+                    inv_d,
+                    r,
+                    st,
+                    &mut |r, tris, st| self.leaf(r, inst, mesh, tris, st),
+                );
                 if r.done {
-                    break;
+                    return;
                 }
             }
         });
     }
 
     /// Depth-first walk of one wide tree with the ray `(o, inv_d)` of its
-    /// space; `leaf` handles the primitives of a hit leaf slot.
+    /// space, a stack of the hit children not yet visited; `leaf` handles
+    /// the primitives of a hit leaf slot (leaves of a node first, nearest
+    /// first, then its inner children, nearest on top of the stack).
+    #[allow(clippy::too_many_arguments)]
     fn walk(
         &self,
         bvh: &WideBvh,
+        boxes: Boxes,
         o: [u64; 3],
         inv_d: [u64; 3],
         r: &mut TRay,
-        st: &mut WideStats,
-        leaf: &mut dyn FnMut(&mut TRay, &[u32], &mut WideStats),
+        st: &mut KindStats,
+        leaf: &mut dyn FnMut(&mut TRay, &[u32], &mut KindStats),
     ) {
+        if bvh.nodes.is_empty() {
+            return;
+        }
         let n = bvh.format.children();
-        let bytes = self.node_bytes();
+        let params = NodeParams::new(FloatFormat::BINARY32, n, bvh.format.box_bits())
+            .expect("a wide format is a valid node shape");
+        let bytes = match boxes {
+            Boxes::Compressed => bvh.format.record_bytes(),
+            Boxes::Exact => bvh.format.baseline_bytes(),
+        } as u64;
         let mut stack = vec![0u32];
-        let mut hits: Vec<(u32, usize)> = Vec::with_capacity(n);
+        let mut order: Vec<usize> = Vec::with_capacity(n);
         while let Some(id) = stack.pop() {
             if r.done {
                 return;
@@ -345,112 +301,98 @@ impl<'a> WideTracer<'a> {
             let id = id as usize;
             let node = &bvh.nodes[id];
             st.node_visits += 1;
-            st.bytes += bytes;
+            st.node_bytes += bytes;
+            st.child_tests += node.valid.count_ones() as u64;
             let t_max = r.box_t_max();
-            let boxes = match self.boxes {
-                Boxes::Compressed => &bvh.decoded[id],
-                Boxes::Exact => &bvh.exact[id],
-            };
-            hits.clear();
-            for (i, b) in boxes.iter().enumerate().take(n) {
-                if node.valid >> i & 1 == 0 {
-                    continue;
+            order.clear();
+            match boxes {
+                Boxes::Compressed => {
+                    // the node tester: slots sorted, hits first, nearer first
+                    let out = node::eval(
+                        params,
+                        &NodeRay {
+                            o,
+                            inv_d,
+                            t_min: 0,
+                            t_max,
+                        },
+                        &NodeIn::from_wide(node),
+                    );
+                    order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
                 }
-                st.child_tests += 1;
-                let out = eval_conservative(
-                    FloatFormat::BINARY32,
-                    &SlabIn {
-                        p_min: b.0.map(|v| v.to_bits() as u64),
-                        p_max: b.1.map(|v| v.to_bits() as u64),
-                        o,
-                        inv_d,
-                        t_min: 0,
-                        t_max,
-                    },
-                );
-                if out.hit {
-                    // nearer first: entry distances (non-negative here) order as their bits
-                    hits.push((out.t_enter as u32 & 0x7fff_ffff, i));
+                Boxes::Exact => {
+                    let mut hits: Vec<(u32, usize)> = (0..n)
+                        .filter(|&i| node.valid >> i & 1 == 1)
+                        .filter_map(|i| {
+                            let (lo, hi) = bvh.exact[id][i];
+                            let out = eval_conservative(
+                                FloatFormat::BINARY32,
+                                &SlabIn {
+                                    p_min: lo.map(|v| v.to_bits() as u64),
+                                    p_max: hi.map(|v| v.to_bits() as u64),
+                                    o,
+                                    inv_d,
+                                    t_min: 0,
+                                    t_max,
+                                },
+                            );
+                            // entry distances (non-negative here) order as their bits
+                            out.hit.then_some((out.t_enter as u32 & 0x7fff_ffff, i))
+                        })
+                        .collect();
+                    hits.sort_unstable();
+                    order.extend(hits.iter().map(|&(_, i)| i));
                 }
             }
-            hits.sort_unstable();
-            // leaves now, nearest first; inner children pushed far first
-            for &(_, i) in &hits {
+            for &i in &order {
                 if let ChildRef::Leaf { first, count } = node.child(i) {
+                    st.leaf_visits += 1;
                     leaf(r, &bvh.prims[first as usize..(first + count) as usize], st);
                     if r.done {
                         return;
                     }
                 }
             }
-            for &(_, i) in hits.iter().rev() {
+            for &i in order.iter().rev() {
                 if let ChildRef::Inner(c) = node.child(i) {
                     stack.push(c);
                 }
             }
         }
     }
+}
 
-    /// The ray into instance `inst`'s model space (the transform unit's
-    /// golden model, as the binary traversal does) and through its BLAS.
-    fn enter_instance(&self, inst: u32, r: &mut TRay, st: &mut WideStats) {
-        let x = &self.accel.instances[inst as usize];
-        st.transforms += 1;
-        r.enter_instance(GoldenUnits::get(), x, 0);
-        let inv_d = r.inv_d;
-        let mesh = self.meshes[x.mesh];
-        let blas = &self.wide.blas[x.mesh];
-        if blas.nodes.is_empty() {
-            return;
-        }
-        let o64 = r.o.map(|b| f32::from_bits(b as u32) as f64);
-        let d64 = r.d.map(|b| f32::from_bits(b as u32) as f64);
-        self.walk(blas, r.o, inv_d, r, st, &mut |r, tris, st| {
-            for &t in tris {
-                st.tri_tests += 1;
-                if let Some(th) = intersect(&o64, &d64, &mesh.corners(t), r.hit.t) {
-                    if (th, inst, t) < (r.hit.t, r.hit.inst, r.hit.prim) {
-                        r.hit = Hit {
-                            t: th,
-                            inst,
-                            prim: t,
-                        };
-                    }
-                    if r.any {
-                        r.done = true;
-                        return;
-                    }
-                }
-            }
-        });
+/// The camera's primary rays of a `w`×`h` image through `wide` (rows in
+/// parallel): per pixel, row-major, the nearest hit, and the counters.
+pub fn primary(
+    scene: &Scene,
+    accel: &Accel,
+    wide: &WideAccel,
+    boxes: Boxes,
+    w: u32,
+    h: u32,
+) -> (Vec<Hit>, KindStats) {
+    let tracer = Tracer::new(scene, accel, &Exact, TraceOpts::default()).with_wide(wide, boxes);
+    let cam = Cam::new(scene, w, h);
+    let rows: Vec<(Vec<Hit>, Stats)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut st = Stats::default();
+            let mut rays: Vec<TRay> = (0..w)
+                .map(|x| TRay::new(cam.o, cam.dir(x, y), f64::INFINITY, false))
+                .collect();
+            let idx: Vec<usize> = (0..rays.len()).collect();
+            tracer.trace(&mut rays, &idx, RayKind::Primary, &mut st);
+            (rays.iter().map(|r| r.hit).collect(), st)
+        })
+        .collect();
+    let mut st = Stats::default();
+    let mut hits = Vec::with_capacity((w * h) as usize);
+    for (row, s) in rows {
+        hits.extend(row);
+        st.add(&s);
     }
-
-    /// The camera's primary rays of a `w`×`h` image (rows in parallel):
-    /// per pixel, row-major, the nearest hit, and the counters.
-    pub fn primary(&self, scene: &Scene, w: u32, h: u32) -> (Vec<Hit>, WideStats) {
-        let cam = Cam::new(scene, w, h);
-        let rows: Vec<(Vec<Hit>, WideStats)> = (0..h)
-            .into_par_iter()
-            .map(|y| {
-                let mut st = WideStats::default();
-                let hits = (0..w)
-                    .map(|x| {
-                        let mut r = TRay::new(cam.o, cam.dir(x, y), f64::INFINITY, false);
-                        self.trace(&mut r, &mut st);
-                        r.hit
-                    })
-                    .collect();
-                (hits, st)
-            })
-            .collect();
-        let mut st = WideStats::default();
-        let mut hits = Vec::with_capacity((w * h) as usize);
-        for (row, s) in rows {
-            hits.extend(row);
-            st.add(&s);
-        }
-        (hits, st)
-    }
+    (hits, st.total())
 }
 
 /// One row of [`report`]: a scene's wide BVH of one shape and its camera rays.
@@ -460,10 +402,10 @@ pub struct ReportRow {
     pub format: WideFormat,
     /// wide nodes (TLAS and every BLAS)
     pub nodes: u64,
-    /// the traversal with the decoded child boxes
-    pub compressed: WideStats,
+    /// the traversal with the node tester on the compressed nodes
+    pub compressed: KindStats,
     /// the same tree with exact binary32 child boxes
-    pub exact: WideStats,
+    pub exact: KindStats,
     /// both traversals found the same nearest hit on every pixel
     pub same_hits: bool,
 }
@@ -489,9 +431,8 @@ pub fn report(
         .iter()
         .map(|&format| {
             let wide = WideAccel::build(accel, format)?;
-            let (hq, sq) =
-                WideTracer::new(scene, accel, &wide, Boxes::Compressed).primary(scene, w, h);
-            let (he, se) = WideTracer::new(scene, accel, &wide, Boxes::Exact).primary(scene, w, h);
+            let (hq, sq) = primary(scene, accel, &wide, Boxes::Compressed, w, h);
+            let (he, se) = primary(scene, accel, &wide, Boxes::Exact, w, h);
             let key = |h: &Hit| (h.inst, h.prim, h.t.to_bits());
             Ok(ReportRow {
                 format,
@@ -521,10 +462,10 @@ pub fn report_table(rows: &[(String, ReportRow)]) -> String {
             f.record_bytes(),
             r.nodes * f.record_bytes() as u64,
             c.per_ray(c.node_visits),
-            c.per_ray(c.bytes),
+            c.per_ray(c.node_bytes),
             c.per_ray(c.child_tests),
             f.baseline_bytes(),
-            e.per_ray(e.bytes),
+            e.per_ray(e.node_bytes),
             e.per_ray(e.child_tests),
             r.child_test_ratio(),
             if r.same_hits { "yes" } else { "NO" }

@@ -10,11 +10,11 @@ use golden_model::cull::bvh::{Bvh, Node, NodeKind};
 use golden_model::float::FloatFormat;
 use golden_model::wide::{ChildRef, WideFormat, MAX_CHILDREN};
 use scene::bvh::Accel;
-use scene::render::render;
+use scene::render::{render, render_with, Frame};
 use scene::scene::Scene;
 use scene::tester::Golden;
-use scene::trace::{BundleOpts, TraceOpts};
-use scene::wide::{Boxes, WideAccel, WideBvh, WideTracer};
+use scene::trace::{TraceOpts, Tracer};
+use scene::wide::{primary, Boxes, WideAccel, WideBvh};
 use std::cmp::Ordering;
 use std::path::Path;
 
@@ -80,10 +80,6 @@ fn check_tree(w: &WideBvh, what: &str) -> f64 {
                     ok,
                     "{what}: node {id} slot {i} axis {a}: [{bmin}, {bmax}] vs {node:?}"
                 );
-                // the binary32 boxes the traversal tests contain the decoded box
-                let (dl, dh) = w.decoded[id][i];
-                assert!(cmp_decoded(o, ql, e, dl[a] as f64) != Ordering::Less);
-                assert!(cmp_decoded(o, qh, e, dh[a] as f64) != Ordering::Greater);
                 let step = 2f64.powi(e);
                 worst = worst.max(
                     ((bmin - (o + ql as f64 * step)) / extent)
@@ -265,44 +261,63 @@ fn the_collapse_is_cheaper_than_a_fixed_two_level_merge() {
     assert!(strictly > 0, "the collapse never beat the fixed merge");
 }
 
+/// The first pixel where two frames differ in hit, `t` or colour, if any.
+fn first_difference(a: &Frame, b: &Frame) -> Option<usize> {
+    (0..a.ids.len()).find(|&p| {
+        a.ids[p] != b.ids[p]
+            || (a.ids[p].0 != u32::MAX && a.t[p] != b.t[p])
+            || a.color[p].map(f32::to_bits) != b.color[p].map(f32::to_bits)
+    })
+}
+
+/// `render --wide`: every ray type (camera, shadow, AO) through the wide BVH,
+/// each node tested by the node tester's golden model, gives the binary32
+/// single-ray render pixel for pixel (hit, `t`, colour), and costs at most
+/// 1.10x the child tests of exact binary32 child boxes at q = 8 (issue 36's
+/// target: a looser node test fails here even with an identical image).
 #[test]
-fn wide_traversals_find_the_binary_bvh_nearest_hits() {
+fn wide_renders_are_the_binary32_single_ray_render() {
     for name in SCENES {
-        let s = load(name);
+        let mut s = load(name);
+        s.render.ao_rays = 2;
         let acc = Accel::build(&s, false);
         let (w, h) = (40, 28);
-        let opts = TraceOpts {
-            planes: false,
-            bundles: BundleOpts {
-                enabled: false,
-                ..BundleOpts::default()
-            },
-            ..TraceOpts::default()
-        };
-        let bin = render(&s, &acc, &Golden::default(), opts, w, h, false);
+        let opts = TraceOpts::single_rays();
+        let golden = Golden::default();
+        let bin = render(&s, &acc, &golden, opts, w, h, false);
         let hits = bin.ids.iter().filter(|k| k.0 != u32::MAX).count();
         assert!(hits > 0, "{name}: nothing hit");
         for (n, q) in [(2, 4), (4, 8), (8, 8), (8, 12)] {
             let wide =
                 WideAccel::build(&acc, WideFormat::new(FloatFormat::BINARY32, n, q).unwrap())
                     .unwrap();
+            let mut child_tests = Vec::new();
             for boxes in [Boxes::Compressed, Boxes::Exact] {
-                let (got, st) = WideTracer::new(&s, &acc, &wide, boxes).primary(&s, w, h);
-                for (p, g) in got.iter().enumerate() {
-                    assert_eq!(
-                        (g.inst, g.prim),
-                        bin.ids[p],
-                        "{name} N={n} q={q} {boxes:?}: pixel {p}"
+                let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
+                let f = render_with(&s, &acc, &tracer, w, h, false);
+                if let Some(p) = first_difference(&f, &bin) {
+                    panic!(
+                        "{name} N={n} q={q} {boxes:?}: pixel {p}: wide {:?} t {:#x} colour {:?}, binary {:?} t {:#x} colour {:?}",
+                        f.ids[p], f.t[p], f.color[p], bin.ids[p], bin.t[p], bin.color[p]
                     );
-                    if g.is_hit() {
-                        assert_eq!(
-                            g.t.to_bits(),
-                            bin.t[p],
-                            "{name} N={n} q={q} {boxes:?}: pixel {p} t"
-                        );
-                    }
                 }
+                let st = f.stats.total();
                 assert!(st.node_visits > 0 && st.child_tests >= st.node_visits);
+                child_tests.push(st.child_tests);
+                // the report's camera rays are the frame's
+                let (got, _) = primary(&s, &acc, &wide, boxes, w, h);
+                let ids: Vec<(u32, u32)> = got.iter().map(|g| (g.inst, g.prim)).collect();
+                assert_eq!(ids, bin.ids, "{name} N={n} q={q} {boxes:?}: primary()");
+            }
+            let ratio = child_tests[0] as f64 / child_tests[1] as f64;
+            println!(
+                "{name} N={n} q={q}: child tests node tester / exact binary32 boxes {ratio:.4}"
+            );
+            if q == 8 {
+                assert!(
+                    ratio <= 1.10,
+                    "{name} N={n} q=8: child tests {ratio:.4}x exact boxes"
+                );
             }
         }
     }

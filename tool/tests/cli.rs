@@ -1,22 +1,9 @@
 //! The `rtl-gen` command line, run as a user would.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn rtl_gen(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
-        .args(args)
-        .output()
-        .expect("rtl-gen runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use common::{rtl_gen, text};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);

@@ -201,11 +201,20 @@ pub(super) fn sim_file(
     unit: &UnitArgs,
     files: &FileArgs,
     compare: bool,
+    verilog: Option<&Path>,
     dir: Option<PathBuf>,
     cache: Option<PathBuf>,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    let g = unit.generate()?;
+    let mut g = unit.generate()?;
+    if let Some(v) = verilog {
+        let n = g.use_verilog_from(v)?;
+        eprintln!(
+            "simulating {n} of {} module files from {}",
+            g.files.len(),
+            v.display()
+        );
+    }
     let mut base = RunReport::new("sim", &g);
     base.input = Some(files.input.display().to_string());
     with_reports(base, reports, |report| {

@@ -86,6 +86,11 @@ pub enum Command {
         /// Skip the golden model: only simulate and write the results.
         #[arg(long)]
         rtl_only: bool,
+        /// Simulate the Verilog in DIR (files named as the generated ones, e.g. a hand-edited
+        /// copy, or the design of a `rtl-gen prove --verilog` counterexample) instead of the
+        /// generated files.
+        #[arg(long, value_name = "DIR")]
+        verilog: Option<PathBuf>,
         /// Where the generated files go (default: out/<module>).
         #[arg(long, value_name = "DIR")]
         dir: Option<PathBuf>,
@@ -260,10 +265,19 @@ pub fn main(command: Command) -> ExitCode {
             unit,
             files,
             rtl_only,
+            verilog,
             dir,
             cache,
             reports,
-        } => check::sim_file(&unit, &files, !rtl_only, dir, cache, &reports),
+        } => check::sim_file(
+            &unit,
+            &files,
+            !rtl_only,
+            verilog.as_deref(),
+            dir,
+            cache,
+            &reports,
+        ),
         Command::Golden {
             unit,
             files,

@@ -306,6 +306,10 @@ fn axis_cells(
         let cell = m.as_sint(cell);
         let cell = m.name(cell, "ceil_cell");
         let cell = m.scope("clamp", |m| clamp(m, cell, minus_one, far_top, cell_bits));
+        // an exit before the window start misses, even within one cell of it
+        let exits_before = m.msb(v);
+        let exits_before = m.name(exits_before, "exits_before");
+        let cell = m.mux(exits_before, minus_one, cell);
         let inf_moved = m.mux(before, r.far_inf_prev[a], r.far_inf_next[a]);
         let inf_base = m.mux(at_anchor, r.far_inf_n0[a], inf_moved);
         let any_steps = m.any_set(steps);

@@ -63,7 +63,7 @@ crate::params! {
         /// rays per group G (claims 3-4: their depth range against the tile's)
         group: u32 [1..=8] = 4,
         /// pipeline stages (latency in cycles), placed by the delay model
-        stages: u32 [0..=3] = 1,
+        stages: u32 [0..=4] = 1,
     }
 }
 
