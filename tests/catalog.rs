@@ -54,7 +54,7 @@ fn every_registered_unit_lints_and_matches_its_golden_model() {
 /// The reduced configuration of a unit: a narrower format (or narrower
 /// operands) than its defaults, from the parameters it has.
 fn reduced(entry: &rtl_flow::Entry) -> Vec<String> {
-    const NARROWER: [(&str, &str); 7] = [
+    const NARROWER: [(&str, &str); 8] = [
         ("exp_bits", "5"),
         ("frac_bits", "10"),
         ("to_exp_bits", "4"),
@@ -62,6 +62,7 @@ fn reduced(entry: &rtl_flow::Entry) -> Vec<String> {
         ("a_width", "8"),
         ("b_width", "8"),
         ("box_bits", "4"),
+        ("prim_bits", "8"),
     ];
     let specs = rtl_flow::param_specs(entry);
     NARROWER

@@ -14,6 +14,7 @@ pub mod mulcmp;
 pub mod node_child;
 pub mod node_sort;
 pub mod params;
+pub mod raycull;
 pub mod rays;
 pub mod regress;
 pub mod report;
@@ -108,6 +109,7 @@ pub fn catalog() -> Vec<Entry> {
         entry!(units::triangle::Triangle, triangle::TriangleBench),
         entry!(units::node_child::NodeChild, node_child::NodeChildBench),
         entry!(units::node_sort::NodeSort, node_sort::NodeSortBench),
+        entry!(units::raycull::RayCull, raycull::RayCullBench),
         entry!(units::float_ops::FADD),
         entry!(units::float_ops::FADD_DOWN_UP),
         entry!(units::float_ops::FMUL),

@@ -16,6 +16,7 @@ use crate::trace::{BundleOpts, TraceOpts, Tracer, TriTest};
 use crate::wide::{Boxes, WideAccel};
 use clap::{Subcommand, ValueEnum};
 use golden_model::float::FloatFormat;
+use golden_model::raycull::DepthFormat;
 use golden_model::wide::WideFormat;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -159,6 +160,27 @@ pub enum Command {
         /// contribution check then sees a later depth buffer than the cull)
         #[arg(long, default_value_t = 0)]
         result_latency: usize,
+        /// depth code format of the raster and the ray-cull unit: unorm16, unorm24, binary32
+        #[arg(long, default_value = "unorm24")]
+        depth: String,
+        /// rays per cull group (consecutive queued rays of one tile)
+        #[arg(long, default_value_t = 4)]
+        group: usize,
+        /// turn culling off (every ray traced; the contribution check still runs)
+        #[arg(long)]
+        no_cull: bool,
+        /// answer every cull and contribution check from the Verilated `raycull` unit
+        /// (each order's render is recorded with the golden model, run through the RTL,
+        /// and rendered again from the RTL's answers)
+        #[arg(long)]
+        rtl: bool,
+        /// shuffled orders to run (shuffle seeds 1..=N), besides the four fixed orders
+        #[arg(long, default_value_t = 1)]
+        shuffles: u64,
+        /// with --rtl: directory for the generated Verilog and the vector streams
+        /// (default: target/rtl-loop/<pid>)
+        #[arg(long)]
+        work: Option<PathBuf>,
     },
     /// RTL in the loop: record every box, transform, cull and triangle test of
     /// a (small) golden render, run them through the Verilated binary32 units
@@ -392,11 +414,32 @@ fn run(command: Command) -> Result<ExitCode, String> {
             out,
             rays_per_step,
             result_latency,
+            depth,
+            group,
+            no_cull,
+            rtl,
+            shuffles,
+            work,
         } => {
+            let work = work.unwrap_or_else(crate::rtl::default_work_dir);
+            let mut tally = crate::hybrid_rtl::RtlTally::default();
+            let depth = match depth.as_str() {
+                "unorm16" => DepthFormat::Unorm16,
+                "unorm24" => DepthFormat::Unorm24,
+                "binary32" => DepthFormat::Binary32,
+                other => {
+                    return Err(format!(
+                        "--depth: `{other}` is not a depth format (unorm16, unorm24, binary32)"
+                    ))
+                }
+            };
+            if !(1..=8).contains(&group) {
+                return Err(format!("--group: {group} is not in 1..=8"));
+            }
             let (s, w, h, opts) = setup(&c)?;
             let acc = build(&s, opts.planes);
             let g = Golden::default();
-            let sync = render_sync(&s, &acc, &g, opts, w, h);
+            let sync = render_sync(&s, &acc, &g, opts, w, h, depth);
             sync.save_png(&out)?;
             println!(
                 "{} {}x{} hybrid; synchronous: {} rays traced in {:.2} s -> {}\n",
@@ -407,41 +450,79 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 sync.time.as_secs_f64(),
                 out.display()
             );
-            println!("| order | emitted | culled: tile range | sample depth | generation | traced | discarded (contribution check) | superseded | used | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|");
-            for (name, order) in orders(&s, &acc, 1) {
-                let (f, k) = render_async(
-                    &s,
-                    &acc,
-                    &g,
-                    opts,
-                    w,
-                    h,
-                    &HybridOpts {
-                        order,
-                        rays_per_step,
-                        result_latency,
-                    },
-                );
+            println!("| order | emitted | culled: tile range | sample depth | generation | groups culled (rays) | traced | discarded (contribution check) | superseded | used | raycull transactions | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
+            let mut differ = Vec::new();
+            let mut runs = Vec::new();
+            for seed in 1..=shuffles.max(1) {
+                for (name, order) in orders(&s, &acc, seed) {
+                    if name == "shuffled" {
+                        runs.push((format!("shuffled {seed}"), order));
+                    } else if seed == 1 {
+                        runs.push((name.to_string(), order));
+                    }
+                }
+            }
+            for (name, order) in runs {
+                let hopts = HybridOpts {
+                    order,
+                    rays_per_step,
+                    result_latency,
+                    depth,
+                    group,
+                    cull: !no_cull,
+                };
+                let (f, k) = if rtl {
+                    crate::hybrid_rtl::hybrid_rtl(
+                        &s, &acc, &g, opts, w, h, &hopts, &work, &mut tally,
+                    )?
+                } else {
+                    render_async(&s, &acc, &g, opts, w, h, &hopts)
+                };
                 let same = f.ids == sync.ids
+                    && f.t == sync.t
                     && f.color
                         .iter()
                         .zip(&sync.color)
                         .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits));
                 println!(
-                    "| {name} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    "| {name} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} |",
                     k.emitted,
                     k.culled_tile,
                     k.culled_depth,
                     k.culled_generation,
+                    k.culled_groups,
+                    k.culled_group_rays,
                     k.traced,
                     k.discarded,
                     k.superseded,
                     k.used,
+                    k.unit_calls,
                     if same { "yes" } else { "NO" }
                 );
                 if !same {
-                    return Err(format!("{name}: asynchronous image differs"));
+                    differ.push(name);
                 }
+            }
+            println!();
+            let rtl_ok = tally.mismatches == 0 && tally.renders_differ == 0;
+            if rtl && rtl_ok {
+                println!("raycull: {} tests through RTL, identical", tally.tests);
+            } else if rtl {
+                println!(
+                    "raycull: {} tests through RTL, {} outputs differ from the golden model, {} replayed renders differ",
+                    tally.tests, tally.mismatches, tally.renders_differ
+                );
+            }
+            if differ.is_empty() && rtl_ok {
+                println!("hybrid: every order identical to the synchronous render");
+            } else {
+                if !differ.is_empty() {
+                    println!(
+                        "hybrid: order(s) {} differ from the synchronous render",
+                        differ.join(", ")
+                    );
+                }
+                return Ok(ExitCode::from(1));
             }
         }
         Command::RtlLoop { c, out, work } => {

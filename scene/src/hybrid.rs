@@ -1,37 +1,39 @@
-//! Hybrid rasterisation + ray tracing with depth-based ray culling (seed 002).
+//! Hybrid rasterisation + ray tracing with depth-based ray culling (seed 002),
+//! every cull decision by the golden model of the `raycull` unit
+//! (`golden_model::raycull`, docs/raycull.md).
 //!
 //! The raster pass finds the visible surface of each sample (one sample per
-//! pixel, at its centre): coverage and depth of a triangle at a sample are the
+//! pixel, at its centre): coverage and `t` of a triangle at a sample are the
 //! edge functions and `t` of the camera ray through the sample
-//! ([`crate::trace::intersect`], i.e. homogeneous 2D rasterisation), the depth
-//! test is LESS on `(t, instance, triangle)`, so ties are broken by the
-//! primitive id and the final surface does not depend on the primitive order.
+//! ([`crate::trace::intersect`], i.e. homogeneous 2D rasterisation); the
+//! depth is the **quantised code** of its view-space depth between the scene's
+//! near and far planes ([`depth_planes`], [`golden_model::raycull::quantize`];
+//! unorm16, unorm24 or binary32), and the depth test is LESS on `(code,
+//! primitive index)`, so ties are broken by the primitive and the final
+//! surface does not depend on the primitive order.
 //!
 //! **Asynchronous mode** ([`render_async`]): primitives are rasterised in a
-//! given order; whenever a primitive becomes the visible surface of a sample,
-//! the sample's generation (3 bits, FIG. 14 layout `pixel 26 | sample 3 |
-//! generation 3`) is incremented and the surface is shaded at once: it emits
-//! its shadow and AO rays, each tagged with the sample, the generation and the
-//! depth of the emitting surface. After each primitive a ray processor takes
-//! up to `rays_per_step` rays from the queue and
-//!
-//! 1. **tile stage** (claim 1): culls a ray whose depth lies outside its
-//!    8×8 tile's current `[min, max]` depth range (only `depth > max` can occur
-//!    with a LESS test; both sides are checked), no per-sample lookup;
-//! 2. **sample stage** (claims 5-8): culls a ray whose sample is now closer
-//!    than the ray's depth, or, at equal depth, whose generation differs
-//!    (a tie broken by primitive id);
-//! 3. traces the survivors (bundled, through the golden models);
-//! 4. **contribution check** (the description's verification logic): a result
-//!    is stored only if the ray's emitting surface (full instance/triangle id,
-//!    not the wrapping 3-bit generation) is still the sample's surface; a later
-//!    change of surface discards the sample's stored results.
+//! given order into one [`golden_model::raycull::TileBuffer`] per 8×8 tile;
+//! whenever a primitive becomes the visible surface of a sample, the sample's
+//! generation (3 bits, FIG. 14 layout `pixel 26 | sample 3 | generation 3`) is
+//! incremented and the surface is shaded at once: it emits its shadow and AO
+//! rays, each tagged with the depth code, the generation and the primitive.
+//! After each primitive a ray processor takes up to `rays_per_step` rays from
+//! the queue, in groups of up to G consecutive rays of one tile, and asks the
+//! unit: stage 1 (tile range, per ray and per group), stage 2 (sample depth,
+//! and generation at equal depth); it traces the survivors (bundled, through
+//! the golden models); when a result arrives the unit's **contribution
+//! check** (full primitive id and generation of the sample then) decides
+//! whether it is stored; a later change of surface discards the sample's
+//! stored results.
 //!
 //! When all primitives are done, the queue is drained the same way and each
 //! sample combines the results of its final surface's rays in emission order.
-//! **Synchronous mode** ([`render_sync`]): rasterise everything, shade the
-//! final surfaces, trace, combine. Both produce the same bits for every
-//! primitive order and interleaving (test `hybrid_identical.rs`).
+//! **Synchronous mode** ([`render_sync`]): rasterise everything (the same
+//! codes), shade the final surfaces, trace, combine. Both produce the same bits
+//! for every primitive order and interleaving (tests `hybrid_identical.rs`,
+//! `hybrid_rtl.rs`). [`render_async_with`] takes any answerer for the unit's
+//! transactions (`crate::hybrid_rtl`: the Verilated unit).
 
 use crate::bvh::Accel;
 use crate::render::{
@@ -42,6 +44,9 @@ use crate::scene::Scene;
 use crate::stats::Stats;
 use crate::tester::BoxTester;
 use crate::trace::{intersect, TraceOpts, Tracer, NONE};
+use golden_model::raycull::{
+    cull, quantize, Compare, Config, CullIn, CullOut, DepthFormat, RayTag, Slot, TileBuffer,
+};
 use std::collections::VecDeque;
 use std::time::Instant;
 
@@ -154,6 +159,10 @@ pub struct HybridCounts {
     pub culled_depth: u64,
     /// culled by the generation id at equal depth (stage 2)
     pub culled_generation: u64,
+    /// groups of rays culled whole by their depth range against the tile's
+    pub culled_groups: u64,
+    /// rays in those groups
+    pub culled_group_rays: u64,
     /// traced
     pub traced: u64,
     /// traced, but the result was rejected by the contribution check (stale)
@@ -162,6 +171,8 @@ pub struct HybridCounts {
     pub superseded: u64,
     /// rays whose results make the final image (= the synchronous render's ray count)
     pub used: u64,
+    /// transactions of the ray-cull unit (cull groups and contribution checks)
+    pub unit_calls: u64,
 }
 
 /// Options of the asynchronous path.
@@ -175,21 +186,85 @@ pub struct HybridOpts {
     /// contribution check sees the depth buffer that many primitives after the
     /// cull did (0: the same one), as a ray unit with latency would
     pub result_latency: usize,
+    /// depth code format of the raster and the ray-cull unit
+    pub depth: DepthFormat,
+    /// rays per cull group G (consecutive queued rays of one tile)
+    pub group: usize,
+    /// the culling switch (off: every ray is traced, the contribution check still runs)
+    pub cull: bool,
 }
 
-/// The sample's depth-buffer entry.
+impl Default for HybridOpts {
+    fn default() -> Self {
+        HybridOpts {
+            order: Vec::new(),
+            rays_per_step: 64,
+            result_latency: 0,
+            depth: DepthFormat::Unorm24,
+            group: 4,
+            cull: true,
+        }
+    }
+}
+
+/// The near and far planes of the depth codes: `far` is 1.01 × the largest
+/// view-space depth of any triangle vertex, `near = far / 4096` (fragments
+/// outside are clipped, in the synchronous render too).
+pub fn depth_planes(cam: &Cam, tris: &[WorldTri]) -> (f64, f64) {
+    let (fw, ..) = cam.basis();
+    let mut far: f64 = 1e-3;
+    for t in tris {
+        for p in &t.v {
+            let z: f64 = (0..3)
+                .map(|i| (p[i] as f64 - cam.o[i] as f64) * fw[i] as f64)
+                .sum();
+            far = far.max(z);
+        }
+    }
+    let far = far * 1.01;
+    (far / 4096.0, far)
+}
+
+/// The depth code of the fragment at pixel `p` and camera-ray parameter `t`:
+/// its view-space depth `z = t·(d·forward)` ([`golden_model::raycull::quantize`],
+/// LESS: 0 at near, the far code at far); `None` when clipped.
+fn depth_code(
+    cam: &Cam,
+    fmt: DepthFormat,
+    planes: (f64, f64),
+    p: u32,
+    w: u32,
+    t: f64,
+) -> Option<u32> {
+    let (fw, ..) = cam.basis();
+    let d = cam.dir(p % w, p / w);
+    let z = t * (0..3).map(|i| d[i] as f64 * fw[i] as f64).sum::<f64>();
+    quantize(fmt, false, z, planes.0, planes.1)
+}
+
+/// The ray-cull unit's configuration the renderer uses: LESS, 3-bit
+/// generations (FIG. 14), primitive ids wide enough for every triangle.
+pub fn unit_config(depth: DepthFormat, group: usize, primitives: usize) -> Config {
+    Config {
+        format: depth,
+        compare: Compare::Less,
+        gen_bits: GEN_BITS,
+        prim_bits: (usize::BITS - primitives.max(2).leading_zeros()).max(1),
+        group: group.max(1),
+    }
+}
+
+/// The sample's current surface (the unit's view is in its tile's buffer).
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     t: f64,
     key: (u32, u32),
-    gen: u8,
 }
 
 struct QRay {
     /// pixel 26 | sample 3 | generation 3
     id: u32,
-    depth: f64,
-    key: (u32, u32),
+    tag: RayTag,
     slot: usize,
     ray: SecRay,
 }
@@ -212,7 +287,8 @@ fn frame(w: u32, h: u32, bg: [f32; 3]) -> Frame {
     }
 }
 
-/// Synchronous reference: rasterise everything, shade the final surfaces, trace, combine.
+/// Synchronous reference: rasterise everything (LESS on the depth code, ties
+/// to the smaller primitive index), shade the final surfaces, trace, combine.
 pub fn render_sync(
     scene: &Scene,
     accel: &Accel,
@@ -220,16 +296,21 @@ pub fn render_sync(
     opts: TraceOpts,
     w: u32,
     h: u32,
+    depth_format: DepthFormat,
 ) -> Frame {
     let start = Instant::now();
     let cam = Cam::new(scene, w, h);
     let tris = world_triangles(scene, accel);
-    let mut depth: Vec<Option<(f64, (u32, u32), usize)>> = vec![None; (w * h) as usize];
+    let planes = depth_planes(&cam, &tris);
+    let mut depth: Vec<Option<(u32, usize, f64)>> = vec![None; (w * h) as usize];
     for (k, tri) in tris.iter().enumerate() {
         for (p, t) in rasterize(&cam, tri, w, h) {
+            let Some(code) = depth_code(&cam, depth_format, planes, p, w, t) else {
+                continue;
+            };
             let cur = &mut depth[p as usize];
-            if cur.is_none_or(|(ct, ck, _)| (t, tri.key) < (ct, ck)) {
-                *cur = Some((t, tri.key, k));
+            if cur.is_none_or(|(c, ck, _)| (code, k) < (c, ck)) {
+                *cur = Some((code, k, t));
             }
         }
     }
@@ -238,12 +319,12 @@ pub fn render_sync(
     let mut sec = Vec::new();
     let mut owners = Vec::new();
     for (p, e) in depth.iter().enumerate() {
-        if let Some((t, key, k)) = *e {
+        if let Some((_, k, t)) = *e {
             let s = surface(&cam, &tris[k], p as u32, w, t);
             let first = sec.len();
             emit_into(scene, &s, p as u64, &mut sec);
             owners.push((p, s, first, sec.len() - first));
-            f.ids[p] = key;
+            f.ids[p] = tris[k].key;
             f.t[p] = t.to_bits();
         }
     }
@@ -255,7 +336,9 @@ pub fn render_sync(
     f
 }
 
-/// Asynchronous render with depth-based ray culling; returns the frame and the counts.
+/// Asynchronous render with depth-based ray culling, every cull and
+/// contribution check answered by the golden model of the ray-cull unit;
+/// returns the frame and the counts.
 pub fn render_async(
     scene: &Scene,
     accel: &Accel,
@@ -265,65 +348,122 @@ pub fn render_async(
     h: u32,
     hopts: &HybridOpts,
 ) -> (Frame, HybridCounts) {
+    let tris = world_triangles(scene, accel).len();
+    let cfg = unit_config(hopts.depth, hopts.group, tris);
+    render_async_with(scene, accel, tester, opts, w, h, hopts, &mut |x| {
+        cull(&cfg, x)
+    })
+}
+
+/// [`render_async`] with every ray-cull unit transaction (`G` slots, the
+/// configuration of [`unit_config`]) answered by `unit`: the golden model, or
+/// the Verilated unit's recorded outputs.
+#[allow(clippy::too_many_arguments)]
+pub fn render_async_with(
+    scene: &Scene,
+    accel: &Accel,
+    tester: &dyn BoxTester,
+    opts: TraceOpts,
+    w: u32,
+    h: u32,
+    hopts: &HybridOpts,
+    unit: &mut dyn FnMut(&CullIn) -> CullOut,
+) -> (Frame, HybridCounts) {
     let start = Instant::now();
     let cam = Cam::new(scene, w, h);
     let tris = world_triangles(scene, accel);
+    let planes = depth_planes(&cam, &tris);
+    let cfg = unit_config(hopts.depth, hopts.group, tris.len());
+    let g = cfg.group;
     let tracer = Tracer::new(scene, accel, tester, opts);
     let n = (w * h) as usize;
     let tw = w.div_ceil(TILE);
     let ntiles = (tw * h.div_ceil(TILE)) as usize;
-    let tile_of = |p: usize| ((p as u32 / w) / TILE * tw + (p as u32 % w) / TILE) as usize;
+    // pixel -> (tile, index in the tile)
+    let locate = |p: usize| {
+        let (x, y) = (p as u32 % w, p as u32 / w);
+        let (tx, ty) = (x / TILE, y / TILE);
+        let tile_w = (w - tx * TILE).min(TILE);
+        (
+            (ty * tw + tx) as usize,
+            ((y % TILE) * tile_w + x % TILE) as usize,
+        )
+    };
+    let mut tiles: Vec<TileBuffer> = (0..ntiles as u32)
+        .map(|t| {
+            let (tx, ty) = (t % tw, t / tw);
+            let size = (w - tx * TILE).min(TILE) * (h - ty * TILE).min(TILE);
+            TileBuffer::new(cfg, size as usize)
+        })
+        .collect();
     let mut samples: Vec<Option<Sample>> = vec![None; n];
     let mut surf: Vec<Option<Surface>> = vec![None; n];
     // per sample: the current surface's emitted rays and their results
     let mut emitted: Vec<Vec<SecRay>> = vec![Vec::new(); n];
     let mut results: Vec<Vec<Option<bool>>> = vec![Vec::new(); n];
-    let mut tile_range: Vec<(f64, f64)> = vec![(f64::INFINITY, f64::INFINITY); ntiles];
     let mut queue: VecDeque<QRay> = VecDeque::new();
     let mut c = HybridCounts::default();
     let mut f = frame(w, h, scene.render.background);
 
-    let update_tile = |tile: usize, samples: &[Option<Sample>], tile_range: &mut [(f64, f64)]| {
-        let tx = (tile as u32 % tw) * TILE;
-        let ty = (tile as u32 / tw) * TILE;
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for y in ty..(ty + TILE).min(h) {
-            for x in tx..(tx + TILE).min(w) {
-                let d = samples[(y * w + x) as usize].map_or(f64::INFINITY, |s| s.t);
-                lo = lo.min(d);
-                hi = hi.max(d);
-            }
+    let slot_of = |q: &QRay, tiles: &[TileBuffer]| {
+        let (t, i) = locate((q.id >> 6) as usize);
+        Slot {
+            valid: true,
+            ray: q.tag,
+            sample: tiles[t].samples[i].state,
         }
-        tile_range[tile] = (lo, hi);
+    };
+    let pad = |mut slots: Vec<Slot>| {
+        slots.resize(g, Slot::default());
+        slots
     };
 
-    // the ray processor: cull, trace, check contributions
+    // the ray processor: cull (groups of up to G consecutive rays of one
+    // tile), trace the survivors
     let process = |limit: usize,
                    queue: &mut VecDeque<QRay>,
-                   samples: &[Option<Sample>],
-                   tile_range: &[(f64, f64)],
+                   tiles: &[TileBuffer],
                    c: &mut HybridCounts,
-                   st: &mut Stats|
+                   st: &mut Stats,
+                   unit: &mut dyn FnMut(&CullIn) -> CullOut|
      -> Vec<(QRay, bool)> {
         let mut batch = Vec::new();
-        while batch.len() < limit {
-            let Some(q) = queue.pop_front() else { break };
-            let pix = (q.id >> 6) as usize;
-            let (lo, hi) = tile_range[tile_of(pix)];
-            if q.depth > hi || q.depth < lo {
-                c.culled_tile += 1;
-                continue;
+        let mut taken = 0;
+        while taken < limit {
+            let Some(first) = queue.front() else { break };
+            let tile = locate((first.id >> 6) as usize).0;
+            let mut group = Vec::new();
+            while group.len() < g && taken < limit {
+                match queue.front() {
+                    Some(q) if locate((q.id >> 6) as usize).0 == tile => {
+                        group.push(queue.pop_front().expect("front checked"));
+                        taken += 1;
+                    }
+                    _ => break,
+                }
             }
-            let s = samples[pix].expect("a ray's sample has a surface");
-            if s.t < q.depth {
-                c.culled_depth += 1;
-                continue;
+            let x = CullIn {
+                enable: hopts.cull,
+                tile: tiles[tile].range,
+                slots: pad(group.iter().map(|q| slot_of(q, tiles)).collect()),
+            };
+            let out = unit(&x);
+            c.unit_calls += 1;
+            if out.group_cull {
+                c.culled_groups += 1;
+                c.culled_group_rays += group.len() as u64;
             }
-            if s.gen != (q.id & 7) as u8 {
-                c.culled_generation += 1;
-                continue;
+            for (q, v) in group.into_iter().zip(&out.slots) {
+                if v.tile_cull {
+                    c.culled_tile += 1;
+                } else if v.depth_cull {
+                    c.culled_depth += 1;
+                } else if v.generation_cull {
+                    c.culled_generation += 1;
+                } else {
+                    batch.push(q);
+                }
             }
-            batch.push(q);
         }
         if batch.is_empty() {
             return Vec::new();
@@ -333,15 +473,22 @@ pub fn render_async(
         let occ = trace_secondary(&tracer, accel.scale, &rays, st);
         batch.into_iter().zip(occ).collect::<Vec<_>>()
     };
-    // contribution check, when a batch's results arrive: the full surface id,
-    // never the wrapping generation
+    // contribution check, when a batch's results arrive: the unit's `current`
+    // with the sample's state then (full primitive id and generation)
     let check = |done: Vec<(QRay, bool)>,
-                 samples: &[Option<Sample>],
+                 tiles: &[TileBuffer],
                  results: &mut [Vec<Option<bool>>],
-                 c: &mut HybridCounts| {
+                 c: &mut HybridCounts,
+                 unit: &mut dyn FnMut(&CullIn) -> CullOut| {
         for (q, o) in done {
             let pix = (q.id >> 6) as usize;
-            if samples[pix].map(|s| s.key) == Some(q.key) {
+            let x = CullIn {
+                enable: hopts.cull,
+                tile: tiles[locate(pix).0].range,
+                slots: pad(vec![slot_of(&q, tiles)]),
+            };
+            c.unit_calls += 1;
+            if unit(&x).slots[0].current {
                 results[pix][q.slot] = Some(o);
             } else {
                 c.discarded += 1;
@@ -354,26 +501,25 @@ pub fn render_async(
     for (step, &k) in hopts.order.iter().enumerate() {
         while in_flight.front().is_some_and(|b| b.0 <= step) {
             let (_, done) = in_flight.pop_front().expect("front checked");
-            check(done, &samples, &mut results, &mut c);
+            check(done, &tiles, &mut results, &mut c, unit);
         }
         let tri = &tris[k];
         c.primitives += 1;
-        let mut touched = Vec::new();
         for (p, t) in rasterize(&cam, tri, w, h) {
-            let p = p as usize;
-            let wins = samples[p].is_none_or(|s| (t, tri.key) < (s.t, s.key));
-            if !wins {
+            let Some(code) = depth_code(&cam, hopts.depth, planes, p, w, t) else {
                 continue;
-            }
-            let gen = samples[p].map_or(0, |s| (s.gen + 1) & ((1 << GEN_BITS) - 1));
+            };
+            let p = p as usize;
+            let (tile, i) = locate(p);
+            let gen = match tiles[tile].write(i, code, k as u32, false) {
+                Ok(Some(gen)) => gen,
+                Ok(None) => continue,
+                Err(e) => unreachable!("a quantised depth and a primitive index in range: {e:?}"),
+            };
             if !results[p].is_empty() {
                 c.superseded += results[p].iter().filter(|r| r.is_some()).count() as u64;
             }
-            samples[p] = Some(Sample {
-                t,
-                key: tri.key,
-                gen,
-            });
+            samples[p] = Some(Sample { t, key: tri.key });
             c.surface_changes += 1;
             // shade now: the surface emits its rays before geometry is complete
             let s = surface(&cam, tri, p as u32, w, t);
@@ -381,9 +527,12 @@ pub fn render_async(
             results[p] = vec![None; rays.len()];
             for (slot, r) in rays.iter().enumerate() {
                 queue.push_back(QRay {
-                    id: ray_id(p as u32, 0, gen),
-                    depth: t,
-                    key: tri.key,
+                    id: ray_id(p as u32, 0, gen as u8),
+                    tag: RayTag {
+                        depth: code,
+                        gen,
+                        prim: k as u32,
+                    },
                     slot,
                     ray: *r,
                 });
@@ -391,24 +540,18 @@ pub fn render_async(
             c.emitted += rays.len() as u64;
             emitted[p] = rays;
             surf[p] = Some(s);
-            touched.push(tile_of(p));
-        }
-        touched.sort_unstable();
-        touched.dedup();
-        for tile in touched {
-            update_tile(tile, &samples, &mut tile_range);
         }
         if hopts.rays_per_step > 0 {
             let done = process(
                 hopts.rays_per_step,
                 &mut queue,
-                &samples,
-                &tile_range,
+                &tiles,
                 &mut c,
                 &mut f.stats,
+                unit,
             );
             if hopts.result_latency == 0 {
-                check(done, &samples, &mut results, &mut c);
+                check(done, &tiles, &mut results, &mut c, unit);
             } else {
                 in_flight.push_back((step + hopts.result_latency, done));
             }
@@ -416,18 +559,11 @@ pub fn render_async(
     }
     // geometry complete: the batches in flight arrive, then the queue drains
     for (_, done) in in_flight.drain(..) {
-        check(done, &samples, &mut results, &mut c);
+        check(done, &tiles, &mut results, &mut c, unit);
     }
     while !queue.is_empty() {
-        let done = process(
-            4096,
-            &mut queue,
-            &samples,
-            &tile_range,
-            &mut c,
-            &mut f.stats,
-        );
-        check(done, &samples, &mut results, &mut c);
+        let done = process(4096, &mut queue, &tiles, &mut c, &mut f.stats, unit);
+        check(done, &tiles, &mut results, &mut c, unit);
     }
     for p in 0..n {
         if let (Some(s), Some(sf)) = (samples[p], surf[p]) {

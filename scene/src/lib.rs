@@ -10,6 +10,7 @@ pub mod bundle;
 pub mod bvh;
 pub mod cli;
 pub mod hybrid;
+pub mod hybrid_rtl;
 pub mod mesh;
 pub mod render;
 pub mod rtl;

@@ -6,6 +6,7 @@ pub mod float_ops;
 pub mod mulcmp;
 pub mod node_child;
 pub mod node_sort;
+pub mod raycull;
 pub mod silhouette;
 pub mod slab;
 pub mod transform;
