@@ -39,7 +39,9 @@
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
 //! `t_max`, or `kz = 3`.
 
-use crate::float::{classify, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
+use crate::float::{
+    classify, convert, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
+};
 use crate::transform::recip;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -134,11 +136,45 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     eval_with(fmt, RNE, x)
 }
 
+/// The internal format of the unit for `fmt`: the same fraction width, the
+/// smallest exponent width (at least `fmt`'s) with which no value of the
+/// datapath overflows or underflows for finite inputs, so every rounding in
+/// it is the rounding of an unbounded exponent and the signs of the edge
+/// functions, `det` and `T` are exact in every mode; `None` if no supported
+/// format (exponent at most 11 bits, width at most 64) has that range
+/// (formats with more than 8 exponent bits).
+///
+/// With `g = emin − F` (the grid of `fmt`'s subnormals) and `M = 2^(emax+1)`:
+/// a difference `P − o` is a multiple of `2^g` below `2M`; the ray-space
+/// coordinates multiples of `2^(2g)` below `4M²`; the edge functions and
+/// `det` multiples of `2^(4g)` below `2^7·M⁴`; `T` a multiple of `2^(6g)`
+/// below `2^8·M⁶`; `1/det` below `2^(−4g)`. The internal bias is the
+/// smallest with `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`.
+pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
+    let (emin, emax, f) = (fmt.emin() as i64, fmt.emax() as i64, fmt.frac_bits() as i64);
+    let g = emin - f;
+    let bias_needed = (6 * emax + 16).max(1 - 6 * g - f);
+    (fmt.exp_bits()..=FloatFormat::MAX_EXP_BITS)
+        .find(|&e| (1i64 << (e - 1)) - 1 >= bias_needed)
+        .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
+}
+
 /// The unit's answer for `x` with every operation rounded in `mode`
 /// (watertight in every mode; the shear constants are inputs, rounded to
-/// nearest by [`shear`]).
+/// nearest by [`shear`]). The datapath runs in [`internal_format`]: the
+/// inputs are widened exactly, `t`, `u`, `v` rounded back into `fmt` (exact
+/// in `fmt`'s normal range: the fraction width is the same). A hit whose
+/// `t` lies beyond `fmt`'s finite range is no hit and flagged `invalid`;
+/// for a format without an internal format every transaction is `invalid`.
 pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
-    let zero = fmt.zero(false);
+    let Some(w) = internal_format(fmt) else {
+        return TriOut {
+            invalid: true,
+            ..TriOut::default()
+        };
+    };
+    let wide = |v: u64| convert(fmt, w, v, mode);
+    let zero = w.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
     let invalid = all.clone().any(|&v| !fmt.is_finite(v))
         || fmt.is_nan(x.t_min)
@@ -146,52 +182,52 @@ pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
         || x.kz > 2;
     let (kx, ky) = other_axes(x.kz);
     let kz = x.kz as usize % 3;
-    // steps 1-2: each vertex in ray space
+    let s = x.s.map(wide);
+    // steps 1-2: each vertex in ray space (the difference rounded into w)
     let sheared = |p: &[u64; 3]| {
-        let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], mode));
+        let r = [0, 1, 2].map(|i| sub(w, wide(p[i]), wide(x.o[i]), mode));
         let (px, py, pz) = (r[kx], r[ky], r[kz]);
         [
-            fma(fmt, fmt.negate(x.s[0]), pz, px, mode),
-            fma(fmt, fmt.negate(x.s[1]), pz, py, mode),
-            mul(fmt, x.s[2], pz, mode),
+            fma(w, w.negate(s[0]), pz, px, mode),
+            fma(w, w.negate(s[1]), pz, py, mode),
+            mul(w, s[2], pz, mode),
         ]
     };
     let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
     let edge = |p: &[u64; 3], q: &[u64; 3]| {
-        dot3(
-            fmt,
-            [q[0], fmt.negate(q[1]), zero],
-            [p[1], p[0], zero],
-            mode,
-        )
+        dot3(w, [q[0], w.negate(q[1]), zero], [p[1], p[0], zero], mode)
     };
-    let (u, v, w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
+    let (u, v, e_w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
     // step 4
-    let edges = [u, v, w];
-    let negative = edges.iter().any(|&e| lt(fmt, e, zero));
-    let positive = edges.iter().any(|&e| lt(fmt, zero, e));
-    let numbers = edges.iter().all(|&e| !fmt.is_nan(e));
+    let edges = [u, v, e_w];
+    let negative = edges.iter().any(|&e| lt(w, e, zero));
+    let positive = edges.iter().any(|&e| lt(w, zero, e));
+    let numbers = edges.iter().all(|&e| !w.is_nan(e));
     let inside = numbers && !(negative && positive);
-    let det = dot3(fmt, edges, [one(fmt); 3], mode);
-    let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], mode);
-    let det_zero = classify(fmt, det) == Class::Zero;
-    // step 5
-    let r = recip(fmt, det, mode);
-    let t = mul(fmt, t_num, r, mode);
-    let hit = !invalid && inside && !det_zero && le(fmt, x.t_min, t) && le(fmt, t, x.t_max);
-    if !hit {
+    let det = dot3(w, edges, [one(w); 3], mode);
+    let t_num = dot3(w, edges, [a[2], b[2], c[2]], mode);
+    let det_zero = classify(w, det) == Class::Zero;
+    // step 5: t in w, compared with the bounds there
+    let r = recip(w, det, mode);
+    let t = mul(w, t_num, r, mode);
+    let candidate =
+        !invalid && inside && !det_zero && le(w, wide(x.t_min), t) && le(w, t, wide(x.t_max));
+    // a hit beyond the format's finite range: no t to report
+    let far = candidate && lt(w, wide(fmt.max_finite(false)), t & !w.sign_bit());
+    if !candidate || far {
         return TriOut {
-            invalid,
+            invalid: invalid || far,
             ..TriOut::default()
         };
     }
+    let narrow = |v: u64| convert(w, fmt, v, mode);
     TriOut {
-        hit,
+        hit: true,
         invalid,
-        t,
-        u: mul(fmt, v, r, mode),
-        v: mul(fmt, w, r, mode),
+        t: narrow(t),
+        u: narrow(mul(w, v, r, mode)),
+        v: narrow(mul(w, e_w, r, mode)),
     }
 }
 
