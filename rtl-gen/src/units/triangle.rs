@@ -33,14 +33,15 @@
 
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
-use crate::arith::float::add::add_module;
+use crate::arith::float::add::sub_widening_module;
 use crate::arith::float::compare::compare;
+use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
 use crate::arith::float::unpack::unpack;
 use crate::arith::float::{negate, Format, Rounding};
-use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Triple};
+use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Source, Triple};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -76,11 +77,41 @@ crate::params! {
     }
 }
 
+/// The internal format of the datapath for the unit's format `fmt`: the
+/// same fraction width and the smallest exponent width (at least `fmt`'s)
+/// in which no value of the datapath overflows or underflows for finite
+/// inputs, so every rounding there is the rounding of an unbounded exponent
+/// and the signs of the edge functions, `det` and `T` are exact in every
+/// mode (docs/triangle.md §2). With `g = emin − F`: differences are
+/// multiples of `2^g` below `2^(emax+2)`, ray-space coordinates multiples of
+/// `2^(2g)` below `2^(2·emax+4)`, edge functions and `det` multiples of
+/// `2^(4g)` below `2^(4·emax+11)`, `T` a multiple of `2^(6g)` below
+/// `2^(6·emax+14)`; so the internal bias is the smallest with
+/// `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`. `Err` when no supported
+/// format has that range (more than 8 exponent bits).
+pub fn internal_format(fmt: Format) -> Result<Format, String> {
+    let (emin, emax, f) = (fmt.emin(), fmt.emax(), fmt.frac_bits as i64);
+    let g = emin - f;
+    let bias = (6 * emax + 16).max(1 - 6 * g - f);
+    let e = (fmt.exp_bits..=11)
+        .find(|&e| (1i64 << (e - 1)) - 1 >= bias)
+        .ok_or_else(|| {
+            format!(
+                "{}: the triangle unit's internal format needs an exponent bias of at least \
+                 {bias}, more than 11 exponent bits (formats of up to 8 exponent bits have one)",
+                fmt.tag()
+            )
+        })?;
+    Format::new(e, fmt.frac_bits)
+}
+
 /// Resolved parameters.
 #[derive(Debug, Clone, Copy)]
 pub struct Config {
-    /// the one format of every value
+    /// the format of the inputs and of `t`, `u`, `v`
     pub fmt: Format,
+    /// the format of the datapath ([`internal_format`])
+    pub wide: Format,
     /// the rounding of every operation
     pub round: Rounding,
     /// `t`, `u`, `v` outputs too
@@ -174,6 +205,7 @@ impl<T: Copy> Record<T> for TriangleOut<T> {
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
+    let wf = cfg.wide;
     let mode = cfg.round;
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
@@ -225,11 +257,22 @@ pub fn build(cfg: &Config) -> Module {
         let x = m.mux(kz1, p[(1 + k) % 3], p[k % 3]);
         m.mux(kz2, p[(2 + k) % 3], x)
     };
-    let sub = add_module(fmt, mode, true, 0);
-    let fma = fma_module(fmt, mode, 0);
-    let mul = mul_module(fmt, mode, 0);
-    let neg_sx = negate(&mut m, fmt, s[0]);
-    let neg_sy = negate(&mut m, fmt, s[1]);
+    // the datapath in wf: differences rounded into it, the shear constants
+    // and the bounds widened exactly
+    let sub = sub_widening_module(fmt, wf, mode, 0);
+    let fma = fma_module(wf, mode, 0);
+    let mul = mul_module(wf, mode, 0);
+    let widen = convert_module(fmt, wf, mode, 0);
+    let s = [0, 1, 2].map(|i| {
+        rounded(
+            &mut m,
+            &format!("u_widen_s_{}", AXES[i]),
+            &widen,
+            &Source::new(s[i]),
+        )
+    });
+    let neg_sx = negate(&mut m, wf, s[0]);
+    let neg_sy = negate(&mut m, wf, s[1]);
     let mut ray_space = Vec::new();
     for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
         let rel = [0, 1, 2].map(|i| {
@@ -267,10 +310,10 @@ pub fn build(cfg: &Config) -> Module {
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
 
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
-    let dot = dot3_module(fmt, mode, 0);
-    let zero = m.uint(fmt.width(), 0);
+    let dot = dot3_module(wf, mode, 0);
+    let zero = m.uint(wf.width(), 0);
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
-        let nqy = negate(m, fmt, q[1]);
+        let nqy = negate(m, wf, q[1]);
         rounded(
             m,
             &format!("u_edge_{name}"),
@@ -288,9 +331,9 @@ pub fn build(cfg: &Config) -> Module {
     let mut nan_edge = m.bool(false);
     for (name, e) in [("e_u", e_u), ("e_v", e_v), ("e_w", e_w)] {
         let (lt0, gt0, nan) = m.scope(name, |m| {
-            let (lt0, _, _) = m.scope("below", |m| compare(m, fmt, e, zero));
-            let (gt0, _, _) = m.scope("above", |m| compare(m, fmt, zero, e));
-            let u = unpack(m, fmt, e);
+            let (lt0, _, _) = m.scope("below", |m| compare(m, wf, e, zero));
+            let (gt0, _, _) = m.scope("above", |m| compare(m, wf, zero, e));
+            let u = unpack(m, wf, e);
             (lt0, gt0, u.nan)
         });
         negative = m.or(negative, lt0);
@@ -301,7 +344,7 @@ pub fn build(cfg: &Config) -> Module {
     let outside = m.or(mixed, nan_edge);
     let inside = m.not(outside);
     let inside = m.name(inside, "inside_edges");
-    let one = m.uint(fmt.width(), (fmt.bias() as u128) << fmt.frac_bits);
+    let one = m.uint(wf.width(), (wf.bias() as u128) << wf.frac_bits);
     let det = rounded(
         &mut m,
         "u_det",
@@ -314,25 +357,50 @@ pub fn build(cfg: &Config) -> Module {
         &dot,
         &DotTerms::new([e_u, e_v, e_w], [a[2], b[2], c[2]]),
     );
-    let det_zero = m.scope("det", |m| unpack(m, fmt, det).zero);
+    let det_zero = m.scope("det", |m| unpack(m, wf, det).zero);
 
-    // step 5
-    let recip = recip_module(fmt, mode, 0);
+    // step 5: t in wf, compared with the bounds there
+    let recip = recip_module(wf, mode, 0);
     let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
     let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
-    let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, fmt, t_min, t));
-    let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, fmt, t, t_max));
+    let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
+    let t_max = rounded(&mut m, "u_widen_t_max", &widen, &Source::new(t_max));
+    let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, wf, t_min, t));
+    let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, wf, t, t_max));
+    // |t| beyond fmt's largest finite value (fmt's emax + 1 in wf)
+    let t_mag = m.slice(t, wf.width() - 2, 0);
+    let beyond = (wf.bias() + fmt.emax() + 1) as u128;
+    let first_beyond = m.uint(wf.width() - 1, beyond << wf.frac_bits);
+    let far = m.ge(t_mag, first_beyond);
+    let far = m.name(far, "t_beyond_format");
     let valid = m.not(invalid);
     let det_ok = m.not(det_zero);
-    let mut hit = m.and(valid, inside);
-    hit = m.and(hit, det_ok);
-    hit = m.and(hit, after_min);
-    hit = m.and(hit, before_max);
+    let mut candidate = m.and(valid, inside);
+    candidate = m.and(candidate, det_ok);
+    candidate = m.and(candidate, after_min);
+    candidate = m.and(candidate, before_max);
+    let candidate = m.name(candidate, "hit_candidate");
+    // a hit whose t the format cannot hold is flagged, not reported
+    let flagged = m.and(candidate, far);
+    let invalid = m.or(invalid, flagged);
+    let invalid = m.name(invalid, "invalid_found");
+    let near = m.not(far);
+    let hit = m.and(candidate, near);
     let hit = m.name(hit, "hit_found");
     let t_u_v = cfg.full.then(|| {
         let u = rounded(&mut m, "u_bary_u", &mul, &Pair::new(e_v, r));
         let v = rounded(&mut m, "u_bary_v", &mul, &Pair::new(e_w, r));
-        [t, u, v].map(|x| m.mux(hit, x, zero))
+        let narrow = convert_module(wf, fmt, mode, 0);
+        let out_zero = m.uint(fmt.width(), 0);
+        [("t", t), ("u", u), ("v", v)].map(|(name, x)| {
+            let x = rounded(
+                &mut m,
+                &format!("u_narrow_{name}"),
+                &narrow,
+                &Source::new(x),
+            );
+            m.mux(hit, x, out_zero)
+        })
     });
     let outputs = TriangleOut {
         hit,
@@ -356,8 +424,12 @@ impl Description for Triangle {
     const NAME: &'static str = "triangle";
     const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
     fn config(&self, p: &TriangleParams) -> Result<Config, ParamError> {
+        let fmt = super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?;
+        let wide = internal_format(fmt)
+            .map_err(|e| ParamError::Combination(format!("{}: {e}", Self::NAME)))?;
         Ok(Config {
-            fmt: super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?,
+            fmt,
+            wide,
             round: p.round,
             full: p.outputs == Outputs::Full,
             stages: p.stages,
