@@ -22,6 +22,8 @@ const CASES: &[Case] = &[
     (8, 23, "rne", "full", 8, "plan"),
     (8, 7, "rtz", "full", 4, "plan"),
     (5, 6, "rdn", "hit", 0, "plan"),
+    // the issue-42 format (binary16's range, internal e9m10), a directed mode
+    (5, 10, "rup", "full", 2, "plan"),
 ];
 
 fn params(c: &Case) -> Vec<String> {

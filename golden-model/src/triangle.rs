@@ -1,15 +1,18 @@
 //! Golden model of `triangle`: a watertight ray/triangle test in the manner
 //! of Woop, Benthin and Wald (2013, "Watertight ray/triangle
-//! intersection"), every operation rounded once in one format, to nearest
-//! even ([`eval`]) or in any rounding mode ([`eval_with`]); and an exact
-//! rational reference ([`exact`]).
+//! intersection"), every operation rounded once in one internal format
+//! ([`internal_format`]: the unit's fraction width and an exponent range in
+//! which no value of the datapath overflows or underflows for finite
+//! inputs), to nearest even ([`eval`]) or in any rounding mode
+//! ([`eval_with`]); and an exact rational reference ([`exact`]).
 //!
 //! Per ray (software, [`shear`]): `kz` is the axis of the largest `|d|`
 //! (the first on ties), `kx = kz + 1`, `ky = kz + 2` (mod 3), and
 //! `s = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz)` each correctly rounded.
-//! Per triangle (the unit, [`eval`]):
+//! Per triangle (the unit, [`eval`]), in the internal format:
 //!
-//! 1. each vertex relative to the origin, `p = P − o` (three subtractions);
+//! 1. each vertex relative to the origin, `p = P − o` (three subtractions,
+//!    the inputs widened exactly);
 //! 2. sheared into ray space, `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz`
 //!    (one fused multiply-add each), `Z = s_z·p_kz`;
 //! 3. the edge functions as two-term fused dot products, rounded once:
@@ -20,24 +23,26 @@
 //!    products; `det = 0` is a miss (a triangle seen edge-on, or with a
 //!    repeated vertex);
 //! 5. `r = 1/det`, `t = T·r`, barycentrics `u = V·r` (of B), `v = W·r` (of
-//!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`.
+//!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
+//!    rounded into the unit's format.
 //!
 //! **Why it is watertight.** A vertex's sheared coordinates depend only on
 //! the vertex and the ray, so two triangles sharing it compute the same
 //! `X, Y`. Each edge function depends only on its directed edge
 //! (`P → Q` gives `Q_X·P_Y − Q_Y·P_X`), and the neighbour across an edge
-//! walks it the other way: its value is the exact negation. Rounded once,
-//! in any mode, each keeps the sign of its exact value or underflows to a
-//! zero, so the two see opposite signs or a zero. So a ray that
-//! leaves one triangle across an edge (its edge function negative there)
-//! finds the neighbour's positive, and zero counts as inside for both: no
-//! ray falls between the two. (Woop et al. need a double-precision fallback
-//! because their edge functions round each product; here the difference is
-//! fused.)
+//! walks it the other way: its value is the exact negation. Rounded once in
+//! a format where it can neither overflow nor underflow, in any mode, each
+//! has the sign of its exact value, so the two see opposite signs or both
+//! a zero. So a ray that leaves one triangle across an edge (its edge
+//! function negative there) finds the neighbour's positive, and zero counts
+//! as inside for both: no ray falls between the two. (Woop et al. need a
+//! double-precision fallback because their edge functions round each
+//! product; here the difference is fused.)
 //!
 //! Outputs when there is no hit: `t = u = v = +0`. `invalid` (with a miss)
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
-//! `t_max`, or `kz = 3`.
+//! `t_max`, `kz = 3`, or a hit whose `t` lies beyond the format's finite
+//! range.
 
 use crate::float::{
     classify, convert, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,

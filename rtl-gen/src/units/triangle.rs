@@ -1,17 +1,20 @@
 //! `triangle`: a watertight ray/triangle test in the manner of Woop, Benthin
-//! and Wald (2013), every operation rounded once in one format and one
-//! rounding mode (`round`; every mode keeps the test watertight: an edge
-//! function is rounded once, so its sign is exact or it underflows to a
-//! zero, which counts as inside) (issue #16; golden twin
-//! `golden_model::triangle`, docs/triangle.md).
+//! and Wald (2013), every operation rounded once in one rounding mode
+//! (`round`) and in one internal format ([`internal_format`]: the unit's
+//! fraction width, an exponent range in which nothing of the datapath
+//! overflows or underflows for finite inputs), so the signs of the edge
+//! functions, `det` and `T` are the exact signs of the rounded ray-space
+//! coordinates in every mode and for every finite input (issues #16, #42;
+//! golden twin `golden_model::triangle`, docs/triangle.md).
 //!
 //! Inputs per ray: the origin `o`, the axis `kz` of the direction's largest
 //! component and the shear constants `s = (d_kx/d_kz, d_ky/d_kz, 1/d_kz)`,
 //! precomputed once per ray as the slab's reciprocal direction is; per
 //! triangle its vertices `a`, `b`, `c`; the segment `t_min..t_max`.
 //!
-//! 1. `p = P − o` per vertex; `kx = kz + 1`, `ky = kz + 2` (mod 3) select
-//!    components;
+//! 1. `p = P − o` per vertex, rounded into the internal format;
+//!    `kx = kz + 1`, `ky = kz + 2` (mod 3) select components; the shear
+//!    constants and the bounds are widened into it exactly;
 //! 2. ray space: `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz` (fused
 //!    multiply-add), `Z = s_z·p_kz`;
 //! 3. edge functions, each a two-term fused dot product rounded once:
@@ -21,10 +24,13 @@
 //!    watertight);
 //! 4. inside unless some edge function is negative and another positive;
 //!    `det = U + V + W`, `T = U·A_Z + V·B_Z + W·C_Z` (fused dot products);
-//! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r`; `hit` iff inside,
-//!    `det ≠ 0`, no NaN edge function and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
-//!    are +0 without a hit; `invalid` (and no hit) for a non-finite `o`,
-//!    `s` or vertex, a NaN bound or `kz = 3`.
+//! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r` in the internal format;
+//!    `hit` iff inside, `det ≠ 0`, no NaN edge function and
+//!    `t_min ≤ t ≤ t_max` (compared there) and `|t|` below `2^(emax+1)` of
+//!    the unit's format; `t`, `u`, `v` rounded into the unit's format (exact
+//!    in its normal range), +0 without a hit; `invalid` (and no hit) for a
+//!    non-finite `o`, `s` or vertex, a NaN bound, `kz = 3`, or a hit whose
+//!    `t` the format cannot hold.
 //!
 //! `outputs=hit` drops `u`, `v` and their multipliers (`t` is still formed
 //! for the range test). The unit is built as one datapath; `stages`
@@ -63,7 +69,7 @@ crate::choice! {
 crate::params! {
     /// The triangle unit's parameters.
     pub struct TriangleParams {
-        /// exponent bits E (2..=11)
+        /// exponent bits E (2..=11; at most 8 have an internal format)
         exp_bits: u32 [2..=11] = 8,
         /// fraction bits F (1 + E + F <= 64)
         frac_bits: u32 [1..=52] = 23,
@@ -210,11 +216,13 @@ pub fn build(cfg: &Config) -> Module {
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
         "Watertight ray/triangle test (Woop, Benthin, Wald 2013), every operation rounded in \
-         `round`: vertices minus o, sheared \
+         `round` into an internal format with the exponent range of every finite input \
+         (exact signs, no overflow): vertices minus o, sheared \
          into ray space by (kz, s), edge functions as fused two-term dot products (a shared edge \
          gives exactly negated values), det and T as fused dot products, t = T * (1/det); hit iff \
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
-         v (weight of c) are 0 without a hit; invalid for non-finite input or kz = 3.",
+         v (weight of c) are 0 without a hit; invalid for non-finite input, kz = 3 or a hit \
+         whose t the format cannot hold.",
     );
     let TriangleIn {
         o,
