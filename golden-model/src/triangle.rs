@@ -164,20 +164,26 @@ pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
         .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
 }
 
-/// The unit's answer for `x` with every operation rounded in `mode`
-/// (watertight in every mode; the shear constants are inputs, rounded to
-/// nearest by [`shear`]). The datapath runs in [`internal_format`]: the
-/// inputs are widened exactly, `t`, `u`, `v` rounded back into `fmt` (exact
-/// in `fmt`'s normal range: the fraction width is the same). A hit whose
-/// `t` lies beyond `fmt`'s finite range is no hit and flagged `invalid`;
-/// for a format without an internal format every transaction is `invalid`.
-pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
-    let Some(w) = internal_format(fmt) else {
-        return TriOut {
-            invalid: true,
-            ..TriOut::default()
-        };
-    };
+/// The values of the datapath for one transaction, in the internal format.
+struct Datapath {
+    /// the internal format
+    w: FloatFormat,
+    /// a non-finite input, a NaN bound or `kz = 3`
+    invalid: bool,
+    /// the edge functions agree in sign (none NaN) and `det ≠ 0`
+    inside: bool,
+    /// `V` and `W`, the numerators of the barycentric weights of B and C
+    e_v: u64,
+    e_w: u64,
+    /// `det = U + V + W`
+    det: u64,
+    /// `T = U·A_Z + V·B_Z + W·C_Z`
+    t_num: u64,
+}
+
+/// Steps 1-4 in the internal format (`None` when `fmt` has none).
+fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath> {
+    let w = internal_format(fmt)?;
     let wide = |v: u64| convert(fmt, w, v, mode);
     let zero = w.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
@@ -209,31 +215,155 @@ pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
     let negative = edges.iter().any(|&e| lt(w, e, zero));
     let positive = edges.iter().any(|&e| lt(w, zero, e));
     let numbers = edges.iter().all(|&e| !w.is_nan(e));
-    let inside = numbers && !(negative && positive);
     let det = dot3(w, edges, [one(w); 3], mode);
     let t_num = dot3(w, edges, [a[2], b[2], c[2]], mode);
     let det_zero = classify(w, det) == Class::Zero;
+    Some(Datapath {
+        w,
+        invalid,
+        inside: numbers && !(negative && positive) && !det_zero,
+        e_v: v,
+        e_w,
+        det,
+        t_num,
+    })
+}
+
+/// The unit's answer for `x` with every operation rounded in `mode`
+/// (watertight in every mode; the shear constants are inputs, rounded to
+/// nearest by [`shear`]); `outputs=full` and `outputs=hit` (which has the
+/// same `hit` and `invalid`). The datapath runs in [`internal_format`]: the
+/// inputs are widened exactly, `t`, `u`, `v` rounded back into `fmt` (exact
+/// in `fmt`'s normal range: the fraction width is the same). A hit whose
+/// `t` lies beyond `fmt`'s finite range is no hit and flagged `invalid`;
+/// for a format without an internal format every transaction is `invalid`.
+pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
+    let Some(d) = datapath(fmt, mode, x) else {
+        return TriOut {
+            invalid: true,
+            ..TriOut::default()
+        };
+    };
+    let w = d.w;
+    let wide = |v: u64| convert(fmt, w, v, mode);
     // step 5: t in w, compared with the bounds there
-    let r = recip(w, det, mode);
-    let t = mul(w, t_num, r, mode);
-    let candidate =
-        !invalid && inside && !det_zero && le(w, wide(x.t_min), t) && le(w, t, wide(x.t_max));
+    let r = recip(w, d.det, mode);
+    let t = mul(w, d.t_num, r, mode);
+    let candidate = !d.invalid && d.inside && le(w, wide(x.t_min), t) && le(w, t, wide(x.t_max));
     // a hit beyond the format's finite range: no t to report
     let far = candidate && lt(w, wide(fmt.max_finite(false)), t & !w.sign_bit());
     if !candidate || far {
         return TriOut {
-            invalid: invalid || far,
+            invalid: d.invalid || far,
             ..TriOut::default()
         };
     }
     let narrow = |v: u64| convert(w, fmt, v, mode);
     TriOut {
         hit: true,
-        invalid,
+        invalid: d.invalid,
         t: narrow(t),
-        u: narrow(mul(w, v, r, mode)),
-        v: narrow(mul(w, e_w, r, mode)),
+        u: narrow(mul(w, d.e_v, r, mode)),
+        v: narrow(mul(w, d.e_w, r, mode)),
     }
+}
+
+/// What the unit answers with `outputs=tnum`: `t = t_num / t_den`, both in
+/// [`internal_format`], not divided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TriNum {
+    /// the segment meets the triangle
+    pub hit: bool,
+    /// a non-finite input, `kz = 3` or a hit beyond the format's range
+    pub invalid: bool,
+    /// `T` (+0 without a hit)
+    pub t_num: u64,
+    /// `det` (+0 without a hit)
+    pub t_den: u64,
+}
+
+/// The unit's answer with `outputs=tnum`: the datapath of [`eval_with`]
+/// up to `T` and `det`, then the segment test without a division, exact:
+/// `t_min ≤ T/det ≤ t_max` as `t_min·|det| ≤ T·sgn(det) ≤ t_max·|det|`, and
+/// `|T| ≥ 2^(emax+1)·|det|` (a `t` beyond the format's finite range) flagged
+/// `invalid`. Its `hit` can differ from [`eval_with`]'s only where the
+/// rounded `t` of the latter and the exact ratio lie on two sides of a
+/// bound (within an ulp or two of it); [`finish_t`] gives `full`'s `t`.
+pub fn eval_tnum(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriNum {
+    use crate::exact::ray_box::{decode as decode_bound, Exact};
+    use crate::transform::exact::decode;
+    use dashu::integer::IBig;
+    let Some(d) = datapath(fmt, mode, x) else {
+        return TriNum {
+            invalid: true,
+            ..TriNum::default()
+        };
+    };
+    let w = d.w;
+    if d.invalid || !d.inside {
+        return TriNum {
+            invalid: d.invalid,
+            ..TriNum::default()
+        };
+    }
+    // finite and det ≠ 0 here: T' = T·sgn(det) against bound·|det|
+    let (tm, te) = decode(w, d.t_num).expect("T is finite");
+    let (dm, de) = decode(w, d.det).expect("det is finite");
+    let (tm, dm) = if dm < IBig::ZERO {
+        (-tm, -dm)
+    } else {
+        (tm, dm)
+    };
+    // the sign of T' − b·2^k·|det| for the finite bound b·2^k
+    let cmp = |b: IBig, k: i64| {
+        let (lhs, rhs, e) = (tm.clone(), b * &dm, k + de);
+        let shift = |x: IBig, by: i64| x << (by as usize);
+        if te >= e {
+            shift(lhs, te - e).cmp(&rhs)
+        } else {
+            lhs.cmp(&shift(rhs, e - te))
+        }
+    };
+    use std::cmp::Ordering::*;
+    let at_least = |bound: u64| match decode_bound(fmt, bound) {
+        Exact::NegInf => true,
+        Exact::PosInf | Exact::NaN => false,
+        Exact::Fin { m, e } => cmp(IBig::from(m), e as i64) != Less,
+    };
+    let at_most = |bound: u64| match decode_bound(fmt, bound) {
+        Exact::PosInf => true,
+        Exact::NegInf | Exact::NaN => false,
+        Exact::Fin { m, e } => cmp(IBig::from(m), e as i64) != Greater,
+    };
+    if !(at_least(x.t_min) && at_most(x.t_max)) {
+        return TriNum::default();
+    }
+    // |T'| ≥ 2^(emax+1)·|det|
+    let big = |sign: i64| cmp(IBig::from(sign), fmt.emax() as i64 + 1);
+    let far = big(1) != Less || big(-1) != Greater;
+    if far {
+        return TriNum {
+            invalid: true,
+            ..TriNum::default()
+        };
+    }
+    TriNum {
+        hit: true,
+        invalid: false,
+        t_num: d.t_num,
+        t_den: d.det,
+    }
+}
+
+/// `t` from an `outputs=tnum` answer, rounded as `outputs=full` rounds it
+/// (`RN(T · RN(1/det))` in the internal format, then into `fmt`): what a
+/// shader does once per accepted hit.
+pub fn finish_t(fmt: FloatFormat, mode: RoundingMode, t_num: u64, t_den: u64) -> u64 {
+    let Some(w) = internal_format(fmt) else {
+        return fmt.canonical_nan();
+    };
+    let t = mul(w, t_num, recip(w, t_den, mode), mode);
+    convert(w, fmt, t, mode)
 }
 
 /// Exact reference: the closed triangle against the closed segment, in

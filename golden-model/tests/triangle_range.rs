@@ -10,14 +10,15 @@
 //! (origin `o`, direction `(s_x, s_y, 1)` on the axes `(kx, ky, kz)`, its
 //! parameter scaled by `s_z`): every triangle's hit must agree (0 holes, 0
 //! wrong hits), the exact hits must be 2, and `t` within 4 ulps of the
-//! exact `t`.
+//! exact `t`. `outputs=tnum` ([`eval_tnum`]) gives the same hits, and its
+//! `t` finished in software ([`finish_t`]) is `outputs=full`'s bit for bit.
 //!
 //! CI sweeps a few scales per format and mode (both ends of the range, 1,
 //! and two between); `TRIANGLE_RANGE=full` sweeps every `k` (the release
 //! run, `scripts/release.sh`).
 
 use golden_model::float::{from_f64, to_f64, FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_with, exact, shear, TriIn};
+use golden_model::triangle::{eval_tnum, eval_with, exact, finish_t, shear, TriIn};
 
 /// The offsets tried, in multiples of the cube's size (`2^j`), capped
 /// where the format no longer holds the cube exactly.
@@ -91,6 +92,16 @@ fn cube(fmt: FloatFormat, mode: RoundingMode, k: i32, j: Option<i32>) -> Option<
                 [a, b, cc]
             );
             assert!(!got.invalid, "flagged invalid: {what}");
+            // outputs=tnum: the same hit, and t finished in software as full rounds it
+            let num = eval_tnum(fmt, mode, &x);
+            assert_eq!((num.hit, num.invalid), (got.hit, false), "tnum: {what}");
+            if num.hit {
+                assert_eq!(
+                    finish_t(fmt, mode, num.t_num, num.t_den),
+                    got.t,
+                    "tnum t: {what}"
+                );
+            }
             assert_eq!(
                 got.hit,
                 want.is_some(),
