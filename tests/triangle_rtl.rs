@@ -24,6 +24,8 @@ const CASES: &[Case] = &[
     (5, 6, "rdn", "hit", 0, "plan"),
     // the issue-42 format (binary16's range, internal e9m10), a directed mode
     (5, 10, "rup", "full", 2, "plan"),
+    // t as numerator and denominator, the segment test by products (issue 42)
+    (8, 23, "rne", "tnum", 8, "plan"),
 ];
 
 fn params(c: &Case) -> Vec<String> {
@@ -92,6 +94,9 @@ fn triangle_matches_golden_model_in_the_evaluator_in_every_mode() {
         (5, 10, "rne", "full"),
         (5, 10, "rtz", "full"),
         (8, 7, "rup", "full"),
+        (8, 23, "rtz", "tnum"),
+        (5, 10, "rdn", "tnum"),
+        (8, 23, "rup", "hit"),
     ];
     for &(e, f, round, outputs) in cases {
         let p = [

@@ -16,9 +16,9 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
+use golden_model::triangle::{eval_tnum, eval_with, shear, TriIn, TriOut};
 use rtl_gen::units::ports;
-use rtl_gen::units::triangle::{Config, TriangleIn, TriangleOut};
+use rtl_gen::units::triangle::{Config, Outputs, TriangleIn, TriangleOut};
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
@@ -244,11 +244,26 @@ impl TriangleBench {
 
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let out = eval_with(self.fmt, self.mode, &self.from_ports(v));
-        let record = TriangleOut {
-            hit: out.hit as u64,
-            invalid: out.invalid as u64,
-            t_u_v: Some([out.t, out.u, out.v]),
+        let x = self.from_ports(v);
+        let record = match self.unit.outputs {
+            Outputs::Full => {
+                let out = eval_with(self.fmt, self.mode, &x);
+                TriangleOut {
+                    hit: out.hit as u64,
+                    invalid: out.invalid as u64,
+                    t_u_v: Some([out.t, out.u, out.v]),
+                    t_num_den: None,
+                }
+            }
+            Outputs::Hit | Outputs::Tnum => {
+                let out = eval_tnum(self.fmt, self.mode, &x);
+                TriangleOut {
+                    hit: out.hit as u64,
+                    invalid: out.invalid as u64,
+                    t_u_v: None,
+                    t_num_den: Some([out.t_num, out.t_den]),
+                }
+            }
         };
         ports::pack(&self.unit, &record, outputs)
     }

@@ -45,6 +45,9 @@ use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
+use crate::arith::float::product_compare::{
+    factor, product_term, single_term, start_product, term_le, Factor,
+};
 use crate::arith::float::unpack::unpack;
 use crate::arith::float::{negate, Format, Rounding};
 use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Source, Triple};
@@ -59,8 +62,10 @@ pub struct Triangle;
 crate::choice! {
     /// What the triangle unit outputs.
     pub enum Outputs {
-        /// hit and invalid only
+        /// hit and invalid only (the segment test of tnum)
         Hit = "hit",
+        /// also t as a numerator and a denominator (no divider)
+        Tnum = "tnum",
         /// also t and the barycentrics
         Full = "full",
     }
@@ -76,7 +81,9 @@ crate::params! {
         /// rounding of every operation: to nearest even, toward zero, toward +inf, toward
         /// -inf (each keeps the test watertight)
         round: Rounding = Rounding::Rne,
-        /// hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)
+        /// hit: hit and invalid only; tnum: also t_num and t_den (t = t_num / t_den in the
+        /// internal format, the segment test by products, no divider); full: also t and the
+        /// barycentrics u (of b) and v (of c)
         outputs: Outputs = Outputs::Full,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 6,
@@ -122,13 +129,19 @@ pub struct Config {
     pub round: Rounding,
     /// `t`, `u`, `v` outputs too
     pub full: bool,
+    /// what the unit outputs
+    pub outputs: Outputs,
     /// pipeline registers
     pub stages: u32,
 }
 
 /// Module name.
 pub fn triangle_name(cfg: &Config) -> String {
-    let out = if cfg.full { "full" } else { "hit" };
+    let out = match cfg.outputs {
+        Outputs::Hit => "hit",
+        Outputs::Tnum => "tnum",
+        Outputs::Full => "full",
+    };
     let round = match cfg.round {
         Rounding::Rne => String::new(),
         r => format!("_{}", r.word()),
@@ -186,6 +199,9 @@ pub struct TriangleOut<T> {
     /// the hit's `t`, and its barycentric weights of `b` and `c`
     /// (`outputs=full`)
     pub t_u_v: Option<[T; 3]>,
+    /// the hit's `t` as `T` and `det`, values of the internal format
+    /// (`outputs=tnum`)
+    pub t_num_den: Option<[T; 2]>,
 }
 
 impl<T: Copy> Record<T> for TriangleOut<T> {
@@ -203,6 +219,13 @@ impl<T: Copy> Record<T> for TriangleOut<T> {
                     w.one("u", ty, field(1)),
                     w.one("v", ty, field(2)),
                 ]
+            }),
+            t_num_den: (cfg.outputs == Outputs::Tnum).then(|| {
+                let wide = Ty::UInt(cfg.wide.width());
+                let num = |k: usize| {
+                    move |r: &Self| r.t_num_den.expect("a tnum unit's record has t_num, t_den")[k]
+                };
+                [w.one("t_num", wide, num(0)), w.one("t_den", wide, num(1))]
             }),
         }
     }
@@ -367,19 +390,28 @@ pub fn build(cfg: &Config) -> Module {
     );
     let det_zero = m.scope("det", |m| unpack(m, wf, det).zero);
 
-    // step 5: t in wf, compared with the bounds there
-    let recip = recip_module(wf, mode, 0);
-    let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
-    let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
     let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
     let t_max = rounded(&mut m, "u_widen_t_max", &widen, &Source::new(t_max));
-    let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, wf, t_min, t));
-    let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, wf, t, t_max));
-    // |t| beyond fmt's largest finite value (fmt's emax + 1 in wf)
-    let t_mag = m.slice(t, wf.width() - 2, 0);
-    let beyond = (wf.bias() + fmt.emax() + 1) as u128;
-    let first_beyond = m.uint(wf.width() - 1, beyond << wf.frac_bits);
-    let far = m.ge(t_mag, first_beyond);
+    let (t_rounded, after_min, before_max, far) = if cfg.full {
+        // step 5: t in wf, compared with the bounds there
+        let recip = recip_module(wf, mode, 0);
+        let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
+        let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
+        let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, wf, t_min, t));
+        let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, wf, t, t_max));
+        // |t| beyond fmt's largest finite value (fmt's emax + 1 in wf)
+        let t_mag = m.slice(t, wf.width() - 2, 0);
+        let beyond = (wf.bias() + fmt.emax() + 1) as u128;
+        let first_beyond = m.uint(wf.width() - 1, beyond << wf.frac_bits);
+        let far = m.ge(t_mag, first_beyond);
+        (Some((t, r)), after_min, before_max, far)
+    } else {
+        // step 5 without a division: t_min·|det| <= T·sgn(det) <= t_max·|det|
+        // and 2^(emax+1)·|det| <= |T| (a t beyond fmt), exact products
+        let (after_min, before_max, far) =
+            segment_by_products(&mut m, cfg, det, t_num, t_min, t_max);
+        (None, after_min, before_max, far)
+    };
     let far = m.name(far, "t_beyond_format");
     let valid = m.not(invalid);
     let det_ok = m.not(det_zero);
@@ -395,7 +427,7 @@ pub fn build(cfg: &Config) -> Module {
     let near = m.not(far);
     let hit = m.and(candidate, near);
     let hit = m.name(hit, "hit_found");
-    let t_u_v = cfg.full.then(|| {
+    let t_u_v = t_rounded.map(|(t, r)| {
         let u = rounded(&mut m, "u_bary_u", &mul, &Pair::new(e_v, r));
         let v = rounded(&mut m, "u_bary_v", &mul, &Pair::new(e_w, r));
         let narrow = convert_module(wf, fmt, mode, 0);
@@ -410,10 +442,15 @@ pub fn build(cfg: &Config) -> Module {
             m.mux(hit, x, out_zero)
         })
     });
+    let t_num_den = (cfg.outputs == Outputs::Tnum).then(|| {
+        let out_zero = m.uint(wf.width(), 0);
+        [t_num, det].map(|x| m.mux(hit, x, out_zero))
+    });
     let outputs = TriangleOut {
         hit,
         invalid,
         t_u_v,
+        t_num_den,
     };
     ports::declare_outputs(&mut m, cfg, &outputs);
     let datapath = m.finish().expect("triangle datapath is well formed");
@@ -424,6 +461,54 @@ pub fn build(cfg: &Config) -> Module {
         .expect("the triangle datapath is feed-forward");
     module.name = datapath.name.clone();
     module
+}
+
+/// The segment test of `outputs=hit|tnum`, without a division: `(after_min,
+/// before_max, far)` for `t_min·|det| <= T' <= t_max·|det|` and
+/// `2^(emax+1)·|det| <= |T'|`, `T' = T·sgn(det)`, each an exact comparison of
+/// products (`det`, `T`, the bounds in the internal format).
+fn segment_by_products(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    det: Sig,
+    t_num: Sig,
+    t_min: Sig,
+    t_max: Sig,
+) -> (Sig, Sig, Sig) {
+    let wf = cfg.wide;
+    let det_f = factor(m, wf, det, "det_factor");
+    let unsigned = m.bool(false);
+    let det_abs = Factor {
+        sign: unsigned,
+        ..det_f
+    };
+    // T' = T with the sign of det folded in, and |T|
+    let t_f = factor(m, wf, t_num, "t_num_factor");
+    let t_sign = m.xor(t_f.sign, det_f.sign);
+    let t_signed = Factor {
+        sign: t_sign,
+        ..t_f
+    };
+    let t_abs = Factor {
+        sign: unsigned,
+        ..t_f
+    };
+    let t_signed = single_term(m, wf, &t_signed, "t_signed");
+    let t_abs = single_term(m, wf, &t_abs, "t_abs");
+    let limit = (wf.bias() + cfg.fmt.emax() + 1) as u128;
+    let limit = m.uint(wf.width(), limit << wf.frac_bits);
+    let bound = |m: &mut ModuleBuilder, name: &str, x: Sig| {
+        let f = factor(m, wf, x, &format!("{name}_factor"));
+        let p = start_product(m, wf, &f, &det_abs, 0, &format!("u_{name}_det"));
+        product_term(m, wf, &p, &format!("{name}_det"))
+    };
+    let min_det = bound(m, "t_min", t_min);
+    let max_det = bound(m, "t_max", t_max);
+    let limit_det = bound(m, "limit", limit);
+    let after_min = m.scope("t_from_min", |m| term_le(m, &min_det, &t_signed));
+    let before_max = m.scope("t_to_max", |m| term_le(m, &t_signed, &max_det));
+    let far = m.scope("t_far", |m| term_le(m, &limit_det, &t_abs));
+    (after_min, before_max, far)
 }
 
 impl Description for Triangle {
@@ -440,6 +525,7 @@ impl Description for Triangle {
             wide,
             round: p.round,
             full: p.outputs == Outputs::Full,
+            outputs: p.outputs,
             stages: p.stages,
         })
     }
