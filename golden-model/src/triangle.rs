@@ -231,8 +231,8 @@ fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath>
 
 /// The unit's answer for `x` with every operation rounded in `mode`
 /// (watertight in every mode; the shear constants are inputs, rounded to
-/// nearest by [`shear`]); `outputs=full` and `outputs=hit` (which has the
-/// same `hit` and `invalid`). The datapath runs in [`internal_format`]: the
+/// nearest by [`shear`]) with `outputs=full` (`outputs=hit|tnum`:
+/// [`eval_tnum`]). The datapath runs in [`internal_format`]: the
 /// inputs are widened exactly, `t`, `u`, `v` rounded back into `fmt` (exact
 /// in `fmt`'s normal range: the fraction width is the same). A hit whose
 /// `t` lies beyond `fmt`'s finite range is no hit and flagged `invalid`;

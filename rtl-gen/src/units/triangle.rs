@@ -32,10 +32,15 @@
 //!    non-finite `o`, `s` or vertex, a NaN bound, `kz = 3`, or a hit whose
 //!    `t` the format cannot hold.
 //!
-//! `outputs=hit` drops `u`, `v` and their multipliers (`t` is still formed
-//! for the range test). The unit is built as one datapath; `stages`
-//! registers are placed by the delay model ([`crate::retime::balance`]), so
-//! `pipeline=plan` and `pipeline=balanced` give the same registers.
+//! `outputs=full` outputs `t`, `u`, `v` (above); `outputs=tnum` outputs
+//! `t_num = T` and `t_den = det` (values of the internal format, +0 without
+//! a hit) and `outputs=hit` neither: both test the segment without a
+//! division, by exact comparisons of products (`t_min·|det| <= T·sgn(det)
+//! <= t_max·|det|`, and a hit with `|T| >= 2^(emax+1)·|det|` flagged), so
+//! they need no reciprocal and no multipliers of `t`, `u`, `v`. The unit is
+//! built as one datapath; `stages` registers are placed by the delay model
+//! ([`crate::retime::balance`]), so `pipeline=plan` and `pipeline=balanced`
+//! give the same registers.
 
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
