@@ -189,3 +189,75 @@ fn issue_42_reproducer() {
     let (kz, s) = shear(f, [0x9a40_0000, 0x9a00_0000, 0x9a20_0000]);
     assert_eq!((kz, s), (0, [0x3f2a_aaab, 0x3f55_5555, 0xe4aa_aaab]));
 }
+
+/// Scale invariance, the whole range on random triangles: the ray and the
+/// triangle scaled by `2^k` (every coordinate exactly, the shear constants
+/// recomputed) give the same hit and the same `t`, `u`, `v` bit for bit as
+/// at scale 1, since nothing overflows or underflows in the internal
+/// format: the differences, edge functions, `det` and `T` scale by powers
+/// of two and `t` does not. Binary32, every mode, `k` near both ends.
+#[test]
+fn random_triangles_scale_exactly_across_the_range() {
+    use golden_model::float::FloatFormat as F;
+    let fmt = F::BINARY32;
+    let mut state = 0x42u64;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for mode in RoundingMode::ALL {
+        let (mut compared, mut hits) = (0u32, 0u32);
+        for _ in 0..5_000 {
+            let tri: [[f64; 3]; 3] =
+                [0; 3].map(|_| [0; 3].map(|_| (2.0 * next() - 1.0) as f32 as f64));
+            let o: [f64; 3] = [0; 3].map(|_| ((2.0 * next() - 1.0) * 6.0) as f32 as f64);
+            let (b1, b2) = (next() * 1.4 - 0.2, next() * 1.4 - 0.2);
+            let d: [f64; 3] = [0, 1, 2].map(|i| {
+                let aim = tri[0][i] + b1 * (tri[1][i] - tri[0][i]) + b2 * (tri[2][i] - tri[0][i]);
+                (aim - o[i]) as f32 as f64
+            });
+            let at = |k: i32| -> Option<TriIn> {
+                let s = 2f64.powi(k);
+                let q = |v: f64| {
+                    let b = from_f64(fmt, v * s);
+                    // the scaled value must be exact (normal, or zero)
+                    (to_f64(fmt, b) == v * s && (v == 0.0 || (v * s).abs() >= 2f64.powi(-126)))
+                        .then_some(b)
+                };
+                let v3 = |p: [f64; 3]| -> Option<[u64; 3]> { Some([q(p[0])?, q(p[1])?, q(p[2])?]) };
+                let (kz, sh) = shear(fmt, v3(d)?);
+                Some(TriIn {
+                    o: v3(o)?,
+                    kz,
+                    s: sh,
+                    a: v3(tri[0])?,
+                    b: v3(tri[1])?,
+                    c: v3(tri[2])?,
+                    t_min: fmt.zero(false),
+                    t_max: fmt.inf(false),
+                })
+            };
+            let Some(base) = at(0) else { continue };
+            let want = eval_with(fmt, mode, &base);
+            for k in [-110, -60, 60, 110] {
+                let Some(x) = at(k) else { continue };
+                // s_z = 1/d_kz must stay normal for t to scale exactly
+                if to_f64(fmt, x.s[2]).abs() < 2f64.powi(-126) {
+                    continue;
+                }
+                let got = eval_with(fmt, mode, &x);
+                assert_eq!(got, want, "{mode:?} k={k}: {x:?} against {base:?}");
+                compared += 1;
+                hits += got.hit as u32;
+            }
+        }
+        eprintln!("{mode:?}: {compared} scaled rays, {hits} hits, all bit-identical to scale 1");
+        assert!(
+            compared > 10_000 && hits > 2_000,
+            "{compared} compared, {hits} hits"
+        );
+    }
+}
