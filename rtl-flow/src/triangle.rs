@@ -238,7 +238,7 @@ impl TriangleBench {
     }
     /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
     pub fn full(&self) -> bool {
-        self.unit.full
+        self.unit.full()
     }
 }
 

@@ -132,12 +132,17 @@ pub struct Config {
     pub wide: Format,
     /// the rounding of every operation
     pub round: Rounding,
-    /// `t`, `u`, `v` outputs too
-    pub full: bool,
     /// what the unit outputs
     pub outputs: Outputs,
     /// pipeline registers
     pub stages: u32,
+}
+
+impl Config {
+    /// `t`, `u`, `v` outputs (`outputs=full`), and the divider they need.
+    pub fn full(&self) -> bool {
+        self.outputs == Outputs::Full
+    }
 }
 
 /// Module name.
@@ -218,7 +223,7 @@ impl<T: Copy> Record<T> for TriangleOut<T> {
         TriangleOut {
             hit: w.one("hit", Ty::Bool, |r| r.hit),
             invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
-            t_u_v: cfg.full.then(|| {
+            t_u_v: cfg.full().then(|| {
                 [
                     w.one("t", ty, field(0)),
                     w.one("u", ty, field(1)),
@@ -397,7 +402,7 @@ pub fn build(cfg: &Config) -> Module {
 
     let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
     let t_max = rounded(&mut m, "u_widen_t_max", &widen, &Source::new(t_max));
-    let (t_rounded, after_min, before_max, far) = if cfg.full {
+    let (t_rounded, after_min, before_max, far) = if cfg.full() {
         // step 5: t in wf, compared with the bounds there
         let recip = recip_module(wf, mode, 0);
         let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
@@ -529,7 +534,6 @@ impl Description for Triangle {
             fmt,
             wide,
             round: p.round,
-            full: p.outputs == Outputs::Full,
             outputs: p.outputs,
             stages: p.stages,
         })
