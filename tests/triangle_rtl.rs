@@ -22,6 +22,10 @@ const CASES: &[Case] = &[
     (8, 23, "rne", "full", 8, "plan"),
     (8, 7, "rtz", "full", 4, "plan"),
     (5, 6, "rdn", "hit", 0, "plan"),
+    // the issue-42 format (binary16's range, internal e9m10), a directed mode
+    (5, 10, "rup", "full", 2, "plan"),
+    // t as numerator and denominator, the segment test by products (issue 42)
+    (8, 23, "rne", "tnum", 8, "plan"),
 ];
 
 fn params(c: &Case) -> Vec<String> {
@@ -76,6 +80,54 @@ fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
         assert!(invalid as u64 > n / 50, "invalid {invalid}");
         assert!(repeated as u64 > n / 50, "repeated vertices {repeated}");
     }
+}
+
+/// The IR evaluator against the golden model in every rounding mode and in
+/// the formats of the range sweep (golden-model/tests/triangle_range.rs),
+/// the stimulus reaching both ends of each format's range.
+#[test]
+fn triangle_matches_golden_model_in_the_evaluator_in_every_mode() {
+    let cases: &[(u32, u32, &str, &str)] = &[
+        (8, 23, "rtz", "full"),
+        (8, 23, "rup", "full"),
+        (8, 23, "rdn", "hit"),
+        (5, 10, "rne", "full"),
+        (5, 10, "rtz", "full"),
+        (8, 7, "rup", "full"),
+        (8, 23, "rtz", "tnum"),
+        (5, 10, "rdn", "tnum"),
+        (8, 23, "rup", "hit"),
+    ];
+    for &(e, f, round, outputs) in cases {
+        let p = [
+            format!("exp_bits={e}"),
+            format!("frac_bits={f}"),
+            format!("round={round}"),
+            format!("outputs={outputs}"),
+            "stages=0".to_string(),
+        ];
+        let p: Vec<&str> = p.iter().map(String::as_str).collect();
+        let (g, _) = generate("triangle_eval_modes", "triangle", &p);
+        evaluated(&g, 3_000, 5);
+    }
+}
+
+/// Formats whose internal format would need more than 11 exponent bits are
+/// refused with a message, not built wrong.
+#[test]
+fn formats_without_an_internal_format_are_refused() {
+    use rtl_gen::params::ParamSet;
+    use rtl_gen::units::triangle::{Triangle, TriangleParams};
+    use rtl_gen::units::Description;
+    let p = TriangleParams {
+        exp_bits: 9,
+        frac_bits: 20,
+        ..TriangleParams::defaults()
+    };
+    let err = Triangle
+        .config(&p)
+        .expect_err("e9m20 has no internal format");
+    assert!(err.to_string().contains("internal format"), "{err}");
 }
 
 #[test]

@@ -1,15 +1,18 @@
 //! Golden model of `triangle`: a watertight ray/triangle test in the manner
 //! of Woop, Benthin and Wald (2013, "Watertight ray/triangle
-//! intersection"), every operation rounded once in one format, to nearest
-//! even ([`eval`]) or in any rounding mode ([`eval_with`]); and an exact
-//! rational reference ([`exact`]).
+//! intersection"), every operation rounded once in one internal format
+//! ([`internal_format`]: the unit's fraction width and an exponent range in
+//! which no value of the datapath overflows or underflows for finite
+//! inputs), to nearest even ([`eval`]) or in any rounding mode
+//! ([`eval_with`]); and an exact rational reference ([`exact`]).
 //!
 //! Per ray (software, [`shear`]): `kz` is the axis of the largest `|d|`
 //! (the first on ties), `kx = kz + 1`, `ky = kz + 2` (mod 3), and
 //! `s = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz)` each correctly rounded.
-//! Per triangle (the unit, [`eval`]):
+//! Per triangle (the unit, [`eval`]), in the internal format:
 //!
-//! 1. each vertex relative to the origin, `p = P − o` (three subtractions);
+//! 1. each vertex relative to the origin, `p = P − o` (three subtractions,
+//!    the inputs widened exactly);
 //! 2. sheared into ray space, `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz`
 //!    (one fused multiply-add each), `Z = s_z·p_kz`;
 //! 3. the edge functions as two-term fused dot products, rounded once:
@@ -20,26 +23,30 @@
 //!    products; `det = 0` is a miss (a triangle seen edge-on, or with a
 //!    repeated vertex);
 //! 5. `r = 1/det`, `t = T·r`, barycentrics `u = V·r` (of B), `v = W·r` (of
-//!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`.
+//!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
+//!    rounded into the unit's format.
 //!
 //! **Why it is watertight.** A vertex's sheared coordinates depend only on
 //! the vertex and the ray, so two triangles sharing it compute the same
 //! `X, Y`. Each edge function depends only on its directed edge
 //! (`P → Q` gives `Q_X·P_Y − Q_Y·P_X`), and the neighbour across an edge
-//! walks it the other way: its value is the exact negation. Rounded once,
-//! in any mode, each keeps the sign of its exact value or underflows to a
-//! zero, so the two see opposite signs or a zero. So a ray that
-//! leaves one triangle across an edge (its edge function negative there)
-//! finds the neighbour's positive, and zero counts as inside for both: no
-//! ray falls between the two. (Woop et al. need a double-precision fallback
-//! because their edge functions round each product; here the difference is
-//! fused.)
+//! walks it the other way: its value is the exact negation. Rounded once in
+//! a format where it can neither overflow nor underflow, in any mode, each
+//! has the sign of its exact value, so the two see opposite signs or both
+//! a zero. So a ray that leaves one triangle across an edge (its edge
+//! function negative there) finds the neighbour's positive, and zero counts
+//! as inside for both: no ray falls between the two. (Woop et al. need a
+//! double-precision fallback because their edge functions round each
+//! product; here the difference is fused.)
 //!
 //! Outputs when there is no hit: `t = u = v = +0`. `invalid` (with a miss)
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
-//! `t_max`, or `kz = 3`.
+//! `t_max`, `kz = 3`, or a hit whose `t` lies beyond the format's finite
+//! range.
 
-use crate::float::{classify, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
+use crate::float::{
+    classify, convert, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
+};
 use crate::transform::recip;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -134,11 +141,51 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
     eval_with(fmt, RNE, x)
 }
 
-/// The unit's answer for `x` with every operation rounded in `mode`
-/// (watertight in every mode; the shear constants are inputs, rounded to
-/// nearest by [`shear`]).
-pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
-    let zero = fmt.zero(false);
+/// The internal format of the unit for `fmt`: the same fraction width, the
+/// smallest exponent width (at least `fmt`'s) with which no value of the
+/// datapath overflows or underflows for finite inputs, so every rounding in
+/// it is the rounding of an unbounded exponent and the signs of the edge
+/// functions, `det` and `T` are exact in every mode; `None` if no supported
+/// format (exponent at most 11 bits, width at most 64) has that range
+/// (formats with more than 8 exponent bits).
+///
+/// With `g = emin − F` (the grid of `fmt`'s subnormals) and `M = 2^(emax+1)`:
+/// a difference `P − o` is a multiple of `2^g` below `2M`; the ray-space
+/// coordinates multiples of `2^(2g)` below `4M²`; the edge functions and
+/// `det` multiples of `2^(4g)` below `2^7·M⁴`; `T` a multiple of `2^(6g)`
+/// below `2^8·M⁶`; `1/det` below `2^(−4g)`. The internal bias is the
+/// smallest with `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`.
+pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
+    let (emin, emax, f) = (fmt.emin() as i64, fmt.emax() as i64, fmt.frac_bits() as i64);
+    let g = emin - f;
+    let bias_needed = (6 * emax + 16).max(1 - 6 * g - f);
+    (fmt.exp_bits()..=FloatFormat::MAX_EXP_BITS)
+        .find(|&e| (1i64 << (e - 1)) - 1 >= bias_needed)
+        .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
+}
+
+/// The values of the datapath for one transaction, in the internal format.
+struct Datapath {
+    /// the internal format
+    w: FloatFormat,
+    /// a non-finite input, a NaN bound or `kz = 3`
+    invalid: bool,
+    /// the edge functions agree in sign (none NaN) and `det ≠ 0`
+    inside: bool,
+    /// `V` and `W`, the numerators of the barycentric weights of B and C
+    e_v: u64,
+    e_w: u64,
+    /// `det = U + V + W`
+    det: u64,
+    /// `T = U·A_Z + V·B_Z + W·C_Z`
+    t_num: u64,
+}
+
+/// Steps 1-4 in the internal format (`None` when `fmt` has none).
+fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath> {
+    let w = internal_format(fmt)?;
+    let wide = |v: u64| convert(fmt, w, v, mode);
+    let zero = w.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
     let invalid = all.clone().any(|&v| !fmt.is_finite(v))
         || fmt.is_nan(x.t_min)
@@ -146,53 +193,177 @@ pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
         || x.kz > 2;
     let (kx, ky) = other_axes(x.kz);
     let kz = x.kz as usize % 3;
-    // steps 1-2: each vertex in ray space
+    let s = x.s.map(wide);
+    // steps 1-2: each vertex in ray space (the difference rounded into w)
     let sheared = |p: &[u64; 3]| {
-        let r = [0, 1, 2].map(|i| sub(fmt, p[i], x.o[i], mode));
+        let r = [0, 1, 2].map(|i| sub(w, wide(p[i]), wide(x.o[i]), mode));
         let (px, py, pz) = (r[kx], r[ky], r[kz]);
         [
-            fma(fmt, fmt.negate(x.s[0]), pz, px, mode),
-            fma(fmt, fmt.negate(x.s[1]), pz, py, mode),
-            mul(fmt, x.s[2], pz, mode),
+            fma(w, w.negate(s[0]), pz, px, mode),
+            fma(w, w.negate(s[1]), pz, py, mode),
+            mul(w, s[2], pz, mode),
         ]
     };
     let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
     let edge = |p: &[u64; 3], q: &[u64; 3]| {
-        dot3(
-            fmt,
-            [q[0], fmt.negate(q[1]), zero],
-            [p[1], p[0], zero],
-            mode,
-        )
+        dot3(w, [q[0], w.negate(q[1]), zero], [p[1], p[0], zero], mode)
     };
-    let (u, v, w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
+    let (u, v, e_w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
     // step 4
-    let edges = [u, v, w];
-    let negative = edges.iter().any(|&e| lt(fmt, e, zero));
-    let positive = edges.iter().any(|&e| lt(fmt, zero, e));
-    let numbers = edges.iter().all(|&e| !fmt.is_nan(e));
-    let inside = numbers && !(negative && positive);
-    let det = dot3(fmt, edges, [one(fmt); 3], mode);
-    let t_num = dot3(fmt, edges, [a[2], b[2], c[2]], mode);
-    let det_zero = classify(fmt, det) == Class::Zero;
-    // step 5
-    let r = recip(fmt, det, mode);
-    let t = mul(fmt, t_num, r, mode);
-    let hit = !invalid && inside && !det_zero && le(fmt, x.t_min, t) && le(fmt, t, x.t_max);
-    if !hit {
+    let edges = [u, v, e_w];
+    let negative = edges.iter().any(|&e| lt(w, e, zero));
+    let positive = edges.iter().any(|&e| lt(w, zero, e));
+    let numbers = edges.iter().all(|&e| !w.is_nan(e));
+    let det = dot3(w, edges, [one(w); 3], mode);
+    let t_num = dot3(w, edges, [a[2], b[2], c[2]], mode);
+    let det_zero = classify(w, det) == Class::Zero;
+    Some(Datapath {
+        w,
+        invalid,
+        inside: numbers && !(negative && positive) && !det_zero,
+        e_v: v,
+        e_w,
+        det,
+        t_num,
+    })
+}
+
+/// The unit's answer for `x` with every operation rounded in `mode`
+/// (watertight in every mode; the shear constants are inputs, rounded to
+/// nearest by [`shear`]) with `outputs=full` (`outputs=hit|tnum`:
+/// [`eval_tnum`]). The datapath runs in [`internal_format`]: the
+/// inputs are widened exactly, `t`, `u`, `v` rounded back into `fmt` (exact
+/// in `fmt`'s normal range: the fraction width is the same). A hit whose
+/// `t` lies beyond `fmt`'s finite range is no hit and flagged `invalid`;
+/// for a format without an internal format every transaction is `invalid`.
+pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
+    let Some(d) = datapath(fmt, mode, x) else {
         return TriOut {
-            invalid,
+            invalid: true,
+            ..TriOut::default()
+        };
+    };
+    let w = d.w;
+    let wide = |v: u64| convert(fmt, w, v, mode);
+    // step 5: t in w, compared with the bounds there
+    let r = recip(w, d.det, mode);
+    let t = mul(w, d.t_num, r, mode);
+    let candidate = !d.invalid && d.inside && le(w, wide(x.t_min), t) && le(w, t, wide(x.t_max));
+    // a hit beyond the format's finite range: no t to report
+    let far = candidate && lt(w, wide(fmt.max_finite(false)), t & !w.sign_bit());
+    if !candidate || far {
+        return TriOut {
+            invalid: d.invalid || far,
             ..TriOut::default()
         };
     }
+    let narrow = |v: u64| convert(w, fmt, v, mode);
     TriOut {
-        hit,
-        invalid,
-        t,
-        u: mul(fmt, v, r, mode),
-        v: mul(fmt, w, r, mode),
+        hit: true,
+        invalid: d.invalid,
+        t: narrow(t),
+        u: narrow(mul(w, d.e_v, r, mode)),
+        v: narrow(mul(w, d.e_w, r, mode)),
     }
+}
+
+/// What the unit answers with `outputs=tnum`: `t = t_num / t_den`, both in
+/// [`internal_format`], not divided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TriNum {
+    /// the segment meets the triangle
+    pub hit: bool,
+    /// a non-finite input, `kz = 3` or a hit beyond the format's range
+    pub invalid: bool,
+    /// `T` (+0 without a hit)
+    pub t_num: u64,
+    /// `det` (+0 without a hit)
+    pub t_den: u64,
+}
+
+/// The unit's answer with `outputs=tnum`: the datapath of [`eval_with`]
+/// up to `T` and `det`, then the segment test without a division, exact:
+/// `t_min ≤ T/det ≤ t_max` as `t_min·|det| ≤ T·sgn(det) ≤ t_max·|det|`, and
+/// `|T| ≥ 2^(emax+1)·|det|` (a `t` beyond the format's finite range) flagged
+/// `invalid`. Its `hit` can differ from [`eval_with`]'s only where the
+/// rounded `t` of the latter and the exact ratio lie on two sides of a
+/// bound (within an ulp or two of it); [`finish_t`] gives `full`'s `t`.
+pub fn eval_tnum(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriNum {
+    use crate::exact::ray_box::{decode as decode_bound, Exact};
+    use crate::transform::exact::decode;
+    use dashu::integer::IBig;
+    let Some(d) = datapath(fmt, mode, x) else {
+        return TriNum {
+            invalid: true,
+            ..TriNum::default()
+        };
+    };
+    let w = d.w;
+    if d.invalid || !d.inside {
+        return TriNum {
+            invalid: d.invalid,
+            ..TriNum::default()
+        };
+    }
+    // finite and det ≠ 0 here: T' = T·sgn(det) against bound·|det|
+    let (tm, te) = decode(w, d.t_num).expect("T is finite");
+    let (dm, de) = decode(w, d.det).expect("det is finite");
+    let (tm, dm) = if dm < IBig::ZERO {
+        (-tm, -dm)
+    } else {
+        (tm, dm)
+    };
+    // the sign of T' − b·2^k·|det| for the finite bound b·2^k
+    let cmp = |b: IBig, k: i64| {
+        let (lhs, rhs, e) = (tm.clone(), b * &dm, k + de);
+        let shift = |x: IBig, by: i64| x << (by as usize);
+        if te >= e {
+            shift(lhs, te - e).cmp(&rhs)
+        } else {
+            lhs.cmp(&shift(rhs, e - te))
+        }
+    };
+    use std::cmp::Ordering::*;
+    let at_least = |bound: u64| match decode_bound(fmt, bound) {
+        Exact::NegInf => true,
+        Exact::PosInf | Exact::NaN => false,
+        Exact::Fin { m, e } => cmp(IBig::from(m), e as i64) != Less,
+    };
+    let at_most = |bound: u64| match decode_bound(fmt, bound) {
+        Exact::PosInf => true,
+        Exact::NegInf | Exact::NaN => false,
+        Exact::Fin { m, e } => cmp(IBig::from(m), e as i64) != Greater,
+    };
+    if !(at_least(x.t_min) && at_most(x.t_max)) {
+        return TriNum::default();
+    }
+    // |T'| ≥ 2^(emax+1)·|det|
+    let big = |sign: i64| cmp(IBig::from(sign), fmt.emax() as i64 + 1);
+    let far = big(1) != Less || big(-1) != Greater;
+    if far {
+        return TriNum {
+            invalid: true,
+            ..TriNum::default()
+        };
+    }
+    TriNum {
+        hit: true,
+        invalid: false,
+        t_num: d.t_num,
+        t_den: d.det,
+    }
+}
+
+/// `t` from an `outputs=tnum` answer, rounded as `outputs=full` rounds it
+/// (`RN(T · RN(1/det))` in the internal format, then into `fmt`): what a
+/// shader does once per accepted hit.
+pub fn finish_t(fmt: FloatFormat, mode: RoundingMode, t_num: u64, t_den: u64) -> u64 {
+    let Some(w) = internal_format(fmt) else {
+        return fmt.canonical_nan();
+    };
+    let t = mul(w, t_num, recip(w, t_den, mode), mode);
+    convert(w, fmt, t, mode)
 }
 
 /// Exact reference: the closed triangle against the closed segment, in

@@ -5,7 +5,7 @@
 use golden_model::cull::bvh::{parse_obj, Mesh};
 use golden_model::float::FloatFormat;
 use golden_model::float::RoundingMode;
-use golden_model::triangle::{eval, eval_with, exact, shear, TriIn};
+use golden_model::triangle::{eval, eval_tnum, eval_with, exact, finish_t, shear, TriIn};
 use std::collections::HashMap;
 
 const F32: FloatFormat = FloatFormat::BINARY32;
@@ -148,6 +148,57 @@ fn random_rays_in(mode: RoundingMode, med_max: f64, p99_max: f64) {
         uv_p99 < 2.0 * p99_max,
         "{mode:?}: 99th percentile u, v error {uv_p99:.2e}"
     );
+}
+
+/// `outputs=tnum` against `outputs=full` on random rays: the same hits with
+/// the segment `[0, ∞]`, the same `t` once finished in software; with
+/// bounds a few ulps around the hit the two may differ only where full's
+/// rounded `t` and the exact ratio `T/det` lie on two sides of a bound.
+#[test]
+fn tnum_matches_full() {
+    use golden_model::float::nudge;
+    let mut rng = Rng(42);
+    for mode in RoundingMode::ALL {
+        let (mut hits, mut bounded, mut differ) = (0u32, 0u32, 0u32);
+        for i in 0..50_000 {
+            let tri = [0; 3].map(|_| [0; 3].map(|_| rng.range(-1.0, 1.0) as f32));
+            let radius = rng.range(2.0, 8.0);
+            let o = rng.sphere(radius).map(|x| x as f32);
+            let (b1, b2) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
+            let aim: [f64; 3] = [0, 1, 2].map(|i| {
+                let (a, b, c) = (tri[0][i] as f64, tri[1][i] as f64, tri[2][i] as f64);
+                a + b1 * (b - a) + b2 * (c - a)
+            });
+            let d = [0, 1, 2].map(|i| (aim[i] - o[i] as f64) as f32);
+            let mut x = transaction(o, d, tri);
+            let full = eval_with(F32, mode, &x);
+            let num = eval_tnum(F32, mode, &x);
+            assert_eq!((num.hit, num.invalid), (full.hit, full.invalid), "{x:?}");
+            if !full.hit {
+                continue;
+            }
+            hits += 1;
+            assert_eq!(finish_t(F32, mode, num.t_num, num.t_den), full.t, "{x:?}");
+            // bounds within 2 ulps of the hit's t
+            if i % 2 == 0 {
+                x.t_min = nudge(F32, full.t, (i as i64 / 2 % 5) - 2);
+            } else {
+                x.t_max = nudge(F32, full.t, (i as i64 / 2 % 5) - 2);
+            }
+            bounded += 1;
+            let (full, num) = (eval_with(F32, mode, &x), eval_tnum(F32, mode, &x));
+            if full.hit != num.hit {
+                differ += 1;
+            }
+        }
+        eprintln!(
+            "{mode:?}: {hits} hits, tnum's t finished = full's t; {bounded} with a bound within \
+             2 ulps of t, tnum and full differ on {differ}"
+        );
+        assert!(hits > 10_000);
+        // only a bound equal to the rounded t or next to it can separate them
+        assert!(differ < bounded / 2, "{differ} of {bounded}");
+    }
 }
 
 /// `((Q − P) × d) · (X − P)` in exact arithmetic: which side of the plane

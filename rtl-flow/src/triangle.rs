@@ -5,7 +5,9 @@
 //! edge's midpoint and a few ulps beside it, vertices and edge ends, segment
 //! bounds around the hit, degenerate triangles (a repeated vertex, three
 //! collinear vertices), special values (NaN, ±∞, ±0, subnormals, raw bits)
-//! in any input and `kz = 3`, at scales from 2^-20 to 2^20.
+//! in any input and `kz = 3`, at scales from 2^-20 to 2^20 and, one in
+//! eight, at the ends of the format's range (2^emin .. 2^(emin+6) and
+//! 2^(emax-6) .. 2^(emax-3)).
 //! Ports: `o_{x,y,z}`, `kz`, `s_{x,y,z}`, `a_*`, `b_*`, `c_*`, `t_min`,
 //! `t_max`; outputs `hit`, `invalid` and, with `outputs=full`, `t`, `u`, `v`.
 
@@ -14,9 +16,9 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_with, shear, TriIn, TriOut};
+use golden_model::triangle::{eval_tnum, eval_with, shear, TriIn, TriOut};
 use rtl_gen::units::ports;
-use rtl_gen::units::triangle::{Config, TriangleIn, TriangleOut};
+use rtl_gen::units::triangle::{Config, Outputs, TriangleIn, TriangleOut};
 
 /// Vectors and golden model of one `triangle` configuration.
 pub struct TriangleBench {
@@ -53,9 +55,16 @@ impl TriangleBench {
         let fmt = self.fmt;
         let mut r = VectorRng::new(seed, index);
         let q = |v: f64| from_f64(fmt, v);
-        // a scale the format can hold: small formats stay near 1
+        // a scale the format can hold: small formats stay near 1; one in
+        // eight at an end of the range (vertices near the smallest normal,
+        // or the origin's distance near the largest finite value)
         let span = (fmt.bias() / 4).clamp(1, 20);
-        let scale = (2f64).powi((r.below(2 * span as u64 + 1) as i32) - span);
+        let exp = match r.below(16) {
+            0 => fmt.emin() + r.below(7) as i32,
+            1 => fmt.emax() - 6 + r.below(4) as i32,
+            _ => (r.below(2 * span as u64 + 1) as i32) - span,
+        };
+        let scale = (2f64).powi(exp);
         let rnd = |r: &mut VectorRng, lo: f64, hi: f64| lo + (hi - lo) * Self::unit(r);
         let tri: [[u64; 3]; 3] = [0; 3].map(|_| [0; 3].map(|_| q(rnd(&mut r, -1.0, 1.0) * scale)));
         let v = |k: usize, i: usize| to_f64(fmt, tri[k][i]);
@@ -229,17 +238,32 @@ impl TriangleBench {
     }
     /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
     pub fn full(&self) -> bool {
-        self.unit.full
+        self.unit.full()
     }
 }
 
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
-        let out = eval_with(self.fmt, self.mode, &self.from_ports(v));
-        let record = TriangleOut {
-            hit: out.hit as u64,
-            invalid: out.invalid as u64,
-            t_u_v: Some([out.t, out.u, out.v]),
+        let x = self.from_ports(v);
+        let record = match self.unit.outputs {
+            Outputs::Full => {
+                let out = eval_with(self.fmt, self.mode, &x);
+                TriangleOut {
+                    hit: out.hit as u64,
+                    invalid: out.invalid as u64,
+                    t_u_v: Some([out.t, out.u, out.v]),
+                    t_num_den: None,
+                }
+            }
+            Outputs::Hit | Outputs::Tnum => {
+                let out = eval_tnum(self.fmt, self.mode, &x);
+                TriangleOut {
+                    hit: out.hit as u64,
+                    invalid: out.invalid as u64,
+                    t_u_v: None,
+                    t_num_den: Some([out.t_num, out.t_den]),
+                }
+            }
         };
         ports::pack(&self.unit, &record, outputs)
     }

@@ -1,17 +1,20 @@
 //! `triangle`: a watertight ray/triangle test in the manner of Woop, Benthin
-//! and Wald (2013), every operation rounded once in one format and one
-//! rounding mode (`round`; every mode keeps the test watertight: an edge
-//! function is rounded once, so its sign is exact or it underflows to a
-//! zero, which counts as inside) (issue #16; golden twin
-//! `golden_model::triangle`, docs/triangle.md).
+//! and Wald (2013), every operation rounded once in one rounding mode
+//! (`round`) and in one internal format ([`internal_format`]: the unit's
+//! fraction width, an exponent range in which nothing of the datapath
+//! overflows or underflows for finite inputs), so the signs of the edge
+//! functions, `det` and `T` are the exact signs of the rounded ray-space
+//! coordinates in every mode and for every finite input (issues #16, #42;
+//! golden twin `golden_model::triangle`, docs/triangle.md).
 //!
 //! Inputs per ray: the origin `o`, the axis `kz` of the direction's largest
 //! component and the shear constants `s = (d_kx/d_kz, d_ky/d_kz, 1/d_kz)`,
 //! precomputed once per ray as the slab's reciprocal direction is; per
 //! triangle its vertices `a`, `b`, `c`; the segment `t_min..t_max`.
 //!
-//! 1. `p = P − o` per vertex; `kx = kz + 1`, `ky = kz + 2` (mod 3) select
-//!    components;
+//! 1. `p = P − o` per vertex, rounded into the internal format;
+//!    `kx = kz + 1`, `ky = kz + 2` (mod 3) select components; the shear
+//!    constants and the bounds are widened into it exactly;
 //! 2. ray space: `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz` (fused
 //!    multiply-add), `Z = s_z·p_kz`;
 //! 3. edge functions, each a two-term fused dot product rounded once:
@@ -21,26 +24,38 @@
 //!    watertight);
 //! 4. inside unless some edge function is negative and another positive;
 //!    `det = U + V + W`, `T = U·A_Z + V·B_Z + W·C_Z` (fused dot products);
-//! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r`; `hit` iff inside,
-//!    `det ≠ 0`, no NaN edge function and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
-//!    are +0 without a hit; `invalid` (and no hit) for a non-finite `o`,
-//!    `s` or vertex, a NaN bound or `kz = 3`.
+//! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r` in the internal format;
+//!    `hit` iff inside, `det ≠ 0`, no NaN edge function and
+//!    `t_min ≤ t ≤ t_max` (compared there) and `|t|` below `2^(emax+1)` of
+//!    the unit's format; `t`, `u`, `v` rounded into the unit's format (exact
+//!    in its normal range), +0 without a hit; `invalid` (and no hit) for a
+//!    non-finite `o`, `s` or vertex, a NaN bound, `kz = 3`, or a hit whose
+//!    `t` the format cannot hold.
 //!
-//! `outputs=hit` drops `u`, `v` and their multipliers (`t` is still formed
-//! for the range test). The unit is built as one datapath; `stages`
-//! registers are placed by the delay model ([`crate::retime::balance`]), so
-//! `pipeline=plan` and `pipeline=balanced` give the same registers.
+//! `outputs=full` outputs `t`, `u`, `v` (above); `outputs=tnum` outputs
+//! `t_num = T` and `t_den = det` (values of the internal format, +0 without
+//! a hit) and `outputs=hit` neither: both test the segment without a
+//! division, by exact comparisons of products (`t_min·|det| <= T·sgn(det)
+//! <= t_max·|det|`, and a hit with `|T| >= 2^(emax+1)·|det|` flagged), so
+//! they need no reciprocal and no multipliers of `t`, `u`, `v`. The unit is
+//! built as one datapath; `stages` registers are placed by the delay model
+//! ([`crate::retime::balance`]), so `pipeline=plan` and `pipeline=balanced`
+//! give the same registers.
 
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
-use crate::arith::float::add::add_module;
+use crate::arith::float::add::sub_widening_module;
 use crate::arith::float::compare::compare;
+use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
 use crate::arith::float::mul::mul_module;
+use crate::arith::float::product_compare::{
+    factor, product_term, single_term, start_product, term_le, Factor,
+};
 use crate::arith::float::unpack::unpack;
 use crate::arith::float::{negate, Format, Rounding};
-use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Triple};
+use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Source, Triple};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
@@ -52,8 +67,10 @@ pub struct Triangle;
 crate::choice! {
     /// What the triangle unit outputs.
     pub enum Outputs {
-        /// hit and invalid only
+        /// hit and invalid only (the segment test of tnum)
         Hit = "hit",
+        /// also t as a numerator and a denominator (no divider)
+        Tnum = "tnum",
         /// also t and the barycentrics
         Full = "full",
     }
@@ -62,36 +79,79 @@ crate::choice! {
 crate::params! {
     /// The triangle unit's parameters.
     pub struct TriangleParams {
-        /// exponent bits E (2..=11)
+        /// exponent bits E (2..=11; at most 8 have an internal format)
         exp_bits: u32 [2..=11] = 8,
         /// fraction bits F (1 + E + F <= 64)
         frac_bits: u32 [1..=52] = 23,
         /// rounding of every operation: to nearest even, toward zero, toward +inf, toward
         /// -inf (each keeps the test watertight)
         round: Rounding = Rounding::Rne,
-        /// hit: hit and invalid only; full: also t and the barycentrics u (of b) and v (of c)
+        /// hit: hit and invalid only; tnum: also t_num and t_den (t = t_num / t_den in the
+        /// internal format, the segment test by products, no divider); full: also t and the
+        /// barycentrics u (of b) and v (of c)
         outputs: Outputs = Outputs::Full,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 6,
     }
 }
 
+/// The internal format of the datapath for the unit's format `fmt`: the
+/// same fraction width and the smallest exponent width (at least `fmt`'s)
+/// in which no value of the datapath overflows or underflows for finite
+/// inputs, so every rounding there is the rounding of an unbounded exponent
+/// and the signs of the edge functions, `det` and `T` are exact in every
+/// mode (docs/triangle.md §2). With `g = emin − F`: differences are
+/// multiples of `2^g` below `2^(emax+2)`, ray-space coordinates multiples of
+/// `2^(2g)` below `2^(2·emax+4)`, edge functions and `det` multiples of
+/// `2^(4g)` below `2^(4·emax+11)`, `T` a multiple of `2^(6g)` below
+/// `2^(6·emax+14)`; so the internal bias is the smallest with
+/// `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`. `Err` when no supported
+/// format has that range (more than 8 exponent bits).
+pub fn internal_format(fmt: Format) -> Result<Format, String> {
+    let (emin, emax, f) = (fmt.emin(), fmt.emax(), fmt.frac_bits as i64);
+    let g = emin - f;
+    let bias = (6 * emax + 16).max(1 - 6 * g - f);
+    let e = (fmt.exp_bits..=11)
+        .find(|&e| (1i64 << (e - 1)) - 1 >= bias)
+        .ok_or_else(|| {
+            format!(
+                "{}: the triangle unit's internal format needs an exponent bias of at least \
+                 {bias}, more than 11 exponent bits (formats of up to 8 exponent bits have one)",
+                fmt.tag()
+            )
+        })?;
+    Format::new(e, fmt.frac_bits)
+}
+
 /// Resolved parameters.
 #[derive(Debug, Clone, Copy)]
 pub struct Config {
-    /// the one format of every value
+    /// the format of the inputs and of `t`, `u`, `v`
     pub fmt: Format,
+    /// the format of the datapath ([`internal_format`])
+    pub wide: Format,
     /// the rounding of every operation
     pub round: Rounding,
-    /// `t`, `u`, `v` outputs too
-    pub full: bool,
+    /// what the unit outputs
+    pub outputs: Outputs,
     /// pipeline registers
     pub stages: u32,
 }
 
+impl Config {
+    /// `t`, `u`, `v` outputs (`outputs=full`), and the divider they need.
+    pub fn full(&self) -> bool {
+        self.outputs == Outputs::Full
+    }
+}
+
 /// Module name.
 pub fn triangle_name(cfg: &Config) -> String {
-    let out = if cfg.full { "full" } else { "hit" };
+    let out = match cfg.outputs {
+        Outputs::Hit => "hit",
+        Outputs::Tnum => "tnum",
+        Outputs::Full => "full",
+    };
     let round = match cfg.round {
         Rounding::Rne => String::new(),
         r => format!("_{}", r.word()),
@@ -149,6 +209,9 @@ pub struct TriangleOut<T> {
     /// the hit's `t`, and its barycentric weights of `b` and `c`
     /// (`outputs=full`)
     pub t_u_v: Option<[T; 3]>,
+    /// the hit's `t` as `T` and `det`, values of the internal format
+    /// (`outputs=tnum`)
+    pub t_num_den: Option<[T; 2]>,
 }
 
 impl<T: Copy> Record<T> for TriangleOut<T> {
@@ -160,12 +223,19 @@ impl<T: Copy> Record<T> for TriangleOut<T> {
         TriangleOut {
             hit: w.one("hit", Ty::Bool, |r| r.hit),
             invalid: w.one("invalid", Ty::Bool, |r| r.invalid),
-            t_u_v: cfg.full.then(|| {
+            t_u_v: cfg.full().then(|| {
                 [
                     w.one("t", ty, field(0)),
                     w.one("u", ty, field(1)),
                     w.one("v", ty, field(2)),
                 ]
+            }),
+            t_num_den: (cfg.outputs == Outputs::Tnum).then(|| {
+                let wide = Ty::UInt(cfg.wide.width());
+                let num = |k: usize| {
+                    move |r: &Self| r.t_num_den.expect("a tnum unit's record has t_num, t_den")[k]
+                };
+                [w.one("t_num", wide, num(0)), w.one("t_den", wide, num(1))]
             }),
         }
     }
@@ -174,15 +244,18 @@ impl<T: Copy> Record<T> for TriangleOut<T> {
 /// Builds the unit for `cfg`.
 pub fn build(cfg: &Config) -> Module {
     let fmt = cfg.fmt;
+    let wf = cfg.wide;
     let mode = cfg.round;
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
         "Watertight ray/triangle test (Woop, Benthin, Wald 2013), every operation rounded in \
-         `round`: vertices minus o, sheared \
+         `round` into an internal format with the exponent range of every finite input \
+         (exact signs, no overflow): vertices minus o, sheared \
          into ray space by (kz, s), edge functions as fused two-term dot products (a shared edge \
          gives exactly negated values), det and T as fused dot products, t = T * (1/det); hit iff \
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
-         v (weight of c) are 0 without a hit; invalid for non-finite input or kz = 3.",
+         v (weight of c) are 0 without a hit; invalid for non-finite input, kz = 3 or a hit \
+         whose t the format cannot hold.",
     );
     let TriangleIn {
         o,
@@ -225,11 +298,22 @@ pub fn build(cfg: &Config) -> Module {
         let x = m.mux(kz1, p[(1 + k) % 3], p[k % 3]);
         m.mux(kz2, p[(2 + k) % 3], x)
     };
-    let sub = add_module(fmt, mode, true, 0);
-    let fma = fma_module(fmt, mode, 0);
-    let mul = mul_module(fmt, mode, 0);
-    let neg_sx = negate(&mut m, fmt, s[0]);
-    let neg_sy = negate(&mut m, fmt, s[1]);
+    // the datapath in wf: differences rounded into it, the shear constants
+    // and the bounds widened exactly
+    let sub = sub_widening_module(fmt, wf, mode, 0);
+    let fma = fma_module(wf, mode, 0);
+    let mul = mul_module(wf, mode, 0);
+    let widen = convert_module(fmt, wf, mode, 0);
+    let s = [0, 1, 2].map(|i| {
+        rounded(
+            &mut m,
+            &format!("u_widen_s_{}", AXES[i]),
+            &widen,
+            &Source::new(s[i]),
+        )
+    });
+    let neg_sx = negate(&mut m, wf, s[0]);
+    let neg_sy = negate(&mut m, wf, s[1]);
     let mut ray_space = Vec::new();
     for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
         let rel = [0, 1, 2].map(|i| {
@@ -267,10 +351,10 @@ pub fn build(cfg: &Config) -> Module {
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
 
     // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
-    let dot = dot3_module(fmt, mode, 0);
-    let zero = m.uint(fmt.width(), 0);
+    let dot = dot3_module(wf, mode, 0);
+    let zero = m.uint(wf.width(), 0);
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
-        let nqy = negate(m, fmt, q[1]);
+        let nqy = negate(m, wf, q[1]);
         rounded(
             m,
             &format!("u_edge_{name}"),
@@ -288,9 +372,9 @@ pub fn build(cfg: &Config) -> Module {
     let mut nan_edge = m.bool(false);
     for (name, e) in [("e_u", e_u), ("e_v", e_v), ("e_w", e_w)] {
         let (lt0, gt0, nan) = m.scope(name, |m| {
-            let (lt0, _, _) = m.scope("below", |m| compare(m, fmt, e, zero));
-            let (gt0, _, _) = m.scope("above", |m| compare(m, fmt, zero, e));
-            let u = unpack(m, fmt, e);
+            let (lt0, _, _) = m.scope("below", |m| compare(m, wf, e, zero));
+            let (gt0, _, _) = m.scope("above", |m| compare(m, wf, zero, e));
+            let u = unpack(m, wf, e);
             (lt0, gt0, u.nan)
         });
         negative = m.or(negative, lt0);
@@ -301,7 +385,7 @@ pub fn build(cfg: &Config) -> Module {
     let outside = m.or(mixed, nan_edge);
     let inside = m.not(outside);
     let inside = m.name(inside, "inside_edges");
-    let one = m.uint(fmt.width(), (fmt.bias() as u128) << fmt.frac_bits);
+    let one = m.uint(wf.width(), (wf.bias() as u128) << wf.frac_bits);
     let det = rounded(
         &mut m,
         "u_det",
@@ -314,30 +398,69 @@ pub fn build(cfg: &Config) -> Module {
         &dot,
         &DotTerms::new([e_u, e_v, e_w], [a[2], b[2], c[2]]),
     );
-    let det_zero = m.scope("det", |m| unpack(m, fmt, det).zero);
+    let det_zero = m.scope("det", |m| unpack(m, wf, det).zero);
 
-    // step 5
-    let recip = recip_module(fmt, mode, 0);
-    let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
-    let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
-    let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, fmt, t_min, t));
-    let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, fmt, t, t_max));
+    let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
+    let t_max = rounded(&mut m, "u_widen_t_max", &widen, &Source::new(t_max));
+    let (t_rounded, after_min, before_max, far) = if cfg.full() {
+        // step 5: t in wf, compared with the bounds there
+        let recip = recip_module(wf, mode, 0);
+        let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
+        let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
+        let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, wf, t_min, t));
+        let (_, before_max, _) = m.scope("t_to_max", |m| compare(m, wf, t, t_max));
+        // |t| beyond fmt's largest finite value (fmt's emax + 1 in wf)
+        let t_mag = m.slice(t, wf.width() - 2, 0);
+        let beyond = (wf.bias() + fmt.emax() + 1) as u128;
+        let first_beyond = m.uint(wf.width() - 1, beyond << wf.frac_bits);
+        let far = m.ge(t_mag, first_beyond);
+        (Some((t, r)), after_min, before_max, far)
+    } else {
+        // step 5 without a division: t_min·|det| <= T·sgn(det) <= t_max·|det|
+        // and 2^(emax+1)·|det| <= |T| (a t beyond fmt), exact products
+        let (after_min, before_max, far) =
+            segment_by_products(&mut m, cfg, det, t_num, t_min, t_max);
+        (None, after_min, before_max, far)
+    };
+    let far = m.name(far, "t_beyond_format");
     let valid = m.not(invalid);
     let det_ok = m.not(det_zero);
-    let mut hit = m.and(valid, inside);
-    hit = m.and(hit, det_ok);
-    hit = m.and(hit, after_min);
-    hit = m.and(hit, before_max);
+    let mut candidate = m.and(valid, inside);
+    candidate = m.and(candidate, det_ok);
+    candidate = m.and(candidate, after_min);
+    candidate = m.and(candidate, before_max);
+    let candidate = m.name(candidate, "hit_candidate");
+    // a hit whose t the format cannot hold is flagged, not reported
+    let flagged = m.and(candidate, far);
+    let invalid = m.or(invalid, flagged);
+    let invalid = m.name(invalid, "invalid_found");
+    let near = m.not(far);
+    let hit = m.and(candidate, near);
     let hit = m.name(hit, "hit_found");
-    let t_u_v = cfg.full.then(|| {
+    let t_u_v = t_rounded.map(|(t, r)| {
         let u = rounded(&mut m, "u_bary_u", &mul, &Pair::new(e_v, r));
         let v = rounded(&mut m, "u_bary_v", &mul, &Pair::new(e_w, r));
-        [t, u, v].map(|x| m.mux(hit, x, zero))
+        let narrow = convert_module(wf, fmt, mode, 0);
+        let out_zero = m.uint(fmt.width(), 0);
+        [("t", t), ("u", u), ("v", v)].map(|(name, x)| {
+            let x = rounded(
+                &mut m,
+                &format!("u_narrow_{name}"),
+                &narrow,
+                &Source::new(x),
+            );
+            m.mux(hit, x, out_zero)
+        })
+    });
+    let t_num_den = (cfg.outputs == Outputs::Tnum).then(|| {
+        let out_zero = m.uint(wf.width(), 0);
+        [t_num, det].map(|x| m.mux(hit, x, out_zero))
     });
     let outputs = TriangleOut {
         hit,
         invalid,
         t_u_v,
+        t_num_den,
     };
     ports::declare_outputs(&mut m, cfg, &outputs);
     let datapath = m.finish().expect("triangle datapath is well formed");
@@ -350,16 +473,68 @@ pub fn build(cfg: &Config) -> Module {
     module
 }
 
+/// The segment test of `outputs=hit|tnum`, without a division: `(after_min,
+/// before_max, far)` for `t_min·|det| <= T' <= t_max·|det|` and
+/// `2^(emax+1)·|det| <= |T'|`, `T' = T·sgn(det)`, each an exact comparison of
+/// products (`det`, `T`, the bounds in the internal format).
+fn segment_by_products(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    det: Sig,
+    t_num: Sig,
+    t_min: Sig,
+    t_max: Sig,
+) -> (Sig, Sig, Sig) {
+    let wf = cfg.wide;
+    let det_f = factor(m, wf, det, "det_factor");
+    let unsigned = m.bool(false);
+    let det_abs = Factor {
+        sign: unsigned,
+        ..det_f
+    };
+    // T' = T with the sign of det folded in, and |T|
+    let t_f = factor(m, wf, t_num, "t_num_factor");
+    let t_sign = m.xor(t_f.sign, det_f.sign);
+    let t_signed = Factor {
+        sign: t_sign,
+        ..t_f
+    };
+    let t_abs = Factor {
+        sign: unsigned,
+        ..t_f
+    };
+    let t_signed = single_term(m, wf, &t_signed, "t_signed");
+    let t_abs = single_term(m, wf, &t_abs, "t_abs");
+    let limit = (wf.bias() + cfg.fmt.emax() + 1) as u128;
+    let limit = m.uint(wf.width(), limit << wf.frac_bits);
+    let bound = |m: &mut ModuleBuilder, name: &str, x: Sig| {
+        let f = factor(m, wf, x, &format!("{name}_factor"));
+        let p = start_product(m, wf, &f, &det_abs, 0, &format!("u_{name}_det"));
+        product_term(m, wf, &p, &format!("{name}_det"))
+    };
+    let min_det = bound(m, "t_min", t_min);
+    let max_det = bound(m, "t_max", t_max);
+    let limit_det = bound(m, "limit", limit);
+    let after_min = m.scope("t_from_min", |m| term_le(m, &min_det, &t_signed));
+    let before_max = m.scope("t_to_max", |m| term_le(m, &t_signed, &max_det));
+    let far = m.scope("t_far", |m| term_le(m, &limit_det, &t_abs));
+    (after_min, before_max, far)
+}
+
 impl Description for Triangle {
     type Params = TriangleParams;
     type Config = Config;
     const NAME: &'static str = "triangle";
     const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
     fn config(&self, p: &TriangleParams) -> Result<Config, ParamError> {
+        let fmt = super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?;
+        let wide = internal_format(fmt)
+            .map_err(|e| ParamError::Combination(format!("{}: {e}", Self::NAME)))?;
         Ok(Config {
-            fmt: super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?,
+            fmt,
+            wide,
             round: p.round,
-            full: p.outputs == Outputs::Full,
+            outputs: p.outputs,
             stages: p.stages,
         })
     }
