@@ -224,8 +224,9 @@ enum Verdict {
     Open,
 }
 
-/// Runs the script in `dir`; the cover's reachability and the verdict.
-fn run_yosys(dir: &Path, script: &str) -> Result<(bool, Verdict, String), String> {
+/// Runs the Yosys script `script` in `dir` with the pinned Yosys, logging to
+/// `prove.log`; the log, or an error with its tail.
+pub(crate) fn run_yosys_script(dir: &Path, script: &str) -> Result<String, String> {
     let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;
     let out = Command::new(&yosys)
         .current_dir(dir)
@@ -244,6 +245,12 @@ fn run_yosys(dir: &Path, script: &str) -> Result<(bool, Verdict, String), String
             tail.join("\n")
         ));
     }
+    Ok(log)
+}
+
+/// Runs the script in `dir`; the cover's reachability and the verdict.
+fn run_yosys(dir: &Path, script: &str) -> Result<(bool, Verdict, String), String> {
+    let log = run_yosys_script(dir, script)?;
     // the cover's `sat -seq` comes first in the log, the induction after it
     let covered = log.contains("SAT solving finished - model found");
     let verdict = if log.contains("Induction step proven: SUCCESS!") {

@@ -21,6 +21,12 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
+/// The reference's inputs, in port order (the box, the ray, the segment).
+const RAY_BOX_PORTS: [&str; 14] = [
+    "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z", "d_x",
+    "d_y", "d_z", "t_min", "t_max",
+];
+
 /// The axes' suffixes, in port order.
 const AXES: [&str; 3] = ["x", "y", "z"];
 
@@ -28,6 +34,23 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 /// `M < 2^(F + 1 + emax_biased − 1)`.
 fn magnitude_bits(fmt: FloatFormat) -> u32 {
     fmt.frac_bits() + 1 + ((1u32 << fmt.exp_bits()) - 3)
+}
+
+/// The Verilog function `mag(x)`: the magnitude of a finite value `x` of
+/// `fmt` as an unsigned integer `M` of [`magnitude_bits`], `|x| = M·2^(1 − bias − F)`.
+fn magnitude_function(fmt: FloatFormat) -> String {
+    let (w, f) = (fmt.width(), fmt.frac_bits());
+    format!(
+        "    function [{}:0] mag;\n        input [{}:0] x;\n        \
+         begin\n            if (x[{}:{f}] == 0) mag = x[{}:0];\n            \
+         else mag = {{1'b1, x[{}:0]}} << (x[{}:{f}] - 1);\n        end\n    endfunction\n",
+        magnitude_bits(fmt) - 1,
+        w - 1,
+        w - 2,
+        f - 1,
+        f - 1,
+        w - 2,
+    )
 }
 
 /// The exact reference `exact_ray_box_e<E>m<F>`: `hit` iff some `t` in
@@ -54,19 +77,13 @@ pub fn exact_reference(fmt: FloatFormat) -> (String, String) {
     );
     let _ = writeln!(
         v,
-        "    // a finite value as a signed integer in units of 2^{}\n    \
-         function signed [{}:0] value;\n        input [{}:0] x;\n        reg [{}:0] m;\n        \
-         begin\n            if (x[{}:{f}] == 0) m = x[{}:0];\n            \
-         else m = {{1'b1, x[{}:0]}} << (x[{}:{f}] - 1);\n            \
-         value = x[{}] ? -$signed({{1'b0, m}}) : $signed({{1'b0, m}});\n        end\n    endfunction",
+        "{}    // a finite value as a signed integer in units of 2^{}\n    \
+         function signed [{}:0] value;\n        input [{}:0] x;\n        \
+         value = x[{}] ? -$signed({{1'b0, mag(x)}}) : $signed({{1'b0, mag(x)}});\n    endfunction",
+        magnitude_function(fmt),
         1 - fmt.bias() - f as i32,
         nw - 1,
         w - 1,
-        mw - 1,
-        w - 2,
-        f - 1,
-        f - 1,
-        w - 2,
         w - 1
     );
     let inf = |x: &str, neg: bool| {
@@ -249,10 +266,7 @@ pub fn check_reference(fmt: FloatFormat, dir: &Path, count: usize) -> Result<usi
         let lo = vw - (k + 1) * digits;
         format!("v[{}:{lo}]", lo + w - 1)
     };
-    let ports = [
-        "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z",
-        "d_x", "d_y", "d_z", "t_min", "t_max",
-    ];
+    let ports = RAY_BOX_PORTS;
     let conns: Vec<String> = ports
         .iter()
         .enumerate()
@@ -331,10 +345,7 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
     let w = fmt.width();
     let mut v = String::new();
     let mut ports = vec!["input wire clk".to_string()];
-    for n in [
-        "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z",
-        "d_x", "d_y", "d_z", "t_min", "t_max",
-    ] {
+    for n in RAY_BOX_PORTS {
         ports.push(format!("input wire [{}:0] {n}", w - 1));
     }
     if takes_inv_d {
@@ -384,10 +395,8 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
         )
     };
     let mut assumes = Vec::new();
-    for n in [
-        "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z",
-        "d_x", "d_y", "d_z",
-    ] {
+    // the box, the origin and the direction: finite
+    for n in &RAY_BOX_PORTS[..12] {
         assumes.push(format!("!{}", exp_ones(n)));
     }
     for n in ["t_min", "t_max"] {
@@ -403,19 +412,7 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
         let mw = magnitude_bits(fmt);
         let one_shift = 2 * (fmt.bias() + fmt.frac_bits() as i32 - 1);
         let pw = 2 * (mw + 1);
-        let _ = writeln!(
-            v,
-            "    function [{}:0] mag;\n        input [{}:0] x;\n        \
-             begin\n            if (x[{}:{f}] == 0) mag = x[{}:0];\n            \
-             else mag = {{1'b1, x[{}:0]}} << (x[{}:{f}] - 1);\n        end\n    endfunction",
-            mw - 1,
-            w - 1,
-            w - 2,
-            fmt.frac_bits() - 1,
-            fmt.frac_bits() - 1,
-            w - 2,
-            f = fmt.frac_bits()
-        );
+        v.push_str(&magnitude_function(fmt));
         let max_mag = fmt.max_finite(false);
         for a in AXES {
             let _ = writeln!(
@@ -529,21 +526,7 @@ pub fn sound(
                design -load proof\n\
                sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
     put("prove.ys", &script)?;
-    let yosys = crate::synth::tool(crate::synth::Tool::Yosys).map_err(|e| e.0)?;
-    let out = Command::new(&yosys)
-        .current_dir(work)
-        .args(["-q", "-l", "prove.log", "-s", "prove.ys"])
-        .output()
-        .map_err(|e| format!("running {}: {e} (scripts/setup.sh)", yosys.display()))?;
-    let log = std::fs::read_to_string(work.join("prove.log")).unwrap_or_default();
-    if !out.status.success() {
-        return Err(format!(
-            "{} -s prove.ys in {} failed:\n{}",
-            yosys.display(),
-            work.display(),
-            log.lines().rev().take(10).collect::<Vec<_>>().join("\n")
-        ));
-    }
+    let log = crate::prove::run_yosys_script(work, "prove.ys")?;
     let what = format!(
         "{} ({} {}) never misses a ray that meets the box, for every input of e{}m{} \
          (box, origin, direction finite, no NaN{})",
