@@ -444,29 +444,6 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
     Ok(v)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The Verilog reference against the Rust one, in Icarus (a failure here
-    /// would let a wrong reference prove a wrong unit).
-    #[test]
-    fn the_verilog_reference_is_the_rust_reference() {
-        for (e, f) in [(2, 2), (3, 2), (2, 1), (4, 3)] {
-            let fmt = FloatFormat::new(e, f).unwrap();
-            let dir = std::env::temp_dir()
-                .join(format!("rtl-gen-exact-ref-e{e}m{f}-{}", std::process::id()));
-            let hits = check_reference(fmt, &dir, 20_000).unwrap();
-            // both answers are reached
-            assert!(
-                hits > 1_000 && hits < 19_000,
-                "e{e}m{f}: {hits} hits of 20,000"
-            );
-            let _ = std::fs::remove_dir_all(&dir);
-        }
-    }
-}
-
 /// Proves `unit` (generated at stages=0) sound against the exact reference
 /// in the job directory `work` (emptied first); the reference is checked in
 /// Icarus on `reference_cases` inputs before.
@@ -596,4 +573,27 @@ pub fn sound(
         started.elapsed().as_secs_f64(),
         work.join("prove.log").display()
     )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Verilog reference against the Rust one, in Icarus (a failure here
+    /// would let a wrong reference prove a wrong unit).
+    #[test]
+    fn the_verilog_reference_is_the_rust_reference() {
+        for (e, f) in [(2, 2), (3, 2), (2, 1), (4, 3)] {
+            let fmt = FloatFormat::new(e, f).unwrap();
+            let dir = std::env::temp_dir()
+                .join(format!("rtl-gen-exact-ref-e{e}m{f}-{}", std::process::id()));
+            let hits = check_reference(fmt, &dir, 20_000).unwrap();
+            // both answers are reached
+            assert!(
+                hits > 1_000 && hits < 19_000,
+                "e{e}m{f}: {hits} hits of 20,000"
+            );
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+    }
 }
