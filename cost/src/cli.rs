@@ -168,6 +168,9 @@ pub enum Command {
         /// with --wide: bits per child box integer, 4..=16
         #[arg(long, default_value_t = 8, requires = "wide")]
         box_bits: u32,
+        /// with --wide: bits per child box integer of the TLAS nodes
+        #[arg(long, default_value_t = scene::wide::TLAS_BOX_BITS, requires = "wide")]
+        tlas_box_bits: u32,
         #[command(flatten)]
         to: ReportTo,
     },
@@ -340,6 +343,7 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             no_synth,
             wide,
             box_bits,
+            tlas_box_bits,
             to,
         } => {
             if let Some(n) = wide {
@@ -351,7 +355,12 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
                 .map_err(|e| format!("--wide {n} --box-bits {box_bits}: {e}"))?;
                 let mut loads = Vec::new();
                 for s in &scenes {
-                    loads.push(crate::per_ray::wide_workload(s, width, format)?);
+                    loads.push(crate::per_ray::wide_workload(
+                        s,
+                        width,
+                        format,
+                        tlas_box_bits,
+                    )?);
                 }
                 to.text(&crate::per_ray::wide_markdown(&loads))?;
                 if loads.iter().any(|w| !w.same_image) {

@@ -171,8 +171,10 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
 pub struct WideWorkload {
     /// scene file name
     pub scene: String,
-    /// the node shape
+    /// the node shape (BLAS)
     pub format: WideFormat,
+    /// q of the TLAS nodes
+    pub tlas_box_bits: u32,
     /// counters with the compressed nodes (node tester)
     pub node: KindStats,
     /// counters with exact binary32 child boxes
@@ -191,11 +193,16 @@ impl WideWorkload {
 /// Renders `scene` (golden models, single rays, no planes) at `width` pixels
 /// over its wide BVH of `format`, with the compressed nodes and with exact
 /// boxes, and checks both against the binary BVH's render.
-pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<WideWorkload, String> {
+pub fn wide_workload(
+    scene: &Path,
+    width: u32,
+    format: WideFormat,
+    tlas_box_bits: u32,
+) -> Result<WideWorkload, String> {
     let s = Scene::load(scene).map_err(|e| e.to_string())?;
     let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
     let acc = Accel::build(&s, false);
-    let wide = WideAccel::build(&acc, format)?;
+    let wide = WideAccel::build(&acc, format, tlas_box_bits)?;
     let opts = TraceOpts::single_rays();
     let golden = Golden::default();
     let binary = render(&s, &acc, &golden, opts, width, h, false);
@@ -211,6 +218,7 @@ pub fn wide_workload(scene: &Path, width: u32, format: WideFormat) -> Result<Wid
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),
         format,
+        tlas_box_bits,
         same_image: node.same_image(&binary) && exact.same_image(&binary),
         node: node.stats.total(),
         exact: exact.stats.total(),
@@ -224,17 +232,18 @@ pub fn wide_markdown(loads: &[WideWorkload]) -> String {
     let mut s = String::from(
         "Per ray over a wide BVH (golden render, single rays, no planes; the node unit's \
          per-node block is not built yet, so no LUT-cycles):\n\n\
-         | scene | N | q | rays | node tests / ray | child tests / ray | node bytes / ray | transforms / ray | triangle tests / ray | binary32 boxes: child tests / ray | node bytes / ray | image = binary32 single-ray render |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+         | scene | N | q | TLAS q | rays | node tests / ray | child tests / ray | node bytes / ray | transforms / ray | triangle tests / ray | binary32 boxes: child tests / ray | node bytes / ray | image = binary32 single-ray render |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for w in loads {
         let (k, e) = (&w.node, &w.exact);
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.2} | {:.2} | {:.0} | {} |",
+            "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.2} | {:.2} | {:.0} | {} |",
             w.scene,
             w.format.children(),
             w.format.box_bits(),
+            w.tlas_box_bits,
             k.rays,
             k.per_ray(k.node_visits),
             k.per_ray(k.child_tests),

@@ -67,6 +67,10 @@ pub struct WideOpts {
     /// with --wide: bits per child box integer, q = 4..=16
     #[arg(long, default_value_t = 8, requires = "wide")]
     box_bits: u32,
+    /// with --wide: bits per child box integer of the TLAS nodes (finer than --box-bits by
+    /// default: instance boxes are often thin, docs/node.md §9)
+    #[arg(long, default_value_t = crate::wide::TLAS_BOX_BITS, requires = "wide")]
+    tlas_box_bits: u32,
     /// with --wide: test the exact binary32 child boxes of the same tree (conservative slab)
     /// instead of the compressed node
     #[arg(long, requires = "wide")]
@@ -74,8 +78,8 @@ pub struct WideOpts {
 }
 
 impl WideOpts {
-    /// The wide shape and the boxes tested, if `--wide` is given.
-    pub fn shape(&self) -> Result<Option<(WideFormat, Boxes)>, String> {
+    /// The wide shape, the TLAS's q and the boxes tested, if `--wide` is given.
+    pub fn shape(&self) -> Result<Option<(WideFormat, u32, Boxes)>, String> {
         let Some(n) = self.wide else {
             return Ok(None);
         };
@@ -86,15 +90,15 @@ impl WideOpts {
         } else {
             Boxes::Compressed
         };
-        Ok(Some((format, boxes)))
+        Ok(Some((format, self.tlas_box_bits, boxes)))
     }
 }
 
 /// What a wide render's boxes are, for its summary line.
-fn wide_name(format: WideFormat, boxes: Boxes) -> String {
+fn wide_name(format: WideFormat, tlas_box_bits: u32, boxes: Boxes) -> String {
     match boxes {
         Boxes::Compressed => format!(
-            "node tester N={} q={}",
+            "node tester N={} q={} (TLAS q={tlas_box_bits})",
             format.children(),
             format.box_bits()
         ),
@@ -214,6 +218,9 @@ pub enum Command {
         /// bits per child box integer, 4..=16 (a comma-separated list reports each)
         #[arg(long, value_delimiter = ',', default_value = "8")]
         box_bits: Vec<u32>,
+        /// bits per child box integer of the TLAS nodes
+        #[arg(long, default_value_t = crate::wide::TLAS_BOX_BITS)]
+        tlas_box_bits: u32,
         /// width of the camera-ray image (default: the scene's)
         #[arg(long)]
         width: Option<u32>,
@@ -326,16 +333,16 @@ fn run(command: Command) -> Result<ExitCode, String> {
             };
             let tracer = Tracer::new(&s, &acc, tester.as_ref(), opts);
             let wide_accel = match wide {
-                Some((format, _)) => Some(WideAccel::build(&acc, format)?),
+                Some((format, tlas_q, _)) => Some(WideAccel::build(&acc, format, tlas_q)?),
                 None => None,
             };
             let tracer = match (&wide_accel, wide) {
-                (Some(wa), Some((_, boxes))) => tracer.with_wide(wa, boxes),
+                (Some(wa), Some((_, _, boxes))) => tracer.with_wide(wa, boxes),
                 _ => tracer,
             };
             let f = render_with(&s, &acc, &tracer, w, h, true);
             let tester_name = match wide {
-                Some((format, boxes)) => wide_name(format, boxes),
+                Some((format, tlas_q, boxes)) => wide_name(format, tlas_q, boxes),
                 None => tester.name().to_string(),
             };
             f.save_png(&out)?;
@@ -562,9 +569,12 @@ fn run(command: Command) -> Result<ExitCode, String> {
             scenes,
             children,
             box_bits,
+            tlas_box_bits,
             width,
             height,
         } => {
+            WideFormat::new(FloatFormat::BINARY32, 4, tlas_box_bits)
+                .map_err(|e| format!("TLAS box bits {tlas_box_bits}: {e}"))?;
             let mut shapes = Vec::new();
             for &n in &children {
                 for &q in &box_bits {
@@ -591,7 +601,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     || path.display().to_string(),
                     |x| x.to_string_lossy().into(),
                 );
-                for r in crate::wide::report(&s, &acc, &shapes, w, h)
+                for r in crate::wide::report(&s, &acc, &shapes, tlas_box_bits, w, h)
                     .map_err(|e| format!("{}: {e}", path.display()))?
                 {
                     rows.push((name.clone(), r));

@@ -204,22 +204,42 @@ pub struct WideAccel {
     pub blas: Vec<WideBvh>,
 }
 
+/// The default q of TLAS nodes. Instance boxes in world space are often thin (walls,
+/// panels, fins: 0.004 thick in a node 1 wide), and a child thinner than one q-bit step
+/// decodes a whole step thick: every shadow or ambient-occlusion ray leaving such a surface
+/// enters its own instance again (docs/node.md §9). The TLAS has few nodes, so 16 bits there
+/// cost little memory; a node unit of q = 16 also tests q = 8 nodes exactly (integers shifted
+/// left by 8 with the scale exponent lowered by 8 decode to the same planes).
+pub const TLAS_BOX_BITS: u32 = 16;
+
 impl WideAccel {
-    /// Collapses and encodes the TLAS and every BLAS (meshes in parallel).
-    pub fn build(accel: &Accel, format: WideFormat) -> Result<WideAccel, String> {
+    /// Collapses and encodes every BLAS (meshes in parallel) in `format` and the TLAS in
+    /// `format` with `tlas_box_bits` bits per integer ([`TLAS_BOX_BITS`] by default).
+    pub fn build(
+        accel: &Accel,
+        format: WideFormat,
+        tlas_box_bits: u32,
+    ) -> Result<WideAccel, String> {
+        let tlas_format = WideFormat::new(format.fmt(), format.children(), tlas_box_bits)
+            .map_err(|e| format!("TLAS box bits {tlas_box_bits}: {e}"))?;
         let blas = accel
             .blas
             .par_iter()
             .enumerate()
             .map(|(m, b)| WideBvh::build(&b.bvh, format).map_err(|e| format!("mesh {m}: {e}")))
             .collect::<Result<Vec<_>, _>>()?;
-        let tlas = WideBvh::build(&accel.tlas, format).map_err(|e| format!("TLAS: {e}"))?;
+        let tlas = WideBvh::build(&accel.tlas, tlas_format).map_err(|e| format!("TLAS: {e}"))?;
         Ok(WideAccel { format, tlas, blas })
     }
 
     /// Nodes of every tree.
     pub fn nodes(&self) -> u64 {
         self.tlas.nodes.len() as u64 + self.blas.iter().map(|b| b.nodes.len() as u64).sum::<u64>()
+    }
+
+    /// Bytes of every tree's node records.
+    pub fn node_bytes(&self) -> u64 {
+        self.tlas.node_bytes() + self.blas.iter().map(WideBvh::node_bytes).sum::<u64>()
     }
 }
 
@@ -398,10 +418,14 @@ pub fn primary(
 /// One row of [`report`]: a scene's wide BVH of one shape and its camera rays.
 #[derive(Debug, Clone)]
 pub struct ReportRow {
-    /// the node shape
+    /// the node shape of the BLAS
     pub format: WideFormat,
+    /// q of the TLAS nodes
+    pub tlas_box_bits: u32,
     /// wide nodes (TLAS and every BLAS)
     pub nodes: u64,
+    /// bytes of all node records
+    pub node_bytes: u64,
     /// the traversal with the node tester on the compressed nodes
     pub compressed: KindStats,
     /// the same tree with exact binary32 child boxes
@@ -424,19 +448,22 @@ pub fn report(
     scene: &Scene,
     accel: &Accel,
     shapes: &[WideFormat],
+    tlas_box_bits: u32,
     w: u32,
     h: u32,
 ) -> Result<Vec<ReportRow>, String> {
     shapes
         .iter()
         .map(|&format| {
-            let wide = WideAccel::build(accel, format)?;
+            let wide = WideAccel::build(accel, format, tlas_box_bits)?;
             let (hq, sq) = primary(scene, accel, &wide, Boxes::Compressed, w, h);
             let (he, se) = primary(scene, accel, &wide, Boxes::Exact, w, h);
             let key = |h: &Hit| (h.inst, h.prim, h.t.to_bits());
             Ok(ReportRow {
                 format,
+                tlas_box_bits,
                 nodes: wide.nodes(),
+                node_bytes: wide.node_bytes(),
                 compressed: sq,
                 exact: se,
                 same_hits: hq.iter().map(key).eq(he.iter().map(key)),
@@ -449,18 +476,19 @@ pub fn report(
 /// per row `child tests per ray q=<q> / binary32 (N=<n>): <scene> <ratio>`.
 pub fn report_table(rows: &[(String, ReportRow)]) -> String {
     let mut s = String::from(
-        "| scene | N | q | nodes | bytes/node | node bytes | node visits/ray | bytes/ray | child tests/ray | binary32 boxes: bytes/node | bytes/ray | child tests/ray | child tests q / binary32 | same hits |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| scene | N | q | TLAS q | nodes | bytes/node (BLAS) | node bytes | node visits/ray | bytes/ray | child tests/ray | binary32 boxes: bytes/node | bytes/ray | child tests/ray | child tests q / binary32 | same hits |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (name, r) in rows {
         let (c, e) = (&r.compressed, &r.exact);
         let f = r.format;
         s += &format!(
-            "| {name} | {} | {} | {} | {} | {} | {:.2} | {:.0} | {:.2} | {} | {:.0} | {:.2} | {:.4} | {} |\n",
+            "| {name} | {} | {} | {} | {} | {} | {} | {:.2} | {:.0} | {:.2} | {} | {:.0} | {:.2} | {:.4} | {} |\n",
             f.children(),
             f.box_bits(),
+            r.tlas_box_bits,
             r.nodes,
             f.record_bytes(),
-            r.nodes * f.record_bytes() as u64,
+            r.node_bytes,
             c.per_ray(c.node_visits),
             c.per_ray(c.node_bytes),
             c.per_ray(c.child_tests),
