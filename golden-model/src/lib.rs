@@ -10,6 +10,7 @@ pub mod exact;
 pub mod float;
 pub mod mulcmp;
 pub mod node;
+pub mod node_reorigin;
 pub mod raycull;
 pub mod silhouette;
 pub mod slab;

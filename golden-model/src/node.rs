@@ -333,7 +333,8 @@ impl Dyadic {
         Dyadic::new(self.div_pow2_round(g, up), g)
     }
     /// `floor(log2 |self|)`; `self` nonzero.
-    fn ilog2(&self) -> i64 {
+    /// `⌊log2 |v|⌋` of a nonzero value.
+    pub fn ilog2(&self) -> i64 {
         (&self.m).unsigned_abs().bit_len() as i64 - 1 + self.e
     }
 }

@@ -75,6 +75,10 @@ pub struct WideOpts {
     /// instead of the compressed node
     #[arg(long, requires = "wide")]
     exact_boxes: bool,
+    /// with --wide: test the compressed nodes with the re-origin design study
+    /// (docs/node.md §10) instead of the node tester
+    #[arg(long, requires = "wide", conflicts_with = "exact_boxes")]
+    reorigin: bool,
 }
 
 impl WideOpts {
@@ -87,6 +91,8 @@ impl WideOpts {
             .map_err(|e| format!("--wide {n} --box-bits {}: {e}", self.box_bits))?;
         let boxes = if self.exact_boxes {
             Boxes::Exact
+        } else if self.reorigin {
+            Boxes::Reorigin
         } else {
             Boxes::Compressed
         };
@@ -99,6 +105,11 @@ fn wide_name(format: WideFormat, tlas_box_bits: u32, boxes: Boxes) -> String {
     match boxes {
         Boxes::Compressed => format!(
             "node tester N={} q={} (TLAS q={tlas_box_bits})",
+            format.children(),
+            format.box_bits()
+        ),
+        Boxes::Reorigin => format!(
+            "re-origin node test (design study) N={} q={} (TLAS q={tlas_box_bits})",
             format.children(),
             format.box_bits()
         ),

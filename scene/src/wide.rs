@@ -40,7 +40,8 @@ use crate::trace::{Hit, TRay, TraceOpts, Tracer};
 use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
 use golden_model::float::FloatFormat;
-use golden_model::node::{self, NodeIn, NodeParams, Ray as NodeRay};
+use golden_model::node::{self, Bound, Dyadic, NodeIn, NodeParams, Ray as NodeRay};
+use golden_model::node_reorigin::{self, ReoriginParams};
 use golden_model::slab::{eval_conservative, SlabIn};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
 use rayon::prelude::*;
@@ -250,6 +251,11 @@ pub enum Boxes {
     Compressed,
     /// the exact binary32 child boxes (an uncompressed node of the same tree)
     Exact,
+    /// the compressed node, tested by the re-origin design study
+    /// (`golden_model::node_reorigin`, docs/node.md §10): each node gets the
+    /// parent's entry for it as its start, the root the entry of a conservative
+    /// slab on its box
+    Reorigin,
 }
 
 impl Tracer<'_> {
@@ -264,27 +270,38 @@ impl Tracer<'_> {
     ) {
         let o = r.o_w.map(|v| v.to_bits() as u64);
         let inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d_w.map(|v| v.to_bits() as u64));
-        self.walk(&wide.tlas, boxes, o, inv_d, r, st, &mut |r, insts, st| {
-            for &inst in insts {
-                let x = &self.accel.instances[inst as usize];
-                st.transforms += 1;
-                self.enter_model(r, x, id);
-                let (o, inv_d) = (r.o, r.inv_d);
-                let mesh = self.meshes[x.mesh];
-                self.walk(
-                    &wide.blas[x.mesh],
-                    boxes,
-                    o,
-                    inv_d,
-                    r,
-                    st,
-                    &mut |r, tris, st| self.leaf(r, inst, mesh, tris, st),
-                );
-                if r.done {
-                    return;
+        let d = r.d_w.map(|v| v.to_bits() as u64);
+        self.walk(
+            &wide.tlas,
+            boxes,
+            o,
+            d,
+            inv_d,
+            r,
+            st,
+            &mut |r, insts, st| {
+                for &inst in insts {
+                    let x = &self.accel.instances[inst as usize];
+                    st.transforms += 1;
+                    self.enter_model(r, x, id);
+                    let (o, d, inv_d) = (r.o, r.d, r.inv_d);
+                    let mesh = self.meshes[x.mesh];
+                    self.walk(
+                        &wide.blas[x.mesh],
+                        boxes,
+                        o,
+                        d,
+                        inv_d,
+                        r,
+                        st,
+                        &mut |r, tris, st| self.leaf(r, inst, mesh, tris, st),
+                    );
+                    if r.done {
+                        return;
+                    }
                 }
-            }
-        });
+            },
+        );
     }
 
     /// Depth-first walk of one wide tree with the ray `(o, inv_d)` of its
@@ -297,6 +314,7 @@ impl Tracer<'_> {
         bvh: &WideBvh,
         boxes: Boxes,
         o: [u64; 3],
+        d: [u64; 3],
         inv_d: [u64; 3],
         r: &mut TRay,
         st: &mut KindStats,
@@ -308,13 +326,46 @@ impl Tracer<'_> {
         let n = bvh.format.children();
         let params = NodeParams::new(FloatFormat::BINARY32, n, bvh.format.box_bits())
             .expect("a wide format is a valid node shape");
+        let study = ReoriginParams::new(FloatFormat::BINARY32, n, bvh.format.box_bits());
         let bytes = match boxes {
-            Boxes::Compressed => bvh.format.record_bytes(),
+            Boxes::Compressed | Boxes::Reorigin => bvh.format.record_bytes(),
             Boxes::Exact => bvh.format.baseline_bytes(),
         } as u64;
-        let mut stack = vec![0u32];
+        // the start of each node's test (re-origin study): the root's from a box test
+        let root_start = match boxes {
+            Boxes::Reorigin => {
+                let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+                for (i, (l, h)) in bvh.exact[0].iter().enumerate() {
+                    if bvh.nodes[0].valid >> i & 1 == 1 {
+                        for a in 0..3 {
+                            lo[a] = lo[a].min(l[a]);
+                            hi[a] = hi[a].max(h[a]);
+                        }
+                    }
+                }
+                let out = eval_conservative(
+                    FloatFormat::BINARY32,
+                    &SlabIn {
+                        p_min: lo.map(|v| v.to_bits() as u64),
+                        p_max: hi.map(|v| v.to_bits() as u64),
+                        o,
+                        inv_d,
+                        t_min: 0,
+                        t_max: r.box_t_max(),
+                    },
+                );
+                st.child_tests += 1; // the root box test, counted as one child test
+                if !out.hit {
+                    return;
+                }
+                out.t_enter
+            }
+            _ => 0,
+        };
+        let mut stack = vec![(0u32, root_start)];
         let mut order: Vec<usize> = Vec::with_capacity(n);
-        while let Some(id) = stack.pop() {
+        let mut starts = [0u64; MAX_CHILDREN];
+        while let Some((id, t_start)) = stack.pop() {
             if r.done {
                 return;
             }
@@ -339,6 +390,27 @@ impl Tracer<'_> {
                         &NodeIn::from_wide(node),
                     );
                     order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
+                }
+                Boxes::Reorigin => {
+                    let out = node_reorigin::eval(
+                        &study,
+                        &NodeRay {
+                            o,
+                            inv_d,
+                            t_min: 0,
+                            t_max,
+                        },
+                        d,
+                        t_start,
+                        &NodeIn::from_wide(node),
+                    );
+                    for s in out.slots.iter().filter(|s| s.hit) {
+                        order.push(s.child as usize);
+                        starts[s.child as usize] = match out.entry_value(s) {
+                            Bound::Fin(v) => f32_down(&v),
+                            Bound::NegInf => 0,
+                        };
+                    }
                 }
                 Boxes::Exact => {
                     let mut hits: Vec<(u32, usize)> = (0..n)
@@ -375,7 +447,7 @@ impl Tracer<'_> {
             }
             for &i in order.iter().rev() {
                 if let ChildRef::Inner(c) = node.child(i) {
-                    stack.push(c);
+                    stack.push((c, starts[i]));
                 }
             }
         }
@@ -509,4 +581,19 @@ pub fn report_table(rows: &[(String, ReportRow)]) -> String {
         );
     }
     s
+}
+
+/// The binary32 bits of the largest value at or below `v` (non-negative
+/// here: a start of `t`), saturating at the largest finite value.
+fn f32_down(v: &Dyadic) -> u64 {
+    let x = v.round(24, false);
+    let f = f64::from(i32::try_from(&x.m).unwrap_or(i32::MAX)) * (x.e as f64).exp2();
+    if f <= 0.0 {
+        return 0;
+    }
+    let mut g = f as f32;
+    if g as f64 > f {
+        g = g.next_down();
+    }
+    g.min(f32::MAX).to_bits() as u64
 }

@@ -1,0 +1,370 @@
+//! A design study for the node tester's next hardware (docs/node.md §10):
+//! the ray **re-originated at the node** once per node, then every child in
+//! fixed point without anchors. Not the unit's model yet (`crate::node` is);
+//! written to measure what the cheaper per-node part costs in tightness
+//! before any RTL is built.
+//!
+//! **Inputs**: the ray of [`crate::node::Ray`] plus its direction `d` (raw
+//! bits; `inv_d = RTZ(1/d)` as before) and `t_start`, a lower bound of the
+//! `t` of every hit in the node (the parent's conservative entry for the
+//! child; the root's from a box test). The node is [`NodeIn`].
+//!
+//! **Per node** (`q` box bits, `Q = 2^q − 1`; `g` position fraction bits,
+//! `h` cell bits, `m` slope bits):
+//! 1. `T = max(t_min, t_start)`; the ray's position at `T` in frame steps,
+//!    `x = (o + T·d − O)/2^e` per axis, floored and ceiled to `2^−g` steps
+//!    and clamped to `±2^(q + 3)` (a clamp that never changes a cell);
+//!    a zero `d` component gives `x = (o − O)/2^e` (parallel axis);
+//! 2. the cell `u = 2^G`: `G = min over non-parallel axes of
+//!    ⌊log2(a·2^e)⌋ − h` (the fastest axis crosses a step in `2^h` to
+//!    `2^(h+1)` cells: exponent arithmetic only), `a = |inv_d|`;
+//! 3. per axis the time per step in cells, `s_lo = RDN_m(a·2^e/u)`,
+//!    `s_hi = RUP_m(b·2^e/u)` (`m` significant bits, `b` the successor of
+//!    `a`), infinite for a parallel axis; the window end
+//!    `far_top = min(C, ⌈(t_max − T)/u⌉)`, `C = 2^K`, `K = q + h + 2`.
+//!
+//! **Per child** (per axis, in `2^−g` steps): the distance to the entry plane
+//! `Δn = lo − x_hi` (`x_lo − hi` when `d < 0`) and to the exit plane
+//! `Δf = hi − x_lo` (`x_hi − lo`); `Δf < 0`: miss (the child is behind `T`);
+//! `near = 0` if `Δn ≤ 0`, else `min(C, ⌊Δn·s_lo·2^−g⌋)` (a parallel axis:
+//! miss); `far = min(C, ⌈Δf·s_hi·2^−g⌉)` (`C` for a parallel axis). `hit =
+//! valid ∧ no axis missed ∧ max near ≤ min(min far, far_top)`, `entry =
+//! max near`, standing for `T + entry·u`. A cell count at its cap `C`
+//! stands for "`C` or more": every `near` is at most `C`, so a capped `far`
+//! never rejects a child (docs/node.md §10 has the proof).
+
+use crate::exact::ray_box::{decode, Exact};
+use crate::float::FloatFormat;
+use crate::node::{Bound, Dyadic, NodeIn, NodeOut, Ray, SlotOut};
+use dashu::integer::IBig;
+use std::cmp::Ordering;
+
+/// The shape of a re-origin node test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReoriginParams {
+    /// ray format
+    pub fmt: FloatFormat,
+    /// slots N
+    pub children: usize,
+    /// box integer bits q
+    pub box_bits: u32,
+    /// fraction bits g of the position at `T` in frame steps
+    pub pos_frac: u32,
+    /// cells per step of the fastest axis: `2^h` to `2^(h+1)`
+    pub cell_bits: u32,
+    /// significant bits m of the per-axis time per step
+    pub slope_bits: u32,
+}
+
+impl ReoriginParams {
+    /// The defaults of the study: g = 4, h = 4, m = q + 4.
+    pub fn new(fmt: FloatFormat, children: usize, box_bits: u32) -> ReoriginParams {
+        ReoriginParams {
+            fmt,
+            children,
+            box_bits,
+            pos_frac: 4,
+            cell_bits: 4,
+            slope_bits: box_bits + 4,
+        }
+    }
+
+    /// `K = q + h + 2`: cells are counted up to `C = 2^K`.
+    pub fn cell_cap_bits(&self) -> u32 {
+        self.box_bits + self.cell_bits + 2
+    }
+
+    /// The sentinel entry of a miss: `2^(K+1) − 1`.
+    pub fn miss_entry(&self) -> u32 {
+        (1 << (self.cell_cap_bits() + 1)) - 1
+    }
+}
+
+fn finite(fmt: FloatFormat, bits: u64) -> Option<Dyadic> {
+    match decode(fmt, bits) {
+        Exact::Fin { m, e } => Some(Dyadic::new(IBig::from(m), e as i64)),
+        _ => None,
+    }
+}
+
+/// `⌊v⌋` or `⌈v⌉` of a dyadic, as an integer.
+fn round_int(v: &Dyadic, up: bool) -> IBig {
+    v.div_pow2_round(0, up)
+}
+
+/// Per-axis terms of one node.
+enum AxisTerms {
+    /// `d = 0`: the position never changes
+    Parallel { x_lo: i64, x_hi: i64 },
+    Slab {
+        mirror: bool,
+        x_lo: i64,
+        x_hi: i64,
+        /// `None`: above the cap (every nonzero distance saturates)
+        s_lo: Option<i64>,
+        s_hi: Option<i64>,
+    },
+}
+
+/// Evaluates one node test (module doc). `bad` as in [`crate::node::eval`],
+/// and also for a NaN `t_start`, a NaN or infinite `d`, or a zero `d`
+/// component whose `inv_d` is finite (and the reverse).
+pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &NodeIn) -> NodeOut {
+    let fmt = p.fmt;
+    let q = p.box_bits;
+    let q_max = (1i64 << q) - 1;
+    let g = p.pos_frac as i64;
+    let cap = 1i64 << p.cell_cap_bits();
+    let valid = |i: usize| node.valid >> i & 1 == 1;
+    let all = |hit: bool, entry: u32| {
+        let mut slots: Vec<SlotOut> = (0..p.children)
+            .map(|i| SlotOut {
+                hit: hit && valid(i),
+                entry: if hit && valid(i) {
+                    entry
+                } else {
+                    p.miss_entry()
+                },
+                child: i as u8,
+            })
+            .collect();
+        crate::node::sort(&mut slots);
+        slots
+    };
+    let bad_out = || NodeOut {
+        bad: true,
+        t_base: Bound::NegInf,
+        grid_exp: 0,
+        slots: all(true, 0),
+    };
+    // bad input
+    let slot_bad = (0..p.children).any(|i| {
+        valid(i) && (0..3).any(|a| node.lo[i][a] > node.hi[i][a] || node.hi[i][a] as i64 > q_max)
+    });
+    let frame_bad = (0..3).any(|a| {
+        !fmt.is_finite(node.origin[a]) || !(fmt.emin()..=fmt.emax()).contains(&node.exp[a])
+    });
+    let ray_bad = (0..3).any(|a| {
+        let zero_d = d[a] & !fmt.sign_bit() & fmt.mask() == 0;
+        let inf_inv = ray.inv_d[a] & !fmt.sign_bit() & fmt.mask() == fmt.inf(false);
+        !fmt.is_finite(ray.o[a])
+            || !fmt.is_finite(d[a])
+            || fmt.is_nan(ray.inv_d[a])
+            || ray.inv_d[a] & !fmt.sign_bit() & fmt.mask() == 0
+            || zero_d != inf_inv
+    }) || fmt.is_nan(ray.t_min)
+        || fmt.is_nan(ray.t_max)
+        || fmt.is_nan(t_start);
+    if slot_bad || frame_bad || ray_bad {
+        return bad_out();
+    }
+    let miss_out = || NodeOut {
+        bad: false,
+        t_base: Bound::NegInf,
+        grid_exp: 0,
+        slots: all(false, 0),
+    };
+    // step 1: T
+    let lower = |bits: u64| match decode(fmt, bits) {
+        Exact::Fin { m, e } => Ok(Some(Dyadic::new(IBig::from(m), e as i64))),
+        Exact::NegInf => Ok(None),
+        _ => Err(()), // +∞
+    };
+    let (Ok(t_a), Ok(t_b)) = (lower(ray.t_min), lower(t_start)) else {
+        return miss_out(); // a segment starting at +∞
+    };
+    let t = match (t_a, t_b) {
+        (Some(a), Some(b)) => Some(if a.cmp_exact(&b) == Ordering::Less {
+            b
+        } else {
+            a
+        }),
+        (Some(a), None) | (None, Some(a)) => Some(a),
+        (None, None) => None,
+    };
+    let Some(t) = t else {
+        // no finite start: nothing to re-originate at; every valid slot may be hit
+        return NodeOut {
+            bad: false,
+            t_base: Bound::NegInf,
+            grid_exp: 0,
+            slots: all(true, 0),
+        };
+    };
+    let t_max = match decode(fmt, ray.t_max) {
+        Exact::Fin { m, e } => Some(Dyadic::new(IBig::from(m), e as i64)),
+        Exact::PosInf => None,
+        _ => return miss_out(),
+    };
+    if t_max
+        .as_ref()
+        .is_some_and(|v| v.cmp_exact(&t) == Ordering::Less)
+    {
+        return miss_out();
+    }
+    // clamped beyond ±2^(q + 3) steps: a distance from a clamped position is then at least
+    // 2^(q + 3) − Q steps of at least 2^h cells, above the cap C = 2^(q + h + 2)
+    let x_range = 1i64 << (q + 3 + p.pos_frac);
+    let clamp = |v: IBig| -> i64 {
+        i64::try_from(v.clamp(IBig::from(-x_range), IBig::from(x_range))).expect("clamped")
+    };
+    let max_finite = finite(fmt, fmt.max_finite(false)).expect("finite");
+    let recip_cap = Dyadic::new(IBig::ONE, (fmt.frac_bits() as i64) - fmt.emin() as i64);
+    struct Raw {
+        mirror: bool,
+        x_lo: i64,
+        x_hi: i64,
+        ra: Dyadic,
+        rb: Dyadic,
+        e: i64,
+    }
+    let mut raws: Vec<Option<Raw>> = Vec::new();
+    let mut axes: Vec<Option<AxisTerms>> = Vec::new();
+    for a in 0..3 {
+        let o = finite(fmt, ray.o[a]).expect("checked");
+        let origin = finite(fmt, node.origin[a]).expect("checked");
+        let e = node.exp[a] as i64;
+        let inv = ray.inv_d[a] & fmt.mask();
+        let mag = inv & !fmt.sign_bit();
+        let dv = finite(fmt, d[a]).expect("checked");
+        // the position at T in units 2^(e − g), exact, then outward
+        let pos = if mag == fmt.inf(false) {
+            o.sub(&origin)
+        } else {
+            o.add(&t.mul(&dv)).sub(&origin)
+        };
+        let x_lo = clamp(pos.div_pow2_round(e - g, false));
+        let x_hi = clamp(pos.div_pow2_round(e - g, true));
+        if mag == fmt.inf(false) {
+            axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
+            raws.push(None);
+            continue;
+        }
+        let ra = finite(fmt, mag).expect("finite");
+        let rb = if ra == max_finite {
+            recip_cap.clone()
+        } else {
+            finite(fmt, mag + 1).expect("finite successor")
+        };
+        axes.push(None);
+        raws.push(Some(Raw {
+            mirror: inv & fmt.sign_bit() != 0,
+            x_lo,
+            x_hi,
+            ra,
+            rb,
+            e,
+        }));
+    }
+    // step 2: the cell, from the fastest axis's time per step (exponents only)
+    let grid_exp = raws
+        .iter()
+        .flatten()
+        .map(|r| r.e + r.ra.ilog2())
+        .min()
+        .map_or(0, |v| v - p.cell_bits as i64);
+    // step 3: slopes in cells per step, with pos_frac fraction bits kept in the product
+    let slope_cap = cap << g; // above it any distance of 2^−g saturates
+    for (a, r) in raws.into_iter().enumerate() {
+        let Some(r) = r else { continue };
+        let slope = |v: &Dyadic, up: bool| -> Option<i64> {
+            // cells per step with m significant bits (at least 2^h: no fraction
+            // bits below 2^−32 are needed), or None above the cap
+            let s = v.scale(r.e - grid_exp).round(p.slope_bits, up);
+            if s.cmp_exact(&Dyadic::new(IBig::from(slope_cap), 0)) == Ordering::Greater {
+                None
+            } else {
+                Some(i64::try_from(round_int(&s.scale(32), up)).expect("≤ cap·2^32"))
+            }
+        };
+        axes[a] = Some(AxisTerms::Slab {
+            mirror: r.mirror,
+            x_lo: r.x_lo,
+            x_hi: r.x_hi,
+            s_lo: slope(&r.ra, false),
+            s_hi: slope(&r.rb, true),
+        });
+    }
+    let far_top = match &t_max {
+        None => cap,
+        Some(v) => {
+            let c = v.sub(&t).div_pow2_round(grid_exp, true);
+            i64::try_from(c.min(IBig::from(cap))).expect("≤ cap")
+        }
+    };
+    // per child
+    let child = |i: usize| -> Option<u32> {
+        if !valid(i) {
+            return None;
+        }
+        let mut near_max = 0i64;
+        let mut far_min = far_top;
+        for (a, ax) in axes.iter().enumerate() {
+            let (lo, hi) = ((node.lo[i][a] as i64) << g, (node.hi[i][a] as i64) << g);
+            match ax.as_ref().expect("every axis has terms") {
+                AxisTerms::Parallel { x_lo, x_hi } => {
+                    // exact: an integer above x is above ⌊x⌋, one below x below ⌈x⌉
+                    if lo > *x_lo || hi < *x_hi {
+                        return None;
+                    }
+                }
+                AxisTerms::Slab {
+                    mirror,
+                    x_lo,
+                    x_hi,
+                    s_lo,
+                    s_hi,
+                } => {
+                    let (dn, df) = if *mirror {
+                        (x_lo - hi, x_hi - lo)
+                    } else {
+                        (lo - x_hi, hi - x_lo)
+                    };
+                    if df < 0 {
+                        return None; // the exit plane is behind T
+                    }
+                    // distance in 2^−g steps × cells per step in 2^−32 units
+                    let near = if dn <= 0 {
+                        0
+                    } else {
+                        match s_lo {
+                            None => cap,
+                            Some(s) => {
+                                let v = dn as i128 * *s as i128; // 2^−(g+32) cells
+                                ((v >> (g + 32)) as i64).min(cap)
+                            }
+                        }
+                    };
+                    let far = match s_hi {
+                        None if df > 0 => cap,
+                        None => 0,
+                        Some(s) => {
+                            let v = df as i128 * *s as i128;
+                            (-((-v) >> (g + 32)) as i64).min(cap)
+                        }
+                    };
+                    near_max = near_max.max(near);
+                    far_min = far_min.min(far);
+                }
+            }
+        }
+        (near_max <= far_min).then_some(near_max as u32)
+    };
+    let mut slots: Vec<SlotOut> = (0..p.children)
+        .map(|i| {
+            let e = child(i);
+            SlotOut {
+                hit: e.is_some(),
+                entry: e.unwrap_or(p.miss_entry()),
+                child: i as u8,
+            }
+        })
+        .collect();
+    crate::node::sort(&mut slots);
+    NodeOut {
+        bad: false,
+        t_base: Bound::Fin(t),
+        grid_exp,
+        slots,
+    }
+}
