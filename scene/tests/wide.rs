@@ -442,3 +442,37 @@ fn the_collapse_is_the_least_sah_cost_by_brute_force() {
         }
     }
 }
+
+/// The re-origin design study (docs/node.md §10) in whole renders: every ray
+/// type, the image of the binary32 single-ray render on every scene, and child
+/// tests (its root box tests included) at most 1.12x those of exact boxes.
+#[test]
+fn reorigin_study_renders_the_binary32_image() {
+    for name in SCENES.into_iter().chain(UNSEEN) {
+        let mut s = load(name);
+        s.render.ao_rays = 2;
+        let acc = Accel::build(&s, false);
+        let (w, h) = (40, 28);
+        let opts = TraceOpts::single_rays();
+        let golden = Golden::default();
+        let bin = render(&s, &acc, &golden, opts, w, h, false);
+        let wide = WideAccel::build(
+            &acc,
+            WideFormat::new(FloatFormat::BINARY32, 4, 8).unwrap(),
+            TLAS_BOX_BITS,
+        )
+        .unwrap();
+        let mut child_tests = Vec::new();
+        for boxes in [Boxes::Reorigin, Boxes::Exact] {
+            let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
+            let f = render_with(&s, &acc, &tracer, w, h, false);
+            if let Some(p) = first_difference(&f, &bin) {
+                panic!("{name} {boxes:?}: pixel {p} differs from the binary32 render");
+            }
+            child_tests.push(f.stats.total().child_tests);
+        }
+        let ratio = child_tests[0] as f64 / child_tests[1] as f64;
+        println!("{name}: re-origin child tests / exact boxes {ratio:.4}");
+        assert!(ratio <= 1.12, "{name}: {ratio:.4}");
+    }
+}
