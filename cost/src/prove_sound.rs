@@ -342,6 +342,9 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
     let (reference, _) = exact_reference(fmt);
     let p = &unit.ports;
     let takes_inv_d = p.inputs.iter().any(|x| x.name == "inv_d_x");
+    // a bundle (silhouette mode=bundle, shared origin): the free ray `d` is any
+    // ray of the bundle `d_lo ≤ d ≤ d_hi`
+    let bundle = p.outputs.iter().any(|x| x.name == "all_hit");
     let w = fmt.width();
     let mut v = String::new();
     let mut ports = vec!["input wire clk".to_string()];
@@ -351,6 +354,13 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
     if takes_inv_d {
         for a in AXES {
             ports.push(format!("input wire [{}:0] inv_d_{a}", w - 1));
+        }
+    }
+    if bundle {
+        for end in ["lo", "hi"] {
+            for a in AXES {
+                ports.push(format!("input wire [{}:0] d_{end}_{a}", w - 1));
+            }
         }
     }
     let _ = writeln!(
@@ -373,16 +383,23 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
         format!(".{}(1'b1)", p.in_valid),
     ];
     for x in &p.inputs {
-        conns.push(format!(".{0}({0})", x.name));
+        match x.name.strip_prefix("o_lo_") {
+            // the bundle's shared origin is the free ray's
+            Some(a) => conns.push(format!(".{}(o_{a})", x.name)),
+            None => conns.push(format!(".{0}({0})", x.name)),
+        }
     }
-    let _ = writeln!(v, "    (* keep *) wire unit_hit;");
+    let _ = writeln!(v, "    (* keep *) wire unit_hit;\n    (* keep *) wire unit_all_hit;");
     conns.push(format!(".{}()", p.out_valid));
     for x in &p.outputs {
-        if x.name == "hit" {
-            conns.push(".hit(unit_hit)".into());
-        } else {
-            conns.push(format!(".{}()", x.name));
+        match x.name.as_str() {
+            "hit" | "any_hit" => conns.push(format!(".{}(unit_hit)", x.name)),
+            "all_hit" => conns.push(".all_hit(unit_all_hit)".into()),
+            _ => conns.push(format!(".{}()", x.name)),
         }
+    }
+    if !bundle {
+        let _ = writeln!(v, "    assign unit_all_hit = 1'b0;");
     }
     let _ = writeln!(v, "    {} u_unit ({});", p.top, conns.join(", "));
     // the contract: no NaN; box, origin, direction finite
@@ -434,11 +451,30 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
             assumes.push(format!("rtz_{a}"));
         }
     }
+    if bundle {
+        // the bundle's bounds: finite, and the free ray within them (as reals)
+        let mw = magnitude_bits(fmt);
+        if !takes_inv_d {
+            v.push_str(&magnitude_function(fmt));
+        }
+        for a in AXES {
+            for n in [format!("d_lo_{a}"), format!("d_{a}"), format!("d_hi_{a}")] {
+                let _ = writeln!(
+                    v,
+                    "    wire signed [{mw}:0] real_{n} = {n}[{w1}] ? -$signed({{1'b0, mag({n})}}) : $signed({{1'b0, mag({n})}});",
+                    w1 = w - 1
+                );
+            }
+            assumes.push(format!("!{}", exp_ones(&format!("d_lo_{a}"))));
+            assumes.push(format!("!{}", exp_ones(&format!("d_hi_{a}"))));
+            assumes.push(format!("real_d_lo_{a} <= real_d_{a} && real_d_{a} <= real_d_hi_{a}"));
+        }
+    }
     let _ = writeln!(
         v,
         "    always @(*) begin\n        assume ({});\n        \
-         // never a miss for a ray that meets the box\n        \
-         assert (!exact_hit || unit_hit);\n    end\nendmodule",
+         // never a miss for a ray that meets the box; AllHit only for a ray that meets it\n        \
+         assert (!exact_hit || unit_hit);\n        assert (!unit_all_hit || exact_hit);\n    end\nendmodule",
         assumes.join("\n            && ")
     );
     Ok(v)
@@ -457,13 +493,13 @@ pub fn sound(
     let word = |k: &str| v.get(k).map(String::as_str).unwrap_or("");
     let supported = match unit.unit.as_str() {
         // rounding=nearest is allowed: it is known to miss hits (a bug to find)
-        "silhouette" => word("mode") == "ray",
+        "silhouette" => word("mode") == "ray" || word("origin") == "shared",
         "slab" => word("rounding") == "conservative",
         _ => false,
     };
     if !supported {
         return Err(format!(
-            "--property sound is built for silhouette -p mode=ray and slab -p rounding=conservative \
+            "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared) and slab -p rounding=conservative \
              (the ray/box testers whose inputs the exact reference takes); not for {} {}",
             unit.unit,
             unit.param_args()
@@ -500,12 +536,19 @@ pub fn sound(
                # reachable: a ray that meets the box, and one the unit rejects\n\
                sat -set-assumes -set exact_hit 1\n\
                sat -set-assumes -set exact_hit 0 -set unit_hit 0\n\
+               sat -set-assumes -set unit_all_hit 1\n\
                design -load proof\n\
                sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
     put("prove.ys", &script)?;
     let log = crate::prove::run_yosys_script(work, "prove.ys")?;
+    let claim = if unit.ports.outputs.iter().any(|x| x.name == "all_hit") {
+        "never reports AllMiss (any_hit = 0) while a ray of the bundle meets the box, nor AllHit \
+         while one misses it"
+    } else {
+        "never misses a ray that meets the box"
+    };
     let what = format!(
-        "{} ({} {}) never misses a ray that meets the box, for every input of e{}m{} \
+        "{} ({} {}) {claim}, for every input of e{}m{} \
          (box, origin, direction finite, no NaN{})",
         unit.ports.top,
         unit.unit,
@@ -540,7 +583,7 @@ pub fn sound(
             .map(|a| at.get(&format!("d_{a}")).cloned().unwrap_or_default())
             .collect();
         return Ok(Outcome::Counterexample(format!(
-            "{what}: a ray that meets the box is missed: {} with d = ({}) ({}; replay: rtl-gen sim {} {} --in {} --out {})",
+            "{what}: refuted: {} with the ray d = ({}) ({}; replay: rtl-gen sim {} {} --in {} --out {})",
             names
                 .iter()
                 .zip(&row)
@@ -561,15 +604,17 @@ pub fn sound(
             work.join("prove.log").display()
         )));
     }
-    if covers < 2 {
+    let bundle = unit.ports.outputs.iter().any(|x| x.name == "all_hit");
+    if covers < 2 + bundle as usize {
         return Ok(Outcome::Unknown(format!(
-            "{what}: proved, but a hit or a rejected ray is unreachable under the assumptions, so the proof may be vacuous ({})",
+            "{what}: proved, but a hit, a rejected ray or (bundles) an AllHit is unreachable under the assumptions, so the proof may be vacuous ({})",
             work.join("prove.log").display()
         )));
     }
     Ok(Outcome::Proved(format!(
         "{what}: the reference agreed with the Rust exact test on {reference_cases} simulated inputs ({reached} hits); \
-         a hit and a rejected ray are reachable; {:.1} s; {}",
+         a hit, a rejected ray{} are reachable; {:.1} s; {}",
+        if bundle { " and an AllHit" } else { "" },
         started.elapsed().as_secs_f64(),
         work.join("prove.log").display()
     )))

@@ -234,7 +234,7 @@ fn soundness_is_proved_and_a_nearest_rounding_miss_is_found() {
     let t = text(&o);
     assert_eq!(o.status.code(), Some(1), "{t}");
     assert!(
-        t.contains("counterexample: ") && t.contains("a ray that meets the box is missed"),
+        t.contains("counterexample: ") && t.contains("refuted: "),
         "{t}"
     );
     let cex = w.join("near/counterexample.txt");
