@@ -951,7 +951,7 @@ fn rtz_is_above(fmt: FloatFormat, bits: u64, t: &T) -> bool {
 /// ray re-originated at the node, fixed-point children without anchors. No
 /// false miss against the exact reference; its false-hit rate beside the node
 /// tester's on the same pairs, under a ceiling when the start is a lower bound
-/// of the node's entry. `REORIGIN_G`, `REORIGIN_H`, `REORIGIN_M` (m − q) set
+/// of the node's entry. `REORIGIN_G`, `REORIGIN_H`, `REORIGIN_M` (g, h, m) set
 /// the study's precision.
 #[test]
 fn reorigin_study_is_conservative() {
@@ -976,7 +976,7 @@ fn reorigin_study_is_conservative() {
         };
         rp.pos_frac = env("REORIGIN_G", rp.pos_frac);
         rp.cell_bits = env("REORIGIN_H", rp.cell_bits);
-        rp.slope_bits = q + env("REORIGIN_M", 4);
+        rp.slope_bits = env("REORIGIN_M", q + 4);
         let (t_start, entered) = start_bound(&c, &mut rng);
         let out = eval_reorigin(&rp, &c.ray, c.d, t_start, &c.node);
         let (t, b) = if entered {
