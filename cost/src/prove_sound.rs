@@ -389,7 +389,10 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
             None => conns.push(format!(".{0}({0})", x.name)),
         }
     }
-    let _ = writeln!(v, "    (* keep *) wire unit_hit;\n    (* keep *) wire unit_all_hit;");
+    let _ = writeln!(
+        v,
+        "    (* keep *) wire unit_hit;\n    (* keep *) wire unit_all_hit;"
+    );
     conns.push(format!(".{}()", p.out_valid));
     for x in &p.outputs {
         match x.name.as_str() {
@@ -467,7 +470,9 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
             }
             assumes.push(format!("!{}", exp_ones(&format!("d_lo_{a}"))));
             assumes.push(format!("!{}", exp_ones(&format!("d_hi_{a}"))));
-            assumes.push(format!("real_d_lo_{a} <= real_d_{a} && real_d_{a} <= real_d_hi_{a}"));
+            assumes.push(format!(
+                "real_d_lo_{a} <= real_d_{a} && real_d_{a} <= real_d_hi_{a}"
+            ));
         }
     }
     let _ = writeln!(

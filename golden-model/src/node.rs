@@ -347,6 +347,19 @@ fn finite(fmt: FloatFormat, bits: u64) -> Option<Dyadic> {
     }
 }
 
+/// `[a, b]`, the bounds of `|1/d|` given `a = |inv_d|` (raw magnitude bits
+/// `mag`, finite and nonzero): `b` the successor of `a`, or `1/min_subnormal`
+/// (the largest `|1/d|` of a nonzero `d`) when `a` is the largest finite value.
+pub(crate) fn reciprocal_bounds(fmt: FloatFormat, mag: u64) -> (Dyadic, Dyadic) {
+    let a = finite(fmt, mag).expect("finite");
+    let b = if mag == fmt.max_finite(false) {
+        Dyadic::new(IBig::ONE, (fmt.frac_bits() as i64) - fmt.emin() as i64)
+    } else {
+        finite(fmt, mag + 1).expect("finite successor")
+    };
+    (a, b)
+}
+
 /// Per-axis view of the ray after the first node step.
 enum Axis {
     /// `inv_d = ±∞`: the origin lies within frame steps `[lo, hi]` (clamped to `−1 ..= 2^q`)
@@ -482,9 +495,6 @@ fn analyse(p: NodeParams, ray: &Ray, node: &NodeIn) -> Option<(NodeTerms, Bound,
     if slot_bad || frame_bad || ray_bad {
         return None;
     }
-    let max_finite = finite(fmt, fmt.max_finite(false)).expect("finite");
-    // 1/min_subnormal: the largest |1/d| of a nonzero d
-    let recip_cap = Dyadic::new(IBig::ONE, (fmt.frac_bits() as i64) - fmt.emin() as i64);
     let q_int = Dyadic::new(IBig::from(q_max), 0);
 
     // step 1: the ray in the node's frame, per axis
@@ -511,12 +521,7 @@ fn analyse(p: NodeParams, ray: &Ray, node: &NodeIn) -> Option<(NodeTerms, Bound,
             continue;
         }
         // |1/d| ∈ [ra, rb]
-        let ra = finite(fmt, mag).expect("finite");
-        let rb = if ra == max_finite {
-            recip_cap.clone()
-        } else {
-            finite(fmt, mag + 1).expect("finite successor")
-        };
+        let (ra, rb) = reciprocal_bounds(fmt, mag);
         // t(n) = s·(O − o)·|1/d| + s·n·2^e·|1/d|, s = −1 when mirrored
         let dm = origin.sub(&o);
         let dm = if mirror { dm.neg() } else { dm };

@@ -208,8 +208,6 @@ pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &Nod
     let clamp = |v: IBig| -> i64 {
         i64::try_from(v.clamp(IBig::from(-x_range), IBig::from(x_range))).expect("clamped")
     };
-    let max_finite = finite(fmt, fmt.max_finite(false)).expect("finite");
-    let recip_cap = Dyadic::new(IBig::ONE, (fmt.frac_bits() as i64) - fmt.emin() as i64);
     struct Raw {
         mirror: bool,
         x_lo: i64,
@@ -240,12 +238,7 @@ pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &Nod
             raws.push(None);
             continue;
         }
-        let ra = finite(fmt, mag).expect("finite");
-        let rb = if ra == max_finite {
-            recip_cap.clone()
-        } else {
-            finite(fmt, mag + 1).expect("finite successor")
-        };
+        let (ra, rb) = crate::node::reciprocal_bounds(fmt, mag);
         axes.push(None);
         raws.push(Some(Raw {
             mirror: inv & fmt.sign_bit() != 0,

@@ -343,17 +343,7 @@ impl Tracer<'_> {
                         }
                     }
                 }
-                let out = eval_conservative(
-                    FloatFormat::BINARY32,
-                    &SlabIn {
-                        p_min: lo.map(|v| v.to_bits() as u64),
-                        p_max: hi.map(|v| v.to_bits() as u64),
-                        o,
-                        inv_d,
-                        t_min: 0,
-                        t_max: r.box_t_max(),
-                    },
-                );
+                let out = box_test((lo, hi), o, inv_d, r.box_t_max());
                 st.child_tests += 1; // the root box test, counted as one child test
                 if !out.hit {
                     return;
@@ -416,18 +406,7 @@ impl Tracer<'_> {
                     let mut hits: Vec<(u32, usize)> = (0..n)
                         .filter(|&i| node.valid >> i & 1 == 1)
                         .filter_map(|i| {
-                            let (lo, hi) = bvh.exact[id][i];
-                            let out = eval_conservative(
-                                FloatFormat::BINARY32,
-                                &SlabIn {
-                                    p_min: lo.map(|v| v.to_bits() as u64),
-                                    p_max: hi.map(|v| v.to_bits() as u64),
-                                    o,
-                                    inv_d,
-                                    t_min: 0,
-                                    t_max,
-                                },
-                            );
+                            let out = box_test(bvh.exact[id][i], o, inv_d, t_max);
                             // entry distances (non-negative here) order as their bits
                             out.hit.then_some((out.t_enter as u32 & 0x7fff_ffff, i))
                         })
@@ -596,4 +575,19 @@ fn f32_down(v: &Dyadic) -> u64 {
         g = g.next_down();
     }
     g.min(f32::MAX).to_bits() as u64
+}
+
+/// The golden conservative slab (binary32) on an exact box, segment `[0, t_max]`.
+fn box_test(b: Box32, o: [u64; 3], inv_d: [u64; 3], t_max: u64) -> golden_model::slab::SlabOut {
+    eval_conservative(
+        FloatFormat::BINARY32,
+        &SlabIn {
+            p_min: b.0.map(|v| v.to_bits() as u64),
+            p_max: b.1.map(|v| v.to_bits() as u64),
+            o,
+            inv_d,
+            t_min: 0,
+            t_max,
+        },
+    )
 }
