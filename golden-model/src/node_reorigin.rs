@@ -36,6 +36,7 @@
 use crate::exact::ray_box::{decode, Exact};
 use crate::float::FloatFormat;
 use crate::node::{Bound, Dyadic, NodeIn, NodeOut, Ray, SlotOut};
+use dashu::base::{BitTest, UnsignedAbs};
 use dashu::integer::IBig;
 use std::cmp::Ordering;
 
@@ -110,6 +111,48 @@ enum AxisTerms {
 /// and also for a NaN `t_start`, a NaN or infinite `d`, or a zero `d`
 /// component whose `inv_d` is finite (and the reverse).
 pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &NodeIn) -> NodeOut {
+    eval_with(p, ray, d, t_start, node, &[])
+}
+
+/// An extra axis of the node (a k-DOP direction `n`, for the cull-plane
+/// study of docs/node.md §11): the ray's `n·o` and `n·d` (exact), the node's
+/// frame `U + [0, Q]·2^e` along `n`, and per slot the extent along `n`.
+#[derive(Debug, Clone)]
+pub struct ExtraAxis {
+    /// `n·o`
+    pub o: Dyadic,
+    /// `n·d`
+    pub d: Dyadic,
+    /// frame origin `U`
+    pub origin: Dyadic,
+    /// frame step exponent `e`
+    pub exp: i64,
+    /// per slot the lower integer
+    pub lo: [u16; crate::wide::MAX_CHILDREN],
+    /// per slot the upper integer
+    pub hi: [u16; crate::wide::MAX_CHILDREN],
+}
+
+/// `[a, b] ∋ 1/|v|` (`v ≠ 0`), `b/a − 1 < 2^−bits`.
+fn reciprocal_interval(v: &Dyadic, bits: u32) -> (Dyadic, Dyadic) {
+    let m = v.m.clone().unsigned_abs();
+    let k = bits as usize + m.bit_len();
+    let q = IBig::from((dashu::integer::UBig::ONE << k) / m);
+    (
+        Dyadic::new(q.clone(), -v.e - k as i64),
+        Dyadic::new(q + IBig::ONE, -v.e - k as i64),
+    )
+}
+
+/// [`eval`] with extra axes tested like the box's three, in the same cells.
+pub fn eval_with(
+    p: &ReoriginParams,
+    ray: &Ray,
+    d: [u64; 3],
+    t_start: u64,
+    node: &NodeIn,
+    extra: &[ExtraAxis],
+) -> NodeOut {
     let fmt = p.fmt;
     let q = p.box_bits;
     let q_max = (1i64 << q) - 1;
@@ -249,6 +292,30 @@ pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &Nod
             e,
         }));
     }
+    for x in extra {
+        let pos = if x.d.signum() == 0 {
+            x.o.sub(&x.origin)
+        } else {
+            x.o.add(&t.mul(&x.d)).sub(&x.origin)
+        };
+        let x_lo = clamp(pos.div_pow2_round(x.exp - g, false));
+        let x_hi = clamp(pos.div_pow2_round(x.exp - g, true));
+        if x.d.signum() == 0 {
+            axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
+            raws.push(None);
+            continue;
+        }
+        let (ra, rb) = reciprocal_interval(&x.d, fmt.frac_bits() + 1);
+        axes.push(None);
+        raws.push(Some(Raw {
+            mirror: x.d.signum() < 0,
+            x_lo,
+            x_hi,
+            ra,
+            rb,
+            e: x.exp,
+        }));
+    }
     // step 2: the cell, from the fastest axis's time per step (exponents only)
     let grid_exp = raws
         .iter()
@@ -293,7 +360,11 @@ pub fn eval(p: &ReoriginParams, ray: &Ray, d: [u64; 3], t_start: u64, node: &Nod
         let mut near_max = 0i64;
         let mut far_min = far_top;
         for (a, ax) in axes.iter().enumerate() {
-            let (lo, hi) = ((node.lo[i][a] as i64) << g, (node.hi[i][a] as i64) << g);
+            let (lo, hi) = match a.checked_sub(3) {
+                None => (node.lo[i][a], node.hi[i][a]),
+                Some(j) => (extra[j].lo[i], extra[j].hi[i]),
+            };
+            let (lo, hi) = ((lo as i64) << g, (hi as i64) << g);
             match ax.as_ref().expect("every axis has terms") {
                 AxisTerms::Parallel { x_lo, x_hi } => {
                     // exact: an integer above x is above ⌊x⌋, one below x below ⌈x⌉

@@ -79,6 +79,10 @@ pub struct WideOpts {
     /// (docs/node.md §10) instead of the node tester
     #[arg(long, requires = "wide", conflicts_with = "exact_boxes")]
     reorigin: bool,
+    /// with --reorigin: BLAS nodes also carry each slot's extent along the four diagonals
+    /// (a 14-DOP with the box), tested in the same cells (the cull-plane study, docs/node.md §11)
+    #[arg(long, requires = "reorigin")]
+    dop: bool,
 }
 
 impl WideOpts {
@@ -305,6 +309,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             wide,
         } => {
             let (s, w, h, mut opts) = setup(&c)?;
+            let dop = wide.dop;
             let wide = wide.shape()?;
             if wide.is_some() && (box_format.is_some() || !matches!(box_kind, BoxKind::Golden)) {
                 return Err(
@@ -344,7 +349,15 @@ fn run(command: Command) -> Result<ExitCode, String> {
             };
             let tracer = Tracer::new(&s, &acc, tester.as_ref(), opts);
             let wide_accel = match wide {
-                Some((format, tlas_q, _)) => Some(WideAccel::build(&acc, format, tlas_q)?),
+                Some((format, tlas_q, _)) => {
+                    let w = WideAccel::build(&acc, format, tlas_q)?;
+                    Some(if dop {
+                        let meshes: Vec<_> = s.meshes.iter().map(|(_, m)| m).collect();
+                        w.with_dop(&meshes)
+                    } else {
+                        w
+                    })
+                }
                 None => None,
             };
             let tracer = match (&wide_accel, wide) {

@@ -37,11 +37,12 @@ use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::Exact;
 use crate::trace::{Hit, TRay, TraceOpts, Tracer};
+use golden_model::cull::bvh::Mesh;
 use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
 use golden_model::float::FloatFormat;
 use golden_model::node::{self, Bound, Dyadic, NodeIn, NodeParams, Ray as NodeRay};
-use golden_model::node_reorigin::{self, ReoriginParams};
+use golden_model::node_reorigin::{self, ExtraAxis, ReoriginParams};
 use golden_model::slab::{eval_conservative, SlabIn};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
 use rayon::prelude::*;
@@ -203,6 +204,9 @@ pub struct WideAccel {
     pub tlas: WideBvh,
     /// one per mesh (model space)
     pub blas: Vec<WideBvh>,
+    /// the cull-plane study (docs/node.md §11): per mesh, per BLAS node, the
+    /// extents of its slots' triangles along [`DOP_DIRS`]; empty when not built
+    pub dop: Vec<Vec<DopNode>>,
 }
 
 /// The default q of TLAS nodes. Instance boxes in world space are often thin (walls,
@@ -230,7 +234,23 @@ impl WideAccel {
             .map(|(m, b)| WideBvh::build(&b.bvh, format).map_err(|e| format!("mesh {m}: {e}")))
             .collect::<Result<Vec<_>, _>>()?;
         let tlas = WideBvh::build(&accel.tlas, tlas_format).map_err(|e| format!("TLAS: {e}"))?;
-        Ok(WideAccel { format, tlas, blas })
+        Ok(WideAccel {
+            format,
+            tlas,
+            blas,
+            dop: Vec::new(),
+        })
+    }
+
+    /// Adds the k-DOP extents of every BLAS slot (the study of docs/node.md §11).
+    pub fn with_dop(mut self, meshes: &[&Mesh]) -> WideAccel {
+        self.dop = self
+            .blas
+            .iter()
+            .zip(meshes)
+            .map(|(b, m)| dop_tree(b, m))
+            .collect();
+        self
     }
 
     /// Nodes of every tree.
@@ -273,6 +293,7 @@ impl Tracer<'_> {
         let d = r.d_w.map(|v| v.to_bits() as u64);
         self.walk(
             &wide.tlas,
+            None,
             boxes,
             o,
             d,
@@ -288,6 +309,7 @@ impl Tracer<'_> {
                     let mesh = self.meshes[x.mesh];
                     self.walk(
                         &wide.blas[x.mesh],
+                        wide.dop.get(x.mesh).map(Vec::as_slice),
                         boxes,
                         o,
                         d,
@@ -312,6 +334,7 @@ impl Tracer<'_> {
     fn walk(
         &self,
         bvh: &WideBvh,
+        dop: Option<&[DopNode]>,
         boxes: Boxes,
         o: [u64; 3],
         d: [u64; 3],
@@ -382,7 +405,8 @@ impl Tracer<'_> {
                     order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
                 }
                 Boxes::Reorigin => {
-                    let out = node_reorigin::eval(
+                    let extra = dop.map_or_else(Vec::new, |t| dop_axes(&t[id], o, d));
+                    let out = node_reorigin::eval_with(
                         &study,
                         &NodeRay {
                             o,
@@ -393,6 +417,7 @@ impl Tracer<'_> {
                         d,
                         t_start,
                         &NodeIn::from_wide(node),
+                        &extra,
                     );
                     for s in out.slots.iter().filter(|s| s.hit) {
                         order.push(s.child as usize);
@@ -590,4 +615,144 @@ fn box_test(b: Box32, o: [u64; 3], inv_d: [u64; 3], t_max: u64) -> golden_model:
             t_max,
         },
     )
+}
+
+/// The k-DOP directions of the cull-plane study (docs/node.md §11): the four
+/// diagonals, with the three box axes a 14-DOP.
+pub const DOP_DIRS: [[i32; 3]; 4] = [[1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]];
+
+/// One BLAS node's extra axes: per direction a frame `U + [0, Q]·2^e` and per
+/// slot the q-bit extent of its triangles along the direction, outward.
+#[derive(Debug, Clone)]
+pub struct DopNode {
+    /// frame origin per direction
+    pub origin: [Dyadic; 4],
+    /// frame step exponent per direction
+    pub exp: [i64; 4],
+    /// per slot and direction the lower integer
+    pub lo: [[u16; 4]; MAX_CHILDREN],
+    /// per slot and direction the upper integer
+    pub hi: [[u16; 4]; MAX_CHILDREN],
+}
+
+/// A finite binary64 value, exactly.
+fn dyadic(v: f64) -> Dyadic {
+    match golden_model::exact::ray_box::decode(FloatFormat::BINARY64, v.to_bits()) {
+        golden_model::exact::ray_box::Exact::Fin { m, e } => Dyadic::new(m.into(), e as i64),
+        _ => panic!("a finite coordinate"),
+    }
+}
+
+/// `n·v` of an f32 point, rounded down and up (binary64, two steps outward).
+fn along(n: [i32; 3], v: [f32; 3]) -> (f64, f64) {
+    let x: f64 = (0..3).map(|a| n[a] as f64 * v[a] as f64).sum();
+    (x.next_down().next_down(), x.next_up().next_up())
+}
+
+/// The k-DOP extents of every node of `bvh` (a BLAS of `mesh`), bottom-up.
+fn dop_tree(bvh: &WideBvh, mesh: &Mesh) -> Vec<DopNode> {
+    let q_max = bvh.format.q_max() as i64;
+    let none = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+    let mut node_extent = vec![none; bvh.nodes.len()];
+    let mut out: Vec<Option<DopNode>> = vec![None; bvh.nodes.len()];
+    for id in (0..bvh.nodes.len()).rev() {
+        let node = &bvh.nodes[id];
+        let mut slots = [none; MAX_CHILDREN];
+        for (i, slot) in slots.iter_mut().enumerate() {
+            match node.child(i) {
+                ChildRef::Leaf { first, count } => {
+                    for &t in &bvh.prims[first as usize..(first + count) as usize] {
+                        for v in mesh.corners(t) {
+                            for (j, n) in DOP_DIRS.iter().enumerate() {
+                                let (lo, hi) = along(*n, v);
+                                slot.0[j] = slot.0[j].min(lo);
+                                slot.1[j] = slot.1[j].max(hi);
+                            }
+                        }
+                    }
+                }
+                ChildRef::Inner(c) => *slot = node_extent[c as usize],
+                ChildRef::Empty => {}
+            }
+        }
+        let mut ext = none;
+        for sl in &slots {
+            for j in 0..4 {
+                ext.0[j] = ext.0[j].min(sl.0[j]);
+                ext.1[j] = ext.1[j].max(sl.1[j]);
+            }
+        }
+        node_extent[id] = ext;
+        let origin = ext.0.map(|v| dyadic(if v.is_finite() { v } else { 0.0 }));
+        let exp = [0, 1, 2, 3].map(|j| {
+            let range = ext.1[j] - ext.0[j];
+            if range.is_finite() && range > 0.0 {
+                // the least e with Q·2^e ≥ range (rounded up in f64 once more)
+                let mut e = (range / q_max as f64).log2().ceil() as i64 - 1;
+                while (q_max as f64) * (e as f64).exp2() < range.next_up() {
+                    e += 1;
+                }
+                e
+            } else {
+                -60
+            }
+        });
+        let mut lo = [[0u16; 4]; MAX_CHILDREN];
+        let mut hi = [[0u16; 4]; MAX_CHILDREN];
+        for (i, sl) in slots.iter().enumerate() {
+            for j in 0..4 {
+                if !sl.0[j].is_finite() {
+                    continue;
+                }
+                let rel = |v: f64, up: bool| {
+                    let k = dyadic(v).sub(&origin[j]).div_pow2_round(exp[j], up);
+                    i64::try_from(k).unwrap_or(q_max).clamp(0, q_max) as u16
+                };
+                lo[i][j] = rel(sl.0[j], false);
+                hi[i][j] = rel(sl.1[j], true);
+            }
+        }
+        out[id] = Some(DopNode {
+            origin,
+            exp,
+            lo,
+            hi,
+        });
+    }
+    out.into_iter().map(|n| n.expect("every node")).collect()
+}
+
+/// The extra axes of one node for the ray `(o, d)` (raw binary32 bits).
+fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
+    let val = |b: u64| dyadic(f32::from_bits(b as u32) as f64);
+    let (o, d) = (o.map(val), d.map(val));
+    DOP_DIRS
+        .iter()
+        .enumerate()
+        .map(|(j, n)| {
+            let dot = |v: &[Dyadic; 3]| {
+                (0..3).fold(dyadic(0.0), |acc, a| {
+                    if n[a] > 0 {
+                        acc.add(&v[a])
+                    } else {
+                        acc.sub(&v[a])
+                    }
+                })
+            };
+            let mut lo = [0u16; MAX_CHILDREN];
+            let mut hi = [0u16; MAX_CHILDREN];
+            for i in 0..MAX_CHILDREN {
+                lo[i] = dop.lo[i][j];
+                hi[i] = dop.hi[i][j];
+            }
+            ExtraAxis {
+                o: dot(&o),
+                d: dot(&d),
+                origin: dop.origin[j].clone(),
+                exp: dop.exp[j],
+                lo,
+                hi,
+            }
+        })
+        .collect()
 }
