@@ -28,6 +28,7 @@
 //! Errors name the file and the field (`scenes/x.toml: instances[2].mesh: ...`).
 
 use crate::mesh;
+use glam::{DMat3, DVec3};
 use golden_model::cull::bvh::Mesh;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -603,22 +604,18 @@ fn instance_transform(
         }
         t
     } else {
-        let s = inst.scale.unwrap_or([1.0; 3]);
+        let s = DVec3::from(inst.scale.unwrap_or([1.0; 3]));
         let [ax, ay, az, deg] = inst.rotate.unwrap_or([0.0, 1.0, 0.0, 0.0]);
-        let l = (ax * ax + ay * ay + az * az).sqrt();
+        let axis = DVec3::new(ax, ay, az);
+        let l = axis.length();
         if l == 0.0 || !l.is_finite() {
             return Err(err(file, format!("{field}.rotate"), "axis must be nonzero"));
         }
-        let (x, y, z) = (ax / l, ay / l, az / l);
-        let (sn, cs) = deg.to_radians().sin_cos();
-        let c1 = 1.0 - cs;
-        let rot = [
-            [cs + x * x * c1, x * y * c1 - z * sn, x * z * c1 + y * sn],
-            [y * x * c1 + z * sn, cs + y * y * c1, y * z * c1 - x * sn],
-            [z * x * c1 - y * sn, z * y * c1 + x * sn, cs + z * z * c1],
-        ];
+        // divided, not glam's normalize (a reciprocal): the same f32 entries as before
+        let rot = DMat3::from_axis_angle(axis / l, deg.to_radians());
+        let rs = DMat3::from_cols(rot.x_axis * s.x, rot.y_axis * s.y, rot.z_axis * s.z);
         let t = inst.translate.unwrap_or([0.0; 3]);
-        [0, 1, 2].map(|i| [rot[i][0] * s[0], rot[i][1] * s[1], rot[i][2] * s[2], t[i]])
+        [0, 1, 2].map(|i| rs.row(i).extend(t[i]).to_array())
     };
     let f = m.map(|row| row.map(|x| x as f32));
     if f.iter().flatten().any(|x| !x.is_finite()) {
@@ -628,10 +625,9 @@ fn instance_transform(
             "entries must be finite f32",
         ));
     }
-    let r = [0, 1, 2].map(|i| f[i].map(|x| x as f64));
-    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
-        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    let r = DMat3::from_cols_array_2d(&[0, 1, 2].map(|i| [0, 1, 2].map(|j| f[i][j] as f64)));
+    // the rows as columns: the transpose, whose determinant is the same
+    let det = r.determinant();
     if det == 0.0 || !det.is_finite() {
         return Err(err(
             file,
