@@ -13,7 +13,7 @@
 //! covers the rounding of the transform unit (model-space rays are computed by
 //! it, world-space boxes are not).
 
-use crate::scene::Scene;
+use crate::scene::{forward_affine, Scene};
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::builder::{build_planes, BuildParams, CullPlanes};
 use golden_model::cull::bvh::{Bvh, Mesh, Node, NodeKind};
@@ -277,13 +277,6 @@ pub struct Accel {
     pub scale: f32,
 }
 
-/// The forward transform `[R | T]` from the scene's binary32 rows, in f64
-/// (exact: every entry is a binary32 value).
-fn forward_affine(f: &[[f32; 4]; 3]) -> DAffine3 {
-    let col = |j: usize| DVec3::new(f[0][j] as f64, f[1][j] as f64, f[2][j] as f64);
-    DAffine3::from_cols(col(0), col(1), col(2), col(3))
-}
-
 /// Bottom-level SAH tree over a mesh (leaves of at most `max_leaf` triangles).
 pub fn build_blas_bvh(mesh: &Mesh, max_leaf: usize) -> Bvh {
     let prims: Vec<Prim> = (0..mesh.triangles.len() as u32)
@@ -316,9 +309,8 @@ fn pad_planes(bvh: &Bvh, planes: &mut CullPlanes) {
     }
     for (id, ws) in planes.w.iter_mut().enumerate() {
         let n = bvh.nodes[reference[id]];
-        let size: f64 = (0..3)
-            .map(|i| (n.max[i] as f64 - n.min[i] as f64).abs() + (n.max[i] as f64).abs())
-            .sum();
+        let (lo, hi) = (Vec3::from(n.min).as_dvec3(), Vec3::from(n.max).as_dvec3());
+        let size = ((hi - lo).abs() + hi.abs()).element_sum();
         for w in ws.iter_mut() {
             let v = f64::from_bits(convert(
                 PLANE_FMT,

@@ -505,8 +505,7 @@ fn render_tile(
         ids[k] = (r.hit.inst, r.hit.prim);
         ts[k] = r.hit.t.to_bits();
         let pix = ((y0 + k as u32 / tw) * w + x0 + k as u32 % tw) as u64;
-        let (o, d) = (r.o_w.into(), r.d_w.into());
-        let s = surface_of_hit(scene, accel, o, d, r.hit.t, r.hit.inst, r.hit.prim);
+        let s = surface_of_hit(scene, accel, r.o_w, r.d_w, r.hit.t, r.hit.inst, r.hit.prim);
         let first = sec.len();
         emit_into(scene, &s, pix, &mut sec);
         owners.push((k, first, sec.len() - first));

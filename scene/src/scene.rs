@@ -28,7 +28,7 @@
 //! Errors name the file and the field (`scenes/x.toml: instances[2].mesh: ...`).
 
 use crate::mesh;
-use glam::{DMat3, DVec3};
+use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::bvh::Mesh;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -402,13 +402,10 @@ impl Scene {
             }
         }
         // the camera basis is built in f32 (render::Cam): its squared length must not overflow
-        let view = [0, 1, 2].map(|i| c.look_at[i] - c.position[i]);
-        let len2 = view.iter().map(|x| x * x).sum::<f32>();
+        let (eye, at) = (Vec3::from(c.position), Vec3::from(c.look_at));
+        let len2 = (at - eye).length_squared();
         if !len2.is_finite() || len2 == 0.0 {
-            let dist = (0..3)
-                .map(|i| (c.look_at[i] as f64 - c.position[i] as f64).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let dist = at.as_dvec3().distance(eye.as_dvec3());
             return Err(err(
                 path,
                 "camera.look_at",
@@ -424,11 +421,9 @@ impl Scene {
             let mut mesh = build_mesh(path, dir, &field, m)?;
             if m.recenter {
                 let (lo, hi) = mesh.bounds();
-                let c = [(lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0];
+                let c = Vec3::new((lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0);
                 for v in &mut mesh.vertices {
-                    for i in 0..3 {
-                        v[i] -= c[i];
-                    }
+                    *v = (Vec3::from(*v) - c).to_array();
                 }
             }
             // obj meshes are checked as loaded (naming the file); this also
@@ -588,6 +583,13 @@ fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh,
     }
 }
 
+/// The forward transform `[R | T]` of an instance's binary32 rows
+/// ([`Instance::transform`]) in f64 (exact: every entry is a binary32 value).
+pub(crate) fn forward_affine(f: &[[f32; 4]; 3]) -> DAffine3 {
+    let col = |j: usize| DVec3::new(f[0][j] as f64, f[1][j] as f64, f[2][j] as f64);
+    DAffine3::from_cols(col(0), col(1), col(2), col(3))
+}
+
 /// `R = Rot(axis, angle)·diag(scale)`, `T = translate`, or the explicit 3×4.
 fn instance_transform(
     file: &Path,
@@ -625,9 +627,8 @@ fn instance_transform(
             "entries must be finite f32",
         ));
     }
-    let r = DMat3::from_cols_array_2d(&[0, 1, 2].map(|i| [0, 1, 2].map(|j| f[i][j] as f64)));
-    // the rows as columns: the transpose, whose determinant is the same
-    let det = r.determinant();
+    // expanded along the first row, as the singularity check always was
+    let det = forward_affine(&f).matrix3.transpose().determinant();
     if det == 0.0 || !det.is_finite() {
         return Err(err(
             file,
