@@ -66,10 +66,10 @@ fn pinned(name: &str, colours: u64) {
 
 #[test]
 fn cornell_hits_and_colours_are_pinned() {
-    pinned("cornell", 0);
+    pinned("cornell", 0xaa80_16eb_52de_d1b1);
 }
 
 #[test]
 fn field_hits_and_colours_are_pinned() {
-    pinned("field", 0);
+    pinned("field", 0xb5ac_d94f_e337_4baa);
 }
