@@ -35,8 +35,9 @@ pub struct Cam {
 
 /// `v` divided by its length. glam's `normalize` multiplies by the
 /// reciprocal of the length instead (two roundings): the camera basis, the
-/// shading normal and the AO frame are normalised by division so that the
-/// rays handed to the units keep their bits (`docs/scene.md`, "glam").
+/// shading normal, the AO frame, the bundles' direction spreads and the
+/// icosphere's vertices are normalised by division so that the rays and
+/// boxes handed to the units keep their bits (`docs/scene.md` §3.2).
 macro_rules! unit_by_division {
     ($v:expr) => {{
         let v = $v;
