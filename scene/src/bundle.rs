@@ -9,25 +9,18 @@
 //! Rays whose direction signs differ are never grouped (the unit's AllHit needs
 //! one sign per axis, `docs/silhouette.md` §4.2).
 
+use crate::render::unit_by_division;
 use crate::trace::{BundleOpts, TRay};
+use glam::Vec3;
 
 #[derive(Clone)]
 struct Open {
     rays: Vec<usize>,
-    signs: u8,
-    o_lo: [f32; 3],
-    o_hi: [f32; 3],
-    n_lo: [f32; 3],
-    n_hi: [f32; 3],
-}
-
-fn signs(d: &[f32; 3]) -> u8 {
-    (0..3).map(|i| ((d[i] < 0.0) as u8) << i).sum()
-}
-
-fn norm(d: &[f32; 3]) -> [f32; 3] {
-    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    d.map(|x| x / l)
+    signs: u32,
+    o_lo: Vec3,
+    o_hi: Vec3,
+    n_lo: Vec3,
+    n_hi: Vec3,
 }
 
 /// Groups the rays `idxs` of `rays` into bundles (each a list of indices, in
@@ -47,25 +40,24 @@ pub fn build_bundles(
     let mut out = Vec::new();
     for &i in idxs {
         let r = &rays[i];
-        let n = norm(&r.d_w);
-        let s = signs(&r.d_w);
+        let n = unit_by_division!(r.d_w);
+        // `< 0`, not the sign bit: -0 joins the positive side
+        let s = r.d_w.cmplt(Vec3::ZERO).bitmask();
         // similarity: minus the growth of (direction range sum + origin extent / scale)
         let mut best: Option<(f32, usize)> = None;
         for (k, b) in open.iter().enumerate() {
             if b.signs != s {
                 continue;
             }
-            let mut ok = true;
-            let mut grow = 0.0f32;
-            for a in 0..3 {
-                let nl = b.n_lo[a].min(n[a]);
-                let nh = b.n_hi[a].max(n[a]);
-                let ol = b.o_lo[a].min(r.o_w[a]);
-                let oh = b.o_hi[a].max(r.o_w[a]);
-                ok &= nh - nl <= opts.max_spread && oh - ol <= max_o;
-                grow += (nh - nl) - (b.n_hi[a] - b.n_lo[a])
-                    + ((oh - ol) - (b.o_hi[a] - b.o_lo[a])) / scale.max(1e-30);
-            }
+            // the bundle's bound is min/max's second operand: glam keeps it
+            // on ties (±0) and when the new value is NaN
+            let n_ext = n.max(b.n_hi) - n.min(b.n_lo);
+            let o_ext = r.o_w.max(b.o_hi) - r.o_w.min(b.o_lo);
+            let ok = n_ext.cmple(Vec3::splat(opts.max_spread)).all()
+                && o_ext.cmple(Vec3::splat(max_o)).all();
+            let growth =
+                (n_ext - (b.n_hi - b.n_lo)) + (o_ext - (b.o_hi - b.o_lo)) / scale.max(1e-30);
+            let grow = growth.element_sum();
             if ok && best.is_none_or(|(g, _)| grow < g) {
                 best = Some((grow, k));
             }
@@ -94,12 +86,8 @@ pub fn build_bundles(
         };
         let b = &mut open[k];
         b.rays.push(i);
-        for a in 0..3 {
-            b.n_lo[a] = b.n_lo[a].min(n[a]);
-            b.n_hi[a] = b.n_hi[a].max(n[a]);
-            b.o_lo[a] = b.o_lo[a].min(r.o_w[a]);
-            b.o_hi[a] = b.o_hi[a].max(r.o_w[a]);
-        }
+        (b.n_lo, b.n_hi) = (n.min(b.n_lo), n.max(b.n_hi));
+        (b.o_lo, b.o_hi) = (r.o_w.min(b.o_lo), r.o_w.max(b.o_hi));
         if b.rays.len() >= opts.max_size {
             out.push(open.swap_remove(k).rays);
         }

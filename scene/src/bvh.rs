@@ -13,7 +13,8 @@
 //! covers the rounding of the transform unit (model-space rays are computed by
 //! it, world-space boxes are not).
 
-use crate::scene::Scene;
+use crate::scene::{forward_affine, Scene};
+use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::builder::{build_planes, BuildParams, CullPlanes};
 use golden_model::cull::bvh::{Bvh, Mesh, Node, NodeKind};
 use golden_model::float::{convert, FloatFormat, RoundingMode};
@@ -47,38 +48,43 @@ pub fn f32_up(v: f64) -> f32 {
     }
 }
 
-fn pad_box(lo: [f32; 3], hi: [f32; 3], rel: f64, extra: f64) -> ([f32; 3], [f32; 3]) {
-    let mut a = [0f32; 3];
-    let mut b = [0f32; 3];
-    for i in 0..3 {
-        let m = (lo[i] as f64).abs().max((hi[i] as f64).abs()) + (hi[i] as f64 - lo[i] as f64);
-        let p = m * rel + extra;
-        a[i] = f32_down(lo[i] as f64 - p);
-        b[i] = f32_up(hi[i] as f64 + p);
-    }
-    (a, b)
+/// The box `[lo, hi]` grown by `(max(|lo|, |hi|) + (hi − lo))·rel + extra` on
+/// each axis (in f64), rounded outward to f32.
+fn pad_box(lo: Vec3, hi: Vec3, rel: f64, extra: f64) -> ([f32; 3], [f32; 3]) {
+    let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
+    let p = (lo.abs().max(hi.abs()) + (hi - lo)) * rel + extra;
+    (
+        (lo - p).to_array().map(f32_down),
+        (hi + p).to_array().map(f32_up),
+    )
+}
+
+/// The centre of the box `[lo, hi]`, in f64 rounded to f32.
+pub(crate) fn centre(lo: Vec3, hi: Vec3) -> Vec3 {
+    ((lo.as_dvec3() + hi.as_dvec3()) / 2.0).as_vec3()
 }
 
 #[derive(Clone, Copy)]
 struct Prim {
-    lo: [f32; 3],
-    hi: [f32; 3],
-    c: [f32; 3],
+    lo: Vec3,
+    hi: Vec3,
+    c: Vec3,
 }
 
-fn area(lo: &[f32; 3], hi: &[f32; 3]) -> f64 {
-    let e = [0, 1, 2].map(|i| (hi[i] as f64 - lo[i] as f64).max(0.0));
-    2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+/// Surface area of the box `[lo, hi]` in f64 (an empty axis counts 0): the
+/// SAH cost of binary and wide nodes alike.
+pub(crate) fn area(lo: Vec3, hi: Vec3) -> f64 {
+    let e = (hi.as_dvec3() - lo.as_dvec3()).max(DVec3::ZERO);
+    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
 }
 
-fn merge(a: &mut ([f32; 3], [f32; 3]), p: &Prim) {
-    for i in 0..3 {
-        a.0[i] = a.0[i].min(p.lo[i]);
-        a.1[i] = a.1[i].max(p.hi[i]);
-    }
+/// Grows the box `a` by the box `[lo, hi]`. The running bound is min/max's
+/// second operand: glam keeps it on ties (±0) and when the new value is NaN.
+fn merge(a: &mut (Vec3, Vec3), lo: Vec3, hi: Vec3) {
+    *a = (lo.min(a.0), hi.max(a.1));
 }
 
-const EMPTY: ([f32; 3], [f32; 3]) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+const EMPTY: (Vec3, Vec3) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
 
 /// Binned SAH build over primitive boxes; leaves of at most `max_leaf`
 /// primitives (split whenever SAH says so and always above `max_leaf`).
@@ -109,15 +115,8 @@ fn split(
     let mut cb = EMPTY;
     for &p in order.iter() {
         let p = &prims[p as usize];
-        merge(&mut bx, p);
-        merge(
-            &mut cb,
-            &Prim {
-                lo: p.c,
-                hi: p.c,
-                c: p.c,
-            },
-        );
+        merge(&mut bx, p.lo, p.hi);
+        merge(&mut cb, p.c, p.c);
     }
     let (lo, hi) = pad_box(bx.0, bx.1, pad_rel, 0.0);
     bvh.nodes.push(Node {
@@ -133,7 +132,7 @@ fn split(
         return me;
     }
     // best binned SAH split over the three axes
-    let parent_area = area(&bx.0, &bx.1).max(1e-300);
+    let parent_area = area(bx.0, bx.1).max(1e-300);
     let mut best: Option<(f64, usize, f32, f32, usize)> = None; // cost, axis, cmin, scale, bin
     for axis in 0..3 {
         let (cmin, cmax) = (cb.0[axis], cb.1[axis]);
@@ -194,28 +193,26 @@ fn cheapest_bin(
     for &p in order {
         let p = &prims[p as usize];
         let b = (((p.c[axis] - cmin) * scale) as usize).min(BINS - 1);
-        merge(&mut bins[b].0, p);
+        merge(&mut bins[b].0, p.lo, p.hi);
         bins[b].1 += 1;
     }
     let mut right = [(0.0f64, 0usize); BINS];
     let mut acc = (EMPTY, 0usize);
     for b in (1..BINS).rev() {
-        acc.0 .0 = [0, 1, 2].map(|i| acc.0 .0[i].min(bins[b].0 .0[i]));
-        acc.0 .1 = [0, 1, 2].map(|i| acc.0 .1[i].max(bins[b].0 .1[i]));
+        merge(&mut acc.0, bins[b].0 .0, bins[b].0 .1);
         acc.1 += bins[b].1;
-        right[b] = (area(&acc.0 .0, &acc.0 .1), acc.1);
+        right[b] = (area(acc.0 .0, acc.0 .1), acc.1);
     }
     let mut left = (EMPTY, 0usize);
     let mut best: Option<(f64, usize)> = None;
     for b in 0..BINS - 1 {
-        left.0 .0 = [0, 1, 2].map(|i| left.0 .0[i].min(bins[b].0 .0[i]));
-        left.0 .1 = [0, 1, 2].map(|i| left.0 .1[i].max(bins[b].0 .1[i]));
+        merge(&mut left.0, bins[b].0 .0, bins[b].0 .1);
         left.1 += bins[b].1;
         let (ra, rn) = right[b + 1];
         if left.1 == 0 || rn == 0 {
             continue;
         }
-        let cost = area(&left.0 .0, &left.0 .1) * left.1 as f64 + ra * rn as f64;
+        let cost = area(left.0 .0, left.0 .1) * left.1 as f64 + ra * rn as f64;
         if best.is_none_or(|(c, _)| cost < c) {
             best = Some((cost, b));
         }
@@ -239,17 +236,17 @@ pub struct Blas {
 pub struct InstanceXf {
     /// mesh / BLAS index
     pub mesh: usize,
-    /// forward transform rows `[R | T]`
-    pub fwd: [[f32; 4]; 3],
+    /// forward transform `[R | T]` (the binary32 entries, in f64)
+    pub fwd: DAffine3,
     /// `R⁻¹`, row-major binary32 bits: the exact inverse rounded once
     /// (`scene_builder_inverse`, the transform unit's `inverse=pre`)
     pub inv_bits: [u64; 9],
     /// `T`, binary32 bits
     pub t_bits: [u64; 3],
     /// `R⁻ᵀ` in f64, for normals (shading only)
-    pub normal_m: [[f64; 3]; 3],
+    pub normal_m: DMat3,
     /// diffuse albedo
-    pub color: [f32; 3],
+    pub color: Vec3,
     /// diagonal of the instance's world box (for ray offsets)
     pub size: f32,
 }
@@ -284,13 +281,13 @@ pub struct Accel {
 pub fn build_blas_bvh(mesh: &Mesh, max_leaf: usize) -> Bvh {
     let prims: Vec<Prim> = (0..mesh.triangles.len() as u32)
         .map(|t| {
-            let v = mesh.corners(t);
-            let lo = [0, 1, 2].map(|i| v[0][i].min(v[1][i]).min(v[2][i]));
-            let hi = [0, 1, 2].map(|i| v[0][i].max(v[1][i]).max(v[2][i]));
+            let [a, b, c] = mesh.corners(t).map(Vec3::from);
+            // the earlier corner wins ties (±0), as min/max keep their second operand
+            let (lo, hi) = (c.min(b.min(a)), c.max(b.max(a)));
             Prim {
                 lo,
                 hi,
-                c: [0, 1, 2].map(|i| ((lo[i] as f64 + hi[i] as f64) / 2.0) as f32),
+                c: centre(lo, hi),
             }
         })
         .collect();
@@ -312,9 +309,8 @@ fn pad_planes(bvh: &Bvh, planes: &mut CullPlanes) {
     }
     for (id, ws) in planes.w.iter_mut().enumerate() {
         let n = bvh.nodes[reference[id]];
-        let size: f64 = (0..3)
-            .map(|i| (n.max[i] as f64 - n.min[i] as f64).abs() + (n.max[i] as f64).abs())
-            .sum();
+        let (lo, hi) = (Vec3::from(n.min).as_dvec3(), Vec3::from(n.max).as_dvec3());
+        let size = ((hi - lo).abs() + hi.abs()).element_sum();
         for w in ws.iter_mut() {
             let v = f64::from_bits(convert(
                 PLANE_FMT,
@@ -388,55 +384,49 @@ impl Accel {
             let inv_bits =
                 scene_builder_inverse(FloatFormat::BINARY32, RoundingMode::NearestEven, &r_bits);
             let inv: [f64; 9] = inv_bits.map(|b| f32::from_bits(b as u32) as f64);
-            let normal_m = [0, 1, 2].map(|i| [0, 1, 2].map(|j| inv[3 * j + i]));
+            // the row-major R⁻¹ read as columns is R⁻ᵀ
+            let normal_m = DMat3::from_cols_array(&inv);
+            let fwd = forward_affine(&f);
             let root = blas[inst.mesh].bvh.nodes[0];
-            let mut lo = [f64::INFINITY; 3];
-            let mut hi = [f64::NEG_INFINITY; 3];
+            let (rmin, rmax) = (
+                Vec3::from(root.min).as_dvec3(),
+                Vec3::from(root.max).as_dvec3(),
+            );
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for c in 0..8 {
-                let p = [0, 1, 2].map(|i| {
-                    if c >> i & 1 == 1 {
-                        root.max[i] as f64
-                    } else {
-                        root.min[i] as f64
-                    }
-                });
-                for i in 0..3 {
-                    let w = (0..3).map(|j| f[i][j] as f64 * p[j]).sum::<f64>() + f[i][3] as f64;
-                    lo[i] = lo[i].min(w);
-                    hi[i] = hi[i].max(w);
-                }
+                let corner = DVec3::select(
+                    glam::BVec3::new(c & 1 == 1, c & 2 == 2, c & 4 == 4),
+                    rmax,
+                    rmin,
+                );
+                let w = fwd.transform_point3(corner);
+                (lo, hi) = (w.min(lo), w.max(hi));
             }
-            let mut blo = [0f32; 3];
-            let mut bhi = [0f32; 3];
-            for i in 0..3 {
-                let p = ((hi[i] - lo[i]) + (f[i][3] as f64).abs() + lo[i].abs().max(hi[i].abs()))
-                    / (1u64 << 16) as f64;
-                blo[i] = f32_down(lo[i] - p);
-                bhi[i] = f32_up(hi[i] + p);
-            }
-            let pr = Prim {
+            let p =
+                ((hi - lo) + fwd.translation.abs() + lo.abs().max(hi.abs())) / (1u64 << 16) as f64;
+            let (blo, bhi) = (
+                Vec3::from((lo - p).to_array().map(f32_down)),
+                Vec3::from((hi + p).to_array().map(f32_up)),
+            );
+            merge(&mut world, blo, bhi);
+            prims.push(Prim {
                 lo: blo,
                 hi: bhi,
-                c: [0, 1, 2].map(|i| ((blo[i] as f64 + bhi[i] as f64) / 2.0) as f32),
-            };
-            merge(&mut world, &pr);
-            prims.push(pr);
+                c: centre(blo, bhi),
+            });
             instances.push(InstanceXf {
                 mesh: inst.mesh,
-                fwd: f,
+                fwd,
                 inv_bits,
                 t_bits: [0, 1, 2].map(|i| b32(f[i][3])),
                 normal_m,
-                color: inst.color,
-                size: (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt() as f32,
+                color: inst.color.into(),
+                size: (hi - lo).length() as f32,
             });
         }
         let tlas = sah_build(&prims, 1, 0.0);
         times.tlas = t2.elapsed();
-        let scale = (0..3)
-            .map(|i| ((world.1[i] - world.0[i]) as f64).powi(2))
-            .sum::<f64>()
-            .sqrt() as f32;
+        let scale = (world.1 - world.0).as_dvec3().length() as f32;
         Accel {
             blas,
             tlas,

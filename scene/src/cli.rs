@@ -509,12 +509,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 } else {
                     render_async(&s, &acc, &g, opts, w, h, &hopts)
                 };
-                let same = f.ids == sync.ids
-                    && f.t == sync.t
-                    && f.color
-                        .iter()
-                        .zip(&sync.color)
-                        .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits));
+                let same = f.same_image(&sync);
                 println!(
                     "| {name} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} |",
                     k.emitted,

@@ -44,6 +44,7 @@ use crate::scene::Scene;
 use crate::stats::Stats;
 use crate::tester::BoxTester;
 use crate::trace::{intersect, TraceOpts, Tracer, NONE};
+use glam::Vec3;
 use golden_model::raycull::{
     cull, quantize, Compare, Config, CullIn, CullOut, DepthFormat, RayTag, Slot, TileBuffer,
 };
@@ -63,7 +64,7 @@ pub struct WorldTri {
     /// (instance, triangle)
     pub key: (u32, u32),
     /// albedo
-    pub color: [f32; 3],
+    pub color: Vec3,
     /// instance world size
     pub size: f32,
 }
@@ -73,11 +74,11 @@ pub fn world_triangles(scene: &Scene, accel: &Accel) -> Vec<WorldTri> {
     let mut out = Vec::new();
     for (i, x) in accel.instances.iter().enumerate() {
         let m = &scene.meshes[x.mesh].1;
-        let f = x.fwd;
         let xf = |p: [f32; 3]| {
-            [0, 1, 2].map(|r| {
-                ((0..3).map(|c| f[r][c] as f64 * p[c] as f64).sum::<f64>() + f[r][3] as f64) as f32
-            })
+            x.fwd
+                .transform_point3(Vec3::from(p).as_dvec3())
+                .as_vec3()
+                .to_array()
         };
         for t in 0..m.triangles.len() as u32 {
             out.push(WorldTri {
@@ -99,8 +100,8 @@ pub fn rasterize(cam: &Cam, tri: &WorldTri, w: u32, h: u32) -> Vec<(u32, f64)> {
     let mut hi = [f64::NEG_INFINITY; 2];
     let mut behind = false;
     for p in &tri.v {
-        let v = [0, 1, 2].map(|i| p[i] as f64 - cam.o[i] as f64);
-        let dot = |a: [f32; 3]| (0..3).map(|i| v[i] * a[i] as f64).sum::<f64>();
+        let v = Vec3::from(*p).as_dvec3() - cam.o.as_dvec3();
+        let dot = |a: Vec3| v.dot(a.as_dvec3());
         let z = dot(fw);
         if z <= 1e-6 {
             behind = true;
@@ -125,11 +126,11 @@ pub fn rasterize(cam: &Cam, tri: &WorldTri, w: u32, h: u32) -> Vec<(u32, f64)> {
         )
     };
     let mut out = Vec::new();
-    let o = cam.o.map(|x| x as f64);
+    let o = cam.o.as_dvec3();
     for y in y0..=y1 {
         for x in x0..=x1 {
-            let d = cam.dir(x as u32, y as u32).map(|c| c as f64);
-            if let Some(t) = intersect(&o, &d, &tri.v, f64::INFINITY) {
+            let d = cam.dir(x as u32, y as u32).as_dvec3();
+            if let Some(t) = intersect(o, d, &tri.v, f64::INFINITY) {
                 out.push((y as u32 * w + x as u32, t));
             }
         }
@@ -139,9 +140,8 @@ pub fn rasterize(cam: &Cam, tri: &WorldTri, w: u32, h: u32) -> Vec<(u32, f64)> {
 
 fn surface(cam: &Cam, tri: &WorldTri, pix: u32, w: u32, t: f64) -> Surface {
     let d = cam.dir(pix % w, pix / w);
-    let n = face_normal64(&tri.v);
-    let pos = [0, 1, 2].map(|i| cam.o[i] as f64 + t * d[i] as f64);
-    make_surface(pos, n, d, tri.color, tri.size, tri.key)
+    let pos = cam.o.as_dvec3() + d.as_dvec3() * t;
+    make_surface(pos, face_normal64(&tri.v), d, tri.color, tri.size, tri.key)
 }
 
 /// Counts of the asynchronous path.
@@ -215,9 +215,7 @@ pub fn depth_planes(cam: &Cam, tris: &[WorldTri]) -> (f64, f64) {
     let mut far: f64 = 1e-3;
     for t in tris {
         for p in &t.v {
-            let z: f64 = (0..3)
-                .map(|i| (p[i] as f64 - cam.o[i] as f64) * fw[i] as f64)
-                .sum();
+            let z = (Vec3::from(*p).as_dvec3() - cam.o.as_dvec3()).dot(fw.as_dvec3());
             far = far.max(z);
         }
     }
@@ -238,7 +236,7 @@ fn depth_code(
 ) -> Option<u32> {
     let (fw, ..) = cam.basis();
     let d = cam.dir(p % w, p / w);
-    let z = t * (0..3).map(|i| d[i] as f64 * fw[i] as f64).sum::<f64>();
+    let z = t * d.as_dvec3().dot(fw.as_dvec3());
     quantize(fmt, false, z, planes.0, planes.1)
 }
 
@@ -279,7 +277,7 @@ fn frame(w: u32, h: u32, bg: [f32; 3]) -> Frame {
     Frame {
         w,
         h,
-        color: vec![bg; n],
+        color: vec![bg.into(); n],
         ids: vec![(NONE, NONE); n],
         t: vec![0; n],
         stats: Stats::default(),
@@ -589,14 +587,10 @@ pub fn orders(scene: &Scene, accel: &Accel, seed: u64) -> Vec<(&'static str, Vec
     let n = tris.len();
     let fwd: Vec<usize> = (0..n).collect();
     let rev: Vec<usize> = (0..n).rev().collect();
-    let cam = scene.camera.position;
+    let cam = Vec3::from(scene.camera.position);
     let dist = |t: &WorldTri| {
         t.v.iter()
-            .map(|p| {
-                (0..3)
-                    .map(|i| (p[i] - cam[i]) as f64 * (p[i] - cam[i]) as f64)
-                    .sum::<f64>()
-            })
+            .map(|&p| (Vec3::from(p) - cam).as_dvec3().length_squared())
             .fold(f64::INFINITY, f64::min)
     };
     let mut f2b = fwd.clone();

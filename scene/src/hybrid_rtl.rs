@@ -134,14 +134,7 @@ pub fn hybrid_rtl(
             "raycull: the replayed render asked transaction {i} differently from the recorded one"
         ));
     }
-    let same = f.ids == gold.ids
-        && f.t == gold.t
-        && f.color
-            .iter()
-            .zip(&gold.color)
-            .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
-        && c == gold_counts
-        && next == vectors;
+    let same = f.same_image(&gold) && c == gold_counts && next == vectors;
     tally.renders_differ += (!same) as u64;
     Ok((f, c))
 }

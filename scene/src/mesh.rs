@@ -3,6 +3,8 @@
 //! Meshes are `golden_model::cull::bvh::Mesh` (f32 vertices, index triples), the
 //! type the cull-plane builder takes.
 
+use crate::render::unit_by_division;
+use glam::DVec3;
 use golden_model::cull::bvh::Mesh;
 use std::path::Path;
 
@@ -77,19 +79,19 @@ pub fn cube() -> Mesh {
 /// Unit icosphere with `subdivisions` rounds of 4:1 splitting (20·4^s triangles).
 pub fn icosphere(subdivisions: u32) -> Mesh {
     let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v: Vec<[f64; 3]> = vec![
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
+    let mut v: Vec<DVec3> = vec![
+        DVec3::new(-1.0, t, 0.0),
+        DVec3::new(1.0, t, 0.0),
+        DVec3::new(-1.0, -t, 0.0),
+        DVec3::new(1.0, -t, 0.0),
+        DVec3::new(0.0, -1.0, t),
+        DVec3::new(0.0, 1.0, t),
+        DVec3::new(0.0, -1.0, -t),
+        DVec3::new(0.0, 1.0, -t),
+        DVec3::new(t, 0.0, -1.0),
+        DVec3::new(t, 0.0, 1.0),
+        DVec3::new(-t, 0.0, -1.0),
+        DVec3::new(-t, 0.0, 1.0),
     ];
     let mut f: Vec<[u32; 3]> = vec![
         [0, 11, 5],
@@ -116,11 +118,10 @@ pub fn icosphere(subdivisions: u32) -> Mesh {
     for _ in 0..subdivisions {
         let mut mid = std::collections::HashMap::new();
         let mut nf = Vec::with_capacity(f.len() * 4);
-        let mut midpoint = |a: u32, b: u32, v: &mut Vec<[f64; 3]>| -> u32 {
+        let mut midpoint = |a: u32, b: u32, v: &mut Vec<DVec3>| -> u32 {
             let key = (a.min(b), a.max(b));
             *mid.entry(key).or_insert_with(|| {
-                let (p, q) = (v[a as usize], v[b as usize]);
-                v.push([0, 1, 2].map(|i| (p[i] + q[i]) / 2.0));
+                v.push((v[a as usize] + v[b as usize]) / 2.0);
                 v.len() as u32 - 1
             })
         };
@@ -134,11 +135,8 @@ pub fn icosphere(subdivisions: u32) -> Mesh {
     }
     Mesh {
         vertices: v
-            .iter()
-            .map(|p| {
-                let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-                p.map(|x| (x / l) as f32)
-            })
+            .into_iter()
+            .map(|p| unit_by_division!(p).as_vec3().to_array())
             .collect(),
         triangles: f,
     }

@@ -13,6 +13,7 @@ use crate::scene::{Light, Scene};
 use crate::stats::{RayKind, Stats};
 use crate::tester::BoxTester;
 use crate::trace::{TRay, TraceOpts, Tracer};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -23,62 +24,45 @@ pub const TILE: u32 = 8;
 #[derive(Debug, Clone, Copy)]
 pub struct Cam {
     /// eye
-    pub o: [f32; 3],
-    forward: [f32; 3],
-    right: [f32; 3],
-    up: [f32; 3],
+    pub o: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
     tan: f32,
     w: u32,
     h: u32,
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// `v` divided by its length. glam's `normalize` multiplies by the
+/// reciprocal of the length instead (two roundings): the camera basis, the
+/// shading normal, the AO frame, the bundles' direction spreads and the
+/// icosphere's vertices are normalised by division so that the rays and
+/// boxes handed to the units keep their bits (`docs/scene.md` §3.2).
+macro_rules! unit_by_division {
+    ($v:expr) => {{
+        let v = $v;
+        v / v.length()
+    }};
 }
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn normalize(a: [f32; 3]) -> [f32; 3] {
-    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    a.map(|x| x / l)
-}
-fn dot64(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm64(a: [f64; 3]) -> [f64; 3] {
-    let l = dot64(a, a).sqrt();
-    a.map(|x| x / l)
-}
-fn cross64(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+pub(crate) use unit_by_division;
 
 /// The unnormalised face normal `(v1 − v0) × (v2 − v0)` of a triangle in
 /// f64: what an RT hit and a rasterised sample shade with alike.
-pub(crate) fn face_normal64(v: &[[f32; 3]; 3]) -> [f64; 3] {
-    let v = v.map(|p| p.map(|c| c as f64));
-    let e1 = [0, 1, 2].map(|i| v[1][i] - v[0][i]);
-    let e2 = [0, 1, 2].map(|i| v[2][i] - v[0][i]);
-    cross64(e1, e2)
+pub(crate) fn face_normal64(v: &[[f32; 3]; 3]) -> DVec3 {
+    let [v0, v1, v2] = v.map(|p| Vec3::from(p).as_dvec3());
+    (v1 - v0).cross(v2 - v0)
 }
 
 impl Cam {
     /// The scene's camera for a `w`×`h` image.
     pub fn new(scene: &Scene, w: u32, h: u32) -> Cam {
         let c = &scene.camera;
-        let forward = normalize(sub(c.look_at, c.position));
-        let right = normalize(cross(forward, c.up));
-        let up = cross(right, forward);
+        let o = Vec3::from(c.position);
+        let forward = unit_by_division!(Vec3::from(c.look_at) - o);
+        let right = unit_by_division!(forward.cross(c.up.into()));
+        let up = right.cross(forward);
         Cam {
-            o: c.position,
+            o,
             forward,
             right,
             up,
@@ -88,15 +72,15 @@ impl Cam {
         }
     }
     /// `(forward, right, up, tan(fov_y / 2))`.
-    pub fn basis(&self) -> ([f32; 3], [f32; 3], [f32; 3], f64) {
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3, f64) {
         (self.forward, self.right, self.up, self.tan as f64)
     }
     /// Direction through the centre of pixel `(x, y)` (not normalised).
-    pub fn dir(&self, x: u32, y: u32) -> [f32; 3] {
+    pub fn dir(&self, x: u32, y: u32) -> Vec3 {
         let aspect = self.w as f32 / self.h as f32;
         let sx = (2.0 * (x as f32 + 0.5) / self.w as f32 - 1.0) * self.tan * aspect;
         let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.h as f32) * self.tan;
-        [0, 1, 2].map(|i| self.forward[i] + sx * self.right[i] + sy * self.up[i])
+        self.forward + self.right * sx + self.up * sy
     }
 }
 
@@ -104,11 +88,11 @@ impl Cam {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     /// world position
-    pub pos: [f64; 3],
+    pub pos: DVec3,
     /// unit geometric normal, facing the viewer
-    pub normal: [f64; 3],
+    pub normal: DVec3,
     /// diffuse albedo
-    pub albedo: [f32; 3],
+    pub albedo: Vec3,
     /// world size of the instance (for the ray offset)
     pub size: f32,
     /// instance and triangle
@@ -121,13 +105,13 @@ pub struct SecRay {
     /// shadow or AO
     pub kind: RayKind,
     /// origin (offset from the surface along the normal)
-    pub o: [f32; 3],
+    pub o: Vec3,
     /// direction (to the light sample, or AO direction × AO distance)
-    pub d: [f32; 3],
+    pub d: Vec3,
     /// segment end
     pub t_max: f64,
     /// radiance added when the ray is unoccluded
-    pub weight: [f32; 3],
+    pub weight: Vec3,
 }
 
 /// Surface of an RT hit: world position from the world ray, normal of the
@@ -135,34 +119,33 @@ pub struct SecRay {
 pub fn surface_of_hit(
     scene: &Scene,
     accel: &Accel,
-    o: [f32; 3],
-    d: [f32; 3],
+    o: Vec3,
+    d: Vec3,
     t: f64,
     inst: u32,
     prim: u32,
 ) -> Surface {
     let x = &accel.instances[inst as usize];
     let nm = face_normal64(&scene.meshes[x.mesh].1.corners(prim));
-    let nw = [0, 1, 2].map(|i| dot64(x.normal_m[i], nm));
-    let pos = [0, 1, 2].map(|i| o[i] as f64 + t * d[i] as f64);
-    make_surface(pos, nw, d, x.color, x.size, (inst, prim))
+    let pos = o.as_dvec3() + d.as_dvec3() * t;
+    make_surface(pos, x.normal_m * nm, d, x.color, x.size, (inst, prim))
 }
 
 /// A surface with its normal normalised and turned toward the viewer.
 pub fn make_surface(
-    pos: [f64; 3],
-    n: [f64; 3],
-    view_d: [f32; 3],
-    albedo: [f32; 3],
+    pos: DVec3,
+    n: DVec3,
+    view_d: Vec3,
+    albedo: Vec3,
     size: f32,
     key: (u32, u32),
 ) -> Surface {
-    let mut n = norm64(n);
-    if !n[0].is_finite() {
-        n = [0.0, 1.0, 0.0];
+    let mut n = unit_by_division!(n);
+    if !n.x.is_finite() {
+        n = DVec3::Y;
     }
-    if dot64(n, view_d.map(|x| x as f64)) > 0.0 {
-        n = n.map(|x| -x);
+    if n.dot(view_d.as_dvec3()) > 0.0 {
+        n = -n;
     }
     Surface {
         pos,
@@ -183,17 +166,18 @@ pub fn emit(scene: &Scene, s: &Surface, pix: u64) -> Vec<SecRay> {
 
 /// [`emit`], appending to `out` (a tile's list: no allocation per pixel).
 pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
-    let mag = s.pos.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mag = s.pos.abs().max_element();
     let eps = 1e-4 * s.size as f64 + mag * 1e-6;
-    let o64 = [0, 1, 2].map(|i| s.pos[i] + s.normal[i] * eps);
-    let o = o64.map(|x| x as f32);
+    let o64 = s.pos + s.normal * eps;
+    let o = o64.as_vec3();
     let alb = s.albedo;
+    let f64_of = |p: &[f32; 3]| Vec3::from(*p).as_dvec3();
     for (li, l) in scene.lights.iter().enumerate() {
         match l {
             Light::Point { position, color } => {
-                let dl = [0, 1, 2].map(|i| position[i] as f64 - o64[i]);
-                let d2 = dot64(dl, dl);
-                let cs = dot64(s.normal, dl) / d2.sqrt();
+                let dl = f64_of(position) - o64;
+                let d2 = dl.length_squared();
+                let cs = s.normal.dot(dl) / d2.sqrt();
                 if cs <= 0.0 {
                     continue;
                 }
@@ -201,9 +185,9 @@ pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
                 out.push(SecRay {
                     kind: RayKind::Shadow,
                     o,
-                    d: dl.map(|x| x as f32),
+                    d: dl.as_vec3(),
                     t_max: 0.999,
-                    weight: [0, 1, 2].map(|c| alb[c] * color[c] * k),
+                    weight: alb * Vec3::from(*color) * k,
                 });
             }
             Light::Area {
@@ -213,22 +197,21 @@ pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
                 color,
                 samples,
             } => {
-                let eu = edge_u.map(|x| x as f64);
-                let ev = edge_v.map(|x| x as f64);
-                let ln = cross64(eu, ev);
-                let area = dot64(ln, ln).sqrt();
-                let ln = ln.map(|x| x / area);
+                let (eu, ev) = (f64_of(edge_u), f64_of(edge_v));
+                let ln = eu.cross(ev);
+                let area = ln.length();
+                let ln = ln / area;
                 for k in 0..*samples as u64 {
                     let key = pix << 16 | (li as u64) << 8 | k;
                     // stratified in u
                     let u = (k as f64 + unit(0xA11, key)) / *samples as f64;
                     let v = unit(0xA12, key);
-                    let q = [0, 1, 2].map(|i| corner[i] as f64 + u * eu[i] + v * ev[i]);
-                    let dl = [0, 1, 2].map(|i| q[i] - o64[i]);
-                    let d2 = dot64(dl, dl);
+                    let q = f64_of(corner) + eu * u + ev * v;
+                    let dl = q - o64;
+                    let d2 = dl.length_squared();
                     let dist = d2.sqrt();
-                    let cs = dot64(s.normal, dl) / dist;
-                    let cl = -dot64(ln, dl) / dist;
+                    let cs = s.normal.dot(dl) / dist;
+                    let cl = -ln.dot(dl) / dist;
                     if cs <= 0.0 || cl <= 0.0 {
                         continue;
                     }
@@ -236,9 +219,9 @@ pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
                     out.push(SecRay {
                         kind: RayKind::Shadow,
                         o,
-                        d: dl.map(|x| x as f32),
+                        d: dl.as_vec3(),
                         t_max: 0.999,
-                        weight: [0, 1, 2].map(|c| alb[c] * color[c] * k),
+                        weight: alb * Vec3::from(*color) * k,
                     });
                 }
             }
@@ -247,13 +230,9 @@ pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
     let r = &scene.render;
     let n = s.normal;
     // tangent frame
-    let a = if n[0].abs() > 0.9 {
-        [0.0, 1.0, 0.0]
-    } else {
-        [1.0, 0.0, 0.0]
-    };
-    let t1 = norm64(cross64(a, n));
-    let t2 = cross64(n, t1);
+    let a = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+    let t1 = unit_by_division!(a.cross(n));
+    let t2 = n.cross(t1);
     for k in 0..r.ao_rays as u64 {
         let key = pix << 16 | 0xF000 | k;
         // cosine-weighted hemisphere, stratified in the angle
@@ -261,30 +240,28 @@ pub fn emit_into(scene: &Scene, s: &Surface, pix: u64, out: &mut Vec<SecRay>) {
         let phi = 2.0 * std::f64::consts::PI * (k as f64 + unit(0xA1, key)) / r.ao_rays as f64;
         let rr = u1.sqrt();
         let (x, y, z) = (rr * phi.cos(), rr * phi.sin(), (1.0 - u1).sqrt());
-        let dir = [0, 1, 2].map(|i| (x * t1[i] + y * t2[i] + z * n[i]) * r.ao_distance as f64);
+        let dir = (t1 * x + t2 * y + n * z) * r.ao_distance as f64;
         out.push(SecRay {
             kind: RayKind::Ao,
             o,
-            d: dir.map(|x| x as f32),
+            d: dir.as_vec3(),
             t_max: 1.0,
-            weight: alb.map(|c| c * r.ambient / r.ao_rays as f32),
+            weight: alb * r.ambient / r.ao_rays as f32,
         });
     }
 }
 
 /// The pixel colour from its emitted rays and whether each was occluded
 /// (summed in emission order, so every renderer gets the same bits).
-pub fn combine(scene: &Scene, s: &Surface, rays: &[SecRay], occluded: &[bool]) -> [f32; 3] {
+pub fn combine(scene: &Scene, s: &Surface, rays: &[SecRay], occluded: &[bool]) -> Vec3 {
     let mut c = if scene.render.ao_rays == 0 {
-        s.albedo.map(|a| a * scene.render.ambient)
+        s.albedo * scene.render.ambient
     } else {
-        [0.0; 3]
+        Vec3::ZERO
     };
     for (r, &occ) in rays.iter().zip(occluded) {
         if !occ {
-            for k in 0..3 {
-                c[k] += r.weight[k];
-            }
+            c += r.weight;
         }
     }
     c
@@ -298,7 +275,7 @@ pub struct Frame {
     /// height
     pub h: u32,
     /// linear colour, row-major
-    pub color: Vec<[f32; 3]>,
+    pub color: Vec<Vec3>,
     /// per pixel the primary hit (instance, triangle), `NONE` on a miss
     pub ids: Vec<(u32, u32)>,
     /// per pixel the primary hit's `t` bits
@@ -314,7 +291,10 @@ impl Frame {
     pub fn rgb8(&self) -> Vec<u8> {
         self.color
             .iter()
-            .flat_map(|c| c.map(|x| (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8))
+            .flat_map(|c| {
+                c.to_array()
+                    .map(|x| (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8)
+            })
             .collect()
     }
     /// Writes a PNG.
@@ -357,15 +337,15 @@ impl Frame {
     pub fn same_hits(&self, other: &Frame) -> bool {
         self.w == other.w && self.h == other.h && self.ids == other.ids && self.t == other.t
     }
+    /// The binary32 bits of pixel `p`'s colour (what identity tests compare).
+    pub fn color_bits(&self, p: usize) -> [u32; 3] {
+        self.color[p].to_array().map(f32::to_bits)
+    }
     /// Every pixel's primary hit, `t` and colour (bits) equal `other`'s.
     pub fn same_image(&self, other: &Frame) -> bool {
         self.ids == other.ids
             && self.t == other.t
-            && self
-                .color
-                .iter()
-                .zip(&other.color)
-                .all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits))
+            && (0..self.color.len()).all(|p| self.color_bits(p) == other.color_bits(p))
     }
 
     /// Total rays traced.
@@ -394,7 +374,7 @@ struct TileOut {
     y0: u32,
     tw: u32,
     th: u32,
-    color: Vec<[f32; 3]>,
+    color: Vec<Vec3>,
     ids: Vec<(u32, u32)>,
     t: Vec<u64>,
     stats: Stats,
@@ -461,7 +441,7 @@ pub fn render_with(
     let mut f = Frame {
         w,
         h,
-        color: vec![[0.0; 3]; n],
+        color: vec![Vec3::ZERO; n],
         ids: vec![(crate::trace::NONE, crate::trace::NONE); n],
         t: vec![0; n],
         stats: Stats::default(),
@@ -512,7 +492,7 @@ fn render_tile(
     for b in build_bundles(&rays, &idx, &tracer.opts.bundles, accel.scale) {
         tracer.trace(&mut rays, &b, RayKind::Primary, &mut st);
     }
-    let mut color = vec![scene.render.background; rays.len()];
+    let mut color = vec![Vec3::from(scene.render.background); rays.len()];
     let mut ids = vec![(crate::trace::NONE, crate::trace::NONE); rays.len()];
     let mut ts = vec![0u64; rays.len()];
     // shading: every hit pixel emits its rays, traced together per type

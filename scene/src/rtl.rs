@@ -601,11 +601,7 @@ impl std::fmt::Display for LoopReport {
 /// Pixels whose primary hit, `t` bits or colour bits differ.
 pub fn differing_pixels(a: &Frame, b: &Frame) -> u64 {
     (0..a.ids.len())
-        .filter(|&p| {
-            a.ids[p] != b.ids[p]
-                || a.t[p] != b.t[p]
-                || a.color[p].map(f32::to_bits) != b.color[p].map(f32::to_bits)
-        })
+        .filter(|&p| a.ids[p] != b.ids[p] || a.t[p] != b.t[p] || a.color_bits(p) != b.color_bits(p))
         .count() as u64
 }
 

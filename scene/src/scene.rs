@@ -28,6 +28,7 @@
 //! Errors name the file and the field (`scenes/x.toml: instances[2].mesh: ...`).
 
 use crate::mesh;
+use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::bvh::Mesh;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -401,13 +402,10 @@ impl Scene {
             }
         }
         // the camera basis is built in f32 (render::Cam): its squared length must not overflow
-        let view = [0, 1, 2].map(|i| c.look_at[i] - c.position[i]);
-        let len2 = view.iter().map(|x| x * x).sum::<f32>();
+        let (eye, at) = (Vec3::from(c.position), Vec3::from(c.look_at));
+        let len2 = (at - eye).length_squared();
         if !len2.is_finite() || len2 == 0.0 {
-            let dist = (0..3)
-                .map(|i| (c.look_at[i] as f64 - c.position[i] as f64).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let dist = at.as_dvec3().distance(eye.as_dvec3());
             return Err(err(
                 path,
                 "camera.look_at",
@@ -423,11 +421,9 @@ impl Scene {
             let mut mesh = build_mesh(path, dir, &field, m)?;
             if m.recenter {
                 let (lo, hi) = mesh.bounds();
-                let c = [(lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0];
+                let c = Vec3::new((lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0);
                 for v in &mut mesh.vertices {
-                    for i in 0..3 {
-                        v[i] -= c[i];
-                    }
+                    *v = (Vec3::from(*v) - c).to_array();
                 }
             }
             // obj meshes are checked as loaded (naming the file); this also
@@ -587,6 +583,13 @@ fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh,
     }
 }
 
+/// The forward transform `[R | T]` of an instance's binary32 rows
+/// ([`Instance::transform`]) in f64 (exact: every entry is a binary32 value).
+pub(crate) fn forward_affine(f: &[[f32; 4]; 3]) -> DAffine3 {
+    let col = |j: usize| DVec3::new(f[0][j] as f64, f[1][j] as f64, f[2][j] as f64);
+    DAffine3::from_cols(col(0), col(1), col(2), col(3))
+}
+
 /// `R = Rot(axis, angle)·diag(scale)`, `T = translate`, or the explicit 3×4.
 fn instance_transform(
     file: &Path,
@@ -603,22 +606,18 @@ fn instance_transform(
         }
         t
     } else {
-        let s = inst.scale.unwrap_or([1.0; 3]);
+        let s = DVec3::from(inst.scale.unwrap_or([1.0; 3]));
         let [ax, ay, az, deg] = inst.rotate.unwrap_or([0.0, 1.0, 0.0, 0.0]);
-        let l = (ax * ax + ay * ay + az * az).sqrt();
+        let axis = DVec3::new(ax, ay, az);
+        let l = axis.length();
         if l == 0.0 || !l.is_finite() {
             return Err(err(file, format!("{field}.rotate"), "axis must be nonzero"));
         }
-        let (x, y, z) = (ax / l, ay / l, az / l);
-        let (sn, cs) = deg.to_radians().sin_cos();
-        let c1 = 1.0 - cs;
-        let rot = [
-            [cs + x * x * c1, x * y * c1 - z * sn, x * z * c1 + y * sn],
-            [y * x * c1 + z * sn, cs + y * y * c1, y * z * c1 - x * sn],
-            [z * x * c1 - y * sn, z * y * c1 + x * sn, cs + z * z * c1],
-        ];
+        // divided, not glam's normalize (a reciprocal): the same f32 entries as before
+        let rot = DMat3::from_axis_angle(axis / l, deg.to_radians());
+        let rs = DMat3::from_cols(rot.x_axis * s.x, rot.y_axis * s.y, rot.z_axis * s.z);
         let t = inst.translate.unwrap_or([0.0; 3]);
-        [0, 1, 2].map(|i| [rot[i][0] * s[0], rot[i][1] * s[1], rot[i][2] * s[2], t[i]])
+        [0, 1, 2].map(|i| rs.row(i).extend(t[i]).to_array())
     };
     let f = m.map(|row| row.map(|x| x as f32));
     if f.iter().flatten().any(|x| !x.is_finite()) {
@@ -628,10 +627,8 @@ fn instance_transform(
             "entries must be finite f32",
         ));
     }
-    let r = [0, 1, 2].map(|i| f[i].map(|x| x as f64));
-    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
-        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    // expanded along the first row, as the singularity check always was
+    let det = forward_affine(&f).matrix3.transpose().determinant();
     if det == 0.0 || !det.is_finite() {
         return Err(err(
             file,

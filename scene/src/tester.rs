@@ -253,7 +253,7 @@ impl Reduced {
     /// top-level root box, rounded to binary32.
     pub fn scene_anchor(accel: &crate::bvh::Accel) -> [f32; 3] {
         let root = &accel.tlas.nodes[0];
-        [0, 1, 2].map(|i| ((root.min[i] as f64 + root.max[i] as f64) / 2.0) as f32)
+        crate::bvh::centre(root.min.into(), root.max.into()).to_array()
     }
     /// `b` (binary32 bits) rounded in `mode`, or `None` if it leaves the
     /// format's finite range while `b` is finite.

@@ -13,11 +13,13 @@
 //! ties or beats the best one is still reached with any conservative box test.
 
 use crate::bvh::{f32_up, Accel, InstanceXf, PLANES_K};
+use crate::render::unit_by_division;
 use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::{BoxTester, BundleBox, RayBox};
 use crate::units::{ChildTestIn, RayTermsIn, Units};
 use crate::wide::{Boxes, WideAccel};
+use glam::{DVec3, Mat3, Vec3};
 use golden_model::cull::bvh::{Mesh, NodeKind};
 use golden_model::cull::tester::{box_interval, slab_reciprocal, NormalTerm};
 use golden_model::float::FloatFormat;
@@ -50,9 +52,9 @@ impl Hit {
 #[derive(Debug, Clone, Copy)]
 pub struct TRay {
     /// world origin
-    pub o_w: [f32; 3],
+    pub o_w: Vec3,
     /// world direction (any length)
-    pub d_w: [f32; 3],
+    pub d_w: Vec3,
     /// current-space origin bits (world at the top level, model below)
     pub o: [u64; 3],
     /// current-space direction bits
@@ -79,11 +81,10 @@ impl TRay {
     /// transform unit of `units` (golden model or RTL; ray id `id`), with
     /// the slab's reciprocal direction.
     pub fn enter_instance(&mut self, units: &dyn Units, x: &InstanceXf, id: u64) {
-        let bits = |v: f32| v.to_bits() as u64;
         let m = units.transform(
             &WorldRay {
-                origin: self.o_w.map(bits),
-                dir: self.d_w.map(bits),
+                origin: bits3(self.o_w),
+                dir: bits3(self.d_w),
                 t_min: 0,
                 t_max: bits(f32::INFINITY),
                 id,
@@ -104,14 +105,19 @@ fn bits(v: f32) -> u64 {
     v.to_bits() as u64
 }
 
+/// The binary32 bits of `v`'s components, as the units take them.
+pub(crate) fn bits3(v: Vec3) -> [u64; 3] {
+    v.to_array().map(bits)
+}
+
 impl TRay {
     /// A new ray with segment `[0, t_max]`.
-    pub fn new(o: [f32; 3], d: [f32; 3], t_max: f64, any: bool) -> TRay {
+    pub fn new(o: Vec3, d: Vec3, t_max: f64, any: bool) -> TRay {
         TRay {
             o_w: o,
             d_w: d,
-            o: o.map(bits),
-            d: d.map(bits),
+            o: bits3(o),
+            d: bits3(d),
             t_max,
             any,
             hit: Hit {
@@ -326,8 +332,8 @@ enum Space {
 /// included: a ray through a shared edge or vertex hits at least one of the
 /// triangles; both faces hit), then `t = T/det`. Returns `t` if it lies in
 /// `[0, t_max]`.
-pub fn intersect(o: &[f64; 3], d: &[f64; 3], v: &[[f32; 3]; 3], t_max: f64) -> Option<f64> {
-    let ad = d.map(f64::abs);
+pub fn intersect(o: DVec3, d: DVec3, v: &[[f32; 3]; 3], t_max: f64) -> Option<f64> {
+    let ad = d.abs();
     let kz = if ad[0] >= ad[1] && ad[0] >= ad[2] {
         0
     } else if ad[1] >= ad[2] {
@@ -346,8 +352,7 @@ pub fn intersect(o: &[f64; 3], d: &[f64; 3], v: &[[f32; 3]; 3], t_max: f64) -> O
     let sx = d[kx] / d[kz];
     let sy = d[ky] / d[kz];
     let sz = 1.0 / d[kz];
-    let rel = |p: &[f32; 3]| [0, 1, 2].map(|i| p[i] as f64 - o[i]);
-    let (a, b, c) = (rel(&v[0]), rel(&v[1]), rel(&v[2]));
+    let [a, b, c] = v.map(|p| Vec3::from(p).as_dvec3() - o);
     let (ax, ay) = (a[kx] - sx * a[kz], a[ky] - sy * a[kz]);
     let (bx, by) = (b[kx] - sx * b[kz], b[ky] - sy * b[kz]);
     let (cx, cy) = (c[kx] - sx * c[kz], c[ky] - sy * c[kz]);
@@ -444,14 +449,11 @@ impl<'a> Tracer<'a> {
     /// slab's reciprocal and, for `--tri golden`, the triangle unit's shear.
     pub(crate) fn enter_model(&self, r: &mut TRay, x: &InstanceXf, id: u64) {
         if self.opts.f32_transform {
-            let inv = x.inv_bits.map(|b| f32::from_bits(b as u32));
-            let t = x.t_bits.map(|b| f32::from_bits(b as u32));
-            let xo = [0, 1, 2].map(|k| r.o_w[k] - t[k]);
-            let mv = |v: [f32; 3]| {
-                [0, 1, 2].map(|k| inv[3 * k] * v[0] + inv[3 * k + 1] * v[1] + inv[3 * k + 2] * v[2])
-            };
-            r.o = mv(xo).map(bits);
-            r.d = mv(r.d_w).map(bits);
+            let f = |b: u64| f32::from_bits(b as u32);
+            // inv_bits is row-major: its columns-array reading is R⁻ᵀ
+            let inv = Mat3::from_cols_array(&x.inv_bits.map(f)).transpose();
+            r.o = bits3(inv * (r.o_w - Vec3::from(x.t_bits.map(f))));
+            r.d = bits3(inv * r.d_w);
             r.inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d);
         } else {
             r.enter_instance(self.units, x, id);
@@ -465,13 +467,13 @@ impl<'a> Tracer<'a> {
     /// model-space ray `r`: the nearest hit kept as the minimum of `(t,
     /// instance, triangle)`, an any-hit ray done at its first hit.
     pub(crate) fn leaf(&self, r: &mut TRay, inst: u32, m: &Mesh, tris: &[u32], st: &mut KindStats) {
-        let o = r.o.map(|b| f32::from_bits(b as u32) as f64);
-        let d = r.d.map(|b| f32::from_bits(b as u32) as f64);
+        let f64_of = |b: [u64; 3]| Vec3::from(b.map(|b| f32::from_bits(b as u32))).as_dvec3();
+        let (o, d) = (f64_of(r.o), f64_of(r.d));
         for &t in tris {
             st.tri_tests += 1;
             let v = m.corners(t);
             let found = match self.opts.tri {
-                TriTest::F64 => intersect(&o, &d, &v, r.hit.t),
+                TriTest::F64 => intersect(o, d, &v, r.hit.t),
                 TriTest::Golden => unit_triangle(self.units, r, &v),
                 TriTest::Exact => exact_triangle(r, &v),
             };
@@ -521,15 +523,13 @@ impl<'a> Tracer<'a> {
         let (o, d) = match space {
             Space::World => (ray.o_w, ray.d_w),
             Space::Model => (
-                ray.o.map(|b| f32::from_bits(b as u32)),
-                ray.d.map(|b| f32::from_bits(b as u32)),
+                Vec3::from(ray.o.map(|b| f32::from_bits(b as u32))),
+                Vec3::from(ray.d.map(|b| f32::from_bits(b as u32))),
             ),
         };
         let key = |n: usize| {
             let b = &nodes[n];
-            (0..3)
-                .map(|i| ((b.min[i] + b.max[i]) * 0.5 - o[i]) * d[i])
-                .sum::<f32>()
+            ((Vec3::from(b.min) + Vec3::from(b.max)) * 0.5 - o).dot(d)
         };
         if key(r) < key(l) {
             [r, l]
@@ -765,7 +765,7 @@ impl<'a> Tracer<'a> {
         let p_min = lo.map(bits);
         let p_max = hi.map(bits);
         let od = |r: &TRay| match space {
-            Space::World => (r.o_w.map(bits), r.d_w.map(bits)),
+            Space::World => (bits3(r.o_w), bits3(r.d_w)),
             Space::Model => (r.o, r.d),
         };
         let b = &self.opts.bundles;
@@ -832,49 +832,39 @@ fn bundle_bounds(
     max_spread: f32,
 ) -> Option<BundleBox> {
     let f = |b: u64| f32::from_bits(b as u32);
-    let mut o_lo = [f32::INFINITY; 3];
-    let mut o_hi = [f32::NEG_INFINITY; 3];
-    let mut d_lo = [f32::INFINITY; 3];
-    let mut d_hi = [f32::NEG_INFINITY; 3];
-    let mut n_lo = [f32::INFINITY; 3];
-    let mut n_hi = [f32::NEG_INFINITY; 3];
+    let (mut o_lo, mut o_hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let (mut d_lo, mut d_hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let (mut n_lo, mut n_hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
     let mut t_max = 0u64;
     let mut shared = true;
     let first = od(&rays[idxs[0]]).0;
     for &i in idxs {
         let (o, d) = od(&rays[i]);
         shared &= o == first;
-        let (o, d) = (o.map(f), d.map(f));
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        for k in 0..3 {
-            o_lo[k] = o_lo[k].min(o[k]);
-            o_hi[k] = o_hi[k].max(o[k]);
-            d_lo[k] = d_lo[k].min(d[k]);
-            d_hi[k] = d_hi[k].max(d[k]);
-            n_lo[k] = n_lo[k].min(d[k] / l);
-            n_hi[k] = n_hi[k].max(d[k] / l);
-        }
+        let (o, d) = (Vec3::from(o.map(f)), Vec3::from(d.map(f)));
+        let n = unit_by_division!(d);
+        // the running bound is min/max's second operand: glam keeps it on
+        // ties (±0) and when the new value is NaN
+        (o_lo, o_hi) = (o.min(o_lo), o.max(o_hi));
+        (d_lo, d_hi) = (d.min(d_lo), d.max(d_hi));
+        (n_lo, n_hi) = (n.min(n_lo), n.max(n_hi));
         let tm = rays[i].box_t_max();
         if f(tm) > f(t_max) {
             t_max = tm;
         }
     }
-    for k in 0..3 {
-        if d_lo[k] < 0.0 && d_hi[k] > 0.0 {
-            return None;
-        }
-        if n_hi[k] - n_lo[k] > max_spread {
-            return None;
-        }
+    let sign_change = d_lo.cmplt(Vec3::ZERO) & d_hi.cmpgt(Vec3::ZERO);
+    if sign_change.any() || (n_hi - n_lo).cmpgt(Vec3::splat(max_spread)).any() {
+        return None;
     }
     Some(BundleBox {
         input: BundleIn {
             p_min: [0; 3],
             p_max: [0; 3],
-            o_lo: o_lo.map(bits),
-            o_hi: o_hi.map(bits),
-            d_lo: d_lo.map(bits),
-            d_hi: d_hi.map(bits),
+            o_lo: bits3(o_lo),
+            o_hi: bits3(o_hi),
+            d_lo: bits3(d_lo),
+            d_hi: bits3(d_hi),
             t_min: 0,
             t_max,
         },

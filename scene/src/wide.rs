@@ -36,7 +36,7 @@ use crate::render::Cam;
 use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::Exact;
-use crate::trace::{Hit, TRay, TraceOpts, Tracer};
+use crate::trace::{bits3, Hit, TRay, TraceOpts, Tracer};
 use golden_model::cull::bvh::Mesh;
 use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
@@ -94,8 +94,7 @@ impl Collapse {
                     .map(|k| (cl[k - 1] + cr[j - k - 1], k as u8))
                     .fold((f64::INFINITY, 0u8), |a, b| if b.0 < a.0 { b } else { a })
             };
-            let e = [0, 1, 2].map(|i| (node.max[i] as f64 - node.min[i] as f64).max(0.0));
-            let area = 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+            let area = crate::bvh::area(node.min.into(), node.max.into());
             let (fill, k_open) = split(n);
             open[id] = k_open;
             let own = area + fill;
@@ -288,9 +287,8 @@ impl Tracer<'_> {
         id: u64,
         st: &mut KindStats,
     ) {
-        let o = r.o_w.map(|v| v.to_bits() as u64);
-        let inv_d = slab_reciprocal(FloatFormat::BINARY32, &r.d_w.map(|v| v.to_bits() as u64));
-        let d = r.d_w.map(|v| v.to_bits() as u64);
+        let (o, d) = (bits3(r.o_w), bits3(r.d_w));
+        let inv_d = slab_reciprocal(FloatFormat::BINARY32, &d);
         self.walk(
             &wide.tlas,
             None,

@@ -46,11 +46,7 @@ fn hybrid_culls_through_rtl_identical_in_every_order() {
                 assert_eq!(f.ids, sync.ids, "{what}");
                 assert_eq!(f.t, sync.t, "{what}");
                 for p in 0..f.color.len() {
-                    assert_eq!(
-                        f.color[p].map(f32::to_bits),
-                        sync.color[p].map(f32::to_bits),
-                        "{what}: pixel {p}"
-                    );
+                    assert_eq!(f.color_bits(p), sync.color_bits(p), "{what}: pixel {p}");
                 }
                 assert_eq!(c.used, sync.stats.total().rays, "{what}");
             }

@@ -23,11 +23,7 @@ fn same(a: &Frame, b: &Frame, what: &str) {
     for p in 0..a.ids.len() {
         assert_eq!(a.ids[p], b.ids[p], "{what}: pixel {p} primitive");
         assert_eq!(a.t[p], b.t[p], "{what}: pixel {p} t");
-        assert_eq!(
-            a.color[p].map(f32::to_bits),
-            b.color[p].map(f32::to_bits),
-            "{what}: pixel {p} colour"
-        );
+        assert_eq!(a.color_bits(p), b.color_bits(p), "{what}: pixel {p} colour");
     }
 }
 

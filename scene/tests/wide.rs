@@ -269,7 +269,7 @@ fn first_difference(a: &Frame, b: &Frame) -> Option<usize> {
     (0..a.ids.len()).find(|&p| {
         a.ids[p] != b.ids[p]
             || (a.ids[p].0 != u32::MAX && a.t[p] != b.t[p])
-            || a.color[p].map(f32::to_bits) != b.color[p].map(f32::to_bits)
+            || a.color_bits(p) != b.color_bits(p)
     })
 }
 
