@@ -39,6 +39,28 @@ pub fn model_config(u: &Config) -> model::Config {
     }
 }
 
+/// The unit configuration of a golden-model configuration (the inverse of
+/// [`model_config`]), with `stages` pipeline stages.
+pub fn unit_config(m: &model::Config, stages: u32) -> Config {
+    Config {
+        depth: match m.format {
+            model::DepthFormat::Unorm16 => Depth::Unorm16,
+            model::DepthFormat::Unorm24 => Depth::Unorm24,
+            model::DepthFormat::Binary32 => Depth::Binary32,
+        },
+        compare: match m.compare {
+            model::Compare::Less => Compare::Less,
+            model::Compare::LEqual => Compare::LEqual,
+            model::Compare::Greater => Compare::Greater,
+            model::Compare::GEqual => Compare::GEqual,
+        },
+        gen_bits: m.gen_bits,
+        prim_bits: m.prim_bits,
+        group: m.group as u32,
+        stages,
+    }
+}
+
 /// The unit's input record of a golden-model transaction.
 pub fn to_record(x: &CullIn) -> RayCullIn<u64> {
     let s = &x.slots;

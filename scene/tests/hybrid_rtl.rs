@@ -27,7 +27,7 @@ fn hybrid_culls_through_rtl_identical_in_every_order() {
         s.render.ao_rays = 1;
         let acc = Accel::build(&s, false);
         let (g, opts) = (Golden::default(), TraceOpts::default());
-        let sync = render_sync(&s, &acc, &g, opts, w, w, depth);
+        let sync = render_sync(&s, &acc, &g, opts, w, w, &HybridOpts { depth, ..Default::default() });
         for seed in 1..=5u64 {
             for (order_name, order) in orders(&s, &acc, seed) {
                 if seed > 1 && order_name != "shuffled" {
