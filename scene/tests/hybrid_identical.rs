@@ -148,6 +148,7 @@ fn check_counts(c: &HybridCounts, used: u64, what: &str) {
         c.culled_group_rays <= c.culled_tile,
         "{what}: a group cull is a tile cull"
     );
+    assert_eq!(c.lost, 0, "{what}: a final surface's ray was culled");
 }
 
 /// Every order (stored, reversed, front-to-back, back-to-front and five
