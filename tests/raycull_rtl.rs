@@ -185,5 +185,8 @@ fn tilerange_matches_golden_model() {
         opaque[o.tile_drop_farther as usize] += 1;
     }
     assert!(min_at.iter().all(|&b| b) && max_at.iter().all(|&b| b));
-    assert!(opaque.iter().all(|&n| n > 1_000), "drop-farther 0/1: {opaque:?}");
+    assert!(
+        opaque.iter().all(|&n| n > 1_000),
+        "drop-farther 0/1: {opaque:?}"
+    );
 }

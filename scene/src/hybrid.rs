@@ -376,8 +376,9 @@ impl Layers {
     /// (the front test equals the tile buffer's: a fragment that passes the
     /// translucent surface passes the opaque one behind it). `None`: hidden.
     fn write(&mut self, cmp: Compare, frag: Frag, translucent: bool) -> Option<Change> {
-        let passes =
-            |l: Option<Frag>| l.is_none_or(|f| cmp.passes(frag.code, frag.k as u32, f.code, f.k as u32));
+        let passes = |l: Option<Frag>| {
+            l.is_none_or(|f| cmp.passes(frag.code, frag.k as u32, f.code, f.k as u32))
+        };
         let before_translucent = passes(self.translucent);
         if !passes(self.opaque) || (translucent && !before_translucent) {
             return None;
@@ -721,7 +722,9 @@ pub fn render_async_with(
             };
             let p = p as usize;
             let (tile, i) = locate(p);
-            let old_gen = layers[p].opaque.map_or(tiles[tile].samples[i].state.gen, |f| f.gen);
+            let old_gen = layers[p]
+                .opaque
+                .map_or(tiles[tile].samples[i].state.gen, |f| f.gen);
             let frag = Frag { code, k, t, gen: 0 };
             let Some(ch) = layers[p].write(hopts.compare, frag, tri.translucent()) else {
                 continue;

@@ -25,7 +25,18 @@ fn cornell_sync() -> (Scene, Accel, Frame) {
         Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
     s.render.ao_rays = 2;
     let acc = Accel::build(&s, true);
-    let sync = render_sync(&s, &acc, &Golden::default(), TraceOpts::default(), W, H, &HybridOpts { depth: DepthFormat::Unorm24, ..Default::default() });
+    let sync = render_sync(
+        &s,
+        &acc,
+        &Golden::default(),
+        TraceOpts::default(),
+        W,
+        H,
+        &HybridOpts {
+            depth: DepthFormat::Unorm24,
+            ..Default::default()
+        },
+    );
     (s, acc, sync)
 }
 
@@ -166,7 +177,18 @@ fn every_order_identical_on_three_scenes_and_five_shuffles() {
         s.render.ao_rays = 1;
         let acc = Accel::build(&s, false);
         let (g, opts) = (Golden::default(), TraceOpts::default());
-        let sync = render_sync(&s, &acc, &g, opts, w, w, &HybridOpts { depth, ..Default::default() });
+        let sync = render_sync(
+            &s,
+            &acc,
+            &g,
+            opts,
+            w,
+            w,
+            &HybridOpts {
+                depth,
+                ..Default::default()
+            },
+        );
         let used = sync.stats.total().rays;
         let mut runs = Vec::new();
         for seed in 1..=5u64 {
@@ -216,7 +238,18 @@ fn every_cull_stage_acts_in_the_renderer() {
     // 48x48: at 24x24 every 8x8 tile holds a sample of the back wall, the
     // farthest final surface, and nothing lies beyond a tile's far end
     const W2: u32 = 48;
-    let sync = render_sync(&s, &acc, &g, opts, W2, W2, &HybridOpts { depth: DepthFormat::Unorm16, ..Default::default() });
+    let sync = render_sync(
+        &s,
+        &acc,
+        &g,
+        opts,
+        W2,
+        W2,
+        &HybridOpts {
+            depth: DepthFormat::Unorm16,
+            ..Default::default()
+        },
+    );
     let used = sync.stats.total().rays;
     let mut total = HybridCounts::default();
     for (name, order) in orders(&s, &acc, 5) {

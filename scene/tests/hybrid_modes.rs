@@ -66,7 +66,10 @@ fn every_order(s: &Scene, acc: &Accel, base: &HybridOpts) -> HybridCounts {
                     ..h.clone()
                 };
                 let (f, c) = render_async(s, acc, &g, opts, W, W, &h);
-                let what = format!("{:?} {:?} {name} {seed} step {step}", base.compare, base.mode);
+                let what = format!(
+                    "{:?} {:?} {name} {seed} step {step}",
+                    base.compare, base.mode
+                );
                 assert!(same(&f, &sync), "{what}: image differs");
                 assert_eq!(c.lost, 0, "{what}: {c:?}");
                 assert_eq!(c.used, sync.stats.total().rays, "{what}");
@@ -99,7 +102,10 @@ fn translucent_surfaces_keep_their_rays_behind_and_the_image() {
     let t = every_order(&s, &acc, &HybridOpts::default());
     eprintln!("translucent: {t:?}");
     assert!(t.kept_translucent >= 1_000, "{t:?}");
-    assert!(t.culled_tile + t.culled_depth + t.culled_generation >= 500, "{t:?}");
+    assert!(
+        t.culled_tile + t.culled_depth + t.culled_generation >= 500,
+        "{t:?}"
+    );
 
     let (g, opts) = (Golden::default(), TraceOpts::default());
     let base = HybridOpts::default();
@@ -142,7 +148,10 @@ fn partial_and_deferred_modes_are_identical() {
     );
     eprintln!("immediate: {imm:?}\ndeferred: {def:?}");
     assert_eq!(def.emitted, def.used, "deferred emits only final rays");
-    assert_eq!(def.culled_tile + def.culled_depth + def.culled_generation, 0);
+    assert_eq!(
+        def.culled_tile + def.culled_depth + def.culled_generation,
+        0
+    );
     for n in [16, 256] {
         let p = every_order(
             &s,
@@ -153,8 +162,14 @@ fn partial_and_deferred_modes_are_identical() {
             },
         );
         eprintln!("partial:{n}: {p:?}");
-        assert!(p.shaded < imm.shaded && p.shaded > def.shaded, "partial:{n}: {p:?}");
-        assert!(p.culled_tile + p.culled_depth + p.culled_generation >= 100, "partial:{n}: {p:?}");
+        assert!(
+            p.shaded < imm.shaded && p.shaded > def.shaded,
+            "partial:{n}: {p:?}"
+        );
+        assert!(
+            p.culled_tile + p.culled_depth + p.culled_generation >= 100,
+            "partial:{n}: {p:?}"
+        );
     }
 }
 
@@ -174,6 +189,9 @@ fn reversed_depth_is_identical() {
             },
         );
         eprintln!("{compare:?}: {t:?}");
-        assert!(t.culled_tile + t.culled_depth + t.culled_generation >= 500, "{compare:?}: {t:?}");
+        assert!(
+            t.culled_tile + t.culled_depth + t.culled_generation >= 500,
+            "{compare:?}: {t:?}"
+        );
     }
 }

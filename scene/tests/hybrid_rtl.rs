@@ -22,9 +22,27 @@ fn hybrid_culls_through_rtl_identical_in_every_order() {
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hybrid_rtl");
     let mut tally = RtlTally::default();
     for (name, w, depth, compare, mode) in [
-        ("cornell", 24, DepthFormat::Unorm16, Compare::Less, Mode::Immediate),
-        ("field", 12, DepthFormat::Unorm24, Compare::Greater, Mode::Partial(8)),
-        ("grass", 12, DepthFormat::Binary32, Compare::GEqual, Mode::Immediate),
+        (
+            "cornell",
+            24,
+            DepthFormat::Unorm16,
+            Compare::Less,
+            Mode::Immediate,
+        ),
+        (
+            "field",
+            12,
+            DepthFormat::Unorm24,
+            Compare::Greater,
+            Mode::Partial(8),
+        ),
+        (
+            "grass",
+            12,
+            DepthFormat::Binary32,
+            Compare::GEqual,
+            Mode::Immediate,
+        ),
     ] {
         let mut s = Scene::load(&dir.join(format!("{name}.toml"))).unwrap();
         s.render.ao_rays = 1;
