@@ -2,38 +2,46 @@
 //! every cull decision by the golden model of the `raycull` unit
 //! (`golden_model::raycull`, docs/raycull.md).
 //!
-//! The raster pass finds the visible surface of each sample (one sample per
+//! The raster pass finds the visible surfaces of each sample (one sample per
 //! pixel, at its centre): coverage and `t` of a triangle at a sample are the
 //! edge functions and `t` of the camera ray through the sample
 //! ([`crate::trace::intersect`], i.e. homogeneous 2D rasterisation); the
 //! depth is the **quantised code** of its view-space depth between the scene's
 //! near and far planes ([`depth_planes`], [`golden_model::raycull::quantize`];
-//! unorm16, unorm24 or binary32), and the depth test is LESS on `(code,
-//! primitive index)`, so ties are broken by the primitive and the final
+//! unorm16, unorm24 or binary32; reversed under `greater`/`gequal`), and the
+//! depth test is [`HybridOpts::compare`] on `(code, primitive index)`: with
+//! `less` and `greater` ties go to the smaller primitive and the final
 //! surface does not depend on the primitive order.
+//!
+//! **Translucency**: a sample keeps its nearest opaque surface and the
+//! nearest translucent one in front of it (instance opacity below 1) and
+//! blends them; the front one is the unit's sample state, with drop-farther
+//! 0 when translucent, so the unit keeps the rays of the surface behind.
 //!
 //! **Asynchronous mode** ([`render_async`]): primitives are rasterised in a
 //! given order into one [`golden_model::raycull::TileBuffer`] per 8×8 tile;
-//! whenever a primitive becomes the visible surface of a sample, the sample's
-//! generation (3 bits, FIG. 14 layout `pixel 26 | sample 3 | generation 3`) is
-//! incremented and the surface is shaded at once: it emits its shadow and AO
+//! whenever a primitive takes a layer of a sample, the sample's generation
+//! (3 bits, FIG. 14 layout `pixel 26 | sample 3 | generation 3`) is
+//! incremented, and at the end of the partial render ([`Mode`]: immediate,
+//! after this primitive) the layer is shaded: it emits its shadow and AO
 //! rays, each tagged with the depth code, the generation and the primitive.
 //! After each primitive a ray processor takes up to `rays_per_step` rays from
 //! the queue, in groups of up to G consecutive rays of one tile, and asks the
 //! unit: stage 1 (tile range, per ray and per group), stage 2 (sample depth,
 //! and generation at equal depth); it traces the survivors (bundled, through
 //! the golden models); when a result arrives the unit's **contribution
-//! check** (full primitive id and generation of the sample then) decides
-//! whether it is stored; a later change of surface discards the sample's
+//! check** (full primitive id and generation of the ray's layer then)
+//! decides whether it is stored; a later change of the layer discards its
 //! stored results.
 //!
 //! When all primitives are done, the queue is drained the same way and each
-//! sample combines the results of its final surface's rays in emission order.
+//! layer combines the results of its final surface's rays in emission order.
 //! **Synchronous mode** ([`render_sync`]): rasterise everything (the same
-//! codes), shade the final surfaces, trace, combine. Both produce the same bits
-//! for every primitive order and interleaving (tests `hybrid_identical.rs`,
-//! `hybrid_rtl.rs`). [`render_async_with`] takes any answerer for the unit's
-//! transactions (`crate::hybrid_rtl`: the Verilated unit).
+//! codes and test), shade the final layers, trace, blend. Both produce the
+//! same bits for every primitive order, mode and interleaving (tests
+//! `hybrid_identical.rs`, `hybrid_modes.rs`, `hybrid_rtl.rs`).
+//! [`render_async_with`] takes any answerer for the unit's transactions
+//! (`crate::hybrid_rtl`: the Verilated unit).
 
 use crate::bvh::Accel;
 use crate::render::{
@@ -722,7 +730,9 @@ pub fn render_async_with(
             };
             let p = p as usize;
             let (tile, i) = locate(p);
-            let old_gen = layers[p]
+            // an opaque surface behind a translucent front continues the
+            // previous opaque surface's generation (or the sample's)
+            let behind_gen = layers[p]
                 .opaque
                 .map_or(tiles[tile].samples[i].state.gen, |f| f.gen);
             let frag = Frag { code, k, t, gen: 0 };
@@ -738,7 +748,7 @@ pub fn render_async_with(
                     other => unreachable!("the layers and the tile buffer agree: {other:?}"),
                 }
             } else {
-                (old_gen + 1) & cfg.gen_mask()
+                (behind_gen + 1) & cfg.gen_mask()
             };
             let slot = match ch.layer {
                 Layer::Opaque => layers[p].opaque.as_mut(),
