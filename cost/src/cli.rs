@@ -159,6 +159,9 @@ pub enum Command {
         /// transactions per ray only: no synthesis, no LUT-cycles, no chart
         #[arg(long)]
         no_synth: bool,
+        /// one row per ray type (primary, shadow, AO) instead of all rays together
+        #[arg(long)]
+        by_kind: bool,
         /// over a wide BVH of N = 2, 4 or 8 children per compressed node instead (node tester
         /// golden model, single rays, no planes), beside the same tree with exact binary32
         /// child boxes; ends with one line per scene `child tests per ray q=<q> / binary32:
@@ -341,6 +344,7 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             width,
             cached_only,
             no_synth,
+            by_kind,
             wide,
             box_bits,
             tlas_box_bits,
@@ -370,7 +374,7 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             }
             let mut loads = Vec::new();
             for s in &scenes {
-                loads.extend(crate::per_ray::workloads(s, width)?);
+                loads.extend(crate::per_ray::workloads(s, width, by_kind)?);
             }
             let areas = match no_synth {
                 true => None,

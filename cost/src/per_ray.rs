@@ -11,7 +11,7 @@ use golden_model::wide::WideFormat;
 use scene::bvh::Accel;
 use scene::render::{render, render_with};
 use scene::scene::Scene;
-use scene::stats::KindStats;
+use scene::stats::{KindStats, RayKind};
 use scene::tester::Golden;
 use scene::trace::{BundleOpts, TraceOpts, Tracer};
 use scene::wide::{Boxes, WideAccel};
@@ -117,8 +117,10 @@ pub struct Workload {
 }
 
 /// Renders `scene` (golden models) at `width` pixels with and without planes
-/// and bundles; one [`Workload`] each.
-pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
+/// and bundles; one [`Workload`] each, or with `by_kind` one per ray type
+/// (primary, shadow, AO; the scene named `cornell.toml shadow`), whose
+/// transactions and rays are that type's alone.
+pub fn workloads(scene: &Path, width: u32, by_kind: bool) -> Result<Vec<Workload>, String> {
     let s = Scene::load(scene).map_err(|e| e.to_string())?;
     let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
     let with_planes = Accel::build(&s, true);
@@ -138,26 +140,32 @@ pub fn workloads(scene: &Path, width: u32) -> Result<Vec<Workload>, String> {
                 ..TraceOpts::default()
             };
             let f = render(&s, &with_planes, &Golden::default(), opts, width, h, false);
-            let mut t = KindStats::default();
-            for k in &f.stats.kinds {
-                t.add(k);
+            let groups: Vec<(String, KindStats)> = if by_kind {
+                RayKind::ALL
+                    .iter()
+                    .map(|&k| (format!("{name} {}", k.name()), f.stats.kinds[k as usize]))
+                    .collect()
+            } else {
+                vec![(name.clone(), f.stats.total())]
+            };
+            for (scene, t) in groups {
+                out.push(Workload {
+                    scene,
+                    planes,
+                    bundles,
+                    rays: t.rays,
+                    tests: [
+                        t.ray_box_tests,
+                        t.bundle_tests,
+                        t.cull_tests,
+                        t.cull_tests,
+                        if planes { 3 * t.transforms } else { 0 },
+                        t.cull_ray_terms,
+                        t.transforms,
+                        t.tri_tests,
+                    ],
+                });
             }
-            out.push(Workload {
-                scene: name.clone(),
-                planes,
-                bundles,
-                rays: t.rays,
-                tests: [
-                    t.ray_box_tests,
-                    t.bundle_tests,
-                    t.cull_tests,
-                    t.cull_tests,
-                    if planes { 3 * t.transforms } else { 0 },
-                    t.cull_ray_terms,
-                    t.transforms,
-                    t.tri_tests,
-                ],
-            });
         }
     }
     Ok(out)

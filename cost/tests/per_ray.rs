@@ -8,7 +8,7 @@ use std::path::Path;
 #[test]
 fn workloads_follow_planes_and_bundles_and_exercise_every_unit() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
-    let loads = workloads(&scene, 24).expect("cornell renders");
+    let loads = workloads(&scene, 24, false).expect("cornell renders");
     assert_eq!(loads.len(), 4);
     for w in &loads {
         assert!(w.rays > 0);
@@ -41,4 +41,22 @@ fn workloads_follow_planes_and_bundles_and_exercise_every_unit() {
     assert!(!markdown(None, &loads).contains("LUT-cycles / ray |"));
     assert_eq!(ROLES.len(), 8);
     assert!(t.contains("DSP-cycles / ray"));
+}
+
+/// `--by-kind`: one workload per ray type and configuration, whose rays and
+/// transactions add up to the all-rays workload's.
+#[test]
+fn workloads_by_kind_add_up_to_all_rays() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
+    let all = workloads(&scene, 16, false).expect("cornell renders");
+    let kinds = workloads(&scene, 16, true).expect("cornell renders");
+    assert_eq!(kinds.len(), 3 * all.len());
+    for (w, k) in all.iter().zip(kinds.chunks(3)) {
+        assert_eq!(k.iter().map(|x| x.rays).sum::<u64>(), w.rays);
+        for r in 0..8 {
+            assert_eq!(k.iter().map(|x| x.tests[r]).sum::<u64>(), w.tests[r]);
+        }
+        assert!(k[0].scene.ends_with("primary") && k[1].scene.ends_with("shadow"));
+        assert!(k.iter().all(|x| x.rays > 0), "{k:?}");
+    }
 }

@@ -415,11 +415,23 @@ impl TileBuffer {
         // renderer gets it from hidden surface removal); only widening it by
         // each write would never lower the far end, and under LESS the tile
         // stage would never cull
-        let d = self.samples.iter().map(|s| s.state.depth);
-        self.range.min = d.clone().min().expect("a tile has samples");
-        self.range.max = d.max().expect("a tile has samples");
-        self.range.drop_farther = self.samples.iter().all(|s| s.state.drop_farther);
+        let states: Vec<SampleState> = self.samples.iter().map(|s| s.state).collect();
+        self.range = tile_range(&states);
         Ok(Some(gen))
+    }
+}
+
+/// A tile's range from its samples (the `tilerange` unit): the smallest and
+/// the largest depth code as unsigned integers (either end is the near one,
+/// depending on the compare mode; a bad binary32 code is carried through,
+/// and `raycull` flags it), and drop-farther when every sample's surface is
+/// opaque. `samples` must not be empty.
+pub fn tile_range(samples: &[SampleState]) -> TileRange {
+    let d = samples.iter().map(|s| s.depth);
+    TileRange {
+        min: d.clone().min().expect("a tile has samples"),
+        max: d.max().expect("a tile has samples"),
+        drop_farther: samples.iter().all(|s| s.drop_farther),
     }
 }
 

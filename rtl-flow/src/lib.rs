@@ -22,6 +22,7 @@ pub mod silhouette;
 pub mod slab;
 pub mod stimulus;
 pub mod testfloat;
+pub mod tilerange;
 pub mod transform;
 pub mod triangle;
 
@@ -110,6 +111,7 @@ pub fn catalog() -> Vec<Entry> {
         entry!(units::node_child::NodeChild, node_child::NodeChildBench),
         entry!(units::node_sort::NodeSort, node_sort::NodeSortBench),
         entry!(units::raycull::RayCull, raycull::RayCullBench),
+        entry!(units::tilerange::TileRange, tilerange::TileRangeBench),
         entry!(units::float_ops::FADD),
         entry!(units::float_ops::FADD_DOWN_UP),
         entry!(units::float_ops::FMUL),

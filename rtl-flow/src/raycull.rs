@@ -39,6 +39,28 @@ pub fn model_config(u: &Config) -> model::Config {
     }
 }
 
+/// The unit configuration of a golden-model configuration (the inverse of
+/// [`model_config`]), with `stages` pipeline stages.
+pub fn unit_config(m: &model::Config, stages: u32) -> Config {
+    Config {
+        depth: match m.format {
+            model::DepthFormat::Unorm16 => Depth::Unorm16,
+            model::DepthFormat::Unorm24 => Depth::Unorm24,
+            model::DepthFormat::Binary32 => Depth::Binary32,
+        },
+        compare: match m.compare {
+            model::Compare::Less => Compare::Less,
+            model::Compare::LEqual => Compare::LEqual,
+            model::Compare::Greater => Compare::Greater,
+            model::Compare::GEqual => Compare::GEqual,
+        },
+        gen_bits: m.gen_bits,
+        prim_bits: m.prim_bits,
+        group: m.group as u32,
+        stages,
+    }
+}
+
 /// The unit's input record of a golden-model transaction.
 pub fn to_record(x: &CullIn) -> RayCullIn<u64> {
     let s = &x.slots;
@@ -117,32 +139,45 @@ impl RayCullBench {
     }
 
     fn mid(&self) -> u32 {
-        match self.unit.depth {
-            Depth::Binary32 => 0.5f32.to_bits(),
-            _ => self.far() / 2,
-        }
+        middle(self.model.format)
     }
 
     fn code(&self, rng: &mut VectorRng) -> u32 {
-        let (far, mid) = (self.far(), self.mid());
-        match rng.below(12) {
-            0 => 0,
-            1 => 1,
-            2 => far - 1,
-            3 => far,
-            4 | 5 => mid,
-            6 => mid + 1,
-            7 => mid - 1,
-            8 if self.unit.depth == Depth::Binary32 && rng.below(4) == 0 => [
-                f32::NAN.to_bits(),
-                (-0.0f32).to_bits(),
-                (-0.25f32).to_bits(),
-                1.0000001f32.to_bits(),
-                f32::INFINITY.to_bits(),
-                u32::MAX,
-            ][rng.below(6) as usize],
-            _ => rng.below(u64::from(far) + 1) as u32,
-        }
+        depth_code(self.model.format, rng)
+    }
+}
+
+/// The middle code of a format (0.5 in binary32).
+fn middle(format: model::DepthFormat) -> u32 {
+    match format {
+        model::DepthFormat::Binary32 => 0.5f32.to_bits(),
+        _ => format.far_code() / 2,
+    }
+}
+
+/// A stimulus depth code: mostly one of a handful of values (0, 1, the
+/// middle and its neighbours, far − 1, far) so equal codes and range ends
+/// are common; binary32 sometimes a bad code (NaN, −0.0, negative, beyond
+/// 1.0, ∞, all ones); otherwise uniform in `0..=far`.
+pub fn depth_code(format: model::DepthFormat, rng: &mut VectorRng) -> u32 {
+    let (far, mid) = (format.far_code(), middle(format));
+    match rng.below(12) {
+        0 => 0,
+        1 => 1,
+        2 => far - 1,
+        3 => far,
+        4 | 5 => mid,
+        6 => mid + 1,
+        7 => mid - 1,
+        8 if format == model::DepthFormat::Binary32 && rng.below(4) == 0 => [
+            f32::NAN.to_bits(),
+            (-0.0f32).to_bits(),
+            (-0.25f32).to_bits(),
+            1.0000001f32.to_bits(),
+            f32::INFINITY.to_bits(),
+            u32::MAX,
+        ][rng.below(6) as usize],
+        _ => rng.below(u64::from(far) + 1) as u32,
     }
 }
 

@@ -7,7 +7,7 @@
 #![allow(missing_docs)]
 
 use crate::bvh::Accel;
-use crate::hybrid::{orders, render_async, render_sync, HybridOpts};
+use crate::hybrid::{orders, render_async, render_sync, HybridOpts, Mode};
 use crate::render::{render, render_with};
 use crate::scene::Scene;
 use crate::stats::{bundle_savings, plane_savings, table, wide_table};
@@ -16,7 +16,7 @@ use crate::trace::{BundleOpts, TraceOpts, Tracer, TriTest};
 use crate::wide::{Boxes, WideAccel};
 use clap::{Subcommand, ValueEnum};
 use golden_model::float::FloatFormat;
-use golden_model::raycull::DepthFormat;
+use golden_model::raycull::{Compare, DepthFormat};
 use golden_model::wide::WideFormat;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -182,6 +182,14 @@ pub enum Command {
         /// depth code format of the raster and the ray-cull unit: unorm16, unorm24, binary32
         #[arg(long, default_value = "unorm24")]
         depth: String,
+        /// depth test of the raster and the ray-cull unit: less, lequal, greater,
+        /// gequal (greater and gequal: reversed depth, 1 at near)
+        #[arg(long, default_value = "less")]
+        compare: String,
+        /// when surfaces are shaded: immediate (as soon as visible), partial:N
+        /// (after each partial render of N primitives), deferred (after all)
+        #[arg(long, default_value = "immediate")]
+        mode: String,
         /// rays per cull group (consecutive queued rays of one tile)
         #[arg(long, default_value_t = 4)]
         group: usize,
@@ -446,6 +454,8 @@ fn run(command: Command) -> Result<ExitCode, String> {
             rays_per_step,
             result_latency,
             depth,
+            compare,
+            mode,
             group,
             no_cull,
             rtl,
@@ -464,13 +474,35 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     ))
                 }
             };
+            let compare = match compare.as_str() {
+                "less" => Compare::Less,
+                "lequal" => Compare::LEqual,
+                "greater" => Compare::Greater,
+                "gequal" => Compare::GEqual,
+                other => {
+                    return Err(format!(
+                        "--compare: `{other}` is not a compare mode (less, lequal, greater, gequal)"
+                    ))
+                }
+            };
+            let mode = Mode::parse(&mode).map_err(|e| format!("--mode: {e}"))?;
             if !(1..=8).contains(&group) {
                 return Err(format!("--group: {group} is not in 1..=8"));
             }
             let (s, w, h, opts) = setup(&c)?;
             let acc = build(&s, opts.planes);
             let g = Golden::default();
-            let sync = render_sync(&s, &acc, &g, opts, w, h, depth);
+            let base = HybridOpts {
+                rays_per_step,
+                result_latency,
+                depth,
+                compare,
+                mode,
+                group,
+                cull: !no_cull,
+                ..HybridOpts::default()
+            };
+            let sync = render_sync(&s, &acc, &g, opts, w, h, &base);
             sync.save_png(&out)?;
             println!(
                 "{} {}x{} hybrid; synchronous: {} rays traced in {:.2} s -> {}\n",
@@ -481,7 +513,10 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 sync.time.as_secs_f64(),
                 out.display()
             );
-            println!("| order | emitted | culled: tile range | sample depth | generation | groups culled (rays) | traced | discarded (contribution check) | superseded | used | raycull transactions | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
+            if matches!(compare, Compare::LEqual | Compare::GEqual) {
+                println!("{compare:?}: the last of equal-depth fragments wins, so each order is compared with the synchronous render in that order\n");
+            }
+            println!("| order | shaded | emitted | culled: tile range | sample depth | generation | groups culled (rays) | kept by translucency | traced | discarded (contribution check) | superseded | used | raycull transactions | identical to sync |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
             let mut differ = Vec::new();
             let mut runs = Vec::new();
             for seed in 1..=shuffles.max(1) {
@@ -496,11 +531,15 @@ fn run(command: Command) -> Result<ExitCode, String> {
             for (name, order) in runs {
                 let hopts = HybridOpts {
                     order,
-                    rays_per_step,
-                    result_latency,
-                    depth,
-                    group,
-                    cull: !no_cull,
+                    ..base.clone()
+                };
+                // lequal, gequal: the final surface depends on the order
+                let order_sync;
+                let sync = if matches!(compare, Compare::LEqual | Compare::GEqual) {
+                    order_sync = render_sync(&s, &acc, &g, opts, w, h, &hopts);
+                    &order_sync
+                } else {
+                    &sync
                 };
                 let (f, k) = if rtl {
                     crate::hybrid_rtl::hybrid_rtl(
@@ -509,15 +548,17 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 } else {
                     render_async(&s, &acc, &g, opts, w, h, &hopts)
                 };
-                let same = f.same_image(&sync);
+                let same = k.lost == 0 && f.same_image(sync);
                 println!(
-                    "| {name} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} |",
+                    "| {name} | {} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {} |",
+                    k.shaded,
                     k.emitted,
                     k.culled_tile,
                     k.culled_depth,
                     k.culled_generation,
                     k.culled_groups,
                     k.culled_group_rays,
+                    k.kept_translucent,
                     k.traced,
                     k.discarded,
                     k.superseded,

@@ -13,15 +13,15 @@
 //!    and counts must equal the recorded render's.
 
 use crate::bvh::Accel;
-use crate::hybrid::{render_async_with, unit_config, world_triangles, HybridCounts, HybridOpts};
+use crate::hybrid::{render_async_with, world_triangles, HybridCounts, HybridOpts};
 use crate::render::Frame;
 use crate::scene::Scene;
 use crate::tester::BoxTester;
 use crate::trace::TraceOpts;
-use golden_model::raycull::{cull, DepthFormat};
-use rtl_flow::raycull::{from_out_record, to_record};
+use golden_model::raycull::cull;
+use rtl_flow::raycull::{from_out_record, to_record, unit_config};
 use rtl_gen::units::ports;
-use rtl_gen::units::raycull::{Compare, Config, Depth, RayCullOut};
+use rtl_gen::units::raycull::RayCullOut;
 use std::path::Path;
 
 /// Transactions through the RTL so far and how many differed (from the
@@ -51,27 +51,11 @@ pub fn hybrid_rtl(
     work: &Path,
     tally: &mut RtlTally,
 ) -> Result<(Frame, HybridCounts), String> {
-    let mcfg = unit_config(
-        hopts.depth,
-        hopts.group,
-        world_triangles(scene, accel).len(),
-    );
-    let depth = match mcfg.format {
-        DepthFormat::Unorm16 => Depth::Unorm16,
-        DepthFormat::Unorm24 => Depth::Unorm24,
-        DepthFormat::Binary32 => Depth::Binary32,
-    };
-    let ucfg = Config {
-        depth,
-        compare: Compare::Less,
-        gen_bits: mcfg.gen_bits,
-        prim_bits: mcfg.prim_bits,
-        group: mcfg.group as u32,
-        stages: 1,
-    };
+    let mcfg = hopts.unit_config(world_triangles(scene, accel).len());
+    let ucfg = unit_config(&mcfg, 1);
     let params = vec![
-        format!("depth={}", depth.word()),
-        "compare=less".to_string(),
+        format!("depth={}", ucfg.depth.word()),
+        format!("compare={}", ucfg.compare.word()),
         format!("gen_bits={}", ucfg.gen_bits),
         format!("prim_bits={}", ucfg.prim_bits),
         format!("group={}", ucfg.group),

@@ -19,6 +19,7 @@
 //! mesh = "teapot"
 //! transform = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]  # forward 3x4 [R | T]
 //! color = [0.8, 0.7, 0.6]
+//! opacity = 1.0                 # below 1: translucent (hybrid renderer only)
 //! [[lights]]
 //! kind = "point"
 //! position = [2.0, 4.0, 3.0]
@@ -178,6 +179,9 @@ struct InstanceDef {
     scale: Option<[f64; 3]>,
     #[serde(default = "d_color")]
     color: [f32; 3],
+    /// 1 (default): opaque; below 1: translucent (the hybrid renderer blends it)
+    #[serde(default = "d_one")]
+    opacity: f32,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -249,6 +253,17 @@ pub struct Instance {
     pub transform: [[f32; 4]; 3],
     /// diffuse albedo
     pub color: [f32; 3],
+    /// opacity in `(0, 1]`: below 1 the surface is translucent, which only the
+    /// hybrid renderer models (`docs/scene.md` §5); ray-traced visibility
+    /// treats every surface as opaque
+    pub opacity: f32,
+}
+
+impl Instance {
+    /// The surface is translucent (opacity below 1).
+    pub fn translucent(&self) -> bool {
+        self.opacity < 1.0
+    }
 }
 
 /// A loaded scene.
@@ -444,10 +459,18 @@ impl Scene {
                 )
             })?;
             let transform = instance_transform(path, &field, inst)?;
+            if !(inst.opacity > 0.0 && inst.opacity <= 1.0) {
+                return Err(err(
+                    path,
+                    format!("{field}.opacity"),
+                    format!("{} is not in (0, 1]", inst.opacity),
+                ));
+            }
             instances.push(Instance {
                 mesh,
                 transform,
                 color: inst.color,
+                opacity: inst.opacity,
             });
         }
         for (g, grid) in def.grids.iter().enumerate() {
@@ -495,6 +518,7 @@ impl Scene {
                         mesh,
                         transform: m.map(|row| row.map(|x| x as f32)),
                         color,
+                        opacity: 1.0,
                     });
                 }
             }

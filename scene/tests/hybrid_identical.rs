@@ -32,7 +32,10 @@ fn cornell_sync() -> (Scene, Accel, Frame) {
         TraceOpts::default(),
         W,
         H,
-        DepthFormat::Unorm24,
+        &HybridOpts {
+            depth: DepthFormat::Unorm24,
+            ..Default::default()
+        },
     );
     (s, acc, sync)
 }
@@ -152,6 +155,7 @@ fn check_counts(c: &HybridCounts, used: u64, what: &str) {
         c.culled_group_rays <= c.culled_tile,
         "{what}: a group cull is a tile cull"
     );
+    assert_eq!(c.lost, 0, "{what}: a final surface's ray was culled");
 }
 
 /// Every order (stored, reversed, front-to-back, back-to-front and five
@@ -169,7 +173,18 @@ fn every_order_identical_on_three_scenes_and_five_shuffles() {
         s.render.ao_rays = 1;
         let acc = Accel::build(&s, false);
         let (g, opts) = (Golden::default(), TraceOpts::default());
-        let sync = render_sync(&s, &acc, &g, opts, w, w, depth);
+        let sync = render_sync(
+            &s,
+            &acc,
+            &g,
+            opts,
+            w,
+            w,
+            &HybridOpts {
+                depth,
+                ..Default::default()
+            },
+        );
         let used = sync.stats.total().rays;
         let mut runs = Vec::new();
         for seed in 1..=5u64 {
@@ -219,7 +234,18 @@ fn every_cull_stage_acts_in_the_renderer() {
     // 48x48: at 24x24 every 8x8 tile holds a sample of the back wall, the
     // farthest final surface, and nothing lies beyond a tile's far end
     const W2: u32 = 48;
-    let sync = render_sync(&s, &acc, &g, opts, W2, W2, DepthFormat::Unorm16);
+    let sync = render_sync(
+        &s,
+        &acc,
+        &g,
+        opts,
+        W2,
+        W2,
+        &HybridOpts {
+            depth: DepthFormat::Unorm16,
+            ..Default::default()
+        },
+    );
     let used = sync.stats.total().rays;
     let mut total = HybridCounts::default();
     for (name, order) in orders(&s, &acc, 5) {

@@ -85,6 +85,16 @@ fn semantic_errors_are_named() {
         m.contains("field `instances[0].transform`") && m.contains("singular"),
         "{m}"
     );
+    for opacity in ["0.0", "1.5", "-0.5", "nan"] {
+        let m = bad(&GOOD.replace(
+            "mesh = \"quad\"",
+            &format!("mesh = \"quad\"\nopacity = {opacity}"),
+        ));
+        assert!(
+            m.contains("field `instances[0].opacity`") && m.contains("(0, 1]"),
+            "{m}"
+        );
+    }
     let m = bad(&GOOD.replace("procedural = \"quad\"", "procedural = \"torus\""));
     assert!(
         m.contains("field `meshes.quad.procedural`") && m.contains("torus"),

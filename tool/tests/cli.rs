@@ -221,3 +221,45 @@ fn one_run_per_group() {
         assert!(text(&o).contains("error"), "rtl-gen {args:?}: {}", text(&o));
     }
 }
+
+/// `rtl-gen hybrid` with a partial-render mode and reversed depth: every
+/// order identical; a bad `--mode` or `--compare` exits 2 naming the option.
+#[test]
+fn hybrid_modes_and_bad_options() {
+    let tmp = scratch("hybrid_modes");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let png = tmp.join("h.png");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml");
+    let run = |extra: &[&str]| {
+        let mut a = vec![
+            "hybrid",
+            scene,
+            "--width",
+            "16",
+            "-o",
+            png.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        rtl_gen(&a)
+    };
+    let o = run(&["--mode", "partial:4", "--compare", "greater"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("hybrid: every order identical to the synchronous render"),
+        "{}",
+        text(&o)
+    );
+    for (opt, bad) in [
+        ("--mode", "partial:0"),
+        ("--mode", "later"),
+        ("--compare", "never"),
+    ] {
+        let o = run(&[opt, bad]);
+        assert_eq!(o.status.code(), Some(2), "{opt} {bad}: {}", text(&o));
+        assert!(
+            text(&o).contains(opt) && text(&o).contains(bad),
+            "{}",
+            text(&o)
+        );
+    }
+}

@@ -9,6 +9,7 @@ pub mod node_sort;
 pub mod raycull;
 pub mod silhouette;
 pub mod slab;
+pub mod tilerange;
 pub mod transform;
 pub mod triangle;
 
