@@ -15,6 +15,7 @@ pub mod emit;
 pub mod eval;
 #[cfg(test)]
 mod golden_twin;
+pub mod handshake;
 pub mod ir;
 pub mod params;
 pub mod ports;
