@@ -103,7 +103,7 @@ pub fn with_ready(core: &Module) -> Result<Module, BuildErrors> {
             .iter()
             .enumerate()
             .map(|(i, &here)| {
-                let slot = m.reg(&format!("fifo_{name}_{i}"), value.ty(), None);
+                let slot = m.reg(&format!("fifo{i}_{name}"), value.ty(), None);
                 m.set_next(slot, value, Some(here));
                 slot.q
             })
