@@ -71,7 +71,10 @@ fn random_stalls_lose_reorder_or_duplicate_nothing_and_no_stall_keeps_full_rate(
                 "{unit}: {stats:?}"
             );
             // one result per transaction, in order, each the golden one
-            assert!(got == want, "{unit}: results differ with stalls (seed {seed})");
+            assert!(
+                got == want,
+                "{unit}: results differ with stalls (seed {seed})"
+            );
         }
         let never = sim::RunOptions {
             stall_percent: Some(0),

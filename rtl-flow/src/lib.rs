@@ -6,6 +6,7 @@
 
 pub mod byo;
 pub mod cli;
+pub mod cocotb;
 pub mod cull;
 pub mod cull_ray;
 pub mod float_ops;
