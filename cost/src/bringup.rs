@@ -340,6 +340,12 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     m.set_next(fire, record_done, None);
 
     let mut conns: Vec<(String, Sig)> = vec![(control::IN_VALID.into(), fire.q)];
+    if hs.ready {
+        // one record at a time, its answer always taken: never stalled, so
+        // in_ready stays high and the latency is the core's
+        let always = m.bool(true);
+        conns.push((control::OUT_READY.into(), always));
+    }
     let mut at = 0usize;
     for p in &in_ports {
         let w = p.ty.width();
@@ -356,8 +362,10 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     for _ in 0..hs.latency {
         m.stage();
     }
-    // a unit with the handshake has out_valid first, then its data outputs
-    let (&out_valid, data_outputs) = outs.all().split_first().expect("the unit has outputs");
+    // a unit with the handshake has out_valid first (then in_ready with
+    // valid/ready), then its data outputs
+    let out_valid = outs.all()[0];
+    let data_outputs = &outs.all()[hs.control_ports()..];
     let mut record = Vec::with_capacity(n_out);
     for &v in data_outputs {
         let w = v.width();
