@@ -460,11 +460,12 @@ pub fn sound(
         "silhouette" => word("mode") == "ray",
         "slab" => word("rounding") == "conservative",
         _ => false,
-    };
+    } && unit.ports.ready.is_none();
     if !supported {
         return Err(format!(
             "--property sound is built for silhouette -p mode=ray and slab -p rounding=conservative \
-             (the ray/box testers whose inputs the exact reference takes); not for {} {}",
+             with handshake=valid (the ray/box testers whose inputs the exact reference takes); \
+             not for {} {}",
             unit.unit,
             unit.param_args()
         ));
