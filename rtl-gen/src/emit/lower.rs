@@ -82,9 +82,7 @@ fn header(m: &Module, generator: &str, is_top: bool) -> Vec<String> {
     match m.handshake {
         Some(hs) if hs.ready => {
             let depth = crate::handshake::fifo_depth(hs.latency);
-            h.push(format!(
-                "Handshake: valid/ready. A transaction is taken at a rising edge with in_valid and in_ready high, a result with out_valid and out_ready high; out_valid and the outputs hold until taken."
-            ));
+            h.push("Handshake: valid/ready. A transaction is taken at a rising edge with in_valid and in_ready high, a result with out_valid and out_ready high; out_valid and the outputs hold until taken.".into());
             h.push(format!(
                 "Latency: {} cycle(s) from in_valid to out_valid while out_ready stays high; then one transaction per clock (II = 1). Up to {depth} transactions in flight or held; in_ready is registered (no path from out_ready).",
                 hs.latency
