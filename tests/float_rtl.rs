@@ -118,6 +118,7 @@ fn check(test: &str, configs: &[(&str, &[&str])]) {
         reset: control::RESET.into(),
         in_valid: control::IN_VALID.into(),
         out_valid: control::OUT_VALID.into(),
+        ready: None,
         inputs: module.data_inputs().iter().map(port).collect(),
         outputs: module.data_outputs().iter().map(|(p, _)| port(p)).collect(),
     };

@@ -12,6 +12,16 @@
 //   #define RTL_OUT_VALID out_valid
 //   #define RTL_INPUTS(X) X(a, 16) X(b, 16)    // data inputs, record order
 //   #define RTL_OUTPUTS(X) X(lt, 1) X(eq, 1)   // data outputs, record order
+//   #define RTL_IN_READY in_ready              // valid/ready units only
+//   #define RTL_OUT_READY out_ready
+//
+// A valid/ready unit (docs/handshake.md) is driven with random stalls on
+// both sides by default: idle cycles before a transaction and out_ready low,
+// each with --stall-percent chance (30). A transaction is held until
+// in_ready takes it; a result counts when out_valid and out_ready are high,
+// and must hold (out_valid and data) while out_ready is low. With
+// --stall-percent 0 the consumer never stalls and the unit must keep the
+// declared latency and take a transaction every cycle (in_ready high).
 //
 // The model class is always `Vdut` (verilator --prefix Vdut), so nothing here
 // depends on the design. Streams use the `rtlvec 1` binary format described
@@ -52,6 +62,9 @@ constexpr uint64_t RESET_CYCLES = 4;
 // After the last transaction, this many idle cycles beyond the latency are
 // clocked so that a spurious late out_valid is still caught.
 constexpr uint64_t DRAIN_EXTRA = 4;
+// A valid/ready unit that takes no transaction, or delivers no result, for
+// this many cycles (beyond its latency) is stuck.
+constexpr uint64_t STUCK_CYCLES = 100000;
 // I/O block size: large blocks keep syscalls far off the per-vector path.
 constexpr size_t BLOCK = size_t(1) << 20;
 // Headers are short; a longer "line" means this is not an rtlvec stream.
@@ -255,14 +268,17 @@ struct Rng {
 void usage(FILE* f) {
     std::fprintf(f,
                  "usage: rtl_harness [--in FILE] [--out FILE] [--vcd FILE] [--bubbles SEED]\n"
-                 "                   [--bubble-percent P]\n"
+                 "                   [--bubble-percent P] [--stalls SEED] [--stall-percent P]\n"
                  "Simulates %s (latency %u): reads 'rtlvec 1' input records (stdin by default),\n"
                  "drives one per cycle with in_valid=1, writes one output record per out_valid\n"
                  "cycle (stdout by default) and checks out_valid against the declared latency.\n"
                  "  --vcd FILE          trace every signal to FILE\n"
                  "  --bubbles SEED      insert pseudo-random idle cycles (random data, in_valid=0)\n"
                  "  --bubble-percent P  chance of an idle cycle before each transaction (default 30)\n"
-                 "Prints 'cycles=N transactions=M bubbles=B' on stderr at the end.\n"
+                 "  --stalls SEED       valid/ready units: seed of the random stalls (default 1)\n"
+                 "  --stall-percent P   valid/ready units: chance of an idle input cycle and of\n"
+                 "                      out_ready low (default 30; 0: never stalled, full rate)\n"
+                 "Prints 'cycles=N transactions=M bubbles=B stalls=S' on stderr at the end.\n"
                  "Exit: 0 ok, 2 usage or input error, 3 latency/handshake violation, 4 I/O error.\n",
                  RTL_TOP_NAME, unsigned(RTL_LATENCY));
 }
@@ -288,6 +304,9 @@ int main(int argc, char** argv) {
     bool bubbles = false;
     uint64_t bubble_seed = 0;
     uint64_t bubble_percent = 30;
+    uint64_t stall_seed = 1;
+    uint64_t stall_percent = 30;
+    bool stall_option = false;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         auto value = [&](const char* opt) -> const char* {
@@ -309,6 +328,13 @@ int main(int argc, char** argv) {
         } else if (a == "--bubble-percent") {
             bubble_percent = parse_u64("--bubble-percent", value("--bubble-percent"));
             if (bubble_percent > 95) die(EXIT_USAGE, "--bubble-percent must be at most 95");
+        } else if (a == "--stalls") {
+            stall_seed = parse_u64("--stalls", value("--stalls"));
+            stall_option = true;
+        } else if (a == "--stall-percent") {
+            stall_percent = parse_u64("--stall-percent", value("--stall-percent"));
+            if (stall_percent > 95) die(EXIT_USAGE, "--stall-percent must be at most 95");
+            stall_option = true;
         } else if (a.rfind("+verilator+", 0) == 0) {
             // Verilator's own runtime options are passed through below.
         } else {
@@ -386,6 +412,7 @@ int main(int argc, char** argv) {
     uint64_t transactions = 0;
     uint64_t outputs = 0;
     uint64_t bubble_cycles = 0;
+    uint64_t stall_cycles = 0;
     Rng rng{bubble_seed};
 
     // A handshake violation keeps everything produced so far: the results
@@ -399,61 +426,61 @@ int main(int argc, char** argv) {
         die(EXIT_PROTOCOL, "%s", msg);
     };
 
-    // One clock cycle: inputs are already set; settle with clk low, sample
-    // (so latency-0 units are seen combinationally), then the rising edge.
-    auto clock = [&](uint64_t tag, bool in_reset) {
-        top->RTL_IN_VALID = tag != 0;
-        top->RTL_CLK = 0;
-        top->eval();
-#if VM_TRACE
-        if (tfp) tfp->dump(cycle * 10);
-#endif
-        ring[cycle & ring_mask] = tag;
-        const bool out_valid = top->RTL_OUT_VALID;
-        if (in_reset) {
-            // Cycle 0 precedes the first reset edge, so its out_valid is
-            // still the power-up value.
-            if (out_valid && cycle > 0) {
-                std::snprintf(msg, sizeof msg,
-                              "cycle %llu: out_valid=1 while rst=1 (after the first reset edge)",
-                              (unsigned long long)cycle);
-                violation();
-            }
+    // The transaction presented at cycle - latency (1 + its index), or 0.
+    auto due_now = [&]() -> uint64_t {
+        return cycle >= uint64_t(RTL_LATENCY) ? ring[(cycle - RTL_LATENCY) & ring_mask] : 0;
+    };
+    // out_valid must be high exactly when a transaction is due.
+    auto check_latency = [&](bool out_valid) {
+        const uint64_t due = due_now();
+        if (out_valid == (due != 0)) return;
+        if (out_valid) {
+            std::snprintf(msg, sizeof msg,
+                          "cycle %llu: out_valid=1 but no transaction was presented at cycle "
+                          "%lld (declared latency %u)",
+                          (unsigned long long)cycle, (long long)cycle - (long long)RTL_LATENCY,
+                          unsigned(RTL_LATENCY));
         } else {
-            const uint64_t due = cycle >= uint64_t(RTL_LATENCY) ? ring[(cycle - RTL_LATENCY) & ring_mask] : 0;
-            if (out_valid != (due != 0)) {
-                if (out_valid) {
-                    std::snprintf(msg, sizeof msg,
-                                  "cycle %llu: out_valid=1 but no transaction was presented at cycle "
-                                  "%lld (declared latency %u)",
-                                  (unsigned long long)cycle, (long long)cycle - (long long)RTL_LATENCY,
-                                  unsigned(RTL_LATENCY));
-                } else {
-                    std::snprintf(msg, sizeof msg,
-                                  "cycle %llu: out_valid=0 but transaction %llu, presented at cycle %llu, "
-                                  "is due (declared latency %u)",
-                                  (unsigned long long)cycle, (unsigned long long)(due - 1),
-                                  (unsigned long long)(cycle - RTL_LATENCY), unsigned(RTL_LATENCY));
-                }
-                violation();
-            }
-            if (out_valid) {
-                uint8_t* p = out.reserve(OUT_BYTES);
+            std::snprintf(msg, sizeof msg,
+                          "cycle %llu: out_valid=0 but transaction %llu, presented at cycle %llu, "
+                          "is due (declared latency %u)",
+                          (unsigned long long)cycle, (unsigned long long)(due - 1),
+                          (unsigned long long)(cycle - RTL_LATENCY), unsigned(RTL_LATENCY));
+        }
+        violation();
+    };
+    // The data outputs of this cycle as one record.
+    auto store_outputs = [&](uint8_t* p) {
 #define RTL_STORE(RTL_P, RTL_W)                            \
     store_le(p, uint64_t(top->RTL_P), ((RTL_W) + 7) / 8); \
     p += ((RTL_W) + 7) / 8;
-                RTL_OUTPUTS(RTL_STORE)
+        RTL_OUTPUTS(RTL_STORE)
 #undef RTL_STORE
-                out.commit(OUT_BYTES);
-                ++outputs;
-            }
-        }
+    };
+    auto edge = [&]() {
         top->RTL_CLK = 1;
         top->eval();
 #if VM_TRACE
         if (tfp) tfp->dump(cycle * 10 + 5);
 #endif
         ++cycle;
+    };
+    // Settle with clk low and trace: inputs are already set.
+    auto settle = [&]() {
+        top->RTL_CLK = 0;
+        top->eval();
+#if VM_TRACE
+        if (tfp) tfp->dump(cycle * 10);
+#endif
+    };
+    auto reset_out_valid = [&](bool out_valid) {
+        // Cycle 0 precedes the first reset edge, so its out_valid is still
+        // the power-up value.
+        if (out_valid && cycle > 0) {
+            std::snprintf(msg, sizeof msg, "cycle %llu: out_valid=1 while rst=1 (after the first reset edge)",
+                          (unsigned long long)cycle);
+            violation();
+        }
     };
 
     // Idle cycles carry random data so that a unit which samples its inputs
@@ -463,24 +490,8 @@ int main(int argc, char** argv) {
         RTL_INPUTS(RTL_RANDOM)
 #undef RTL_RANDOM
     };
-
-    top->RTL_RST = 1;
-#define RTL_ZERO(RTL_P, RTL_W) top->RTL_P = 0;
-    RTL_INPUTS(RTL_ZERO)
-#undef RTL_ZERO
-    for (uint64_t i = 0; i < RESET_CYCLES; ++i) clock(0, true);
-    top->RTL_RST = 0;
-
-    for (;;) {
-        const uint8_t* rec = in.next(IN_BYTES, transactions);
-        if (!rec) break;
-        if (bubbles) {
-            while (rng.next() % 100 < bubble_percent) {
-                idle_inputs();
-                clock(0, false);
-                ++bubble_cycles;
-            }
-        }
+    // Drives record `rec` onto the data inputs.
+    auto load_record = [&](const uint8_t* rec) {
         const uint8_t* p = rec;
 #define RTL_LOAD(RTL_P, RTL_W)                                                             \
     {                                                                                     \
@@ -498,6 +509,149 @@ int main(int argc, char** argv) {
     }
         RTL_INPUTS(RTL_LOAD)
 #undef RTL_LOAD
+    };
+
+    top->RTL_RST = 1;
+#define RTL_ZERO(RTL_P, RTL_W) top->RTL_P = 0;
+    RTL_INPUTS(RTL_ZERO)
+#undef RTL_ZERO
+
+#ifdef RTL_IN_READY
+    // valid/ready: transactions are taken when in_ready is high, results
+    // when out_ready is; see the file header.
+    Rng stall_rng{stall_seed};
+    const bool never_stalled = stall_percent == 0;
+    auto stall = [&]() { return !never_stalled && stall_rng.next() % 100 < stall_percent; };
+    bool held = false;  // last cycle showed a result that out_ready did not take
+    uint8_t shown[OUT_BYTES];
+    uint8_t now[OUT_BYTES];
+    // One cycle with in_valid = valid and out_ready drawn; true when the
+    // unit took the transaction.
+    auto cycle_ready = [&](bool valid, bool in_reset) -> bool {
+        const bool ready = !in_reset && !stall();
+        top->RTL_IN_VALID = valid;
+        top->RTL_OUT_READY = ready;
+        settle();
+        const bool out_valid = top->RTL_OUT_VALID;
+        const bool taken = valid && !in_reset && top->RTL_IN_READY;
+        if (in_reset) {
+            reset_out_valid(out_valid);
+            edge();
+            return false;
+        }
+        stall_cycles += !ready;
+        if (taken) ++transactions;
+        store_outputs(now);
+        if (held && !out_valid) {
+            std::snprintf(msg, sizeof msg, "cycle %llu: out_valid fell while the result waited for out_ready",
+                          (unsigned long long)cycle);
+            violation();
+        }
+        if (held && std::memcmp(shown, now, OUT_BYTES) != 0) {
+            std::snprintf(msg, sizeof msg, "cycle %llu: the outputs changed while out_valid waited for out_ready",
+                          (unsigned long long)cycle);
+            violation();
+        }
+        if (out_valid && outputs >= transactions) {
+            std::snprintf(msg, sizeof msg,
+                          "cycle %llu: out_valid=1 but all %llu transactions taken have been delivered",
+                          (unsigned long long)cycle, (unsigned long long)transactions);
+            violation();
+        }
+        if (never_stalled) {
+            ring[cycle & ring_mask] = taken ? transactions : 0;
+            check_latency(out_valid);
+            if (valid && !taken) {
+                std::snprintf(msg, sizeof msg,
+                              "cycle %llu: in_ready=0 although out_ready was always high (fewer than "
+                              "one transaction per cycle)",
+                              (unsigned long long)cycle);
+                violation();
+            }
+        }
+        held = out_valid && !ready;
+        if (held) std::memcpy(shown, now, OUT_BYTES);
+        if (out_valid && ready) {
+            out.put(now, OUT_BYTES);
+            ++outputs;
+        }
+        edge();
+        return taken;
+    };
+
+    for (uint64_t i = 0; i < RESET_CYCLES; ++i) cycle_ready(false, true);
+    top->RTL_RST = 0;
+    for (;;) {
+        const uint8_t* rec = in.next(IN_BYTES, transactions);
+        if (!rec) break;
+        while (stall() || (bubbles && rng.next() % 100 < bubble_percent)) {
+            idle_inputs();
+            cycle_ready(false, false);
+            ++bubble_cycles;
+        }
+        load_record(rec);
+        for (uint64_t waited = 0; !cycle_ready(true, false); ++waited) {
+            if (waited > STUCK_CYCLES + RTL_LATENCY) {
+                std::snprintf(msg, sizeof msg, "cycle %llu: in_ready stayed low for %llu cycles (transaction %llu)",
+                              (unsigned long long)cycle, (unsigned long long)waited,
+                              (unsigned long long)transactions);
+                violation();
+            }
+        }
+    }
+    for (uint64_t quiet = 0; outputs < transactions;) {
+        const uint64_t before = outputs;
+        idle_inputs();
+        cycle_ready(false, false);
+        quiet = outputs == before ? quiet + 1 : 0;
+        if (quiet > STUCK_CYCLES + RTL_LATENCY) {
+            std::snprintf(msg, sizeof msg, "cycle %llu: transaction %llu never came out",
+                          (unsigned long long)cycle, (unsigned long long)outputs);
+            violation();
+        }
+    }
+    for (uint64_t i = 0; i < DRAIN_EXTRA; ++i) {
+        idle_inputs();
+        cycle_ready(false, false);
+    }
+#else
+    if (stall_option) die(EXIT_USAGE, "--stalls, --stall-percent: %s has no out_ready (handshake=valid)", RTL_TOP_NAME);
+    (void)stall_seed;
+    (void)stall_percent;
+    // One clock cycle: sample (so latency-0 units are seen combinationally),
+    // check out_valid against the latency, then the rising edge.
+    auto clock = [&](uint64_t tag, bool in_reset) {
+        top->RTL_IN_VALID = tag != 0;
+        settle();
+        ring[cycle & ring_mask] = tag;
+        const bool out_valid = top->RTL_OUT_VALID;
+        if (in_reset) {
+            reset_out_valid(out_valid);
+        } else {
+            check_latency(out_valid);
+            if (out_valid) {
+                store_outputs(out.reserve(OUT_BYTES));
+                out.commit(OUT_BYTES);
+                ++outputs;
+            }
+        }
+        edge();
+    };
+
+    for (uint64_t i = 0; i < RESET_CYCLES; ++i) clock(0, true);
+    top->RTL_RST = 0;
+
+    for (;;) {
+        const uint8_t* rec = in.next(IN_BYTES, transactions);
+        if (!rec) break;
+        if (bubbles) {
+            while (rng.next() % 100 < bubble_percent) {
+                idle_inputs();
+                clock(0, false);
+                ++bubble_cycles;
+            }
+        }
+        load_record(rec);
         ++transactions;
         clock(transactions, false);
     }
@@ -506,6 +660,7 @@ int main(int argc, char** argv) {
         idle_inputs();
         clock(0, false);
     }
+#endif
     out.flush();
     if (outputs != transactions) {
         // Unreachable when the latency check passed; kept as a last guard.
@@ -518,7 +673,8 @@ int main(int argc, char** argv) {
 #if VM_TRACE
     if (tfp) tfp->close();
 #endif
-    std::fprintf(stderr, "cycles=%llu transactions=%llu bubbles=%llu\n", (unsigned long long)cycle,
-                 (unsigned long long)transactions, (unsigned long long)bubble_cycles);
+    std::fprintf(stderr, "cycles=%llu transactions=%llu bubbles=%llu stalls=%llu\n", (unsigned long long)cycle,
+                 (unsigned long long)transactions, (unsigned long long)bubble_cycles,
+                 (unsigned long long)stall_cycles);
     return 0;
 }

@@ -15,39 +15,11 @@
 //! The wrapper has the unit's `clk` and synchronous active-high `rst`;
 //! [`board_top`] adds a power-on reset for boards without a reset pin.
 
-use rtl_gen::arith::int;
+use rtl_gen::arith::int::{self, bits_for, dec, inc, is};
 use rtl_gen::builder::{ModuleBuilder, Sig};
 use rtl_gen::ir::{control, Module, Ty};
 use rtl_gen::ports::{self, Record, Visit, Walk};
 use std::sync::Arc;
-
-/// Bits needed to hold values `0..=max`.
-fn bits_for(max: u64) -> u32 {
-    (64 - max.leading_zeros()).max(1)
-}
-
-/// `a + 1`, wrapping at the width of `a`.
-#[track_caller]
-fn inc(m: &mut ModuleBuilder, a: Sig) -> Sig {
-    let one = m.uint(a.width(), 1);
-    let s = m.add(a, one);
-    m.slice(s, a.width() - 1, 0)
-}
-
-/// `a − 1`, wrapping at the width of `a` (UInt).
-#[track_caller]
-fn dec(m: &mut ModuleBuilder, a: Sig) -> Sig {
-    let one = m.uint(a.width(), 1);
-    let s = m.sub(a, one);
-    m.slice(s, a.width() - 1, 0)
-}
-
-/// `a == k` for a UInt constant `k`.
-#[track_caller]
-fn is(m: &mut ModuleBuilder, a: Sig, k: u64) -> Sig {
-    let k = m.uint(a.width(), k as u128);
-    m.eq(a, k)
-}
 
 /// The module name of the receiver for `cycles_per_bit`.
 pub fn uart_rx_name(cycles_per_bit: u32) -> String {
@@ -368,6 +340,12 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     m.set_next(fire, record_done, None);
 
     let mut conns: Vec<(String, Sig)> = vec![(control::IN_VALID.into(), fire.q)];
+    if hs.ready {
+        // one record at a time, its answer always taken: never stalled, so
+        // in_ready stays high and the latency is the core's
+        let always = m.bool(true);
+        conns.push((control::OUT_READY.into(), always));
+    }
     let mut at = 0usize;
     for p in &in_ports {
         let w = p.ty.width();
@@ -384,8 +362,10 @@ pub fn wrapper(unit: &Arc<Module>, cycles_per_bit: u32) -> Module {
     for _ in 0..hs.latency {
         m.stage();
     }
-    // a unit with the handshake has out_valid first, then its data outputs
-    let (&out_valid, data_outputs) = outs.all().split_first().expect("the unit has outputs");
+    // a unit with the handshake has out_valid first (then in_ready with
+    // valid/ready), then its data outputs
+    let out_valid = outs.all()[0];
+    let data_outputs = &outs.all()[hs.control_ports()..];
     let mut record = Vec::with_capacity(n_out);
     for &v in data_outputs {
         let w = v.width();

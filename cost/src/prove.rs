@@ -273,6 +273,14 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
                 g.ports.top
             ));
         }
+        if g.ports.ready.is_some() {
+            return Err(format!(
+                "{}: handshake=ready: the proof compares fixed-latency pipelines; prove the core \
+                 (handshake=valid): the valid/ready wrapper adds no datapath and the stall tests \
+                 check it (docs/handshake.md)",
+                g.ports.top
+            ));
+        }
     }
     let same_ports = |a: &[sim::Port], b: &[sim::Port]| {
         a.len() == b.len()

@@ -501,11 +501,12 @@ pub fn sound(
         "silhouette" => word("mode") == "ray" || word("origin") == "shared",
         "slab" => word("rounding") == "conservative",
         _ => false,
-    };
+    } && unit.ports.ready.is_none();
     if !supported {
         return Err(format!(
-            "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared) and slab -p rounding=conservative \
-             (the ray/box testers whose inputs the exact reference takes); not for {} {}",
+            "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared) and slab \
+             -p rounding=conservative with handshake=valid (the ray/box testers whose inputs the exact reference \
+             takes); not for {} {}",
             unit.unit,
             unit.param_args()
         ));

@@ -117,6 +117,17 @@ fn mulcmp_8x8_over_uart() {
 }
 
 #[test]
+fn mulcmp_8x8_with_the_ready_handshake_over_uart() {
+    check(
+        "mulcmp",
+        &["a_width=8", "b_width=8", "stages=2", "handshake=ready"],
+        8,
+        200,
+        3,
+    );
+}
+
+#[test]
 fn mulcmp_odd_widths_combinational_odd_bit_time() {
     // 11-bit a/c (two bytes, upper bits padded), 3-bit b/d, latency 0, 5 cycles a bit
     check(

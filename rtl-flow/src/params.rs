@@ -2,7 +2,7 @@
 //! the (key, value) pairs a unit's table checks ([`rtl_gen::params`]), and
 //! the flow's own table, which every unit takes besides its own
 //! ([`FlowParams`]: where the pipeline registers go, how products map to
-//! DSP blocks).
+//! DSP blocks, the handshake).
 
 use rtl_gen::params::{ParamError, ParamSpec, Params};
 
@@ -27,6 +27,16 @@ rtl_gen::choice! {
     }
 }
 
+rtl_gen::choice! {
+    /// The unit's handshake (`rtl_gen::handshake`, docs/handshake.md).
+    pub enum Handshake {
+        /// in_valid/out_valid, fixed latency, no backpressure
+        Valid = "valid",
+        /// in_valid/in_ready and out_valid/out_ready around the same core
+        Ready = "ready",
+    }
+}
+
 rtl_gen::params! {
     /// The parameters every unit takes besides its own.
     pub struct FlowParams {
@@ -39,6 +49,11 @@ rtl_gen::params! {
         /// output register, so the route back from the DSP row is a path of its own; Verilog
         /// for ECP5 synthesis, same function and latency)
         dsp: Dsp = Dsp::Infer,
+        /// interface: valid (in_valid/out_valid, fixed latency, no backpressure) or ready
+        /// (adds in_ready and out_ready: the consumer may stall; credits and an output FIFO of
+        /// latency + 1 entries around the same core, same latency and one transaction per cycle
+        /// while out_ready stays high; docs/handshake.md)
+        handshake: Handshake = Handshake::Valid,
     }
 }
 

@@ -241,8 +241,20 @@ pub struct Instance {
 /// Pipeline handshake of a module built with valid ports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Handshake {
-    /// cycles from `in_valid` to `out_valid`
+    /// cycles from `in_valid` to `out_valid` (with `ready`: while `out_ready`
+    /// stays high)
     pub latency: u32,
+    /// true for valid/ready: `out_ready` is data input 1 and `in_ready` data
+    /// output 1 (docs/handshake.md); false for valid only (no backpressure)
+    pub ready: bool,
+}
+
+impl Handshake {
+    /// How many ports of each direction the handshake takes: in_valid (and
+    /// out_ready) in, out_valid (and in_ready) out.
+    pub fn control_ports(self) -> usize {
+        1 + usize::from(self.ready)
+    }
 }
 
 /// A generated module.
@@ -322,6 +334,10 @@ pub mod control {
     pub const IN_VALID: &str = "in_valid";
     /// results of a transaction are presented this cycle
     pub const OUT_VALID: &str = "out_valid";
+    /// valid/ready only: the module takes a transaction at this edge if `in_valid` is high
+    pub const IN_READY: &str = "in_ready";
+    /// valid/ready only: the consumer takes the result at this edge if `out_valid` is high
+    pub const OUT_READY: &str = "out_ready";
 }
 
 impl Module {
@@ -341,18 +357,18 @@ impl Module {
             || self.instances.iter().any(|i| i.module.uses_reset())
     }
 
-    /// Data inputs without the valid bit.
+    /// Data inputs without the handshake's (`in_valid`, `out_ready`).
     pub fn data_inputs(&self) -> &[Port] {
         match self.handshake {
-            Some(_) => &self.inputs[1..],
+            Some(hs) => &self.inputs[hs.control_ports()..],
             None => &self.inputs,
         }
     }
 
-    /// Data outputs without the valid bit.
+    /// Data outputs without the handshake's (`out_valid`, `in_ready`).
     pub fn data_outputs(&self) -> &[(Port, NodeId)] {
         match self.handshake {
-            Some(_) => &self.outputs[1..],
+            Some(hs) => &self.outputs[hs.control_ports()..],
             None => &self.outputs,
         }
     }

@@ -3,8 +3,9 @@
 //!
 //! Layers, each depending only on those before it:
 //! [`ir`] (types, operations, modules) ← [`builder`] (the DSL) ← [`arith`]
-//! (operators) ← [`units`] (what users generate). [`emit`] and [`eval`] read
-//! the IR only. The crate depends on nothing else in the workspace: the
+//! (operators) ← [`units`] (what users generate); [`retime`] and
+//! [`handshake`] (the valid/ready wrapper) transform a unit's module.
+//! [`emit`] and [`eval`] read the IR only. The crate depends on nothing else in the workspace: the
 //! flow that ties a unit to its golden model and to Verilator, and the
 //! `rtl-gen` command, are the `rtl-flow` crate above it.
 #![warn(missing_docs)]
@@ -15,6 +16,7 @@ pub mod emit;
 pub mod eval;
 #[cfg(test)]
 mod golden_twin;
+pub mod handshake;
 pub mod ir;
 pub mod params;
 pub mod ports;

@@ -194,6 +194,12 @@ pub struct RunOptions {
     pub vcd: Option<PathBuf>,
     /// Insert pseudo-random idle cycles, from this seed.
     pub bubbles: Option<u64>,
+    /// Valid/ready units: the seed of the random stalls on both sides
+    /// (the harness's default when `None`).
+    pub stalls: Option<u64>,
+    /// Valid/ready units: the chance in percent of each stall (harness
+    /// default 30 when `None`); 0 is never stalled, at full rate.
+    pub stall_percent: Option<u64>,
 }
 
 impl RunOptions {
@@ -203,6 +209,12 @@ impl RunOptions {
         }
         if let Some(seed) = self.bubbles {
             cmd.arg("--bubbles").arg(seed.to_string());
+        }
+        if let Some(seed) = self.stalls {
+            cmd.arg("--stalls").arg(seed.to_string());
+        }
+        if let Some(p) = self.stall_percent {
+            cmd.arg("--stall-percent").arg(p.to_string());
         }
     }
 }
@@ -216,6 +228,8 @@ pub struct RunStats {
     pub transactions: u64,
     /// Idle cycles inserted between transactions.
     pub bubbles: u64,
+    /// Valid/ready units: cycles with `out_ready` low.
+    pub stalls: u64,
 }
 
 impl RunStats {
@@ -230,6 +244,7 @@ impl RunStats {
                 "cycles" => stats.cycles = v,
                 "transactions" => stats.transactions = v,
                 "bubbles" => stats.bubbles = v,
+                "stalls" => stats.stalls = v,
                 _ => {}
             }
         }
@@ -722,13 +737,14 @@ mod tests {
 
     #[test]
     fn stats_line_parses() {
-        let s = "warning: x\ncycles=107 transactions=100 bubbles=3\n";
+        let s = "warning: x\ncycles=107 transactions=100 bubbles=3 stalls=5\n";
         assert_eq!(
             RunStats::parse(s),
             Some(RunStats {
                 cycles: 107,
                 transactions: 100,
-                bubbles: 3
+                bubbles: 3,
+                stalls: 5
             })
         );
         assert_eq!(RunStats::parse("nothing"), None);

@@ -32,7 +32,7 @@ pub use check::{
 };
 pub use error::{Location, SimError};
 pub use harness::{default_cache_root, lint, verilator_version, Harness, RunOptions, RunStats};
-pub use ports::{Port, PortList};
+pub use ports::{Port, PortList, ReadyPorts};
 pub use vectors::{
     binary_to_text, convert_file, text_to_binary, BinReader, BinWriter, TextReader, TextWriter,
     VecFormat,

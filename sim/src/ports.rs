@@ -59,6 +59,18 @@ pub(crate) fn width_mask(width: u32) -> u64 {
     }
 }
 
+/// The two ports a valid/ready unit adds (docs/handshake.md).
+#[derive(Serialize, Deserialize, Clone, Debug, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub struct ReadyPorts {
+    /// The unit takes a transaction at an edge where this output and
+    /// `in_valid` are high.
+    pub in_ready: String,
+    /// The consumer takes a result at an edge where this input and
+    /// `out_valid` are high.
+    pub out_ready: String,
+}
+
 /// Description of a generated top module, as written by the generator.
 #[derive(Serialize, Deserialize, Clone, Debug, PartialEq, Eq)]
 #[serde(deny_unknown_fields)]
@@ -83,6 +95,10 @@ pub struct PortList {
     pub in_valid: String,
     /// Output-valid port.
     pub out_valid: String,
+    /// The backpressure ports of a valid/ready unit (`handshake=ready`);
+    /// absent for a valid-only one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ready: Option<ReadyPorts>,
     /// Data inputs in record order (not clock, reset or `in_valid`).
     pub inputs: Vec<Port>,
     /// Data outputs in record order (not `out_valid`).
@@ -169,12 +185,18 @@ impl PortList {
             return err("outputs", "a unit needs at least one data output".into());
         }
         let mut seen = HashSet::new();
-        let controls = [
+        let mut controls = vec![
             ("clock", &self.clock),
             ("reset", &self.reset),
             ("in_valid", &self.in_valid),
             ("out_valid", &self.out_valid),
         ];
+        if let Some(r) = &self.ready {
+            controls.extend([
+                ("ready.in_ready", &r.in_ready),
+                ("ready.out_ready", &r.out_ready),
+            ]);
+        }
         for (field, name) in controls {
             if !is_identifier(name) {
                 return err(field, format!("`{name}` is not a Verilog identifier"));
@@ -242,6 +264,10 @@ impl PortList {
         let _ = writeln!(s, "#define RTL_RST {}", self.reset);
         let _ = writeln!(s, "#define RTL_IN_VALID {}", self.in_valid);
         let _ = writeln!(s, "#define RTL_OUT_VALID {}", self.out_valid);
+        if let Some(r) = &self.ready {
+            let _ = writeln!(s, "#define RTL_IN_READY {}", r.in_ready);
+            let _ = writeln!(s, "#define RTL_OUT_READY {}", r.out_ready);
+        }
         for (mac, ports) in [("RTL_INPUTS", &self.inputs), ("RTL_OUTPUTS", &self.outputs)] {
             let _ = write!(s, "#define {mac}(X)");
             for p in ports {
@@ -277,6 +303,7 @@ mod tests {
             reset: "rst".into(),
             in_valid: "in_valid".into(),
             out_valid: "out_valid".into(),
+            ready: None,
             inputs: vec![Port::new("a", 16), Port::new("b", 16)],
             outputs: vec![Port::new("sum", 17), Port::new("eq", 1)],
         }

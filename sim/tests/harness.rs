@@ -552,3 +552,35 @@ fn a_panicking_golden_model_panics_instead_of_hanging() {
     });
     assert_eq!(rx.recv_timeout(Duration::from_secs(120)), Ok(true));
 }
+
+/// A valid/ready unit that ignores `out_ready` (tests/fixtures/noskid.v):
+/// never stalled it passes, with the latency and full-rate checks; with the
+/// harness's default stalls the lost result is a handshake violation.
+#[test]
+fn a_ready_unit_that_drops_a_stalled_result_is_a_handshake_violation() {
+    let ports = port_list("noskid");
+    assert!(ports
+        .ports_inc()
+        .contains("#define RTL_OUT_READY out_ready\n"));
+    let h = build(&ports);
+    let dir = scratch("noskid");
+    let input = dir.join("in.rtlvec");
+    random_input_file(&ports, &input, 1000, 3);
+    let never = RunOptions {
+        stall_percent: Some(0),
+        ..RunOptions::default()
+    };
+    let s = h.run(&input, &dir.join("never.rtlvec"), &never).unwrap();
+    assert_eq!(
+        (s.transactions, s.stalls, s.cycles),
+        (1000, 0, 1000 + 1 + 8)
+    );
+    let e = h
+        .run(&input, &dir.join("stalled.rtlvec"), &RunOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("exited with code 3") && e.contains("waited for out_ready"),
+        "{e}"
+    );
+}

@@ -122,6 +122,69 @@ fn check_reports_zero_mismatches_and_throughput_and_replay_traces() {
     );
 }
 
+/// A `handshake=ready` unit through the vectors flow: `check` and `sim` drive
+/// it with random stalls on both sides (docs/handshake.md) and pass.
+#[test]
+fn check_and_sim_drive_a_ready_unit_with_stalls() {
+    let dir = scratch("cli_ready");
+    let unit = [
+        "mulcmp",
+        "-p",
+        "a_width=8",
+        "-p",
+        "b_width=8",
+        "-p",
+        "handshake=ready",
+    ];
+    let out = ["--out", dir.to_str().unwrap()];
+    let o = rtl_gen(
+        &[
+            &["check"][..],
+            &unit,
+            &["--vectors", "30000", "--no-progress"],
+            &out,
+        ]
+        .concat(),
+    );
+    let t = text(&o);
+    assert!(
+        o.status.success() && t.contains("PASS: `mulcmp_a8_b8_s2_rdy`, 30000 vectors"),
+        "{t}"
+    );
+    assert!(!t.contains("(0 bubbles)"), "no input-side stalls: {t}");
+    let vecs = dir.join("v.txt");
+    let o = rtl_gen(
+        &[
+            &["vectors"][..],
+            &unit,
+            &["--count", "500", "--out", vecs.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let results = dir.join("r.txt");
+    let files = [
+        "--in",
+        vecs.to_str().unwrap(),
+        "--out",
+        results.to_str().unwrap(),
+    ];
+    let o = rtl_gen(
+        &[
+            &["sim"][..],
+            &unit,
+            &files,
+            &["--dir", dir.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    let t = text(&o);
+    assert!(
+        o.status.success() && t.contains("500 records") && t.contains("PASS"),
+        "{t}"
+    );
+}
+
 /// Every subcommand of the flow, the renderer, the cost tools and `fpga`.
 const SUBCOMMANDS: [&str; 25] = [
     "list",

@@ -180,6 +180,10 @@ fn bad_requests_are_errors() {
             "no mulcmp_a16_b16_s2.v there",
         ),
         (vec!["prove", "mulcmp", "-p", "dsp=ecp5"], "dsp=ecp5"),
+        (
+            vec!["prove", "mulcmp", "-p", "handshake=ready"],
+            "prove the core (handshake=valid)",
+        ),
         (vec!["prove", "nosuchunit"], "nosuchunit"),
         (
             vec!["prove", "mulcmp", "--reference", "stages=4"],

@@ -37,6 +37,18 @@ pub enum Command {
         /// built the value.
         #[arg(long)]
         source_lines: bool,
+        /// Also write a cocotb test (test_<top>.py, cocotb 2.x with its Python runner) with the
+        /// unit's vectors (<top>.vectors.txt, as `rtl-gen vectors` writes them) and their golden
+        /// results (<top>.golden.txt, as `rtl-gen golden` writes them); random stalls on both
+        /// sides with handshake=ready. Run it with `python3 test_<top>.py`.
+        #[arg(long)]
+        cocotb: bool,
+        /// Vectors of the cocotb test.
+        #[arg(long, default_value_t = 1000, value_name = "N", requires = "cocotb")]
+        cocotb_vectors: u64,
+        /// Seed of the cocotb test's random vectors.
+        #[arg(long, default_value_t = 1, requires = "cocotb")]
+        cocotb_seed: u64,
     },
     /// Generate a unit, lint it with `verilator --lint-only -Wall`, simulate it in Verilator and
     /// compare every output of every valid cycle with the golden model.
@@ -213,7 +225,8 @@ pub const ABOUT: &str = "Generates Verilog for ray-tracing intersection units an
 pub const LONG_ABOUT: &str = "Generates Verilog for ray-tracing intersection units and cross-checks it in Verilator against bit-accurate golden models.\n\n\
 Every emitted module has clk (rising edge), rst (synchronous, active high), in_valid and out_valid: \
 a transaction presented with in_valid high comes out with out_valid high exactly `latency` cycles later \
-(one per clock, no backpressure). `rtl-gen list` shows the units and their parameters.";
+(one per clock, no backpressure). With -p handshake=ready a unit also has in_ready and out_ready \
+(valid/ready, the consumer may stall; docs/handshake.md). `rtl-gen list` shows the units and their parameters.";
 
 /// Runs one subcommand: exit 0, 1 (a check failed) or 2 (an error, printed).
 pub fn main(command: Command) -> ExitCode {
@@ -227,7 +240,16 @@ pub fn main(command: Command) -> ExitCode {
             out,
             clock_period_ns,
             source_lines,
-        } => emit(&unit, &out, clock_period_ns, source_lines),
+            cocotb,
+            cocotb_vectors,
+            cocotb_seed,
+        } => emit(
+            &unit,
+            &out,
+            clock_period_ns,
+            source_lines,
+            cocotb.then_some((cocotb_vectors, cocotb_seed)),
+        ),
         Command::Check {
             unit,
             vectors,
@@ -364,6 +386,7 @@ fn emit(
     out: &std::path::Path,
     period: f64,
     source_lines: bool,
+    cocotb: Option<(u64, u64)>,
 ) -> Result<bool, FlowError> {
     if !(period.is_finite() && period > 0.0) {
         return Err(FlowError::Params(rtl_gen::params::ParamError::Combination(
@@ -375,7 +398,11 @@ fn emit(
         let options = rtl_gen::emit::EmitOptions { source_lines };
         g.files = rtl_gen::emit::emit_with(&g.module, rtl_gen::GENERATOR, options);
     }
-    for path in g.write(out, period)? {
+    let mut written = g.write(out, period)?;
+    if let Some((vectors, seed)) = cocotb {
+        written.extend(crate::cocotb::write(&g, out, vectors, seed)?);
+    }
+    for path in written {
         println!("wrote {}", path.display());
     }
     println!(

@@ -1,4 +1,5 @@
-//! Integer helpers (extension, resizing) and the pipelined unsigned multiplier.
+//! Integer helpers (extension, resizing, counters) and the pipelined unsigned
+//! multiplier.
 
 use crate::arith::ports::{Pair, PairPorts, Product};
 use crate::builder::{ModuleBuilder, Sig};
@@ -34,6 +35,34 @@ pub fn sext(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
     parts.push(m.as_uint(a));
     let v = m.cat(&parts);
     m.as_sint(v)
+}
+
+/// Bits needed to hold values `0..=max`.
+pub fn bits_for(max: u64) -> u32 {
+    (64 - max.leading_zeros()).max(1)
+}
+
+/// `a + 1`, wrapping at the width of `a` (UInt).
+#[track_caller]
+pub fn inc(m: &mut ModuleBuilder, a: Sig) -> Sig {
+    let one = m.uint(a.width(), 1);
+    let s = m.add(a, one);
+    m.slice(s, a.width() - 1, 0)
+}
+
+/// `a − 1`, wrapping at the width of `a` (UInt).
+#[track_caller]
+pub fn dec(m: &mut ModuleBuilder, a: Sig) -> Sig {
+    let one = m.uint(a.width(), 1);
+    let s = m.sub(a, one);
+    m.slice(s, a.width() - 1, 0)
+}
+
+/// `a == k` for a UInt constant `k`.
+#[track_caller]
+pub fn is(m: &mut ModuleBuilder, a: Sig, k: u64) -> Sig {
+    let k = m.uint(a.width(), k as u128);
+    m.eq(a, k)
 }
 
 /// The module name of a `width_a × width_b` unsigned multiplier with `stages` registers.

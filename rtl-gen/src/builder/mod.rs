@@ -144,6 +144,9 @@ pub struct ModuleBuilder {
     constants: HashMap<(Ty, u128), NodeId>,
     /// valid bit per stage, when the module has a handshake
     valid: Option<Vec<NodeId>>,
+    /// the valid/ready handshake's latency and, once given, its outputs
+    /// (`out_valid`, `in_ready`) ([`ModuleBuilder::with_ready_handshake`])
+    ready: Option<(u32, Option<(NodeId, NodeId)>)>,
     /// the naming scopes open now, outermost first ([`ModuleBuilder::scope`])
     scopes: Vec<String>,
 }
@@ -167,6 +170,7 @@ impl ModuleBuilder {
             carried: HashMap::new(),
             constants: HashMap::new(),
             valid: None,
+            ready: None,
             scopes: Vec::new(),
         }
     }
@@ -186,6 +190,38 @@ impl ModuleBuilder {
         let v = b.input(control::IN_VALID, Ty::Bool);
         b.valid = Some(vec![v.id]);
         b
+    }
+
+    /// Starts a module with the valid/ready handshake: inputs `in_valid` and
+    /// `out_ready` (returned in that order), outputs `out_valid` and
+    /// `in_ready` given by [`ModuleBuilder::ready_outputs`]. The module keeps
+    /// its own time with explicit registers (no pipeline stages); `latency`
+    /// is the cycles from `in_valid` to `out_valid` while `out_ready` stays
+    /// high, written in its header and port list.
+    #[track_caller]
+    pub fn with_ready_handshake(name: impl Into<String>, latency: u32) -> (Self, Sig, Sig) {
+        let mut b = Self::new(name);
+        let in_valid = b.input(control::IN_VALID, Ty::Bool);
+        let out_ready = b.input(control::OUT_READY, Ty::Bool);
+        b.ready = Some((latency, None));
+        (b, in_valid, out_ready)
+    }
+
+    /// The `out_valid` and `in_ready` outputs of a module started with
+    /// [`ModuleBuilder::with_ready_handshake`].
+    #[track_caller]
+    pub fn ready_outputs(&mut self, out_valid: Sig, in_ready: Sig) {
+        match &mut self.ready {
+            Some((_, outs @ None)) if out_valid.ty == Ty::Bool && in_ready.ty == Ty::Bool => {
+                *outs = Some((out_valid.id, in_ready.id))
+            }
+            Some((_, None)) => self.error(control::OUT_VALID, "out_valid and in_ready are Bool"),
+            Some((_, Some(_))) => self.error(control::OUT_VALID, "ready outputs given twice"),
+            None => self.error(
+                control::OUT_VALID,
+                "ready outputs of a module without the valid/ready handshake",
+            ),
+        }
     }
 
     /// Sets the one-paragraph description written in the Verilog header.
@@ -283,6 +319,7 @@ impl ModuleBuilder {
         } else if self.outputs.iter().any(|(p, _)| p.name == name)
             || self.inputs.iter().any(|p| p.name == name)
             || name == control::OUT_VALID
+            || (self.ready.is_some() && name == control::IN_READY)
         {
             self.error(name, "port name already used");
         }
@@ -411,6 +448,33 @@ impl ModuleBuilder {
         module: &Arc<Module>,
         inputs: &[(impl AsRef<str>, Sig)],
     ) -> InstanceOutputs {
+        self.instance_at(name, module, inputs, module.latency)
+    }
+
+    /// Instantiates `module` like [`ModuleBuilder::instance`], but its
+    /// outputs belong to the current stage: for a module that keeps the
+    /// instance's latency itself with explicit registers (the valid/ready
+    /// wrapper counts credits) instead of pipeline stages.
+    #[track_caller]
+    pub fn instance_unstaged(
+        &mut self,
+        name: &str,
+        module: &Arc<Module>,
+        inputs: &[(impl AsRef<str>, Sig)],
+    ) -> InstanceOutputs {
+        self.instance_at(name, module, inputs, 0)
+    }
+
+    /// An instance whose outputs belong to the stage `after` cycles after the
+    /// current one.
+    #[track_caller]
+    fn instance_at(
+        &mut self,
+        name: &str,
+        module: &Arc<Module>,
+        inputs: &[(impl AsRef<str>, Sig)],
+        after: u32,
+    ) -> InstanceOutputs {
         if !is_identifier(name) {
             self.error(name, "instance name is not a Verilog identifier");
         }
@@ -449,7 +513,7 @@ impl ModuleBuilder {
             module: module.clone(),
             inputs: connected,
         });
-        let out_stage = stage + module.latency;
+        let out_stage = stage + after;
         let mut names = Vec::new();
         let mut sigs = Vec::new();
         for (port, (p, _)) in module.outputs.iter().enumerate() {
@@ -530,8 +594,43 @@ impl ModuleBuilder {
                     out_valid,
                 ),
             );
-            Handshake { latency: last }
+            Handshake {
+                latency: last,
+                ready: false,
+            }
         });
+        let mut latency = last;
+        let mut handshake = handshake;
+        if let Some((declared, given)) = self.ready {
+            match given {
+                Some((out_valid, in_ready)) if last == 0 => {
+                    let port = |name: &str| Port {
+                        name: name.into(),
+                        ty: Ty::Bool,
+                    };
+                    outputs.insert(0, (port(control::OUT_VALID), out_valid));
+                    outputs.insert(1, (port(control::IN_READY), in_ready));
+                    latency = declared;
+                    handshake = Some(Handshake {
+                        latency,
+                        ready: true,
+                    });
+                }
+                Some(_) => self.errors.push(DslError {
+                    module: self.name.clone(),
+                    signal: String::new(),
+                    message: "a valid/ready module keeps its time with registers, not stages"
+                        .into(),
+                    location: Location::caller(),
+                }),
+                None => self.errors.push(DslError {
+                    module: self.name.clone(),
+                    signal: control::OUT_VALID.into(),
+                    message: "out_valid and in_ready were never given (ready_outputs)".into(),
+                    location: Location::caller(),
+                }),
+            }
+        }
         if !self.errors.is_empty() {
             return Err(BuildErrors(self.errors));
         }
@@ -544,7 +643,7 @@ impl ModuleBuilder {
             nodes: self.nodes,
             registers: self.registers,
             instances: self.instances,
-            latency: last,
+            latency,
             handshake,
             vendor_cell: None,
         };

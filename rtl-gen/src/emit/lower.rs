@@ -80,6 +80,15 @@ fn header(m: &Module, generator: &str, is_top: bool) -> Vec<String> {
     }
     h.push(format!("Parameters: {}", params_line(&m.params)));
     match m.handshake {
+        Some(hs) if hs.ready => {
+            let depth = crate::handshake::fifo_depth(hs.latency);
+            h.push("Handshake: valid/ready. A transaction is taken at a rising edge with in_valid and in_ready high, a result with out_valid and out_ready high; out_valid and the outputs hold until taken.".into());
+            h.push(format!(
+                "Latency: {} cycle(s) from in_valid to out_valid while out_ready stays high; then one transaction per clock (II = 1). Up to {depth} transactions in flight or held; in_ready is registered (no path from out_ready).",
+                hs.latency
+            ));
+            h.push("Clock: clk, rising edge. Reset: rst, synchronous, active high; clears the valid pipeline, the credits and the FIFO.".into());
+        }
         Some(hs) => {
             h.push(format!(
                 "Latency: {} cycle(s) from in_valid to out_valid; one transaction per clock (II = 1); no backpressure.",
