@@ -1,0 +1,272 @@
+//! `rtl-gen fpga`: a unit's bring-up bitstream (scripts/fpga.sh) that meets
+//! the board clock by itself, and the stage search it shares with
+//! `fit --device`.
+//!
+//! With `stages` given, `rtl-gen fpga` runs the script once, as told. Without
+//! it (for a unit that has stages), it takes `pipeline=balanced` (unless a
+//! `pipeline` is given) and searches the stages: the delay model's guess
+//! first (the fewest stages whose modelled period fits the board's clock
+//! period), then two more at a time until the whole bitstream (wrapper
+//! included) routes at the board clock, at most [`TRIES`] builds. It prints
+//! each try and the choice, and ends with the script's timing line.
+
+use rtl_gen::params::ParamKind;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::Instant;
+
+/// ECP5 nanoseconds per level of the delay model (`rtl_gen::retime`), from
+/// routed units (docs/cost.md): the first guess of the stages to route.
+pub const NS_PER_LEVEL_ECP5: f64 = 1.9;
+
+/// iCE40 (UP5K) nanoseconds per level: a rough figure (its LUTs and routing
+/// are about 2.5x slower than the ECP5-6's); the routes decide.
+pub const NS_PER_LEVEL_ICE40: f64 = 4.5;
+
+/// Routes a search tries at most.
+pub const TRIES: u32 = 4;
+
+/// The fewest stages in `0..=max` whose modelled period (LUT levels of the
+/// delay model) times `ns_per_level` fits a `target_mhz` clock; `max` if none.
+pub fn first_guess(
+    unit: &str,
+    params: &dyn Fn(u32) -> Vec<String>,
+    target_mhz: f64,
+    ns_per_level: f64,
+    max: u32,
+) -> Result<u32, Box<dyn std::error::Error>> {
+    let budget = 1000.0 / target_mhz / ns_per_level;
+    for k in 0..=max {
+        let g = rtl_flow::generate(unit, &params(k))?;
+        if g.modelled_period()? <= budget {
+            return Ok(k);
+        }
+    }
+    Ok(max)
+}
+
+/// The stage search of `fit --device` and `rtl-gen fpga`: routes `first`
+/// stages, then two more at a time, until `route` (which places and routes
+/// the unit at the given stages and returns its Fmax, `None` if it has none)
+/// meets `target_mhz`; at most [`TRIES`] routes, at most `max` stages.
+/// Returns the stages of the last route and whether it met the clock.
+pub fn search_stages<E>(
+    first: u32,
+    max: u32,
+    target_mhz: f64,
+    route: &mut dyn FnMut(u32) -> Result<Option<f64>, E>,
+) -> Result<(u32, bool), E> {
+    let mut s = first.min(max);
+    let mut tries = 0;
+    loop {
+        let met = route(s)?.is_some_and(|f| f >= target_mhz);
+        tries += 1;
+        if met || s >= max || tries >= TRIES {
+            return Ok((s, met));
+        }
+        s = (s + 2).min(max);
+    }
+}
+
+/// The checkout's root (scripts/fpga.sh, constraints/).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// A board as scripts/fpga.sh describes it (`FPGA_BOARD_INFO=1`): the boards
+/// live in the script alone.
+struct Board {
+    name: String,
+    family: String,
+    mhz: f64,
+}
+
+/// Runs scripts/fpga.sh with `args`; each line of its output goes to
+/// `line` as it comes. Returns the exit code (2 when it cannot be run).
+fn script(
+    args: &[String],
+    env: &[(&str, &str)],
+    line: &mut dyn FnMut(&str),
+) -> Result<i32, String> {
+    let path = root().join("scripts/fpga.sh");
+    if !path.is_file() {
+        return Err(format!(
+            "{} not found (rtl-gen fpga runs in its checkout)",
+            path.display()
+        ));
+    }
+    let mut cmd = Command::new("bash");
+    cmd.arg(&path)
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::piped());
+    if let Ok(me) = std::env::current_exe() {
+        cmd.env("RTL_GEN", me);
+    }
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let mut child = cmd
+        .spawn()
+        .map_err(|e| format!("running {}: {e}", path.display()))?;
+    let out = child.stdout.take().expect("piped stdout");
+    for l in BufReader::new(out).lines() {
+        line(&l.map_err(|e| format!("reading fpga.sh's output: {e}"))?);
+    }
+    let status = child
+        .wait()
+        .map_err(|e| format!("waiting for {}: {e}", path.display()))?;
+    Ok(status.code().unwrap_or(2))
+}
+
+fn board_info(args: &[String]) -> Result<Board, String> {
+    let mut info = String::new();
+    let code = script(args, &[("FPGA_BOARD_INFO", "1")], &mut |l| {
+        info = l.to_string()
+    })?;
+    let w: Vec<&str> = info.split_whitespace().collect();
+    match (code, w.as_slice()) {
+        (0, [name, family, mhz]) => Ok(Board {
+            name: name.to_string(),
+            family: family.to_string(),
+            mhz: mhz.parse().map_err(|_| format!("fpga.sh: board clock {mhz}"))?,
+        }),
+        _ => Err(format!("fpga.sh did not describe the board (got `{info}`)")),
+    }
+}
+
+/// `rtl-gen fpga [BOARD] [UNIT [-p KEY=VALUE]...]`: exit 0 (timing met),
+/// 3 (timing failed, the bitstream is still written) or 2 (an error).
+pub fn main(args: &[String]) -> ExitCode {
+    match run(args) {
+        Ok(code) => ExitCode::from(code.clamp(0, 255) as u8),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The unit and `-p` parameters after the board; `None` for the script's default.
+fn unit_and_params(args: &[String]) -> Option<(String, Vec<String>)> {
+    let (unit, rest) = args.split_first()?;
+    let mut params = Vec::new();
+    let mut it = rest.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "-p" | "--param" => params.extend(it.next().cloned()),
+            p => params.extend(p.strip_prefix("--param=").map(str::to_string)),
+        }
+    }
+    Some((unit.clone(), params))
+}
+
+fn run(args: &[String]) -> Result<i32, String> {
+    let board = board_info(args)?;
+    let after_board = if args.first() == Some(&board.name) {
+        &args[1..]
+    } else {
+        args
+    };
+    let max_stages = unit_and_params(after_board).and_then(|(unit, params)| {
+        let entry = rtl_flow::find(&unit).ok()?;
+        let stages = rtl_flow::param_specs(&entry)
+            .into_iter()
+            .find(|p| p.name == "stages")?;
+        let told = params.iter().any(|p| p.starts_with("stages="));
+        match stages.kind {
+            ParamKind::Int { max, .. } if !told => Some((unit, params, max.min(64) as u32)),
+            _ => None,
+        }
+    });
+    let Some((unit, mut params, max)) = max_stages else {
+        // stages given (or a unit without them, or the default unit): as told
+        return script(args, &[], &mut |l| println!("{l}"));
+    };
+    if !params.iter().any(|p| p.starts_with("pipeline=")) {
+        params.push("pipeline=balanced".into());
+    }
+    let with = |s: u32| {
+        let mut p = params.clone();
+        p.push(format!("stages={s}"));
+        p
+    };
+    let ns = if board.family == "ice40" {
+        NS_PER_LEVEL_ICE40
+    } else {
+        NS_PER_LEVEL_ECP5
+    };
+    let first = first_guess(&unit, &with, board.mhz, ns, max).map_err(|e| e.to_string())?;
+    println!(
+        "fpga: no stages given: {} on {} at {} MHz; first guess {first} stages (delay model, {ns} ns a level), then +2 until the bitstream routes at the board clock (at most {TRIES} builds)",
+        params.join(" "),
+        board.name,
+        board.mhz
+    );
+    let start = Instant::now();
+    let mut timing = String::new();
+    let mut route = |s: u32| -> Result<Option<f64>, String> {
+        let mut a = vec![board.name.clone(), unit.clone()];
+        for p in with(s) {
+            a.extend(["-p".to_string(), p]);
+        }
+        println!("fpga: try stages={s}");
+        let t = Instant::now();
+        timing.clear();
+        let code = script(&a, &[], &mut |l| {
+            if l.starts_with("timing:") {
+                timing = l.to_string();
+            } else {
+                println!("{l}");
+            }
+        })?;
+        if code != 0 && code != 3 {
+            return Err(format!("scripts/fpga.sh {} exited with {code}", a.join(" ")));
+        }
+        // `timing: met|FAILED at <MHz> MHz (target ...)`
+        let fmax = timing
+            .split_whitespace()
+            .nth(3)
+            .and_then(|m| m.parse::<f64>().ok());
+        println!(
+            "fpga: stages={s}: {} ({:.0} s)",
+            timing.trim_start_matches("timing: "),
+            t.elapsed().as_secs_f64()
+        );
+        Ok(fmax.filter(|_| code == 0))
+    };
+    let (stages, met) = search_stages(first, max, board.mhz, &mut route)?;
+    println!(
+        "fpga: chose {} for {} MHz ({}; {:.0} s in all)",
+        with(stages).join(" "),
+        board.mhz,
+        if met {
+            "the smallest tried that routes"
+        } else {
+            "the clock is NOT met"
+        },
+        start.elapsed().as_secs_f64()
+    );
+    println!("{timing}");
+    Ok(if met { 0 } else { 3 })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn search_steps_by_two_and_stops_at_the_first_route_that_meets() {
+        let mut tried = Vec::new();
+        let mut route = |s: u32| -> Result<Option<f64>, ()> {
+            tried.push(s);
+            Ok(Some(10.0 * s as f64))
+        };
+        assert_eq!(search_stages(3, 32, 50.0, &mut route), Ok((5, true)));
+        assert_eq!(tried, [3, 5]);
+        let mut never = |_: u32| -> Result<Option<f64>, ()> { Ok(None) };
+        assert_eq!(search_stages(30, 32, 50.0, &mut never), Ok((32, false)));
+        assert_eq!(search_stages(0, 32, 50.0, &mut never), Ok((6, false)));
+    }
+}
