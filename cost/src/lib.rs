@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod board;
 pub mod boxes;
 pub mod bringup;
 pub mod charts;
