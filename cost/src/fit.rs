@@ -581,8 +581,9 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
 
 /// Stages of the balanced unit that meet `target_mhz` routed on the
 /// LFE5U-85F-6, by the search `rtl-gen fpga` uses ([`crate::fpga::search_stages`]:
-/// the delay model's guess, then two more at a time, at most four routes, at
-/// most 32 stages). Writes the table into `r`; returns the stages and the ECP5 LUT4.
+/// the delay model's guess, up two stages while timing fails, down to the fewest
+/// a met route's Fmax suggests, at most four routes, at most 32 stages). Writes
+/// the table into `r`; returns the stages and their ECP5 LUT4.
 fn routed_ecp5_stages(
     r: &mut String,
     params: &dyn Fn(u32) -> Vec<String>,
@@ -596,7 +597,7 @@ fn routed_ecp5_stages(
     )?;
     writeln!(r, "| stages | modelled period (LUT levels) | ECP5 LUT4 | FF | MULT18X18D | routed Fmax MHz | verdict |\n|---|---|---|---|---|---|---|")?;
     let so = SynthOptions::ecp5_routed(target_mhz);
-    let mut luts = None;
+    let mut luts_at: Vec<(u32, u64)> = Vec::new();
     let mut route = |s: u32| -> Result<Option<f64>, Box<dyn std::error::Error>> {
         let g = rtl_flow::generate("silhouette", &params(s))?;
         let rep = synth::run(&g, &so)?;
@@ -613,7 +614,7 @@ fn routed_ecp5_stages(
             fmax.map_or("not routed".to_string(), |f| format!("{f:.1}")),
             if ok { "meets the target" } else { "too slow" }
         )?;
-        luts = Some(e.luts);
+        luts_at.push((s, e.luts));
         Ok(fmax)
     };
     let (s, ok) = search_stages(first, 32, target_mhz, &mut route)?;
@@ -622,6 +623,7 @@ fn routed_ecp5_stages(
         "\nstages = {s}{}.\n",
         if ok { "" } else { " (the clock is NOT met)" }
     )?;
+    let luts = luts_at.iter().find(|(k, _)| *k == s).map(|(_, l)| *l);
     Ok((s, luts))
 }
 

@@ -4,11 +4,13 @@
 //!
 //! With `stages` given, `rtl-gen fpga` runs the script once, as told. Without
 //! it (for a unit that has stages), it takes `pipeline=balanced` (unless a
-//! `pipeline` is given) and searches the stages: the delay model's guess
-//! first (the fewest stages whose modelled period fits the board's clock
-//! period), then two more at a time until the whole bitstream (wrapper
-//! included) routes at the board clock, at most [`TRIES`] builds. It prints
-//! each try and the choice, and ends with the script's timing line.
+//! `pipeline` is given) and searches the stages ([`search_stages`]): the
+//! delay model's guess first (the fewest stages whose modelled period fits
+//! the board's clock period), two more while the whole bitstream (wrapper
+//! included) fails the board clock, then down to the fewest a met build's
+//! Fmax suggests; at most [`TRIES`] builds, each in its own folder, the
+//! chosen one moved to the script's `$OUT`. It prints each try and the
+//! choice, and ends with the chosen build's timing line.
 
 use rtl_gen::params::ParamKind;
 use std::io::{BufRead, BufReader};
@@ -46,11 +48,16 @@ pub fn first_guess(
     Ok(max)
 }
 
-/// The stage search of `fit --device` and `rtl-gen fpga`: routes `first`
-/// stages, then two more at a time, until `route` (which places and routes
-/// the unit at the given stages and returns its Fmax, `None` if it has none)
-/// meets `target_mhz`; at most [`TRIES`] routes, at most `max` stages.
-/// Returns the stages of the last route and whether it met the clock.
+/// The stage search of `fit --device` and `rtl-gen fpga`: the fewest
+/// stages that `route` (which places and routes the unit at the given stages
+/// and returns its Fmax, `None` if it has none) meets `target_mhz` with,
+/// from `first`, at most [`TRIES`] routes and `max` stages.
+///
+/// A route that fails adds two stages (or one, below a depth that met). A
+/// route that meets tries the fewest stages its Fmax suggests (the period
+/// falls about as 1/(stages + 1)), above any depth that failed; the search
+/// ends when that is no fewer. Returns the fewest stages that met, or the
+/// last tried with `false` when none did.
 pub fn search_stages<E>(
     first: u32,
     max: u32,
@@ -58,15 +65,34 @@ pub fn search_stages<E>(
     route: &mut dyn FnMut(u32) -> Result<Option<f64>, E>,
 ) -> Result<(u32, bool), E> {
     let mut s = first.min(max);
-    let mut tries = 0;
-    loop {
-        let met = route(s)?.is_some_and(|f| f >= target_mhz);
-        tries += 1;
-        if met || s >= max || tries >= TRIES {
-            return Ok((s, met));
+    let mut last = s;
+    let (mut best, mut failed): (Option<u32>, Option<u32>) = (None, None);
+    for _ in 0..TRIES {
+        last = s;
+        let fmax = route(s)?.filter(|f| *f > 0.0);
+        let next = match fmax {
+            Some(f) if f >= target_mhz => {
+                best = Some(s);
+                let suggested = ((s + 1) as f64 * target_mhz / f).ceil() as u32;
+                let floor = failed.map_or(0, |x| x + 1);
+                suggested.saturating_sub(1).max(floor)
+            }
+            _ => {
+                failed = Some(s);
+                match best {
+                    Some(_) => s + 1,
+                    None if s < max => (s + 2).min(max),
+                    None => break,
+                }
+                .min(best.unwrap_or(u32::MAX))
+            }
+        };
+        if Some(next) == best || next == s || best.is_some_and(|b| next > b) {
+            break;
         }
-        s = (s + 2).min(max);
+        s = next;
     }
+    Ok(best.map_or((last, false), |b| (b, true)))
 }
 
 /// The checkout's root (scripts/fpga.sh, constraints/).
@@ -199,13 +225,23 @@ fn run(args: &[String]) -> Result<i32, String> {
     };
     let first = first_guess(&unit, &with, board.mhz, ns, max).map_err(|e| e.to_string())?;
     println!(
-        "fpga: no stages given: {} on {} at {} MHz; first guess {first} stages (delay model, {ns} ns a level), then +2 until the bitstream routes at the board clock (at most {TRIES} builds)",
+        "fpga: no stages given: {} on {} at {} MHz; first guess {first} stages (delay model, {ns} ns a level); +2 while the bitstream fails the board clock, then down to the fewest a met build's Fmax suggests (at most {TRIES} builds)",
         params.join(" "),
         board.name,
         board.mhz
     );
+    // each try builds in its own folder; the chosen one becomes the script's $OUT
+    let out = std::env::var_os("OUT")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("out/fpga").join(&board.name));
+    let out = if out.is_absolute() { out } else { root().join(out) };
+    let tries = out.with_file_name(format!(
+        "{}-tries",
+        out.file_name().map_or("fpga".into(), |n| n.to_string_lossy())
+    ));
+    let _ = std::fs::remove_dir_all(&tries);
     let start = Instant::now();
-    let mut timing = String::new();
+    let mut timing: Vec<(u32, String)> = Vec::new();
     let mut route = |s: u32| -> Result<Option<f64>, String> {
         let mut a = vec![board.name.clone(), unit.clone()];
         for p in with(s) {
@@ -213,10 +249,12 @@ fn run(args: &[String]) -> Result<i32, String> {
         }
         println!("fpga: try stages={s}");
         let t = Instant::now();
-        timing.clear();
-        let code = script(&a, &[], &mut |l| {
+        let dir = tries.join(format!("s{s}"));
+        let dir_text = dir.to_string_lossy().to_string();
+        let mut line_of_try = String::new();
+        let code = script(&a, &[("OUT", &dir_text)], &mut |l| {
             if l.starts_with("timing:") {
-                timing = l.to_string();
+                line_of_try = l.to_string();
             } else {
                 println!("{l}");
             }
@@ -225,30 +263,39 @@ fn run(args: &[String]) -> Result<i32, String> {
             return Err(format!("scripts/fpga.sh {} exited with {code}", a.join(" ")));
         }
         // `timing: met|FAILED at <MHz> MHz (target ...)`
-        let fmax = timing
+        let fmax = line_of_try
             .split_whitespace()
             .nth(3)
             .and_then(|m| m.parse::<f64>().ok());
         println!(
             "fpga: stages={s}: {} ({:.0} s)",
-            timing.trim_start_matches("timing: "),
+            line_of_try.trim_start_matches("timing: "),
             t.elapsed().as_secs_f64()
         );
+        timing.push((s, line_of_try));
+        // the script's verdict: exit 0 is timing met
         Ok(fmax.filter(|_| code == 0))
     };
     let (stages, met) = search_stages(first, max, board.mhz, &mut route)?;
+    let kept = tries.join(format!("s{stages}"));
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::rename(&kept, &out)
+        .map_err(|e| format!("moving {} to {}: {e}", kept.display(), out.display()))?;
+    let _ = std::fs::remove_dir_all(&tries);
     println!(
-        "fpga: chose {} for {} MHz ({}; {:.0} s in all)",
+        "fpga: chose {} for {} MHz ({}; {:.0} s in all); its build is in {}",
         with(stages).join(" "),
         board.mhz,
         if met {
-            "the smallest tried that routes"
+            "the fewest stages that routed"
         } else {
             "the clock is NOT met"
         },
-        start.elapsed().as_secs_f64()
+        start.elapsed().as_secs_f64(),
+        out.display()
     );
-    println!("{timing}");
+    let line = timing.iter().rev().find(|(k, _)| *k == stages);
+    println!("{}", line.map_or("", |(_, l)| l.as_str()));
     Ok(if met { 0 } else { 3 })
 }
 
@@ -256,15 +303,32 @@ fn run(args: &[String]) -> Result<i32, String> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn search_steps_by_two_and_stops_at_the_first_route_that_meets() {
-        let mut tried = Vec::new();
-        let mut route = |s: u32| -> Result<Option<f64>, ()> {
+    /// A route whose Fmax is 10 MHz per stage plus 5 (0 stages: 5 MHz).
+    fn linear(tried: &mut Vec<u32>) -> impl FnMut(u32) -> Result<Option<f64>, ()> + '_ {
+        move |s| {
             tried.push(s);
-            Ok(Some(10.0 * s as f64))
-        };
-        assert_eq!(search_stages(3, 32, 50.0, &mut route), Ok((5, true)));
-        assert_eq!(tried, [3, 5]);
+            Ok(Some(10.0 * s as f64 + 5.0))
+        }
+    }
+
+    #[test]
+    fn search_steps_up_by_two_then_down_to_the_fewest_that_meet() {
+        let mut tried = Vec::new();
+        // 1 fails (15 MHz), 3 meets (35), 2 meets (25): the fewest is 2
+        assert_eq!(search_stages(1, 32, 25.0, &mut linear(&mut tried)), Ok((2, true)));
+        assert_eq!(tried, [1, 3, 2]);
+    }
+
+    #[test]
+    fn a_first_guess_that_meets_easily_is_lowered_by_its_fmax() {
+        let mut tried = Vec::new();
+        // 8 meets at 85 MHz: 9 x 25 / 85 suggests 2 stages (3 x period), which meets
+        assert_eq!(search_stages(8, 32, 25.0, &mut linear(&mut tried)), Ok((2, true)));
+        assert_eq!(tried, [8, 2]);
+    }
+
+    #[test]
+    fn a_search_that_never_meets_says_so() {
         let mut never = |_: u32| -> Result<Option<f64>, ()> { Ok(None) };
         assert_eq!(search_stages(30, 32, 50.0, &mut never), Ok((32, false)));
         assert_eq!(search_stages(0, 32, 50.0, &mut never), Ok((6, false)));

@@ -32,8 +32,9 @@ enum Command {
     /// Build an FPGA bitstream of a unit behind the UART bring-up wrapper and report whether
     /// timing is met: runs scripts/fpga.sh [BOARD] [UNIT [-p KEY=VALUE]...] (boards icebreaker,
     /// ulx3s, orangecrab; the script's header has the details). Without `-p stages=N` it picks
-    /// pipeline=balanced and the stages that meet the board clock (the delay model's guess,
-    /// then +2 until the bitstream routes) and prints the choice. Its last line is
+    /// pipeline=balanced and the fewest stages that meet the board clock (the delay model's
+    /// guess, +2 while timing fails, then down as a met build's Fmax suggests; at most four
+    /// builds) and prints the choice. Its last line is
     /// `timing: met|FAILED at <MHz> MHz (target <MHz> MHz)`; exit 3 when timing fails.
     Fpga {
         /// board, unit and -p KEY=VALUE parameters, as scripts/fpga.sh takes them
