@@ -719,6 +719,9 @@ pub fn board(a: &BoardArgs) -> ExitCode {
         if !(a.timeout.is_finite() && a.timeout > 0.0) {
             return Err(format!("--timeout {}: expected seconds > 0", a.timeout));
         }
+        if a.input.is_none() && a.vectors == 0 {
+            return Err("--vectors 0: nothing to send (at least 1)".into());
+        }
         let g = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
         let source = match &a.input {
             Some(p) => Source::File(p.clone()),
