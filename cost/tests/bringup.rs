@@ -6,33 +6,12 @@ use cost::bringup::{pack, record_bytes, unpack, Bringup};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Builds the wrapper of `unit` with a stand-alone Verilator test bench;
+/// Builds the wrapper of `unit` with the stand-alone UART test bench;
 /// returns the executable.
 fn build(b: &Bringup, dir: &Path) -> PathBuf {
-    let _ = std::fs::remove_dir_all(dir);
-    let files = b.write(dir).unwrap();
-    b.lint(dir)
-        .unwrap_or_else(|r| panic!("lint warnings in the wrapper:\n{r}"));
     let tb = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bringup_tb.cpp");
-    let obj = dir.join("obj");
-    let out = Command::new("verilator")
-        .args([
-            "--cc", "--exe", "--build", "-j", "4", "-O1", "--prefix", "Vtop",
-        ])
-        .args(["--top-module", &b.module.name, "-Mdir"])
-        .arg(&obj)
-        .args(&files)
-        .arg(&tb)
-        .args(["-o", "Vtb"])
-        .output()
-        .expect("verilator runs (scripts/setup.sh)");
-    assert!(
-        out.status.success(),
-        "verilator build failed:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    obj.join("Vtb")
+    b.build_testbench(dir, &tb)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Sends `vectors` vectors of seed `seed` through the wrapper of `unit` at

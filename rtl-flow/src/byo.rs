@@ -362,6 +362,25 @@ fn run_file_inner(
     })
 }
 
+/// The input records of the vector file `input` for `g` (text or rtlvec,
+/// validated as `sim` validates them), each with where it came from
+/// (`FILE line L` or `FILE record R`): for runs that feed the vectors
+/// elsewhere, such as `rtl-gen board`.
+pub fn read_inputs(g: &Generated, input: &Path) -> Result<Vec<(String, Vec<u64>)>, FlowError> {
+    let (mut reader, format) = Input::open(input, &g.ports.inputs)?;
+    let word = match format {
+        VecFormat::Text => "line",
+        VecFormat::Binary => "record",
+    };
+    let mut records = Vec::new();
+    let mut vals = vec![0u64; g.ports.inputs.len()];
+    while reader.read(&mut vals)? {
+        let place = format!("{} {word} {}", input.display(), reader.place());
+        records.push((place, vals.clone()));
+    }
+    Ok(records)
+}
+
 /// Writes vectors `first..first + count` of the unit's own stimulus (seed
 /// `seed`) as an input file for `sim`/`golden`: text unless `out` ends in
 /// `.rtlvec`/`.bin`. Returns the format written.

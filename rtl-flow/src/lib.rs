@@ -14,6 +14,7 @@ pub mod fstim;
 pub mod mulcmp;
 pub mod node_child;
 pub mod node_sort;
+pub mod package;
 pub mod params;
 pub mod raycull;
 pub mod rays;

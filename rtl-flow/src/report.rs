@@ -141,7 +141,7 @@ pub struct EvaluatorStats {
 pub struct RunReport {
     /// layout version, [`SCHEMA`]
     pub schema: u32,
-    /// `check`, `sim`, `golden`, `testfloat` or `merged`
+    /// `check`, `sim`, `golden`, `testfloat`, `board` or `merged`
     pub kind: String,
     /// unit name
     pub unit: String,
@@ -400,7 +400,12 @@ impl RunReport {
                 s += &format!(", IR evaluator {} mismatches", e.mismatches);
             }
         }
-        s + &format!(", {:.2} M vectors/s", self.vectors_per_sec / 1e6)
+        // a serial port runs a few hundred a second: no "0.00 M" there
+        if self.vectors_per_sec >= 1e5 {
+            s + &format!(", {:.2} M vectors/s", self.vectors_per_sec / 1e6)
+        } else {
+            s + &format!(", {:.0} vectors/s", self.vectors_per_sec)
+        }
     }
 
     /// The first failing vector and the classes, as text.

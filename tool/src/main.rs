@@ -7,7 +7,6 @@
 //! workspace's only binary.
 
 use clap::{Parser, Subcommand};
-use std::path::Path;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -32,7 +31,10 @@ enum Command {
     Cost(cost::cli::Command),
     /// Build an FPGA bitstream of a unit behind the UART bring-up wrapper and report whether
     /// timing is met: runs scripts/fpga.sh [BOARD] [UNIT [-p KEY=VALUE]...] (boards icebreaker,
-    /// ulx3s, orangecrab; the script's header has the details). Its last line is
+    /// ulx3s, orangecrab; the script's header has the details). Without `-p stages=N` it picks
+    /// pipeline=balanced and the fewest stages that meet the board clock (the delay model's
+    /// guess, +2 while timing fails, then down as a met build's Fmax suggests; at most four
+    /// builds) and prints the choice. Its last line is
     /// `timing: met|FAILED at <MHz> MHz (target <MHz> MHz)`; exit 3 when timing fails.
     Fpga {
         /// board, unit and -p KEY=VALUE parameters, as scripts/fpga.sh takes them
@@ -46,32 +48,6 @@ fn main() -> ExitCode {
         Command::Flow(c) => rtl_flow::cli::main(c),
         Command::Scene(c) => scene::cli::main(c),
         Command::Cost(c) => cost::cli::main(c),
-        Command::Fpga { args } => fpga(&args),
-    }
-}
-
-/// Runs scripts/fpga.sh of this checkout with `args`, its bring-up step
-/// through this binary; passes its exit status on.
-fn fpga(args: &[String]) -> ExitCode {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let script = root.join("scripts/fpga.sh");
-    if !script.is_file() {
-        eprintln!(
-            "error: {} not found (rtl-gen fpga runs in its checkout)",
-            script.display()
-        );
-        return ExitCode::from(2);
-    }
-    let mut cmd = std::process::Command::new("bash");
-    cmd.arg(&script).args(args).current_dir(&root);
-    if let Ok(me) = std::env::current_exe() {
-        cmd.env("RTL_GEN", me);
-    }
-    match cmd.status() {
-        Ok(s) => ExitCode::from(s.code().map_or(2, |c| c.clamp(0, 255) as u8)),
-        Err(e) => {
-            eprintln!("error: running {}: {e}", script.display());
-            ExitCode::from(2)
-        }
+        Command::Fpga { args } => cost::fpga::main(&args),
     }
 }

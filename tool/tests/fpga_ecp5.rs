@@ -144,3 +144,49 @@ fn ulx3s_mulcmp_dsp_blocks_keep_their_output_registers() {
         );
     }
 }
+
+/// `rtl-gen fpga` without stages meets the board clock by itself: it takes
+/// `pipeline=balanced`, says which stages it chose, keeps that build in `$OUT`
+/// and ends with its timing line (fadd e5m4 on the ULX3S: two builds, about 30 s).
+#[test]
+fn rtl_gen_fpga_without_stages_chooses_them() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fpga_ecp5_auto_fadd_e5m4");
+    let _ = std::fs::remove_dir_all(&out);
+    let r = Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+        .args([
+            "fpga",
+            "ulx3s",
+            "fadd",
+            "-p",
+            "exp_bits=5",
+            "-p",
+            "frac_bits=4",
+        ])
+        .env("OUT", &out)
+        .output()
+        .expect("rtl-gen runs");
+    let stdout = String::from_utf8_lossy(&r.stdout).to_string();
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(r.status.code(), Some(0), "timing met:\n{stdout}");
+    let chose = stdout
+        .lines()
+        .find(|l| l.starts_with("fpga: chose "))
+        .unwrap_or_else(|| panic!("the choice is printed:\n{stdout}"));
+    assert!(chose.contains("pipeline=balanced stages="), "{chose}");
+    let last = stdout.lines().last().unwrap_or("");
+    assert!(last.starts_with("timing: met at "), "{stdout}");
+    // the chosen stages' own try printed that same timing line
+    let stages = chose
+        .split("stages=")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap();
+    let try_line = format!("fpga: stages={stages}: {}", &last["timing: ".len()..]);
+    assert!(stdout.contains(&try_line), "`{try_line}`:\n{stdout}");
+    assert!(
+        out.join("bringup.bit").is_file(),
+        "the chosen build in $OUT"
+    );
+}

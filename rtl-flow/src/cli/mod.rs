@@ -23,7 +23,8 @@ use std::process::ExitCode;
 pub enum Command {
     /// List the units and their parameters.
     List,
-    /// Write a unit's Verilog (one file per module), its port list (JSON) and timing constraints (SDC).
+    /// Write a unit's Verilog (one file per module), its port list (JSON), timing constraints (SDC),
+    /// a FuseSoC CAPI2 core file (.core: lint and sim targets) and a filelist (.f).
     Emit {
         #[command(flatten)]
         unit: UnitArgs,
@@ -401,6 +402,15 @@ fn emit(
     let mut written = g.write(out, period)?;
     if let Some((vectors, seed)) = cocotb {
         written.extend(crate::cocotb::write(&g, out, vectors, seed)?);
+    }
+    // FuseSoC and simulator filelists: the packaging a hardware team's flow reads
+    for (ext, text) in [
+        ("core", crate::package::core_file(&g)),
+        ("f", crate::package::filelist(&g)),
+    ] {
+        let path = out.join(format!("{}.{ext}", g.module.name));
+        std::fs::write(&path, text).map_err(|e| FlowError::Io(path.clone(), e))?;
+        written.push(path);
     }
     for path in written {
         println!("wrote {}", path.display());
