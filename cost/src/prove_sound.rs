@@ -336,15 +336,19 @@ pub fn check_reference(fmt: FloatFormat, dir: &Path, count: usize) -> Result<usi
     Ok(reached)
 }
 
+/// The unit tests bundles (silhouette `mode=bundle`, shared origin: it has `all_hit`).
+fn is_bundle(unit: &Generated) -> bool {
+    unit.ports.outputs.iter().any(|x| x.name == "all_hit")
+}
+
 /// The wrapper `prove_sound`: the unit (stages=0) beside the reference, the
 /// input contract assumed, `exact hit → unit hit` asserted.
 pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
     let (reference, _) = exact_reference(fmt);
     let p = &unit.ports;
     let takes_inv_d = p.inputs.iter().any(|x| x.name == "inv_d_x");
-    // a bundle (silhouette mode=bundle, shared origin): the free ray `d` is any
-    // ray of the bundle `d_lo ≤ d ≤ d_hi`
-    let bundle = p.outputs.iter().any(|x| x.name == "all_hit");
+    // a bundle: the free ray `d` is any ray of the bundle `d_lo ≤ d ≤ d_hi`
+    let bundle = is_bundle(unit);
     let w = fmt.width();
     let mut v = String::new();
     let mut ports = vec!["input wire clk".to_string()];
@@ -547,7 +551,8 @@ pub fn sound(
                sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
     put("prove.ys", &script)?;
     let log = crate::prove::run_yosys_script(work, "prove.ys")?;
-    let claim = if unit.ports.outputs.iter().any(|x| x.name == "all_hit") {
+    let bundle = is_bundle(unit);
+    let claim = if bundle {
         "never reports AllMiss (any_hit = 0) while a ray of the bundle meets the box, nor AllHit \
          while one misses it"
     } else {
@@ -610,7 +615,6 @@ pub fn sound(
             work.join("prove.log").display()
         )));
     }
-    let bundle = unit.ports.outputs.iter().any(|x| x.name == "all_hit");
     if covers < 2 + bundle as usize {
         return Ok(Outcome::Unknown(format!(
             "{what}: proved, but a hit, a rejected ray or (bundles) an AllHit is unreachable under the assumptions, so the proof may be vacuous ({})",

@@ -340,7 +340,7 @@ impl Dyadic {
 }
 
 /// A finite input decoded exactly; `None` for NaN and ±∞.
-fn finite(fmt: FloatFormat, bits: u64) -> Option<Dyadic> {
+pub(crate) fn finite(fmt: FloatFormat, bits: u64) -> Option<Dyadic> {
     match decode(fmt, bits) {
         Exact::Fin { m, e } => Some(Dyadic::new(IBig::from(m), e as i64)),
         _ => None,

@@ -35,7 +35,7 @@
 
 use crate::exact::ray_box::{decode, Exact};
 use crate::float::FloatFormat;
-use crate::node::{Bound, Dyadic, NodeIn, NodeOut, Ray, SlotOut};
+use crate::node::{finite, Bound, Dyadic, NodeIn, NodeOut, Ray, SlotOut};
 use dashu::base::{BitTest, UnsignedAbs};
 use dashu::integer::IBig;
 use std::cmp::Ordering;
@@ -78,13 +78,6 @@ impl ReoriginParams {
     /// The sentinel entry of a miss: `2^(K+1) − 1`.
     pub fn miss_entry(&self) -> u32 {
         (1 << (self.cell_cap_bits() + 1)) - 1
-    }
-}
-
-fn finite(fmt: FloatFormat, bits: u64) -> Option<Dyadic> {
-    match decode(fmt, bits) {
-        Exact::Fin { m, e } => Some(Dyadic::new(IBig::from(m), e as i64)),
-        _ => None,
     }
 }
 
@@ -259,61 +252,63 @@ pub fn eval_with(
         rb: Dyadic,
         e: i64,
     }
-    let mut raws: Vec<Option<Raw>> = Vec::new();
-    let mut axes: Vec<Option<AxisTerms>> = Vec::new();
-    for a in 0..3 {
-        let o = finite(fmt, ray.o[a]).expect("checked");
-        let origin = finite(fmt, node.origin[a]).expect("checked");
-        let e = node.exp[a] as i64;
+    // every axis as `n·o`, `n·d`, the frame `origin + [0, Q]·2^e` and, unless the ray is
+    // parallel to it, the reciprocal interval of `|n·d|` and its sign: the box's three from
+    // the ray's bits, then the extra ones
+    struct AxisRay {
+        o: Dyadic,
+        d: Dyadic,
+        origin: Dyadic,
+        e: i64,
+        recip: Option<(Dyadic, Dyadic, bool)>,
+    }
+    let box_axes = (0..3).map(|a| {
         let inv = ray.inv_d[a] & fmt.mask();
         let mag = inv & !fmt.sign_bit();
-        let dv = finite(fmt, d[a]).expect("checked");
+        AxisRay {
+            o: finite(fmt, ray.o[a]).expect("checked"),
+            d: finite(fmt, d[a]).expect("checked"),
+            origin: finite(fmt, node.origin[a]).expect("checked"),
+            e: node.exp[a] as i64,
+            recip: (mag != fmt.inf(false)).then(|| {
+                let (ra, rb) = crate::node::reciprocal_bounds(fmt, mag);
+                (ra, rb, inv & fmt.sign_bit() != 0)
+            }),
+        }
+    });
+    let extra_axes = extra.iter().map(|x| AxisRay {
+        o: x.o.clone(),
+        d: x.d.clone(),
+        origin: x.origin.clone(),
+        e: x.exp,
+        recip: (x.d.signum() != 0).then(|| {
+            let (ra, rb) = reciprocal_interval(&x.d, fmt.frac_bits() + 1);
+            (ra, rb, x.d.signum() < 0)
+        }),
+    });
+    let mut raws: Vec<Option<Raw>> = Vec::new();
+    let mut axes: Vec<Option<AxisTerms>> = Vec::new();
+    for ax in box_axes.chain(extra_axes) {
         // the position at T in units 2^(e − g), exact, then outward
-        let pos = if mag == fmt.inf(false) {
-            o.sub(&origin)
-        } else {
-            o.add(&t.mul(&dv)).sub(&origin)
+        let pos = match ax.recip {
+            None => ax.o.sub(&ax.origin),
+            Some(_) => ax.o.add(&t.mul(&ax.d)).sub(&ax.origin),
         };
-        let x_lo = clamp(pos.div_pow2_round(e - g, false));
-        let x_hi = clamp(pos.div_pow2_round(e - g, true));
-        if mag == fmt.inf(false) {
+        let x_lo = clamp(pos.div_pow2_round(ax.e - g, false));
+        let x_hi = clamp(pos.div_pow2_round(ax.e - g, true));
+        let Some((ra, rb, mirror)) = ax.recip else {
             axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
             raws.push(None);
             continue;
-        }
-        let (ra, rb) = crate::node::reciprocal_bounds(fmt, mag);
+        };
         axes.push(None);
         raws.push(Some(Raw {
-            mirror: inv & fmt.sign_bit() != 0,
+            mirror,
             x_lo,
             x_hi,
             ra,
             rb,
-            e,
-        }));
-    }
-    for x in extra {
-        let pos = if x.d.signum() == 0 {
-            x.o.sub(&x.origin)
-        } else {
-            x.o.add(&t.mul(&x.d)).sub(&x.origin)
-        };
-        let x_lo = clamp(pos.div_pow2_round(x.exp - g, false));
-        let x_hi = clamp(pos.div_pow2_round(x.exp - g, true));
-        if x.d.signum() == 0 {
-            axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
-            raws.push(None);
-            continue;
-        }
-        let (ra, rb) = reciprocal_interval(&x.d, fmt.frac_bits() + 1);
-        axes.push(None);
-        raws.push(Some(Raw {
-            mirror: x.d.signum() < 0,
-            x_lo,
-            x_hi,
-            ra,
-            rb,
-            e: x.exp,
+            e: ax.e,
         }));
     }
     // step 2: the cell, from the fastest axis's time per step (exponents only)

@@ -962,21 +962,18 @@ fn reorigin_study_is_conservative() {
     let mut base = vec![[0u64; 5]; FAMILIES.len()];
     let mut from_tmin = vec![[0u64; 5]; FAMILIES.len()];
     let mut base_tmin = vec![[0u64; 5]; FAMILIES.len()];
+    // the study's precision, read once (None: the defaults)
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
+    let (g, h, m) = (env("REORIGIN_G"), env("REORIGIN_H"), env("REORIGIN_M"));
     let (mut done, mut k) = (0, 0);
     while done < pairs {
         let (fmt, n, q) = SHAPES[k % SHAPES.len()];
         k += 1;
         let c = make_case(&mut rng, fmt, n, q);
         let mut rp = ReoriginParams::new(fmt, n, q);
-        let env = |k: &str, d: u32| {
-            std::env::var(k)
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(d)
-        };
-        rp.pos_frac = env("REORIGIN_G", rp.pos_frac);
-        rp.cell_bits = env("REORIGIN_H", rp.cell_bits);
-        rp.slope_bits = env("REORIGIN_M", q + 4);
+        rp.pos_frac = g.unwrap_or(rp.pos_frac);
+        rp.cell_bits = h.unwrap_or(rp.cell_bits);
+        rp.slope_bits = m.unwrap_or(rp.slope_bits);
         let (t_start, entered) = start_bound(&c, &mut rng);
         let out = eval_reorigin(&rp, &c.ray, c.d, t_start, &c.node);
         let (t, b) = if entered {

@@ -633,14 +633,14 @@ fn run(command: Command) -> Result<ExitCode, String> {
             width,
             height,
         } => {
-            WideFormat::new(FloatFormat::BINARY32, 4, tlas_box_bits)
-                .map_err(|e| format!("TLAS box bits {tlas_box_bits}: {e}"))?;
             let mut shapes = Vec::new();
             for &n in &children {
                 for &q in &box_bits {
-                    shapes.push(
-                        WideFormat::new(FloatFormat::BINARY32, n, q).map_err(|e| e.to_string())?,
-                    );
+                    let f =
+                        WideFormat::new(FloatFormat::BINARY32, n, q).map_err(|e| e.to_string())?;
+                    // before anything is printed: the TLAS's shape too
+                    crate::wide::tlas_format(f, tlas_box_bits)?;
+                    shapes.push(f);
                 }
             }
             let mut rows = Vec::new();

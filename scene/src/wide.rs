@@ -208,6 +208,12 @@ pub struct WideAccel {
     pub dop: Vec<Vec<DopNode>>,
 }
 
+/// The shape of the TLAS nodes: `format` with `tlas_box_bits` bits per integer.
+pub fn tlas_format(format: WideFormat, tlas_box_bits: u32) -> Result<WideFormat, String> {
+    WideFormat::new(format.fmt(), format.children(), tlas_box_bits)
+        .map_err(|e| format!("TLAS box bits {tlas_box_bits}: {e}"))
+}
+
 /// The default q of TLAS nodes. Instance boxes in world space are often thin (walls,
 /// panels, fins: 0.004 thick in a node 1 wide), and a child thinner than one q-bit step
 /// decodes a whole step thick: every shadow or ambient-occlusion ray leaving such a surface
@@ -224,8 +230,7 @@ impl WideAccel {
         format: WideFormat,
         tlas_box_bits: u32,
     ) -> Result<WideAccel, String> {
-        let tlas_format = WideFormat::new(format.fmt(), format.children(), tlas_box_bits)
-            .map_err(|e| format!("TLAS box bits {tlas_box_bits}: {e}"))?;
+        let tlas_format = tlas_format(format, tlas_box_bits)?;
         let blas = accel
             .blas
             .par_iter()
