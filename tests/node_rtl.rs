@@ -126,3 +126,92 @@ fn node_child_stimulus_reaches_hits_misses_and_entries() {
         "{far_entries} hits with entry > 0"
     );
 }
+
+/// `node` (children, box_bits, slope_bits, format, stages, Verilator vectors; 0: the
+/// evaluator only)
+type NodeCase = (u32, u32, u32, &'static str, u32, u64);
+
+const NODE_CASES: &[NodeCase] = &[
+    (4, 8, 8, "binary32", 4, 200_000),
+    (2, 8, 8, "binary32", 0, 0),
+    (8, 8, 8, "binary32", 2, 0),
+    (4, 12, 12, "binary32", 0, 0),
+    (4, 8, 8, "e5m10", 1, 0),
+];
+
+fn node_params(c: &NodeCase) -> Vec<String> {
+    let (e, f) = match c.3 {
+        "binary32" => (8, 23),
+        "e5m10" => (5, 10),
+        other => panic!("format {other}"),
+    };
+    vec![
+        format!("children={}", c.0),
+        format!("box_bits={}", c.1),
+        format!("slope_bits={}", c.2),
+        format!("exp_bits={e}"),
+        format!("frac_bits={f}"),
+        format!("stages={}", c.4),
+    ]
+}
+
+#[test]
+fn node_evaluator_matches_golden_model() {
+    for c in NODE_CASES {
+        let p = node_params(c);
+        let p: Vec<&str> = p.iter().map(String::as_str).collect();
+        let (g, _) = generate("node_eval", "node", &p);
+        assert_eq!(g.module.latency, c.4);
+        evaluated(&g, 3_000, 11);
+    }
+}
+
+/// The `node` stimulus reaches every kind of answer: bad input, nodes where
+/// every slot misses, hits with entries past `T` and on the cap, misses
+/// beside hits in one node, and frames at both ends of the format.
+#[test]
+fn node_stimulus_reaches_every_kind_of_answer() {
+    use rtl_gen::units::node::{Config as NodeConfig, NodeIn, NodeOut};
+    let (g, _) = generate("node_cover", "node", &[]);
+    let tb = g.testbench();
+    let cfg = NodeConfig {
+        fmt: rtl_gen::arith::float::Format::new(8, 23).unwrap(),
+        children: 4,
+        box_bits: 8,
+        slope_bits: 8,
+        stages: 4,
+    };
+    let n_in = ports::list::<NodeIn<()>>(&cfg).len();
+    let n_out = ports::list::<NodeOut<()>>(&cfg).len();
+    let cap = 1u64 << cfg.cap_bits();
+    let (mut bad, mut empty, mut hits, mut inner, mut capped, mut mixed) = (0, 0, 0, 0, 0, 0);
+    let total = 20_000;
+    for i in 0..total {
+        let mut v = vec![0u64; n_in];
+        let mut out = vec![0u64; n_out];
+        tb.vector(3, i, &mut v);
+        tb.eval(&v, &mut out);
+        let o: NodeOut<u64> = ports::unpack(&cfg, &out);
+        let r: NodeIn<u64> = ports::unpack(&cfg, &v);
+        if o.bad == 1 {
+            bad += 1;
+            continue;
+        }
+        let n_hits = o.hit.iter().filter(|&&h| h == 1).count();
+        hits += n_hits;
+        empty += (n_hits == 0) as u64;
+        mixed += (n_hits > 0 && n_hits < r.valid.count_ones() as usize) as u64;
+        for j in 0..n_hits {
+            inner += (o.entry[j] > 0 && o.entry[j] < cap) as u64;
+            capped += (o.entry[j] == cap) as u64;
+        }
+    }
+    eprintln!(
+        "node stimulus of {total}: {bad} bad, {empty} with no hit, {hits} hits ({inner} inside the window, {capped} at the cap), {mixed} nodes with hits and misses"
+    );
+    assert!(bad > total / 50 && bad < total / 4, "{bad} bad of {total}");
+    assert!(empty > total / 20, "{empty} nodes without a hit");
+    assert!(inner > total / 10, "{inner} hits inside the window");
+    assert!(capped > 0, "no hit at the cap");
+    assert!(mixed > total / 10, "{mixed} nodes with hits and misses");
+}

@@ -75,6 +75,12 @@ impl ReoriginParams {
         self.box_bits + self.cell_bits + 2
     }
 
+    /// Bits of the window the positions and the window end are summed in:
+    /// `q + g + 20` (docs/node.md §10).
+    pub fn window_bits(&self) -> u32 {
+        self.box_bits + self.pos_frac + 20
+    }
+
     /// The sentinel entry of a miss: `2^(K+1) − 1`.
     pub fn miss_entry(&self) -> u32 {
         (1 << (self.cell_cap_bits() + 1)) - 1
@@ -98,6 +104,80 @@ enum AxisTerms {
         s_lo: Option<i64>,
         s_hi: Option<i64>,
     },
+}
+
+/// A term of a window sum: its exact value and `top`, a power of two its
+/// magnitude is below, taken from its encoding's width (not its value), as
+/// the hardware knows it from exponent fields alone.
+#[derive(Debug, Clone)]
+struct Term {
+    v: Dyadic,
+    top: i64,
+}
+
+impl Term {
+    /// A finite float: `|v| < 2^(lsb exponent + F + 1)`.
+    fn float(fmt: FloatFormat, bits: u64) -> Term {
+        let v = finite(fmt, bits).expect("a finite input");
+        Term {
+            top: v.e + i64::from(fmt.frac_bits()) + 1,
+            v,
+        }
+    }
+    /// A value of the design study's extra axes: its own magnitude.
+    fn exact(v: &Dyadic) -> Term {
+        Term {
+            top: if v.signum() == 0 { v.e } else { v.ilog2() + 1 },
+            v: v.clone(),
+        }
+    }
+    fn neg(&self) -> Term {
+        Term {
+            v: self.v.neg(),
+            top: self.top,
+        }
+    }
+    /// The exact product; its top is the sum of the tops.
+    fn mul(&self, other: &Term) -> Term {
+        Term {
+            v: self.v.mul(&other.v),
+            top: self.top + other.top,
+        }
+    }
+}
+
+/// `[lo, hi]·2^B ∋ Σ terms`, summed in a window of `w` bits under the
+/// largest `top` of the nonzero terms (`B = max top − w`): each term's
+/// magnitude truncated at `2^B`, summed with its sign; a term that lost
+/// bits moves `lo` down one step if negative, `hi` up one if positive. Zero
+/// terms take no part; all zero gives `(0, 0, 0)`. One aligned adder in the
+/// hardware, exact whenever no term reaches below `2^B`.
+fn window_sum(terms: &[Term], w: u32) -> (IBig, IBig, i64) {
+    let live: Vec<&Term> = terms.iter().filter(|t| t.v.signum() != 0).collect();
+    let Some(top) = live.iter().map(|t| t.top).max() else {
+        return (IBig::ZERO, IBig::ZERO, 0);
+    };
+    let b = top - i64::from(w);
+    let (mut base, mut down, mut up) = (IBig::ZERO, 0i32, 0i32);
+    for t in live {
+        let mag = (&t.v.m).unsigned_abs();
+        let (kept, lost) = if t.v.e >= b {
+            (IBig::from(mag << (t.v.e - b) as usize), false)
+        } else {
+            let sh = (b - t.v.e) as usize;
+            let kept = &mag >> sh;
+            let lost = (&kept << sh) != mag;
+            (IBig::from(kept), lost)
+        };
+        if t.v.signum() < 0 {
+            base -= kept;
+            down += i32::from(lost);
+        } else {
+            base += kept;
+            up += i32::from(lost);
+        }
+    }
+    (&base - IBig::from(down), base + IBig::from(up), b)
 }
 
 /// Evaluates one node test (module doc). `bad` as in [`crate::node::eval`],
@@ -209,14 +289,11 @@ pub fn eval_with(
     let (Ok(t_a), Ok(t_b)) = (lower(ray.t_min), lower(t_start)) else {
         return miss_out(); // a segment starting at +∞
     };
-    let t = match (t_a, t_b) {
-        (Some(a), Some(b)) => Some(if a.cmp_exact(&b) == Ordering::Less {
-            b
-        } else {
-            a
-        }),
-        (Some(a), None) | (None, Some(a)) => Some(a),
-        (None, None) => None,
+    // T and its bits (t_min unless t_start is strictly later)
+    let (t, t_bits) = match (t_a, t_b) {
+        (Some(a), Some(b)) if a.cmp_exact(&b) == Ordering::Less => (Some(b), t_start),
+        (Some(a), _) => (Some(a), ray.t_min),
+        (None, b) => (b, t_start),
     };
     let Some(t) = t else {
         // no finite start: nothing to re-originate at; every valid slot may be hit
@@ -227,14 +304,15 @@ pub fn eval_with(
             slots: all(true, 0),
         };
     };
+    let t_term = Term::float(fmt, t_bits);
     let t_max = match decode(fmt, ray.t_max) {
-        Exact::Fin { m, e } => Some(Dyadic::new(IBig::from(m), e as i64)),
+        Exact::Fin { .. } => Some(Term::float(fmt, ray.t_max)),
         Exact::PosInf => None,
         _ => return miss_out(),
     };
     if t_max
         .as_ref()
-        .is_some_and(|v| v.cmp_exact(&t) == Ordering::Less)
+        .is_some_and(|v| v.v.cmp_exact(&t) == Ordering::Less)
     {
         return miss_out();
     }
@@ -244,6 +322,7 @@ pub fn eval_with(
     let clamp = |v: IBig| -> i64 {
         i64::try_from(v.clamp(IBig::from(-x_range), IBig::from(x_range))).expect("clamped")
     };
+    let w = p.window_bits();
     struct Raw {
         mirror: bool,
         x_lo: i64,
@@ -256,9 +335,9 @@ pub fn eval_with(
     // parallel to it, the reciprocal interval of `|n·d|` and its sign: the box's three from
     // the ray's bits, then the extra ones
     struct AxisRay {
-        o: Dyadic,
-        d: Dyadic,
-        origin: Dyadic,
+        o: Term,
+        d: Term,
+        origin: Term,
         e: i64,
         recip: Option<(Dyadic, Dyadic, bool)>,
     }
@@ -266,9 +345,9 @@ pub fn eval_with(
         let inv = ray.inv_d[a] & fmt.mask();
         let mag = inv & !fmt.sign_bit();
         AxisRay {
-            o: finite(fmt, ray.o[a]).expect("checked"),
-            d: finite(fmt, d[a]).expect("checked"),
-            origin: finite(fmt, node.origin[a]).expect("checked"),
+            o: Term::float(fmt, ray.o[a]),
+            d: Term::float(fmt, d[a]),
+            origin: Term::float(fmt, node.origin[a]),
             e: node.exp[a] as i64,
             recip: (mag != fmt.inf(false)).then(|| {
                 let (ra, rb) = crate::node::reciprocal_bounds(fmt, mag);
@@ -277,9 +356,9 @@ pub fn eval_with(
         }
     });
     let extra_axes = extra.iter().map(|x| AxisRay {
-        o: x.o.clone(),
-        d: x.d.clone(),
-        origin: x.origin.clone(),
+        o: Term::exact(&x.o),
+        d: Term::exact(&x.d),
+        origin: Term::exact(&x.origin),
         e: x.exp,
         recip: (x.d.signum() != 0).then(|| {
             let (ra, rb) = reciprocal_interval(&x.d, fmt.frac_bits() + 1);
@@ -289,13 +368,11 @@ pub fn eval_with(
     let mut raws: Vec<Option<Raw>> = Vec::new();
     let mut axes: Vec<Option<AxisTerms>> = Vec::new();
     for ax in box_axes.chain(extra_axes) {
-        // the position at T in units 2^(e − g), exact, then outward
-        let pos = match ax.recip {
-            None => ax.o.sub(&ax.origin),
-            Some(_) => ax.o.add(&t.mul(&ax.d)).sub(&ax.origin),
-        };
-        let x_lo = clamp(pos.div_pow2_round(ax.e - g, false));
-        let x_hi = clamp(pos.div_pow2_round(ax.e - g, true));
+        // the position at T in units 2^(e − g), outward: o − O + T·d in the window (a
+        // parallel axis's product is zero)
+        let (lo, hi, b) = window_sum(&[ax.o, ax.origin.neg(), t_term.mul(&ax.d)], w);
+        let x_lo = clamp(Dyadic::new(lo, b).div_pow2_round(ax.e - g, false));
+        let x_hi = clamp(Dyadic::new(hi, b).div_pow2_round(ax.e - g, true));
         let Some((ra, rb, mirror)) = ax.recip else {
             axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
             raws.push(None);
@@ -343,7 +420,8 @@ pub fn eval_with(
     let far_top = match &t_max {
         None => cap,
         Some(v) => {
-            let c = v.sub(&t).div_pow2_round(grid_exp, true);
+            let (_, hi, b) = window_sum(&[v.clone(), t_term.neg()], w);
+            let c = Dyadic::new(hi, b).div_pow2_round(grid_exp, true);
             i64::try_from(c.min(IBig::from(cap))).expect("≤ cap")
         }
     };

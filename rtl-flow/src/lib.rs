@@ -12,6 +12,7 @@ pub mod cull_ray;
 pub mod float_ops;
 pub mod fstim;
 pub mod mulcmp;
+pub mod node;
 pub mod node_child;
 pub mod node_sort;
 pub mod package;
@@ -110,6 +111,7 @@ pub fn catalog() -> Vec<Entry> {
         entry!(units::cull_ray::CullRay, cull_ray::CullRayBench),
         entry!(units::transform::Transform, transform::TransformBench),
         entry!(units::triangle::Triangle, triangle::TriangleBench),
+        entry!(units::node::Node, node::NodeBench),
         entry!(units::node_child::NodeChild, node_child::NodeChildBench),
         entry!(units::node_sort::NodeSort, node_sort::NodeSortBench),
         entry!(units::raycull::RayCull, raycull::RayCullBench),

@@ -4,6 +4,7 @@ pub mod cull;
 pub mod cull_ray;
 pub mod float_ops;
 pub mod mulcmp;
+pub mod node;
 pub mod node_child;
 pub mod node_sort;
 pub mod raycull;

@@ -133,16 +133,14 @@ pub fn batcher_network(n: usize) -> Vec<(usize, usize)> {
     out
 }
 
-/// Builds `node_sort` for a configuration.
-pub fn build(cfg: &Config) -> Module {
-    let mut m = ModuleBuilder::with_handshake(node_sort_name(cfg));
-    m.describe(
-        "Sorts the node tester's slots: hits first, smaller entry first, ties by slot index.",
-    );
-    let NodeSortIn { hit, entry } = ports::declare_inputs(&mut m, cfg);
-    let (eb, ib) = (cfg.entry_bits(), cfg.index_bits());
+/// The slots `(hit[i], entry[i])` (entries of one width) in sorted order,
+/// with their slot indices: the network of [`build`], also the last step of
+/// the `node` unit.
+pub fn sort_slots(m: &mut ModuleBuilder, hit: &[Sig], entry: &[Sig]) -> NodeSortOut<Sig> {
+    let n = hit.len();
+    let (eb, ib) = (entry[0].width(), n.trailing_zeros());
     // key = {miss, entry, index}: distinct keys, ascending is the model's order
-    let mut keys: Vec<Sig> = (0..cfg.children as usize)
+    let mut keys: Vec<Sig> = (0..n)
         .map(|i| {
             m.scope(&format!("slot{i}"), |m| {
                 let miss = m.not(hit[i]);
@@ -152,7 +150,7 @@ pub fn build(cfg: &Config) -> Module {
             })
         })
         .collect();
-    for (a, b) in batcher_network(cfg.children as usize) {
+    for (a, b) in batcher_network(n) {
         let (ka, kb) = (keys[a], keys[b]);
         let (lo, hi) = m.scope(&format!("cmp{a}{b}"), |m| {
             let swap = m.lt(kb, ka);
@@ -181,6 +179,17 @@ pub fn build(cfg: &Config) -> Module {
             out.child.push(m.name(child, "index_field"));
         });
     }
+    out
+}
+
+/// Builds `node_sort` for a configuration.
+pub fn build(cfg: &Config) -> Module {
+    let mut m = ModuleBuilder::with_handshake(node_sort_name(cfg));
+    m.describe(
+        "Sorts the node tester's slots: hits first, smaller entry first, ties by slot index.",
+    );
+    let NodeSortIn { hit, entry } = ports::declare_inputs(&mut m, cfg);
+    let out = sort_slots(&mut m, &hit, &entry);
     ports::declare_outputs(&mut m, cfg, &out);
     let datapath = m.finish().expect("node_sort datapath is well formed");
     if cfg.stages == 0 {

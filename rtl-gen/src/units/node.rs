@@ -1,0 +1,921 @@
+//! `node`: the node tester (issue 36): one ray against one wide BVH node
+//! of N compressed child boxes, the children returned sorted. Bit-exact
+//! with `golden_model::node_reorigin::eval` (docs/node.md §10, §12).
+//!
+//! **Per node, once**: the segment's start `T = max(t_min, t_start)`
+//! (`t_start`: a lower bound of every hit in the node, the parent's entry);
+//! per axis the ray's position at `T` in `2^−g` frame steps, `o − O + T·d`
+//! summed in a window of `W = q + g + 20` bits under the largest term (each
+//! term truncated, the bits it lost moving the sum's lower or upper bound by
+//! one step), floored and ceiled to the frame's grid, clamped to
+//! `±2^(q+3+g)`; the cell `2^G` from exponents (`G = min E − h`, `E = e +
+//! ⌊log2 |inv_d|⌋` over the axes the ray is not parallel to); per axis the
+//! time per frame step in cells as an `m`-bit significand rounded down and
+//! up, shifted by `z = E − min E`; the window end `⌈(t_max − T)/2^G⌉` from a
+//! window sum, capped at `C = 2^K`, `K = q + h + 2`.
+//!
+//! **Per child**: per axis the distances from the position to the entry and
+//! exit planes (a q-bit integer against a fixed-point value), times the
+//! slopes (a narrow product and a shift by `z`), floored and ceiled to cells,
+//! capped at `C`; an exit plane behind `T` or a parallel axis outside the
+//! slab misses; `hit = max near ≤ min(min far, window end)`, `entry = max
+//! near` (`T + entry·2^G` is a lower bound of the entry). Then Batcher's
+//! network sorts the slots: hits first, nearer first, ties by slot index
+//! ([`super::node_sort::sort_slots`]). Special inputs: `bad` (NaN, a
+//! non-finite origin or frame, a frame exponent out of range, a zero
+//! `inv_d` or an infinite one with a nonzero `d`, a child with `lo > hi`):
+//! every valid slot a hit at entry 0; `T = −∞`: the same without `bad`;
+//! `t_min` or `t_start` at `+∞`, `t_max = −∞` or `t_max < T`: every slot a
+//! miss. `stages` registers are placed by the delay model
+//! ([`crate::retime::balance`]).
+
+use super::node_sort::sort_slots;
+use super::ports::{self, Record, Visit, Walk};
+use super::{Description, AXES};
+use crate::arith::float::bits::{sadd, shr_sticky, ssub, to_sint};
+use crate::arith::float::compare::compare;
+use crate::arith::float::unpack::{normalize, unpack, Unpacked};
+use crate::arith::float::{sint_width, Format};
+use crate::arith::int::{bits_for, sext, zext};
+use crate::builder::{ModuleBuilder, Sig};
+use crate::ir::{Module, Ty};
+use crate::params::ParamError;
+
+/// The `node` unit.
+pub struct Node;
+
+/// Fraction bits g of the position at `T`, in frame steps.
+pub const POS_FRAC: u32 = 4;
+/// Cells per frame step of the fastest axis: `2^h` to `2^(h+1)`.
+pub const CELL_BITS: u32 = 4;
+/// Bits of the window sums beyond `q + g`.
+pub const WINDOW_EXTRA: u32 = 20;
+
+crate::params! {
+    /// The node tester's parameters.
+    pub struct NodeParams {
+        /// child slots per node N: 2, 4 or 8
+        children: u32 [2..=8] = 4,
+        /// bits per child box integer q
+        box_bits: u32 [4..=16] = 8,
+        /// exponent bits E of the ray and frame format
+        exp_bits: u32 [3..=8] = 8,
+        /// fraction bits F of the ray and frame format
+        frac_bits: u32 [2..=23] = 23,
+        /// significant bits m of the per-axis time per frame step
+        slope_bits: u32 [4..=16] = 8,
+        /// pipeline stages (latency in cycles), placed by the delay model
+        stages: u32 [0..=24] = 4,
+    }
+}
+
+/// Resolved parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// ray and frame format
+    pub fmt: Format,
+    /// slots N (2, 4 or 8)
+    pub children: u32,
+    /// box integer bits q
+    pub box_bits: u32,
+    /// slope significand bits m
+    pub slope_bits: u32,
+    /// pipeline registers
+    pub stages: u32,
+}
+
+impl Config {
+    /// `K = q + h + 2`: cells counted up to `C = 2^K`.
+    pub fn cap_bits(&self) -> u32 {
+        self.box_bits + CELL_BITS + 2
+    }
+    /// Bits of an entry: `K + 1` (the miss sentinel is `2^(K+1) − 1`).
+    pub fn entry_bits(&self) -> u32 {
+        self.cap_bits() + 1
+    }
+    /// Bits of a slot index: `log2 N`.
+    pub fn index_bits(&self) -> u32 {
+        self.children.trailing_zeros()
+    }
+    /// The window of the position sums: `W = q + g + 20`.
+    pub fn window_bits(&self) -> u32 {
+        self.box_bits + POS_FRAC + WINDOW_EXTRA
+    }
+    /// Bits of a frame exponent port: `emin ..= emax` (other values are bad input).
+    pub fn frame_exp_bits(&self) -> u32 {
+        sint_width(self.fmt.emin(), self.fmt.emax())
+    }
+    /// The range of the grid exponent `G`: `2·emin − F − h ..= 2·emax − h`.
+    pub fn grid_exp_range(&self) -> (i64, i64) {
+        let (f, h) = (self.fmt.frac_bits as i64, CELL_BITS as i64);
+        (2 * self.fmt.emin() - f - h, 2 * self.fmt.emax() - h)
+    }
+    /// Bits of the grid exponent output.
+    pub fn grid_exp_bits(&self) -> u32 {
+        let (lo, hi) = self.grid_exp_range();
+        sint_width(lo, hi)
+    }
+}
+
+/// The inputs (`*` = x, y, z): the ray, the start, the node.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NodeIn<T> {
+    /// the ray's origin
+    pub o: [T; 3],
+    /// the ray's direction
+    pub d: [T; 3],
+    /// `RTZ(1/d)` per axis (`±∞` for a zero `d`)
+    pub inv_d: [T; 3],
+    /// the segment's start
+    pub t_min: T,
+    /// the segment's end
+    pub t_max: T,
+    /// a lower bound of every hit in the node (the parent's entry)
+    pub t_start: T,
+    /// the node frame's origin
+    pub origin: [T; 3],
+    /// the node frame's step exponent per axis
+    pub exp: [T; 3],
+    /// bit i: slot i holds a child
+    pub valid: T,
+    /// per slot the lower box integers
+    pub lo: Vec<[T; 3]>,
+    /// per slot the upper box integers
+    pub hi: Vec<[T; 3]>,
+}
+
+impl<T: Copy> Record<T> for NodeIn<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let f = cfg.fmt.ty();
+        let q = Ty::UInt(cfg.box_bits);
+        let o = w.xyz("o", f, |r| r.o);
+        let d = w.xyz("d", f, |r| r.d);
+        let inv_d = w.xyz("inv_d", f, |r| r.inv_d);
+        let t_min = w.one("t_min", f, |r| r.t_min);
+        let t_max = w.one("t_max", f, |r| r.t_max);
+        let t_start = w.one("t_start", f, |r| r.t_start);
+        let origin = w.xyz("frame_origin", f, |r| r.origin);
+        let exp = w.xyz("frame_exp", Ty::SInt(cfg.frame_exp_bits()), |r| r.exp);
+        let valid = w.one("valid", Ty::UInt(cfg.children), |r| r.valid);
+        let (mut lo, mut hi) = (Vec::new(), Vec::new());
+        for i in 0..cfg.children as usize {
+            lo.push(w.xyz(format_args!("slot{i}_lo"), q, move |r| r.lo[i]));
+            hi.push(w.xyz(format_args!("slot{i}_hi"), q, move |r| r.hi[i]));
+        }
+        NodeIn {
+            o,
+            d,
+            inv_d,
+            t_min,
+            t_max,
+            t_start,
+            origin,
+            exp,
+            valid,
+            lo,
+            hi,
+        }
+    }
+}
+
+/// The outputs: `bad`, `t_base`, `grid_exp`, then per sorted position `j`
+/// `out{j}_hit`, `out{j}_entry`, `out{j}_child`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NodeOut<T> {
+    /// bad input: every valid slot reported hit at entry 0
+    pub bad: T,
+    /// `T` (`+0` for a zero; `−∞` when there is none: bad input, no finite
+    /// start, every slot a miss)
+    pub t_base: T,
+    /// `G`: a hit's entry is at least `t_base + entry·2^G` (0 without a `T`)
+    pub grid_exp: T,
+    /// per position: a hit
+    pub hit: Vec<T>,
+    /// per position: cells from `T` to the entry bound (`2^(K+1) − 1` on a miss)
+    pub entry: Vec<T>,
+    /// per position: the slot index
+    pub child: Vec<T>,
+}
+
+impl<T: Copy> Record<T> for NodeOut<T> {
+    type Config = Config;
+    fn walk<V: Visit<T>>(cfg: &Config, w: &mut Walk<'_, T, Self, V>) -> Self {
+        let bad = w.one("bad", Ty::Bool, |r| r.bad);
+        let t_base = w.one("t_base", cfg.fmt.ty(), |r| r.t_base);
+        let grid_exp = w.one("grid_exp", Ty::SInt(cfg.grid_exp_bits()), |r| r.grid_exp);
+        let (mut hit, mut entry, mut child) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..cfg.children as usize {
+            hit.push(w.one(format_args!("out{j}_hit"), Ty::Bool, move |r| r.hit[j]));
+            entry.push(w.one(
+                format_args!("out{j}_entry"),
+                Ty::UInt(cfg.entry_bits()),
+                move |r| r.entry[j],
+            ));
+            child.push(w.one(
+                format_args!("out{j}_child"),
+                Ty::UInt(cfg.index_bits()),
+                move |r| r.child[j],
+            ));
+        }
+        NodeOut {
+            bad,
+            t_base,
+            grid_exp,
+            hit,
+            entry,
+            child,
+        }
+    }
+}
+
+/// Module name: `node_n{N}_q{q}_m{m}_{fmt}_s{stages}`.
+pub fn node_name(cfg: &Config) -> String {
+    format!(
+        "node_n{}_q{}_m{}_{}_s{}",
+        cfg.children,
+        cfg.box_bits,
+        cfg.slope_bits,
+        cfg.fmt.tag(),
+        cfg.stages
+    )
+}
+
+/// Width of the `top` exponents of window terms: a product's is the sum of two.
+fn top_bits(fmt: Format) -> u32 {
+    sint_width(2 * (fmt.emin() - 1), 2 * (fmt.emax() + 1)) + 1
+}
+
+/// One term of a window sum: sign, magnitude, zero, and `top`: `|v| <
+/// 2^top`, from the exponent field (the encoding's width, not the value).
+#[derive(Clone, Copy)]
+struct Term {
+    negative: Sig,
+    sig: Sig,
+    zero: Sig,
+    top: Sig,
+}
+
+/// A finite float as a window term, its sign flipped by `negate`.
+fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool) -> Term {
+    // top = eff_exp − bias + 1
+    let tw = top_bits(fmt);
+    let e = to_sint(m, u.eff_exp, tw);
+    let k = m.sint(tw, 1 - fmt.bias() as i128);
+    let top = sadd(m, e, k, tw);
+    let negative = if negate { m.not(u.sign) } else { u.sign };
+    Term {
+        negative,
+        sig: u.sig,
+        zero: u.zero,
+        top: m.name(top, "top"),
+    }
+}
+
+/// `[lo, hi]·2^B ∋ Σ terms` in a window of `w` bits (`B = max top − w` over
+/// the nonzero terms): returns `(lo, hi, B)`, `lo` and `hi` SInt of `w + 3`
+/// bits, `B` an SInt. The golden model's `window_sum`.
+fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) {
+    let tw = terms[0].top.width();
+    // the largest top of the nonzero terms (a zero term: the smallest value)
+    let floor_top = m.sint(tw, -(1i128 << (tw - 1)));
+    let tops: Vec<Sig> = terms
+        .iter()
+        .map(|t| m.mux(t.zero, floor_top, t.top))
+        .collect();
+    let mut top = tops[0];
+    for &t in &tops[1..] {
+        let above = m.lt(top, t);
+        top = m.mux(above, t, top);
+    }
+    let top = m.name(top, "window_top");
+    let sw = w + 3;
+    let mut base = m.sint(sw, 0);
+    let mut down = m.uint(2, 0);
+    let mut up = m.uint(2, 0);
+    for (i, t) in terms.iter().enumerate() {
+        (base, down, up) = m.scope(&format!("term{i}"), |m| {
+            let wi = t.sig.width();
+            let wt = wi.max(w);
+            // the significand at the top of a wt-bit field, moved down by max top − top
+            let padded = zext(m, t.sig, wt);
+            let lift = m.uint(bits_for(u64::from(wt)), u64::from(wt - wi) as u128);
+            let padded = m.shl(padded, lift);
+            let gap = m.sub(top, tops[i]);
+            let gap = m.slice(gap, tw - 1, 0);
+            let cap = bits_for(u64::from(wt));
+            let limit = m.uint(tw, u128::from(wt));
+            let far = m.lt(limit, gap);
+            let gap = m.slice(gap, cap - 1, 0);
+            let limit = m.slice(limit, cap - 1, 0);
+            let gap = m.mux(far, limit, gap);
+            let gap = m.name(gap, "gap");
+            let (moved, lost) = shr_sticky(m, padded, gap);
+            // the top w bits kept, the rest lost
+            let (kept, lost) = if wt > w {
+                let below = m.slice(moved, wt - w - 1, 0);
+                let below = m.any_set(below);
+                (m.slice(moved, wt - 1, wt - w), m.or(lost, below))
+            } else {
+                (moved, lost)
+            };
+            let kept = m.name(kept, "kept");
+            let lost = m.name(lost, "lost");
+            let kept_s = to_sint(m, kept, sw);
+            let sum = m.add(base, kept_s);
+            let dif = m.sub(base, kept_s);
+            let plus = sext(m, sum, sw);
+            let minus = sext(m, dif, sw);
+            let base = m.mux(t.negative, minus, plus);
+            let neg_lost = m.and(t.negative, lost);
+            let not_neg = m.not(t.negative);
+            let pos_lost = m.and(not_neg, lost);
+            let down = add_bit(m, down, neg_lost);
+            let up = add_bit(m, up, pos_lost);
+            (m.name(base, "partial_sum"), down, up)
+        });
+    }
+    let down = to_sint(m, down, sw);
+    let up = to_sint(m, up, sw);
+    let lo = ssub(m, base, down, sw);
+    let hi = sadd(m, base, up, sw);
+    let bw = tw + 1;
+    let top = sext(m, top, bw);
+    let wc = m.sint(bw, i128::from(w));
+    let b = ssub(m, top, wc, bw);
+    (
+        m.name(lo, "sum_lo"),
+        m.name(hi, "sum_hi"),
+        m.name(b, "sum_exp"),
+    )
+}
+
+/// `count + bit`, a 2-bit count (at most 3 terms).
+fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig) -> Sig {
+    let b = m.as_uint(bit);
+    let b = zext(m, b, 2);
+    let s = m.add(count, b);
+    m.slice(s, 1, 0)
+}
+
+/// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`), `v` and `s` SInt, clamped to
+/// `±2^bits`: SInt of `bits + 2`.
+fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: bool, bits: u32) -> Sig {
+    let ow = bits + 2;
+    let vw = v.width();
+    let sw = s.width();
+    let lim = m.sint(ow, 1i128 << bits);
+    let neg_lim = m.sint(ow, -(1i128 << bits));
+    let clamp = |m: &mut ModuleBuilder, x: Sig| -> Sig {
+        let xw = x.width().max(ow);
+        let x = sext(m, x, xw);
+        let (hi, lo) = (sext(m, lim, xw), sext(m, neg_lim, xw));
+        let above = m.lt(hi, x);
+        let below = m.lt(x, lo);
+        let x = m.slice(x, ow - 1, 0);
+        let x = m.as_sint(x);
+        let x = m.mux(above, lim, x);
+        m.mux(below, neg_lim, x)
+    };
+    let right = m.msb(s);
+    // left: v clamped first (a shift only moves it away from zero), then moved
+    let left_v = clamp(m, v);
+    let lw = 2 * ow;
+    let left_v = sext(m, left_v, lw);
+    let s_u = m.as_uint(s);
+    let cap = bits_for(u64::from(ow));
+    let limit = m.uint(sw, u128::from(ow));
+    let far = m.lt(limit, s_u);
+    let amount = m.slice(s_u, cap - 1, 0);
+    let limit_c = m.slice(limit, cap - 1, 0);
+    let amount = m.mux(far, limit_c, amount);
+    let moved = m.shl(left_v, amount);
+    let left = clamp(m, moved);
+    let left = m.name(left, "shifted_up");
+    // right: an arithmetic shift floors; a lost bit rounds up
+    let zero = m.sint(sw, 0);
+    let neg_s = m.sub(zero, s);
+    let neg_s = m.slice(neg_s, sw - 1, 0);
+    let rcap = bits_for(u64::from(vw));
+    let rlimit = m.uint(sw, u128::from(vw));
+    let rfar = m.lt(rlimit, neg_s);
+    let ramount = m.slice(neg_s, rcap - 1, 0);
+    let rlimit_c = m.slice(rlimit, rcap - 1, 0);
+    let ramount = m.mux(rfar, rlimit_c, ramount);
+    let floor = m.shr(v, ramount);
+    let floor = if up {
+        let (_, lost) = shr_sticky(m, v, ramount);
+        let l = m.as_uint(lost);
+        let l = to_sint(m, l, 2);
+        let f = m.add(floor, l);
+        sext(m, f, vw + 1)
+    } else {
+        floor
+    };
+    let right_v = clamp(m, floor);
+    let right_v = m.name(right_v, "shifted_down");
+    m.mux(right, right_v, left)
+}
+
+/// The per-node terms of one axis.
+struct AxisTerms {
+    parallel: Sig,
+    mirror: Sig,
+    x_lo: Sig,
+    x_hi: Sig,
+    /// `E = e + ⌊log2 |inv_d|⌋`
+    e_sum: Sig,
+    sig_lo: Sig,
+    sig_hi: Sig,
+}
+
+/// The per-axis slope of the per-child test: significands rounded down and
+/// up, the shift `z`, and whether each is above the cap.
+struct Slope {
+    sig_lo: Sig,
+    sig_hi: Sig,
+    shift_lo: Sig,
+    shift_hi: Sig,
+    lo_over: Sig,
+    hi_over: Sig,
+}
+
+/// Builds `node` for a configuration.
+pub fn build(cfg: &Config) -> Module {
+    let mut m = ModuleBuilder::with_handshake(node_name(cfg));
+    m.describe(
+        "The node tester: one ray against a wide BVH node of N quantised child boxes, children sorted.",
+    );
+    let r: NodeIn<Sig> = ports::declare_inputs(&mut m, cfg);
+    let fmt = cfg.fmt;
+    let (q, g, h, mb) = (cfg.box_bits, POS_FRAC, CELL_BITS, cfg.slope_bits);
+    let k_cap = cfg.cap_bits();
+    let n = cfg.children as usize;
+    let w = cfg.window_bits();
+    let pos_bits = q + 3 + g;
+    // inputs
+    let un = |m: &mut ModuleBuilder, name: String, x: Sig| m.scope(&name, |m| unpack(m, fmt, x));
+    let o: Vec<Unpacked> = (0..3)
+        .map(|a| un(&mut m, format!("o_{}", AXES[a]), r.o[a]))
+        .collect();
+    let d: Vec<Unpacked> = (0..3)
+        .map(|a| un(&mut m, format!("d_{}", AXES[a]), r.d[a]))
+        .collect();
+    let inv: Vec<Unpacked> = (0..3)
+        .map(|a| un(&mut m, format!("inv_d_{}", AXES[a]), r.inv_d[a]))
+        .collect();
+    let org: Vec<Unpacked> = (0..3)
+        .map(|a| un(&mut m, format!("frame_origin_{}", AXES[a]), r.origin[a]))
+        .collect();
+    let t_min = un(&mut m, "t_min".into(), r.t_min);
+    let t_max = un(&mut m, "t_max".into(), r.t_max);
+    let t_start = un(&mut m, "t_start".into(), r.t_start);
+    // bad input
+    let bad = m.scope("bad_input", |m| {
+        let mut flags = Vec::new();
+        for a in 0..3 {
+            let special = |m: &mut ModuleBuilder, u: &Unpacked| m.or(u.nan, u.inf);
+            flags.push(special(m, &o[a]));
+            flags.push(special(m, &d[a]));
+            flags.push(special(m, &org[a]));
+            flags.push(inv[a].nan);
+            flags.push(inv[a].zero);
+            let mismatch = m.ne(d[a].zero, inv[a].inf);
+            flags.push(mismatch);
+            let e = r.exp[a];
+            let ew = e.width();
+            let lo = m.sint(ew, i128::from(fmt.emin() as i32));
+            let below = m.lt(e, lo);
+            flags.push(below);
+        }
+        flags.push(t_min.nan);
+        flags.push(t_max.nan);
+        flags.push(t_start.nan);
+        for i in 0..n {
+            let valid = m.bit_at(r.valid, i as u32);
+            for a in 0..3 {
+                let inverted = m.lt(r.hi[i][a], r.lo[i][a]);
+                let wrong = m.and(valid, inverted);
+                flags.push(wrong);
+            }
+        }
+        let mut any = flags[0];
+        for &f in &flags[1..] {
+            any = m.or(any, f);
+        }
+        m.name(any, "is_bad")
+    });
+    // T = max(t_min, t_start): t_min unless t_start is strictly later
+    let (t_bits, t_u) = m.scope("start", |m| {
+        let (later, _, _) = compare(m, fmt, r.t_min, r.t_start);
+        let t = m.mux(later, r.t_start, r.t_min);
+        let t = m.name(t, "t");
+        (t, unpack(m, fmt, t))
+    });
+    let t_neg_inf = m.and(t_u.inf, t_u.sign);
+    let t_neg_inf = m.name(t_neg_inf, "no_start");
+    // every slot a miss: a start at +∞, an end at −∞ or before T
+    let none = m.scope("empty_segment", |m| {
+        let not_s = m.not(t_min.sign);
+        let min_pos_inf = m.and(t_min.inf, not_s);
+        let not_s = m.not(t_start.sign);
+        let start_pos_inf = m.and(t_start.inf, not_s);
+        let max_neg_inf = m.and(t_max.inf, t_max.sign);
+        let (before, _, _) = compare(m, fmt, r.t_max, t_bits);
+        let not_no_start = m.not(t_neg_inf);
+        let before = m.and(before, not_no_start);
+        let a = m.or(min_pos_inf, start_pos_inf);
+        let b = m.or(max_neg_inf, before);
+        let e = m.or(a, b);
+        m.name(e, "empty")
+    });
+    let t_term = float_term(&mut m, fmt, &t_u, false);
+    // per axis: the position at T, E, the slope significands
+    let axes: Vec<AxisTerms> = (0..3)
+        .map(|a| {
+            m.scope(&format!("axis_{}", AXES[a]), |m| {
+                let parallel = m.name(inv[a].inf, "parallel");
+                let mirror = m.name(inv[a].sign, "mirror");
+                let ot = float_term(m, fmt, &o[a], false);
+                let frame = float_term(m, fmt, &org[a], true);
+                let dt = float_term(m, fmt, &d[a], false);
+                let product = m.mul(t_u.sig, d[a].sig);
+                let product = m.name(product, "t_times_d");
+                let sign = m.ne(t_u.sign, d[a].sign);
+                let zero = m.or(t_u.zero, d[a].zero);
+                let tw = t_term.top.width();
+                let top = sadd(m, t_term.top, dt.top, tw);
+                let pt = Term {
+                    negative: sign,
+                    sig: product,
+                    zero,
+                    top,
+                };
+                let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w);
+                // s = B − (e − g)
+                let sw = b.width().max(r.exp[a].width()) + 2;
+                let bs = sext(m, b, sw);
+                let es = sext(m, r.exp[a], sw);
+                let s = ssub(m, bs, es, sw);
+                let gc = m.sint(sw, i128::from(g));
+                let s = sadd(m, s, gc, sw);
+                let s = m.name(s, "grid_shift");
+                let x_lo = m.scope("x_lo", |m| to_grid(m, lo, s, false, pos_bits));
+                let x_hi = m.scope("x_hi", |m| to_grid(m, hi, s, true, pos_bits));
+                // E = e + ⌊log2 |inv_d|⌋
+                let nz = normalize(m, fmt, &inv[a]);
+                let ew = nz.exp.width().max(r.exp[a].width()) + 2;
+                let e1 = sext(m, nz.exp, ew);
+                let e2 = sext(m, r.exp[a], ew);
+                let e_sum = sadd(m, e1, e2, ew);
+                // m-bit significands: rounded down, and up past inv_d's successor
+                let fw = fmt.frac_bits + 1;
+                let (sig_lo, sig_hi) = m.scope("slope", |m| {
+                    let lo = if mb <= fw {
+                        m.slice(nz.sig, fw - 1, fw - mb)
+                    } else {
+                        let z = m.uint(mb - fw, 0);
+                        m.cat(&[nz.sig, z])
+                    };
+                    // the successor's step in units of lo: 2^max(0, lz + m − F − 1)
+                    let lz = crate::arith::float::bits::lzc(m, inv[a].sig);
+                    let lzw = lz.width() + 2;
+                    let lz_s = to_sint(m, lz, lzw.max(bits_for(u64::from(mb + fw)) + 2));
+                    let xw = lz_s.width();
+                    let off = m.sint(xw, i128::from(mb) - i128::from(fw));
+                    let step_exp = sadd(m, lz_s, off, xw);
+                    let neg = m.msb(step_exp);
+                    let step_exp = m.as_uint(step_exp);
+                    let zero_u = m.uint(xw, 0);
+                    let step_exp = m.mux(neg, zero_u, step_exp);
+                    let one = m.uint(mb + 1, 1);
+                    let step = m.shl(one, step_exp);
+                    let lo_w = zext(m, lo, mb + 1);
+                    let hi = m.add(lo_w, step);
+                    let hi = m.slice(hi, mb, 0);
+                    (m.name(lo, "sig_down"), m.name(hi, "sig_up"))
+                });
+                AxisTerms {
+                    parallel,
+                    mirror,
+                    x_lo,
+                    x_hi,
+                    e_sum: m.name(e_sum, "e_sum"),
+                    sig_lo,
+                    sig_hi,
+                }
+            })
+        })
+        .collect();
+    // G = min E − h over the non-parallel axes (0 when every axis is parallel)
+    let ew = axes[0].e_sum.width();
+    let (e_min, any_slab) = m.scope("grid", |m| {
+        let big = m.sint(ew, (1i128 << (ew - 1)) - 1);
+        let mut e_min = big;
+        let mut any = m.bool(false);
+        for ax in &axes {
+            let e = m.mux(ax.parallel, big, ax.e_sum);
+            let smaller = m.lt(e, e_min);
+            e_min = m.mux(smaller, e, e_min);
+            let slab = m.not(ax.parallel);
+            any = m.or(any, slab);
+        }
+        (m.name(e_min, "e_min"), m.name(any, "any_slab"))
+    });
+    let gw = cfg.grid_exp_bits();
+    let grid_exp = m.scope("grid", |m| {
+        let wide = ew.max(gw) + 1;
+        let e = sext(m, e_min, wide);
+        let hc = m.sint(wide, i128::from(h));
+        let gexp = ssub(m, e, hc, wide);
+        let gexp = m.slice(gexp, gw - 1, 0);
+        let gexp = m.as_sint(gexp);
+        let zero = m.sint(gw, 0);
+        let gexp = m.mux(any_slab, gexp, zero);
+        m.name(gexp, "grid_exp")
+    });
+    // slopes: z = E − min E; above the cap when z > zmax, or z = zmax and sig > 2^(m−1).
+    // inv_d at the largest finite value bounds 1/|d| by 2^(F − emin): the upper
+    // slope is 2^(m−1) shifted by z + F − 1.
+    let zmax = q + 2 + g;
+    let zbits = bits_for(u64::from(zmax));
+    let max_finite = m.uint(fmt.width() - 1, fmt.inf_bits() - 1);
+    let slopes: Vec<Slope> = axes
+        .iter()
+        .enumerate()
+        .map(|(a, ax)| {
+            m.scope(&format!("slope_{}", AXES[a]), |m| {
+                let mag = m.slice(r.inv_d[a], fmt.width() - 2, 0);
+                let at_max = m.eq(mag, max_finite);
+                let at_max = m.name(at_max, "inv_d_at_max");
+                let z = m.sub(ax.e_sum, e_min);
+                let zw = z.width() + 1;
+                let z = sext(m, z, zw);
+                let lift = m.sint(zw, i128::from(fmt.frac_bits) - 1);
+                let z_max = sadd(m, z, lift, zw);
+                let z_hi = m.mux(at_max, z_max, z);
+                let half = m.uint(mb + 1, 1u128 << (mb - 1));
+                let sig_hi = m.mux(at_max, half, ax.sig_hi);
+                let lo_w = zext(m, ax.sig_lo, mb + 1);
+                let zmax_c = m.sint(zw, i128::from(zmax));
+                let over = |m: &mut ModuleBuilder, z: Sig, sig: Sig| {
+                    let beyond = m.lt(zmax_c, z);
+                    let at = m.eq(z, zmax_c);
+                    let big = m.lt(half, sig);
+                    let at_big = m.and(at, big);
+                    m.or(beyond, at_big)
+                };
+                let lo_over = over(m, z, lo_w);
+                let hi_over = over(m, z_hi, sig_hi);
+                let shift_lo = m.slice(z, zbits - 1, 0);
+                let shift_hi = m.slice(z_hi, zbits - 1, 0);
+                Slope {
+                    sig_lo: ax.sig_lo,
+                    sig_hi: m.name(sig_hi, "sig_up_bound"),
+                    shift_lo: m.name(shift_lo, "shift_down"),
+                    shift_hi: m.name(shift_hi, "shift_up"),
+                    lo_over: m.name(lo_over, "down_over_cap"),
+                    hi_over: m.name(hi_over, "up_over_cap"),
+                }
+            })
+        })
+        .collect();
+    // the window end: ⌈(t_max − T)/2^G⌉, capped at C (C for t_max = +∞)
+    let cap_w = k_cap + 2;
+    let far_top = m.scope("window_end", |m| {
+        let end = float_term(m, fmt, &t_max, false);
+        let start = float_term(m, fmt, &t_u, true);
+        let (_, hi, b) = window_sum(m, &[end, start], w);
+        let sw = b.width().max(gw) + 2;
+        let bs = sext(m, b, sw);
+        let gs = sext(m, grid_exp, sw);
+        let s = ssub(m, bs, gs, sw);
+        let v = to_grid(m, hi, s, true, k_cap);
+        let v = sext(m, v, cap_w);
+        let cap = m.sint(cap_w, 1i128 << k_cap);
+        let open = m.or(t_max.inf, t_neg_inf);
+        let v = m.mux(open, cap, v);
+        m.name(v, "far_top")
+    });
+    // per child
+    let cap = m.sint(cap_w, 1i128 << k_cap);
+    let zero_c = m.sint(cap_w, 0);
+    let dist_bits = q + g + 5;
+    let mut hits = Vec::new();
+    let mut nears = Vec::new();
+    for i in 0..n {
+        let (hit, near) = m.scope(&format!("slot{i}"), |m| {
+            let mut near_max = zero_c;
+            let mut far_min = far_top;
+            let mut missed = m.bool(false);
+            for a in 0..3 {
+                let ax = &axes[a];
+                let sl = &slopes[a];
+                let (axis_miss, near, far) = m.scope(&format!("axis_{}", AXES[a]), |m| {
+                    let gz = m.uint(g, 0);
+                    let lo = m.cat(&[r.lo[i][a], gz]);
+                    let hi = m.cat(&[r.hi[i][a], gz]);
+                    let lo = to_sint(m, lo, dist_bits);
+                    let hi = to_sint(m, hi, dist_bits);
+                    let x_lo = sext(m, ax.x_lo, dist_bits);
+                    let x_hi = sext(m, ax.x_hi, dist_bits);
+                    // parallel: the slab must hold the position
+                    let above = m.lt(x_lo, lo);
+                    let below = m.lt(hi, x_hi);
+                    let outside = m.or(above, below);
+                    let par_miss = m.and(ax.parallel, outside);
+                    // entry and exit distances, mirrored for a negative direction
+                    let dn_pos = ssub(m, lo, x_hi, dist_bits);
+                    let dn_neg = ssub(m, x_lo, hi, dist_bits);
+                    let dn = m.mux(ax.mirror, dn_neg, dn_pos);
+                    let dn = m.name(dn, "entry_distance");
+                    let df_pos = ssub(m, hi, x_lo, dist_bits);
+                    let df_neg = ssub(m, x_hi, lo, dist_bits);
+                    let df = m.mux(ax.mirror, df_neg, df_pos);
+                    let df = m.name(df, "exit_distance");
+                    let behind = m.msb(df);
+                    let not_par = m.not(ax.parallel);
+                    let slab_miss = m.and(not_par, behind);
+                    let axis_miss = m.or(par_miss, slab_miss);
+                    let near = m.scope("entry_cells", |m| {
+                        cells(m, cfg, dn, sl.sig_lo, sl.shift_lo, sl.lo_over, false)
+                    });
+                    let far = m.scope("exit_cells", |m| {
+                        cells(m, cfg, df, sl.sig_hi, sl.shift_hi, sl.hi_over, true)
+                    });
+                    let near = m.mux(ax.parallel, zero_c, near);
+                    let far = m.mux(ax.parallel, cap, far);
+                    (
+                        m.name(axis_miss, "misses"),
+                        m.name(near, "near_cells"),
+                        m.name(far, "far_cells"),
+                    )
+                });
+                missed = m.or(missed, axis_miss);
+                let larger = m.lt(near_max, near);
+                near_max = m.mux(larger, near, near_max);
+                let smaller = m.lt(far, far_min);
+                far_min = m.mux(smaller, far, far_min);
+            }
+            let near_max = m.name(near_max, "near_max");
+            let far_min = m.name(far_min, "far_min");
+            let overlap = m.le(near_max, far_min);
+            let not_missed = m.not(missed);
+            let hit = m.and(overlap, not_missed);
+            (m.name(hit, "box_hit"), near_max)
+        });
+        hits.push(hit);
+        nears.push(near);
+    }
+    // special cases, then the sort
+    let eb = cfg.entry_bits();
+    let sentinel = m.uint(eb, (1u128 << eb) - 1);
+    let zero_e = m.uint(eb, 0);
+    let all_in = m.or(bad, t_neg_inf);
+    let all_in = m.name(all_in, "every_valid_slot");
+    let good = m.not(bad);
+    let none = m.and(none, good);
+    let (slot_hit, slot_entry): (Vec<Sig>, Vec<Sig>) = (0..n)
+        .map(|i| {
+            m.scope(&format!("slot{i}"), |m| {
+                let valid = m.bit_at(r.valid, i as u32);
+                let live = m.not(none);
+                let tested = m.and(live, hits[i]);
+                let yes = m.bool(true);
+                let hit = m.mux(all_in, yes, tested);
+                let hit = m.and(valid, hit);
+                let entry = m.slice(nears[i], eb - 1, 0);
+                let entry = m.mux(all_in, zero_e, entry);
+                let entry = m.mux(hit, entry, sentinel);
+                (m.name(hit, "slot_hit"), m.name(entry, "slot_entry"))
+            })
+        })
+        .unzip();
+    let sorted = m.scope("sort", |m| sort_slots(m, &slot_hit, &slot_entry));
+    // T and G when there is a T
+    let neg_inf = m.uint(fmt.width(), fmt.inf_bits() | 1u128 << (fmt.width() - 1));
+    let no_t = m.or(all_in, none);
+    let plus_zero = m.uint(fmt.width(), 0);
+    let t_out = m.mux(t_u.zero, plus_zero, t_bits);
+    let t_out = m.mux(no_t, neg_inf, t_out);
+    let zero_g = m.sint(gw, 0);
+    let g_out = m.mux(no_t, zero_g, grid_exp);
+    let t_out = m.name(t_out, "t_base");
+    let g_out = m.name(g_out, "grid_exp_out");
+    ports::declare_outputs(
+        &mut m,
+        cfg,
+        &NodeOut {
+            bad,
+            t_base: t_out,
+            grid_exp: g_out,
+            hit: sorted.hit,
+            entry: sorted.entry,
+            child: sorted.child,
+        },
+    );
+    let datapath = m.finish().expect("node datapath is well formed");
+    if cfg.stages == 0 {
+        return datapath;
+    }
+    let (mut module, _) =
+        crate::retime::balance(&datapath, cfg.stages).expect("the node datapath is feed-forward");
+    module.name = datapath.name.clone();
+    module
+}
+
+/// Cells from `T` to a plane `dist` frame steps (`2^−g` units, SInt) away:
+/// 0 for a distance at most 0, else `⌊dist·sig·2^(z + kmin)⌋`
+/// (`⌈⌉` when `up`), `kmin = h − m + 1 − g`, capped at `C`; `C` when the
+/// slope is over the cap (and the distance positive). SInt of `K + 2`.
+fn cells(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    dist: Sig,
+    sig: Sig,
+    shift: Sig,
+    over: Sig,
+    up: bool,
+) -> Sig {
+    let (q, g, h, mb) = (cfg.box_bits, POS_FRAC, CELL_BITS, cfg.slope_bits);
+    let k_cap = cfg.cap_bits();
+    let cap_w = k_cap + 2;
+    let cap = m.sint(cap_w, 1i128 << k_cap);
+    let zero = m.sint(cap_w, 0);
+    let dw = dist.width();
+    // a distance of 2^(q+2+g) or more reaches the cap at any slope
+    let sat = q + 2 + g;
+    let zero_d = m.sint(dw, 0);
+    let positive = m.lt(zero_d, dist);
+    let mag = m.slice(dist, dw - 2, 0);
+    let limit = m.uint(dw - 1, 1u128 << sat);
+    let big = m.lt(limit, mag);
+    let mag = m.mux(big, limit, mag);
+    let mag = m.slice(mag, sat, 0);
+    let mag = m.name(mag, "distance");
+    let product = m.mul(mag, sig);
+    let product = m.name(product, "product");
+    let zmax = q + 2 + g;
+    let pw = product.width() + zmax;
+    let wide = zext(m, product, pw);
+    let moved = m.shl(wide, shift);
+    let kmin = h as i64 - mb as i64 + 1 - g as i64;
+    let (value, vw) = if kmin >= 0 {
+        let z = m.uint(kmin as u32, 0);
+        (
+            if kmin > 0 { m.cat(&[moved, z]) } else { moved },
+            pw + kmin as u32,
+        )
+    } else {
+        let drop = (-kmin) as u32;
+        let kept = m.slice(moved, pw - 1, drop);
+        if up {
+            let below = m.slice(moved, drop - 1, 0);
+            let lost = m.any_set(below);
+            let l = m.as_uint(lost);
+            let l = zext(m, l, pw - drop);
+            let v = m.add(kept, l);
+            (v, pw - drop + 1)
+        } else {
+            (kept, pw - drop)
+        }
+    };
+    let value = m.name(value, "cells");
+    let cap_u = m.uint(vw.max(k_cap + 1), 1u128 << k_cap);
+    let value = zext(m, value, vw.max(k_cap + 1));
+    let capped = m.lt(cap_u, value);
+    let v = m.slice(value, k_cap, 0);
+    let v = to_sint(m, v, cap_w);
+    let v = m.mux(capped, cap, v);
+    let v = m.mux(over, cap, v);
+    // 0 at a distance of 0 or less: an entry already crossed, an exit at T (a negative exit
+    // distance misses, decided beside this)
+    let not_pos = m.not(positive);
+    m.mux(not_pos, zero, v)
+}
+
+impl Description for Node {
+    type Params = NodeParams;
+    type Config = Config;
+    const NAME: &'static str = "node";
+    const SUMMARY: &'static str =
+        "node tester: one ray against a wide BVH node of N quantised child boxes, hits sorted by entry";
+    fn config(&self, p: &NodeParams) -> Result<Config, ParamError> {
+        if ![2, 4, 8].contains(&p.children) {
+            return Err(ParamError::Combination(format!(
+                "children={} (N must be 2, 4 or 8)",
+                p.children
+            )));
+        }
+        Ok(Config {
+            fmt: Format::new(p.exp_bits, p.frac_bits).map_err(ParamError::Combination)?,
+            children: p.children,
+            box_bits: p.box_bits,
+            slope_bits: p.slope_bits,
+            stages: p.stages,
+        })
+    }
+    fn generate(&self, cfg: &Config) -> Module {
+        build(cfg)
+    }
+}
