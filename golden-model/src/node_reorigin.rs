@@ -1,8 +1,8 @@
-//! A design study for the node tester's next hardware (docs/node.md §10):
-//! the ray **re-originated at the node** once per node, then every child in
-//! fixed point without anchors. Not the unit's model yet (`crate::node` is);
-//! written to measure what the cheaper per-node part costs in tightness
-//! before any RTL is built.
+//! The `node` unit's model (docs/node.md §10, §12): the ray
+//! **re-originated at the node** once per node, then every child in fixed
+//! point without anchors. Began as a design study beside [`crate::node`]
+//! (the window-and-anchors design, kept as the reference it was measured
+//! against); the unit `node` is its hardware, bit for bit.
 //!
 //! **Inputs**: the ray of [`crate::node::Ray`] plus its direction `d` (raw
 //! bits; `inv_d = RTZ(1/d)` as before) and `t_start`, a lower bound of the
@@ -12,8 +12,10 @@
 //! **Per node** (`q` box bits, `Q = 2^q − 1`; `g` position fraction bits,
 //! `h` cell bits, `m` slope bits):
 //! 1. `T = max(t_min, t_start)`; the ray's position at `T` in frame steps,
-//!    `x = (o + T·d − O)/2^e` per axis, floored and ceiled to `2^−g` steps
-//!    and clamped to `±2^(q + 3)` (a clamp that never changes a cell);
+//!    `x = (o + T·d − O)/2^e` per axis, bounded below and above in `2^−g`
+//!    steps from a window sum ([`window_sum`]: exact unless a term reaches
+//!    below the window, then one step wider per such term) and clamped to
+//!    `±2^(q + 3)` (a clamp that never changes a cell);
 //!    a zero `d` component gives `x = (o − O)/2^e` (parallel axis);
 //! 2. the cell `u = 2^G`: `G = min over non-parallel axes of
 //!    ⌊log2(a·2^e)⌋ − h` (the fastest axis crosses a step in `2^h` to
@@ -21,7 +23,8 @@
 //! 3. per axis the time per step in cells, `s_lo = RDN_m(a·2^e/u)`,
 //!    `s_hi = RUP_m(b·2^e/u)` (`m` significant bits, `b` the successor of
 //!    `a`), infinite for a parallel axis; the window end
-//!    `far_top = min(C, ⌈(t_max − T)/u⌉)`, `C = 2^K`, `K = q + h + 2`.
+//!    `far_top = min(C, ⌈(t_max − T)/u⌉)` (from a window sum, so at least
+//!    that), `C = 2^K`, `K = q + h + 2`.
 //!
 //! **Per child** (per axis, in `2^−g` steps): the distance to the entry plane
 //! `Δn = lo − x_hi` (`x_lo − hi` when `d < 0`) and to the exit plane
@@ -58,7 +61,8 @@ pub struct ReoriginParams {
 }
 
 impl ReoriginParams {
-    /// The defaults of the study: g = 4, h = 4, m = q + 4.
+    /// The defaults, the `node` unit's: g = 4, h = 4, m = 8 (docs/node.md §10:
+    /// m = 8 is within the tightness ceiling; m = 12 is 5 % tighter).
     pub fn new(fmt: FloatFormat, children: usize, box_bits: u32) -> ReoriginParams {
         ReoriginParams {
             fmt,
@@ -66,7 +70,7 @@ impl ReoriginParams {
             box_bits,
             pos_frac: 4,
             cell_bits: 4,
-            slope_bits: box_bits + 4,
+            slope_bits: 8,
         }
     }
 

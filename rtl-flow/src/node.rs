@@ -6,7 +6,7 @@ use super::slab::recip_rtz;
 use super::stimulus::{mask, specials, VectorRng};
 use super::Testbench;
 use golden_model::float::{from_f64, nudge, FloatFormat};
-use golden_model::node::{Bound, NodeIn as GoldenNode, Ray};
+use golden_model::node::{Bound, Dyadic, NodeIn as GoldenNode, NodeOut as GoldenOut, Ray, SlotOut};
 use golden_model::node_reorigin::{eval, ReoriginParams};
 use golden_model::wide::MAX_CHILDREN;
 use rtl_gen::units::node::{Config, NodeIn, NodeOut, CELL_BITS, POS_FRAC};
@@ -188,10 +188,68 @@ fn signed(v: u64, w: u32) -> i64 {
     ((v << (64 - w)) as i64) >> (64 - w)
 }
 
-impl sim::Golden for NodeBench {
-    fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
+impl NodeBench {
+    /// The model's parameters this configuration is the hardware of.
+    pub fn params(&self) -> &ReoriginParams {
+        &self.params
+    }
+
+    /// One node test as the unit's input port values (the renderer's calls
+    /// packed as the testbench packs its vectors).
+    pub fn to_ports(
+        &self,
+        ray: &Ray,
+        d: &[u64; 3],
+        t_start: u64,
+        node: &GoldenNode,
+        v: &mut [u64],
+    ) {
         let u = &self.unit;
-        let fmt = self.fmt;
+        let n = u.children as usize;
+        let r = NodeIn {
+            o: ray.o,
+            d: *d,
+            inv_d: ray.inv_d,
+            t_min: ray.t_min,
+            t_max: ray.t_max,
+            t_start,
+            origin: node.origin,
+            exp: node.exp.map(|e| (e as u64) & mask(u.frame_exp_bits())),
+            valid: u64::from(node.valid) & mask(u.children),
+            lo: node.lo[..n].iter().map(|b| b.map(u64::from)).collect(),
+            hi: node.hi[..n].iter().map(|b| b.map(u64::from)).collect(),
+        };
+        ports::pack(u, &r, v)
+    }
+
+    /// The unit's output port values as the model's result.
+    pub fn result_from_ports(&self, out: &[u64]) -> GoldenOut {
+        let u = &self.unit;
+        let o: NodeOut<u64> = ports::unpack(u, out);
+        let t_base = if o.t_base == self.fmt.inf(true) {
+            Bound::NegInf
+        } else {
+            let v = golden_model::float::to_f64(self.fmt, o.t_base);
+            let (m, e) = exact_f64(v);
+            Bound::Fin(Dyadic::new(m.into(), e))
+        };
+        GoldenOut {
+            bad: o.bad != 0,
+            t_base,
+            grid_exp: signed(o.grid_exp, u.grid_exp_bits()),
+            slots: (0..u.children as usize)
+                .map(|j| SlotOut {
+                    hit: o.hit[j] != 0,
+                    entry: o.entry[j] as u32,
+                    child: o.child[j] as u8,
+                })
+                .collect(),
+        }
+    }
+
+    /// The model's answer to one vector of port values.
+    fn model(&self, inputs: &[u64]) -> GoldenOut {
+        let u = &self.unit;
         let r: NodeIn<u64> = ports::unpack(u, inputs);
         let ray = Ray {
             o: r.o,
@@ -210,7 +268,31 @@ impl sim::Golden for NodeBench {
             node.lo[i] = r.lo[i].map(|v| v as u16);
             node.hi[i] = r.hi[i].map(|v| v as u16);
         }
-        let out = eval(&self.params, &ray, r.d, r.t_start, &node);
+        eval(&self.params, &ray, r.d, r.t_start, &node)
+    }
+}
+
+/// A finite binary64 value as `m · 2^e` (`m` an integer of at most 53 bits).
+fn exact_f64(v: f64) -> (i64, i64) {
+    if v == 0.0 {
+        return (0, 0);
+    }
+    let bits = v.to_bits();
+    let exp = ((bits >> 52) & 0x7ff) as i64;
+    let frac = (bits & ((1 << 52) - 1)) as i64;
+    let (m, e) = if exp == 0 {
+        (frac, -1074)
+    } else {
+        (frac | 1 << 52, exp - 1075)
+    };
+    (if v < 0.0 { -m } else { m }, e)
+}
+
+impl sim::Golden for NodeBench {
+    fn eval(&self, inputs: &[u64], outputs: &mut [u64]) {
+        let u = &self.unit;
+        let fmt = self.fmt;
+        let out = self.model(inputs);
         let t_base = match &out.t_base {
             Bound::NegInf => fmt.inf(true),
             // T is a value of the format: exact in binary64

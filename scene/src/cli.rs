@@ -218,6 +218,10 @@ pub enum Command {
     RtlLoop {
         #[command(flatten)]
         c: Common,
+        /// trace through a wide BVH (--wide N, --box-bits, --tlas-box-bits), every node test
+        /// answered by the `node` unit (the re-origin design: --reorigin is implied)
+        #[command(flatten)]
+        wide: WideOpts,
         /// output PNG (the image answered by the RTL)
         #[arg(long, short)]
         out: Option<PathBuf>,
@@ -592,15 +596,28 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 return Ok(ExitCode::from(1));
             }
         }
-        Command::RtlLoop { c, out, work } => {
-            let (s, w, h, opts) = setup(&c)?;
+        Command::RtlLoop { c, wide, out, work } => {
+            let (s, w, h, mut opts) = setup(&c)?;
+            if wide.exact_boxes || wide.dop {
+                return Err("rtl-loop --wide runs the node unit: no --exact-boxes or --dop".into());
+            }
+            let shape = wide.shape()?;
+            if shape.is_some() {
+                // single rays without cull planes, as `render --wide`
+                opts.planes = false;
+                opts.bundles.enabled = false;
+            }
             let acc = build(&s, opts.planes);
+            let wide_accel = match shape {
+                Some((format, tlas_q, _)) => Some(WideAccel::build(&acc, format, tlas_q)?),
+                None => None,
+            };
             let work = work.unwrap_or_else(crate::rtl::default_work_dir);
             eprintln!(
-                "building (or finding in {}) the Verilated harnesses of six units; a first build takes minutes",
+                "building (or finding in {}) the Verilated harnesses of the units the render uses; a first build takes minutes",
                 sim::default_cache_root().display()
             );
-            let r = crate::rtl::rtl_loop(&s, &acc, opts, w, h, &work, true)?;
+            let r = crate::rtl::rtl_loop(&s, &acc, wide_accel.as_ref(), opts, w, h, &work, true)?;
             if let Some(out) = &out {
                 r.rtl.save_png(out)?;
             }

@@ -33,24 +33,30 @@
 //! formation and traversal order.
 
 use crate::bvh::Accel;
-use crate::render::{render, Frame};
+use crate::render::{render_with, Frame};
 use crate::scene::Scene;
 use crate::tester::{ray_input, BoxTester, BundleBox, Golden, RayBox};
-use crate::trace::{TraceOpts, TriTest};
-use crate::units::{ChildTestIn, GoldenUnits, RayTermsIn, Units};
+use crate::trace::{TraceOpts, Tracer, TriTest};
+use crate::units::{ChildTestIn, GoldenUnits, NodeTestIn, RayTermsIn, Units};
+use crate::wide::{Boxes, WideAccel};
 use golden_model::cull::tester::NormalTerm;
+use golden_model::float::FloatFormat;
 use golden_model::float::RoundingMode;
+use golden_model::node::NodeOut;
+use golden_model::node_reorigin::ReoriginParams;
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{InstanceTransform, ModelRay, WorldRay};
 use golden_model::triangle::{TriIn, TriOut};
 use rtl_flow::cull::CullBench;
 use rtl_flow::cull_ray::CullRayBench;
+use rtl_flow::node::NodeBench;
 use rtl_flow::silhouette::SilhouetteBench;
 use rtl_flow::transform::TransformBench;
 use rtl_flow::triangle::TriangleBench;
 use rtl_flow::{self, configured, Generated};
 use rtl_gen::units::{
-    cull::Cull, cull_ray::CullRay, silhouette::Silhouette, transform::Transform, triangle::Triangle,
+    cull::Cull, cull_ray::CullRay, node::Node, silhouette::Silhouette, transform::Transform,
+    triangle::Triangle,
 };
 use sim::Harness;
 use std::collections::HashMap;
@@ -74,17 +80,26 @@ pub enum Stream {
     Cull,
     /// `triangle`: the watertight ray/triangle test
     Triangle,
+    /// `node`: one ray against a BLAS node of the wide BVH (`--wide N`)
+    Node,
+    /// `node`: one ray against a TLAS node (q of the TLAS)
+    NodeTlas,
 }
+
+/// The number of streams.
+pub const STREAMS: usize = Stream::ALL.len();
 
 impl Stream {
     /// Every stream, in report order.
-    pub const ALL: [Stream; 6] = [
+    pub const ALL: [Stream; 8] = [
         Stream::BoxShared,
         Stream::BoxBounded,
         Stream::Transform,
         Stream::CullRay,
         Stream::Cull,
         Stream::Triangle,
+        Stream::Node,
+        Stream::NodeTlas,
     ];
 
     /// The generator's unit.
@@ -95,13 +110,14 @@ impl Stream {
             Stream::CullRay => "cull_ray",
             Stream::Cull => "cull",
             Stream::Triangle => "triangle",
+            Stream::Node | Stream::NodeTlas => "node",
         }
     }
 
     /// The unit's parameters: those of its Verilator test in CI
     /// (`tests/silhouette_rtl.rs`, `transform_rtl.rs` `xf_fma`,
     /// `cull_rtl.rs` K = 4, `triangle_rtl.rs` binary32), same order.
-    pub fn params(self) -> &'static [&'static str] {
+    pub fn params(self, wide: WideShape) -> Vec<String> {
         const CULL: &[&str] = &[
             "exp_bits=8",
             "frac_bits=23",
@@ -110,7 +126,7 @@ impl Stream {
             "k=4",
             "stages=4",
         ];
-        match self {
+        let fixed: &[&str] = match self {
             Stream::BoxShared => &["exp_bits=8", "frac_bits=23", "origin=shared", "stages=4"],
             Stream::BoxBounded => &["exp_bits=8", "frac_bits=23", "origin=bounded", "stages=2"],
             Stream::Transform => &["dot=fma", "throughput=full", "round=rne", "stages=8"],
@@ -122,7 +138,20 @@ impl Stream {
                 "stages=8",
                 "pipeline=plan",
             ],
-        }
+            Stream::Node | Stream::NodeTlas => {
+                // the configuration of tests/node_rtl.rs at this shape
+                let (n, q) = match self {
+                    Stream::Node => (wide.children, wide.box_bits),
+                    _ => (wide.children, wide.tlas_box_bits),
+                };
+                return vec![
+                    format!("children={n}"),
+                    format!("box_bits={q}"),
+                    "stages=4".into(),
+                ];
+            }
+        };
+        fixed.iter().map(|p| p.to_string()).collect()
     }
 
     /// Report name.
@@ -134,15 +163,20 @@ impl Stream {
             Stream::CullRay => "cull_ray",
             Stream::Cull => "cull",
             Stream::Triangle => "triangle",
+            Stream::Node => "node (BLAS)",
+            Stream::NodeTlas => "node (TLAS)",
         }
     }
 
-    /// Whether a render with `opts` calls this unit at all (bounded-origin
-    /// bundles need bundles, the cull units need planes).
-    pub fn used(self, opts: &TraceOpts) -> bool {
+    /// Whether a render with `opts` (over a wide BVH if `wide`) calls this
+    /// unit at all (bounded-origin bundles need bundles, the cull units need
+    /// planes, the box tester is the node unit's over a wide BVH).
+    pub fn used(self, opts: &TraceOpts, wide: bool) -> bool {
         match self {
-            Stream::BoxBounded => opts.bundles.enabled,
-            Stream::CullRay | Stream::Cull => opts.planes,
+            Stream::BoxBounded => !wide && opts.bundles.enabled,
+            Stream::BoxShared => !wide,
+            Stream::CullRay | Stream::Cull => !wide && opts.planes,
+            Stream::Node | Stream::NodeTlas => wide,
             _ => true,
         }
     }
@@ -151,8 +185,31 @@ impl Stream {
 /// The silhouette unit's output ports, in the bit order of `Out::to_bits`.
 pub const BOX_OUTPUTS: [&str; 5] = ["all_hit", "any_hit", "nan", "invalid", "mixed_sign"];
 
-/// The most input ports of a loop unit (a packing buffer's size).
-const MAX_PORTS: usize = 64;
+/// The most input ports of a loop unit (a packing buffer's size; `node` at
+/// N = 8 has 67).
+const MAX_PORTS: usize = 80;
+
+/// The wide BVH's node shapes the `node` streams are generated for (a
+/// render over the binary BVH leaves them unused).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WideShape {
+    /// N
+    pub children: usize,
+    /// q of the BLAS nodes
+    pub box_bits: u32,
+    /// q of the TLAS nodes
+    pub tlas_box_bits: u32,
+}
+
+impl Default for WideShape {
+    fn default() -> WideShape {
+        WideShape {
+            children: 4,
+            box_bits: 8,
+            tlas_box_bits: crate::wide::TLAS_BOX_BITS,
+        }
+    }
+}
 
 /// The loop's units generated, with the port packing of their testbenches.
 pub struct LoopUnits {
@@ -163,15 +220,17 @@ pub struct LoopUnits {
     cull_ray: CullRayBench,
     cull: CullBench,
     triangle: TriangleBench,
+    node: NodeBench,
+    node_tlas: NodeBench,
 }
 
 impl LoopUnits {
     /// Generates every unit of [`Stream::ALL`] and checks its configuration
     /// is the renderer's ([`GoldenUnits`]) and its ports fit the loop.
-    pub fn generate() -> Result<LoopUnits, String> {
+    pub fn generate(wide: WideShape) -> Result<LoopUnits, String> {
         let mut generated = Vec::new();
         for s in Stream::ALL {
-            let given: Vec<String> = s.params().iter().map(|p| p.to_string()).collect();
+            let given = s.params(wide);
             let g =
                 rtl_flow::generate(s.unit(), &given).map_err(|e| format!("{}: {e}", s.label()))?;
             if g.ports.inputs.len() > MAX_PORTS {
@@ -188,14 +247,16 @@ impl LoopUnits {
             cull_ray: CullRayBench::new(&configured(&CullRay, p(Stream::CullRay))),
             cull: CullBench::new(&configured(&Cull, p(Stream::Cull))),
             triangle: TriangleBench::new(&configured(&Triangle, p(Stream::Triangle))),
+            node: NodeBench::new(&configured(&Node, p(Stream::Node))),
+            node_tlas: NodeBench::new(&configured(&Node, p(Stream::NodeTlas))),
             generated,
         };
-        units.check()?;
+        units.check(wide)?;
         Ok(units)
     }
 
     /// The RTL computes what the renderer's golden units compute.
-    fn check(&self) -> Result<(), String> {
+    fn check(&self, wide: WideShape) -> Result<(), String> {
         let golden = GoldenUnits::get();
         let box_cfg = Golden::default();
         let mismatch = |s: Stream, what: String| Err(format!("{}: {what}", s.label()));
@@ -222,6 +283,15 @@ impl LoopUnits {
                 Stream::Triangle,
                 "binary32, RNE, outputs=full expected".into(),
             );
+        }
+        for (s, bench, q) in [
+            (Stream::Node, &self.node, wide.box_bits),
+            (Stream::NodeTlas, &self.node_tlas, wide.tlas_box_bits),
+        ] {
+            let renderer = ReoriginParams::new(FloatFormat::BINARY32, wide.children, q);
+            if *bench.params() != renderer {
+                return mismatch(s, "not the renderer's node shape and precision".into());
+            }
         }
         for s in [Stream::BoxShared, Stream::BoxBounded] {
             let outs: Vec<&str> = self.generated[s as usize]
@@ -278,6 +348,18 @@ impl LoopUnits {
     fn pack_triangle(&self, x: &TriIn) -> Packed {
         self.packed(Stream::Triangle, |v| self.triangle.to_ports(x, v))
     }
+    /// A BLAS node's test goes to the BLAS stream, a TLAS node's (its q) to the TLAS one.
+    fn node_bench(&self, x: &NodeTestIn) -> (Stream, &NodeBench) {
+        if x.params == self.node.params() {
+            (Stream::Node, &self.node)
+        } else {
+            (Stream::NodeTlas, &self.node_tlas)
+        }
+    }
+    fn pack_node(&self, x: &NodeTestIn) -> Packed {
+        let (s, bench) = self.node_bench(x);
+        self.packed(s, |v| bench.to_ports(x.ray, x.d, x.t_start, x.node, v))
+    }
 }
 
 /// A unit call packed into port values: the stream and its values.
@@ -298,7 +380,7 @@ impl Packed {
 pub struct Recorder<'u> {
     units: &'u LoopUnits,
     golden: Golden,
-    streams: [Mutex<Vec<u64>>; 6],
+    streams: [Mutex<Vec<u64>>; STREAMS],
 }
 
 impl<'u> Recorder<'u> {
@@ -317,7 +399,7 @@ impl<'u> Recorder<'u> {
             .extend_from_slice(p.values());
     }
     /// The recorded port values of each stream (flat, [`Stream::ALL`] order).
-    pub fn into_streams(self) -> [Vec<u64>; 6] {
+    pub fn into_streams(self) -> [Vec<u64>; STREAMS] {
         self.streams.map(|m| m.into_inner().unwrap())
     }
 }
@@ -359,6 +441,10 @@ impl Units for Recorder<'_> {
         self.record(self.units.pack_triangle(x));
         GoldenUnits::get().triangle(x)
     }
+    fn node(&self, x: &NodeTestIn) -> NodeOut {
+        self.record(self.units.pack_node(x));
+        GoldenUnits::get().node(x)
+    }
 }
 
 /// RTL outputs by input port values, one table per unit.
@@ -367,14 +453,14 @@ pub type Answers = HashMap<Vec<u64>, Vec<u64>>;
 /// Answers every unit call from the RTL outputs.
 pub struct RtlTester<'u> {
     units: &'u LoopUnits,
-    answers: [Answers; 6],
-    answered: [AtomicU64; 6],
-    missing: [AtomicU64; 6],
+    answers: [Answers; STREAMS],
+    answered: [AtomicU64; STREAMS],
+    missing: [AtomicU64; STREAMS],
 }
 
 impl<'u> RtlTester<'u> {
     /// A tester answering from `answers` ([`Stream::ALL`] order).
-    pub fn new(units: &'u LoopUnits, answers: [Answers; 6]) -> RtlTester<'u> {
+    pub fn new(units: &'u LoopUnits, answers: [Answers; STREAMS]) -> RtlTester<'u> {
         RtlTester {
             units,
             answers,
@@ -457,6 +543,13 @@ impl Units for RtlTester<'_> {
         match self.lookup(&self.units.pack_triangle(x)) {
             Some(out) => self.units.triangle.result_from_ports(out),
             None => GoldenUnits::get().triangle(x),
+        }
+    }
+    fn node(&self, x: &NodeTestIn) -> NodeOut {
+        let (_, bench) = self.units.node_bench(x);
+        match self.lookup(&self.units.pack_node(x)) {
+            Some(out) => bench.result_from_ports(out),
+            None => GoldenUnits::get().node(x),
         }
     }
 }
@@ -677,10 +770,14 @@ fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<St
 /// holds the generated Verilog and the vector files), renders again
 /// answering from the RTL outputs and compares. The triangle test is the
 /// `triangle` unit's (`opts.tri` is set to [`TriTest::Golden`]) and rays are
-/// transformed by the `transform` unit.
+/// transformed by the `transform` unit. With `wide`, the rays traverse the
+/// wide BVH and every node test is the `node` unit's (its TLAS and BLAS
+/// shapes two streams).
+#[allow(clippy::too_many_arguments)]
 pub fn rtl_loop(
     scene: &Scene,
     accel: &Accel,
+    wide: Option<&WideAccel>,
     mut opts: TraceOpts,
     w: u32,
     h: u32,
@@ -689,9 +786,22 @@ pub fn rtl_loop(
 ) -> Result<LoopReport, String> {
     opts.tri = TriTest::Golden;
     opts.f32_transform = false;
-    let units = LoopUnits::generate()?;
+    let shape = wide.map_or_else(WideShape::default, |wa| WideShape {
+        children: wa.format.children(),
+        box_bits: wa.format.box_bits(),
+        tlas_box_bits: wa.tlas.format.box_bits(),
+    });
+    let units = LoopUnits::generate(shape)?;
+    let frame = |tester: &dyn BoxTester| {
+        let tracer = Tracer::new(scene, accel, tester, opts);
+        let tracer = match wide {
+            Some(wa) => tracer.with_wide(wa, Boxes::Reorigin),
+            None => tracer,
+        };
+        render_with(scene, accel, &tracer, w, h, progress)
+    };
     let rec = Recorder::new(&units);
-    let golden = render(scene, accel, &rec, opts, w, h, progress);
+    let golden = frame(&rec);
     let streams = rec.into_streams();
     std::fs::create_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
     // the Verilator builds and runs are independent: two at a time (the
@@ -704,16 +814,16 @@ pub fn rtl_loop(
             .collect()
     };
     let mut reports = Vec::new();
-    let mut answers: [Answers; 6] = Default::default();
+    let mut answers: [Answers; STREAMS] = Default::default();
     for (s, r) in Stream::ALL.into_iter().zip(runs) {
         let r = r?;
         reports.push(r.report);
         answers[s as usize] = r.answers;
     }
     let tester = RtlTester::new(&units, answers);
-    let rtl = render(scene, accel, &tester, opts, w, h, progress);
+    let rtl = frame(&tester);
     for r in &mut reports {
-        r.used = r.stream.used(&opts);
+        r.used = r.stream.used(&opts, wide.is_some());
         r.answered = tester.answered(r.stream);
         r.missing = tester.missing(r.stream);
     }

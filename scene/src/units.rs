@@ -13,6 +13,8 @@
 use crate::bvh::{PLANES_K, PLANE_FMT};
 use golden_model::cull::tester::{self as cull, normal_terms_into, NormalTerm};
 use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::node::{NodeIn, NodeOut, Ray as NodeRay};
+use golden_model::node_reorigin::{self, ReoriginParams};
 use golden_model::transform::{
     self, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
@@ -45,6 +47,22 @@ pub struct ChildTestIn<'a> {
     pub terms: &'a [NormalTerm],
 }
 
+/// The inputs of one `node` transaction (the node tester, re-origin design),
+/// borrowed from the wide traversal.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeTestIn<'a> {
+    /// the node shape (N, q) and precision
+    pub params: &'a ReoriginParams,
+    /// the ray in the tree's space
+    pub ray: &'a NodeRay,
+    /// its direction
+    pub d: &'a [u64; 3],
+    /// a lower bound of every hit in the node (the parent's entry)
+    pub t_start: u64,
+    /// the node's frame and child integers
+    pub node: &'a NodeIn,
+}
+
 /// What the traversal asks of the units other than the box tester.
 pub trait Units: Sync {
     /// The world ray in the instance's model space (`transform` unit).
@@ -57,6 +75,8 @@ pub trait Units: Sync {
     fn cull(&self, x: &ChildTestIn) -> bool;
     /// The watertight ray/triangle test (`triangle` unit, `outputs=full`).
     fn triangle(&self, x: &TriIn) -> TriOut;
+    /// One ray against one wide node, the hit slots sorted (`node` unit).
+    fn node(&self, x: &NodeTestIn) -> NodeOut;
 }
 
 /// The golden models in the renderer's configurations.
@@ -101,5 +121,8 @@ impl Units for GoldenUnits {
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         triangle::eval(self.triangle, x)
+    }
+    fn node(&self, x: &NodeTestIn) -> NodeOut {
+        node_reorigin::eval(x.params, x.ray, *x.d, x.t_start, x.node)
     }
 }

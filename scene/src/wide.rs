@@ -37,6 +37,7 @@ use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
 use crate::tester::Exact;
 use crate::trace::{bits3, Hit, TRay, TraceOpts, Tracer};
+use crate::units::NodeTestIn;
 use golden_model::cull::bvh::Mesh;
 use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
@@ -408,20 +409,32 @@ impl Tracer<'_> {
                     order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
                 }
                 Boxes::Reorigin => {
-                    let extra = dop.map_or_else(Vec::new, |t| dop_axes(&t[id], o, d));
-                    let out = node_reorigin::eval_with(
-                        &study,
-                        &NodeRay {
-                            o,
-                            inv_d,
-                            t_min: 0,
-                            t_max,
-                        },
-                        d,
-                        t_start,
-                        &NodeIn::from_wide(node),
-                        &extra,
-                    );
+                    let ray = NodeRay {
+                        o,
+                        inv_d,
+                        t_min: 0,
+                        t_max,
+                    };
+                    let node_in = NodeIn::from_wide(node);
+                    let out = match dop {
+                        // the cull-plane study's extra axes: the model only
+                        Some(t) => node_reorigin::eval_with(
+                            &study,
+                            &ray,
+                            d,
+                            t_start,
+                            &node_in,
+                            &dop_axes(&t[id], o, d),
+                        ),
+                        // the `node` unit
+                        None => self.units.node(&NodeTestIn {
+                            params: &study,
+                            ray: &ray,
+                            d: &d,
+                            t_start,
+                            node: &node_in,
+                        }),
+                    };
                     for s in out.slots.iter().filter(|s| s.hit) {
                         order.push(s.child as usize);
                         starts[s.child as usize] = match out.entry_value(s) {

@@ -350,6 +350,11 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
     )
 }
 
+/// `2^q − 1`.
+fn mask_of(q: u32) -> u128 {
+    (1u128 << q) - 1
+}
+
 /// `count + bit`, a 2-bit count (at most 3 terms).
 fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig) -> Sig {
     let b = m.as_uint(bit);
@@ -432,10 +437,10 @@ struct AxisTerms {
 /// The per-axis slope of the per-child test: significands rounded down and
 /// up, the shift `z`, and whether each is above the cap.
 struct Slope {
-    sig_lo: Sig,
-    sig_hi: Sig,
-    shift_lo: Sig,
-    shift_hi: Sig,
+    /// `sig_lo · 2^z`: cells per frame step rounded down, in units of `2^kmin`
+    down: Sig,
+    /// rounded up
+    up: Sig,
     lo_over: Sig,
     hi_over: Sig,
 }
@@ -535,7 +540,9 @@ pub fn build(cfg: &Config) -> Module {
         .map(|a| {
             m.scope(&format!("axis_{}", AXES[a]), |m| {
                 let parallel = m.name(inv[a].inf, "parallel");
-                let mirror = m.name(inv[a].sign, "mirror");
+                let not_parallel = m.not(parallel);
+                let mirror = m.and(inv[a].sign, not_parallel);
+                let mirror = m.name(mirror, "mirror");
                 let ot = float_term(m, fmt, &o[a], false);
                 let frame = float_term(m, fmt, &org[a], true);
                 let dt = float_term(m, fmt, &d[a], false);
@@ -562,6 +569,22 @@ pub fn build(cfg: &Config) -> Module {
                 let s = m.name(s, "grid_shift");
                 let x_lo = m.scope("x_lo", |m| to_grid(m, lo, s, false, pos_bits));
                 let x_hi = m.scope("x_hi", |m| to_grid(m, hi, s, true, pos_bits));
+                // in the frame of the child's entry and exit planes, once per node: mirrored
+                // (Q·2^g − x) for a negative direction, so each child forms entry − x_hi and
+                // exit − x_lo; swapped for a parallel axis, so the child's lo − x_lo and
+                // hi − x_hi say whether the position is inside
+                let (x_lo, x_hi) = m.scope("plane_frame", |m| {
+                    let xw = x_lo.width() + 1;
+                    let top = m.sint(xw, (mask_of(q) as i128) << g);
+                    let (lo_w, hi_w) = (sext(m, x_lo, xw), sext(m, x_hi, xw));
+                    let mirrored_lo = ssub(m, top, hi_w, xw);
+                    let mirrored_hi = ssub(m, top, lo_w, xw);
+                    let lo = m.mux(mirror, mirrored_lo, lo_w);
+                    let hi = m.mux(mirror, mirrored_hi, hi_w);
+                    let lo = m.mux(parallel, hi_w, lo);
+                    let hi = m.mux(parallel, lo_w, hi);
+                    (m.name(lo, "from_lo"), m.name(hi, "from_hi"))
+                });
                 // E = e + ⌊log2 |inv_d|⌋
                 let nz = normalize(m, fmt, &inv[a]);
                 let ew = nz.exp.width().max(r.exp[a].width()) + 2;
@@ -667,13 +690,16 @@ pub fn build(cfg: &Config) -> Module {
                 };
                 let lo_over = over(m, z, lo_w);
                 let hi_over = over(m, z_hi, sig_hi);
+                // shifted once per node (an over-cap slope's bits do not matter)
                 let shift_lo = m.slice(z, zbits - 1, 0);
                 let shift_hi = m.slice(z_hi, zbits - 1, 0);
+                let down = zext(m, ax.sig_lo, mb + zmax);
+                let down = m.shl(down, shift_lo);
+                let up = zext(m, sig_hi, mb + 1 + zmax);
+                let up = m.shl(up, shift_hi);
                 Slope {
-                    sig_lo: ax.sig_lo,
-                    sig_hi: m.name(sig_hi, "sig_up_bound"),
-                    shift_lo: m.name(shift_lo, "shift_down"),
-                    shift_hi: m.name(shift_hi, "shift_up"),
+                    down: m.name(down, "slope_down"),
+                    up: m.name(up, "slope_up"),
                     lo_over: m.name(lo_over, "down_over_cap"),
                     hi_over: m.name(hi_over, "up_over_cap"),
                 }
@@ -712,38 +738,32 @@ pub fn build(cfg: &Config) -> Module {
                 let ax = &axes[a];
                 let sl = &slopes[a];
                 let (axis_miss, near, far) = m.scope(&format!("axis_{}", AXES[a]), |m| {
+                    // the entry and exit planes (mirrored: Q − hi, Q − lo)
+                    let (not_hi, not_lo) = (m.not(r.hi[i][a]), m.not(r.lo[i][a]));
+                    let entry = m.mux(ax.mirror, not_hi, r.lo[i][a]);
+                    let exit = m.mux(ax.mirror, not_lo, r.hi[i][a]);
                     let gz = m.uint(g, 0);
-                    let lo = m.cat(&[r.lo[i][a], gz]);
-                    let hi = m.cat(&[r.hi[i][a], gz]);
-                    let lo = to_sint(m, lo, dist_bits);
-                    let hi = to_sint(m, hi, dist_bits);
-                    let x_lo = sext(m, ax.x_lo, dist_bits);
-                    let x_hi = sext(m, ax.x_hi, dist_bits);
-                    // parallel: the slab must hold the position
-                    let above = m.lt(x_lo, lo);
-                    let below = m.lt(hi, x_hi);
-                    let outside = m.or(above, below);
-                    let par_miss = m.and(ax.parallel, outside);
-                    // entry and exit distances, mirrored for a negative direction
-                    let dn_pos = ssub(m, lo, x_hi, dist_bits);
-                    let dn_neg = ssub(m, x_lo, hi, dist_bits);
-                    let dn = m.mux(ax.mirror, dn_neg, dn_pos);
+                    let entry = m.cat(&[entry, gz]);
+                    let exit = m.cat(&[exit, gz]);
+                    let entry = to_sint(m, entry, dist_bits);
+                    let exit = to_sint(m, exit, dist_bits);
+                    let from_lo = sext(m, ax.x_lo, dist_bits);
+                    let from_hi = sext(m, ax.x_hi, dist_bits);
+                    let dn = ssub(m, entry, from_hi, dist_bits);
                     let dn = m.name(dn, "entry_distance");
-                    let df_pos = ssub(m, hi, x_lo, dist_bits);
-                    let df_neg = ssub(m, x_hi, lo, dist_bits);
-                    let df = m.mux(ax.mirror, df_neg, df_pos);
+                    let df = ssub(m, exit, from_lo, dist_bits);
                     let df = m.name(df, "exit_distance");
+                    // an exit behind T misses; a parallel axis misses outside its slab
                     let behind = m.msb(df);
-                    let not_par = m.not(ax.parallel);
-                    let slab_miss = m.and(not_par, behind);
-                    let axis_miss = m.or(par_miss, slab_miss);
+                    let zero_d = m.sint(dist_bits, 0);
+                    let outside = m.lt(zero_d, dn);
+                    let par_miss = m.and(ax.parallel, outside);
+                    let axis_miss = m.or(par_miss, behind);
+                    // a parallel axis's entry distance is at most 0 when it does not miss
                     let near = m.scope("entry_cells", |m| {
-                        cells(m, cfg, dn, sl.sig_lo, sl.shift_lo, sl.lo_over, false)
+                        cells(m, cfg, dn, sl.down, sl.lo_over, false)
                     });
-                    let far = m.scope("exit_cells", |m| {
-                        cells(m, cfg, df, sl.sig_hi, sl.shift_hi, sl.hi_over, true)
-                    });
-                    let near = m.mux(ax.parallel, zero_c, near);
+                    let far = m.scope("exit_cells", |m| cells(m, cfg, df, sl.up, sl.hi_over, true));
                     let far = m.mux(ax.parallel, cap, far);
                     (
                         m.name(axis_miss, "misses"),
@@ -825,18 +845,10 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 /// Cells from `T` to a plane `dist` frame steps (`2^−g` units, SInt) away:
-/// 0 for a distance at most 0, else `⌊dist·sig·2^(z + kmin)⌋`
-/// (`⌈⌉` when `up`), `kmin = h − m + 1 − g`, capped at `C`; `C` when the
-/// slope is over the cap (and the distance positive). SInt of `K + 2`.
-fn cells(
-    m: &mut ModuleBuilder,
-    cfg: &Config,
-    dist: Sig,
-    sig: Sig,
-    shift: Sig,
-    over: Sig,
-    up: bool,
-) -> Sig {
+/// 0 for a distance at most 0, else `⌊dist·slope·2^kmin⌋` (`⌈⌉` when `up`),
+/// `kmin = h − m + 1 − g`, capped at `C`; `C` when the slope is over the cap.
+/// SInt of `K + 2`.
+fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Sig, over: Sig, up: bool) -> Sig {
     let (q, g, h, mb) = (cfg.box_bits, POS_FRAC, CELL_BITS, cfg.slope_bits);
     let k_cap = cfg.cap_bits();
     let cap_w = k_cap + 2;
@@ -853,24 +865,25 @@ fn cells(
     let mag = m.mux(big, limit, mag);
     let mag = m.slice(mag, sat, 0);
     let mag = m.name(mag, "distance");
-    let product = m.mul(mag, sig);
+    let product = m.mul(mag, slope);
     let product = m.name(product, "product");
-    let zmax = q + 2 + g;
-    let pw = product.width() + zmax;
-    let wide = zext(m, product, pw);
-    let moved = m.shl(wide, shift);
+    let pw = product.width();
     let kmin = h as i64 - mb as i64 + 1 - g as i64;
     let (value, vw) = if kmin >= 0 {
         let z = m.uint(kmin as u32, 0);
         (
-            if kmin > 0 { m.cat(&[moved, z]) } else { moved },
+            if kmin > 0 {
+                m.cat(&[product, z])
+            } else {
+                product
+            },
             pw + kmin as u32,
         )
     } else {
         let drop = (-kmin) as u32;
-        let kept = m.slice(moved, pw - 1, drop);
+        let kept = m.slice(product, pw - 1, drop);
         if up {
-            let below = m.slice(moved, drop - 1, 0);
+            let below = m.slice(product, drop - 1, 0);
             let lost = m.any_set(below);
             let l = m.as_uint(lost);
             let l = zext(m, l, pw - drop);
