@@ -10,6 +10,10 @@
 //! vectors and q = 12 on 30,000 in Verilator, q = 4 in the evaluator; and
 //! its stimulus reaches hits, misses and entries away from the window
 //! start. `rtl-gen check` runs the others at 10^6 (docs/node.md §7-8).
+//! `node` (`golden_model::node_reorigin::eval`, the unit a wide render
+//! uses): N = 4, 8, 2 at q = 8, 8, 12 on 10^6 vectors each in Verilator,
+//! four more shapes and formats in the evaluator, and its stimulus reaches
+//! every kind of answer.
 
 mod common;
 
@@ -132,10 +136,12 @@ fn node_child_stimulus_reaches_hits_misses_and_entries() {
 type NodeCase = (u32, u32, u32, &'static str, u32, u64);
 
 const NODE_CASES: &[NodeCase] = &[
-    (4, 8, 8, "binary32", 4, 200_000),
+    (4, 8, 8, "binary32", 4, 1_000_000),
+    (8, 8, 8, "binary32", 2, 1_000_000),
+    (2, 12, 8, "binary32", 1, 1_000_000),
     (2, 8, 8, "binary32", 0, 0),
-    (8, 8, 8, "binary32", 2, 0),
     (4, 12, 12, "binary32", 0, 0),
+    (4, 16, 8, "binary32", 3, 0),
     (4, 8, 8, "e5m10", 1, 0),
 ];
 
@@ -214,4 +220,14 @@ fn node_stimulus_reaches_every_kind_of_answer() {
     assert!(inner > total / 10, "{inner} hits inside the window");
     assert!(capped > 0, "no hit at the cap");
     assert!(mixed > total / 10, "{mixed} nodes with hits and misses");
+}
+
+#[test]
+fn node_matches_golden_model_in_verilator() {
+    for c in NODE_CASES.iter().filter(|c| c.5 > 0) {
+        let p = node_params(c);
+        let p: Vec<&str> = p.iter().map(String::as_str).collect();
+        let (g, dir) = generate("node_verilator", "node", &p);
+        cross_checked(&g, &dir, c.5, 7);
+    }
 }

@@ -85,6 +85,12 @@ impl ReoriginParams {
         self.box_bits + self.pos_frac + 20
     }
 
+    /// Bits of the window the window end `t_max − T` is summed in: `K + 6`
+    /// (a count capped at `2^K` cells needs no more to be within a cell).
+    pub fn end_window_bits(&self) -> u32 {
+        self.cell_cap_bits() + 6
+    }
+
     /// The sentinel entry of a miss: `2^(K+1) − 1`.
     pub fn miss_entry(&self) -> u32 {
         (1 << (self.cell_cap_bits() + 1)) - 1
@@ -375,8 +381,11 @@ pub fn eval_with(
         // the position at T in units 2^(e − g), outward: o − O + T·d in the window (a
         // parallel axis's product is zero)
         let (lo, hi, b) = window_sum(&[ax.o, ax.origin.neg(), t_term.mul(&ax.d)], w);
-        let x_lo = clamp(Dyadic::new(lo, b).div_pow2_round(ax.e - g, false));
-        let x_hi = clamp(Dyadic::new(hi, b).div_pow2_round(ax.e - g, true));
+        // outward for a slab axis (⌊lo⌋, ⌈hi⌉); inward for a parallel one (⌈lo⌉, ⌊hi⌋):
+        // there an integer plane p is certainly beyond x when p > ⌊hi⌋ or p < ⌈lo⌉
+        let parallel = ax.recip.is_none();
+        let x_lo = clamp(Dyadic::new(lo, b).div_pow2_round(ax.e - g, parallel));
+        let x_hi = clamp(Dyadic::new(hi, b).div_pow2_round(ax.e - g, !parallel));
         let Some((ra, rb, mirror)) = ax.recip else {
             axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
             raws.push(None);
@@ -424,7 +433,7 @@ pub fn eval_with(
     let far_top = match &t_max {
         None => cap,
         Some(v) => {
-            let (_, hi, b) = window_sum(&[v.clone(), t_term.neg()], w);
+            let (_, hi, b) = window_sum(&[v.clone(), t_term.neg()], p.end_window_bits());
             let c = Dyadic::new(hi, b).div_pow2_round(grid_exp, true);
             i64::try_from(c.min(IBig::from(cap))).expect("≤ cap")
         }
@@ -444,8 +453,9 @@ pub fn eval_with(
             let (lo, hi) = ((lo as i64) << g, (hi as i64) << g);
             match ax.as_ref().expect("every axis has terms") {
                 AxisTerms::Parallel { x_lo, x_hi } => {
-                    // exact: an integer above x is above ⌊x⌋, one below x below ⌈x⌉
-                    if lo > *x_lo || hi < *x_hi {
+                    // outside: above ⌊hi⌋ or below ⌈lo⌉ (exact when the window sum
+                    // is: then both are ⌊x⌋ and ⌈x⌉)
+                    if lo > *x_hi || hi < *x_lo {
                         return None;
                     }
                 }

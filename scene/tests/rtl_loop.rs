@@ -1,4 +1,5 @@
-//! RTL in the loop: every box, transform, cull and triangle test of a
+//! RTL in the loop (the second test: over a wide BVH, every node test through
+//! the `node` unit): every box, transform, cull and triangle test of a
 //! cornell 32×32 render (AO 2, bundles and cull planes on) runs through the
 //! Verilated binary32 units (the configurations of `tests/silhouette_rtl.rs`,
 //! `transform_rtl.rs`, `cull_rtl.rs` and `triangle_rtl.rs`, so the harness
@@ -23,14 +24,20 @@ fn every_unit_through_the_rtl_gives_the_identical_image() {
     let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rtl_loop");
     let _ = std::fs::remove_dir_all(&work);
     let (w, h) = (32, 32);
-    let r = rtl_loop(&s, &acc, TraceOpts::default(), w, h, &work, false).expect("rtl loop runs");
+    let r =
+        rtl_loop(&s, &acc, None, TraceOpts::default(), w, h, &work, false).expect("rtl loop runs");
     eprintln!("cornell {w}x{h}, {} rays\n{r}", r.golden.rays());
     assert!(
         r.golden.ids.iter().any(|k| k.0 != u32::MAX),
         "something is hit"
     );
     for u in &r.units {
-        assert!(u.used, "{}: the default render uses every unit", u.top);
+        let node = matches!(u.stream, Stream::Node | Stream::NodeTlas);
+        assert_eq!(
+            u.used, !node,
+            "{}: the default render uses every unit but the node tester",
+            u.top
+        );
         assert_eq!(u.mismatches, 0, "{r}");
         assert_eq!(u.missing, 0, "{r}");
         assert_eq!(u.answered, u.vectors, "{r}");
@@ -65,4 +72,47 @@ fn every_unit_through_the_rtl_gives_the_identical_image() {
     ] {
         assert!(n(s) >= floor, "{}: {} tests\n{r}", s.label(), n(s));
     }
+}
+
+/// Over the wide BVH (N = 4, q = 8, the TLAS at q = 16): every node test of a
+/// cornell 32×32 render (AO 2) through the Verilated `node` unit (its TLAS
+/// and BLAS shapes), every transform and triangle test through theirs; the
+/// image answered from the RTL is identical, and each node stream is as long
+/// as the traversal's node visits of its tree level.
+#[test]
+fn every_node_test_through_the_rtl_gives_the_identical_image() {
+    use golden_model::float::FloatFormat;
+    use golden_model::wide::WideFormat;
+    use scene::wide::{WideAccel, TLAS_BOX_BITS};
+    let mut s =
+        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
+    s.render.ao_rays = 2;
+    let acc = Accel::build(&s, false);
+    let format = WideFormat::new(FloatFormat::BINARY32, 4, 8).unwrap();
+    let wide = WideAccel::build(&acc, format, TLAS_BOX_BITS).unwrap();
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rtl_loop_wide");
+    let _ = std::fs::remove_dir_all(&work);
+    let (w, h) = (32, 32);
+    let mut opts = TraceOpts::default();
+    opts.planes = false;
+    opts.bundles.enabled = false;
+    let r = rtl_loop(&s, &acc, Some(&wide), opts, w, h, &work, false).expect("rtl loop runs");
+    eprintln!("cornell {w}x{h} wide N=4, {} rays\n{r}", r.golden.rays());
+    assert!(r.ok(), "{r}");
+    assert_eq!(r.golden.ids, r.rtl.ids);
+    assert_eq!(r.golden.t, r.rtl.t);
+    let g = r.golden.stats.total();
+    let n = |s: Stream| r.unit(s).vectors;
+    for u in &r.units {
+        let used = matches!(
+            u.stream,
+            Stream::Node | Stream::NodeTlas | Stream::Transform | Stream::Triangle
+        );
+        assert_eq!(u.used, used, "{}", u.line());
+        assert!(u.ok(), "{}", u.line());
+    }
+    assert_eq!(n(Stream::Node) + n(Stream::NodeTlas), g.node_visits, "{r}");
+    assert!(n(Stream::NodeTlas) >= 1000, "{r}");
+    assert!(n(Stream::Node) >= 1000, "{r}");
+    assert_eq!(g.tri_tests, n(Stream::Triangle), "{r}");
 }

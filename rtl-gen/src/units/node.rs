@@ -32,7 +32,7 @@
 use super::node_sort::sort_slots;
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
-use crate::arith::float::bits::{sadd, shr_sticky, ssub, to_sint};
+use crate::arith::float::bits::{lzc, sadd, ssub, to_sint};
 use crate::arith::float::compare::compare;
 use crate::arith::float::unpack::{normalize, unpack, Unpacked};
 use crate::arith::float::{sint_width, Format};
@@ -100,6 +100,10 @@ impl Config {
     /// The window of the position sums: `W = q + g + 20`.
     pub fn window_bits(&self) -> u32 {
         self.box_bits + POS_FRAC + WINDOW_EXTRA
+    }
+    /// The window of `t_max − T`: `K + 6`.
+    pub fn end_window_bits(&self) -> u32 {
+        self.cap_bits() + 6
     }
     /// Bits of a frame exponent port: `emin ..= emax` (other values are bad input).
     pub fn frame_exp_bits(&self) -> u32 {
@@ -254,6 +258,22 @@ struct Term {
     sig: Sig,
     zero: Sig,
     top: Sig,
+    /// trailing zeros of `sig` (UInt)
+    tz: Sig,
+}
+
+/// Trailing zeros of `x` (its width when `x` is zero): the leading zeros of
+/// its bits reversed.
+fn trailing_zeros(m: &mut ModuleBuilder, x: Sig) -> Sig {
+    let bits: Vec<Sig> = (0..x.width())
+        .map(|i| {
+            let b = m.bit_at(x, i);
+            m.as_uint(b)
+        })
+        .collect();
+    let reversed = m.cat(&bits);
+    let tz = lzc(m, reversed);
+    m.name(tz, "trailing_zeros")
 }
 
 /// A finite float as a window term, its sign flipped by `negate`.
@@ -269,6 +289,7 @@ fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool) ->
         sig: u.sig,
         zero: u.zero,
         top: m.name(top, "top"),
+        tz: trailing_zeros(m, u.sig),
     }
 }
 
@@ -310,15 +331,22 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
             let limit = m.slice(limit, cap - 1, 0);
             let gap = m.mux(far, limit, gap);
             let gap = m.name(gap, "gap");
-            let (moved, lost) = shr_sticky(m, padded, gap);
-            // the top w bits kept, the rest lost
-            let (kept, lost) = if wt > w {
-                let below = m.slice(moved, wt - w - 1, 0);
-                let below = m.any_set(below);
-                (m.slice(moved, wt - 1, wt - w), m.or(lost, below))
+            let moved = m.shr(padded, gap);
+            // the top w bits kept; bits were lost when the significand has a one below
+            // weight gap + wi − w: gap + wi − w > trailing zeros (a comparison, not a mask)
+            let kept = if wt > w {
+                m.slice(moved, wt - 1, wt - w)
             } else {
-                (moved, lost)
+                moved
             };
+            let cw = gap.width().max(t.tz.width()) + 2;
+            let reach = to_sint(m, gap, cw);
+            let shift = m.sint(cw, i128::from(wi) - i128::from(w));
+            let reach = sadd(m, reach, shift, cw);
+            let tz = to_sint(m, t.tz, cw);
+            let below = m.lt(tz, reach);
+            let live = m.not(t.zero);
+            let lost = m.and(below, live);
             let kept = m.name(kept, "kept");
             let lost = m.name(lost, "lost");
             let kept_s = to_sint(m, kept, sw);
@@ -363,9 +391,9 @@ fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig) -> Sig {
     m.slice(s, 1, 0)
 }
 
-/// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`), `v` and `s` SInt, clamped to
-/// `±2^bits`: SInt of `bits + 2`.
-fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: bool, bits: u32) -> Sig {
+/// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`, a Bool), `v` and `s` SInt, clamped
+/// to `±2^bits`: SInt of `bits + 2`.
+fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let ow = bits + 2;
     let vw = v.width();
     let sw = s.width();
@@ -408,15 +436,14 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: bool, bits: u32) -> Sig {
     let rlimit_c = m.slice(rlimit, rcap - 1, 0);
     let ramount = m.mux(rfar, rlimit_c, ramount);
     let floor = m.shr(v, ramount);
-    let floor = if up {
-        let (_, lost) = shr_sticky(m, v, ramount);
-        let l = m.as_uint(lost);
-        let l = to_sint(m, l, 2);
-        let f = m.add(floor, l);
-        sext(m, f, vw + 1)
-    } else {
-        floor
-    };
+    // a one below weight n was shifted out: trailing zeros below n
+    let tz = trailing_zeros(m, v);
+    let lost = m.lt(tz, ramount);
+    let lost = m.and(lost, up);
+    let l = m.as_uint(lost);
+    let l = to_sint(m, l, 2);
+    let f = m.add(floor, l);
+    let floor = sext(m, f, vw + 1);
     let right_v = clamp(m, floor);
     let right_v = m.name(right_v, "shifted_down");
     m.mux(right, right_v, left)
@@ -552,11 +579,16 @@ pub fn build(cfg: &Config) -> Module {
                 let zero = m.or(t_u.zero, d[a].zero);
                 let tw = t_term.top.width();
                 let top = sadd(m, t_term.top, dt.top, tw);
+                // a product's trailing zeros are its factors' together
+                let tzw = t_term.tz.width().max(dt.tz.width()) + 1;
+                let (ta, tb) = (zext(m, t_term.tz, tzw), zext(m, dt.tz, tzw));
+                let tz = m.add(ta, tb);
                 let pt = Term {
                     negative: sign,
                     sig: product,
                     zero,
                     top,
+                    tz,
                 };
                 let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w);
                 // s = B − (e − g)
@@ -567,12 +599,12 @@ pub fn build(cfg: &Config) -> Module {
                 let gc = m.sint(sw, i128::from(g));
                 let s = sadd(m, s, gc, sw);
                 let s = m.name(s, "grid_shift");
-                let x_lo = m.scope("x_lo", |m| to_grid(m, lo, s, false, pos_bits));
-                let x_hi = m.scope("x_hi", |m| to_grid(m, hi, s, true, pos_bits));
+                // outward for a slab axis; inward for a parallel one (golden model)
+                let x_lo = m.scope("x_lo", |m| to_grid(m, lo, s, parallel, pos_bits));
+                let x_hi = m.scope("x_hi", |m| to_grid(m, hi, s, not_parallel, pos_bits));
                 // in the frame of the child's entry and exit planes, once per node: mirrored
                 // (Q·2^g − x) for a negative direction, so each child forms entry − x_hi and
-                // exit − x_lo; swapped for a parallel axis, so the child's lo − x_lo and
-                // hi − x_hi say whether the position is inside
+                // exit − x_lo (for a parallel axis lo − x_hi > 0 or hi − x_lo < 0: outside)
                 let (x_lo, x_hi) = m.scope("plane_frame", |m| {
                     let xw = x_lo.width() + 1;
                     let top = m.sint(xw, (mask_of(q) as i128) << g);
@@ -581,8 +613,6 @@ pub fn build(cfg: &Config) -> Module {
                     let mirrored_hi = ssub(m, top, lo_w, xw);
                     let lo = m.mux(mirror, mirrored_lo, lo_w);
                     let hi = m.mux(mirror, mirrored_hi, hi_w);
-                    let lo = m.mux(parallel, hi_w, lo);
-                    let hi = m.mux(parallel, lo_w, hi);
                     (m.name(lo, "from_lo"), m.name(hi, "from_hi"))
                 });
                 // E = e + ⌊log2 |inv_d|⌋
@@ -601,7 +631,7 @@ pub fn build(cfg: &Config) -> Module {
                         m.cat(&[nz.sig, z])
                     };
                     // the successor's step in units of lo: 2^max(0, lz + m − F − 1)
-                    let lz = crate::arith::float::bits::lzc(m, inv[a].sig);
+                    let lz = lzc(m, inv[a].sig);
                     let lzw = lz.width() + 2;
                     let lz_s = to_sint(m, lz, lzw.max(bits_for(u64::from(mb + fw)) + 2));
                     let xw = lz_s.width();
@@ -695,8 +725,10 @@ pub fn build(cfg: &Config) -> Module {
                 let shift_hi = m.slice(z_hi, zbits - 1, 0);
                 let down = zext(m, ax.sig_lo, mb + zmax);
                 let down = m.shl(down, shift_lo);
+                // below the cap an upper slope fits m + zmax bits too (sig·2^z ≤ 2^(m−1+zmax))
                 let up = zext(m, sig_hi, mb + 1 + zmax);
                 let up = m.shl(up, shift_hi);
+                let up = m.slice(up, mb + zmax - 1, 0);
                 Slope {
                     down: m.name(down, "slope_down"),
                     up: m.name(up, "slope_up"),
@@ -711,12 +743,13 @@ pub fn build(cfg: &Config) -> Module {
     let far_top = m.scope("window_end", |m| {
         let end = float_term(m, fmt, &t_max, false);
         let start = float_term(m, fmt, &t_u, true);
-        let (_, hi, b) = window_sum(m, &[end, start], w);
+        let (_, hi, b) = window_sum(m, &[end, start], cfg.end_window_bits());
         let sw = b.width().max(gw) + 2;
         let bs = sext(m, b, sw);
         let gs = sext(m, grid_exp, sw);
         let s = ssub(m, bs, gs, sw);
-        let v = to_grid(m, hi, s, true, k_cap);
+        let round_up = m.bool(true);
+        let v = to_grid(m, hi, s, round_up, k_cap);
         let v = sext(m, v, cap_w);
         let cap = m.sint(cap_w, 1i128 << k_cap);
         let open = m.or(t_max.inf, t_neg_inf);
