@@ -218,7 +218,7 @@ pub fn wide_workload(
         let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
         render_with(&s, &acc, &tracer, width, h, false)
     };
-    let (node, exact) = (run(Boxes::Compressed), run(Boxes::Exact));
+    let (node, exact) = (run(Boxes::Node), run(Boxes::Exact));
 
     Ok(WideWorkload {
         scene: scene

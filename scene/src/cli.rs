@@ -75,13 +75,14 @@ pub struct WideOpts {
     /// instead of the compressed node
     #[arg(long, requires = "wide")]
     exact_boxes: bool,
-    /// with --wide: test the compressed nodes with the re-origin design study
-    /// (docs/node.md §10) instead of the node tester
+    /// with --wide: test the compressed nodes with the earlier window-and-anchors model
+    /// (docs/node.md §1-9, no RTL) instead of the node unit
     #[arg(long, requires = "wide", conflicts_with = "exact_boxes")]
-    reorigin: bool,
-    /// with --reorigin: BLAS nodes also carry each slot's extent along the four diagonals
-    /// (a 14-DOP with the box), tested in the same cells (the cull-plane study, docs/node.md §11)
-    #[arg(long, requires = "reorigin")]
+    anchors: bool,
+    /// with --wide: BLAS nodes also carry each slot's extent along the four diagonals
+    /// (a 14-DOP with the box), tested in the same cells (the cull-plane study, docs/node.md §11;
+    /// the model only)
+    #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors"])]
     dop: bool,
 }
 
@@ -95,10 +96,10 @@ impl WideOpts {
             .map_err(|e| format!("--wide {n} --box-bits {}: {e}", self.box_bits))?;
         let boxes = if self.exact_boxes {
             Boxes::Exact
-        } else if self.reorigin {
-            Boxes::Reorigin
+        } else if self.anchors {
+            Boxes::Anchored
         } else {
-            Boxes::Compressed
+            Boxes::Node
         };
         Ok(Some((format, self.tlas_box_bits, boxes)))
     }
@@ -107,13 +108,13 @@ impl WideOpts {
 /// What a wide render's boxes are, for its summary line.
 fn wide_name(format: WideFormat, tlas_box_bits: u32, boxes: Boxes) -> String {
     match boxes {
-        Boxes::Compressed => format!(
-            "node tester N={} q={} (TLAS q={tlas_box_bits})",
+        Boxes::Anchored => format!(
+            "window-and-anchors node model N={} q={} (TLAS q={tlas_box_bits})",
             format.children(),
             format.box_bits()
         ),
-        Boxes::Reorigin => format!(
-            "re-origin node test (design study) N={} q={} (TLAS q={tlas_box_bits})",
+        Boxes::Node => format!(
+            "node unit N={} q={} (TLAS q={tlas_box_bits})",
             format.children(),
             format.box_bits()
         ),
@@ -219,7 +220,7 @@ pub enum Command {
         #[command(flatten)]
         c: Common,
         /// trace through a wide BVH (--wide N, --box-bits, --tlas-box-bits), every node test
-        /// answered by the `node` unit (the re-origin design: --reorigin is implied)
+        /// answered by the `node` unit
         #[command(flatten)]
         wide: WideOpts,
         /// output PNG (the image answered by the RTL)
@@ -598,8 +599,11 @@ fn run(command: Command) -> Result<ExitCode, String> {
         }
         Command::RtlLoop { c, wide, out, work } => {
             let (s, w, h, mut opts) = setup(&c)?;
-            if wide.exact_boxes || wide.dop {
-                return Err("rtl-loop --wide runs the node unit: no --exact-boxes or --dop".into());
+            if wide.exact_boxes || wide.anchors || wide.dop {
+                return Err(
+                    "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors or --dop"
+                        .into(),
+                );
             }
             let shape = wide.shape()?;
             if shape.is_some() {

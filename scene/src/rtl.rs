@@ -795,7 +795,7 @@ pub fn rtl_loop(
     let frame = |tester: &dyn BoxTester| {
         let tracer = Tracer::new(scene, accel, tester, opts);
         let tracer = match wide {
-            Some(wa) => tracer.with_wide(wa, Boxes::Reorigin),
+            Some(wa) => tracer.with_wide(wa, Boxes::Node),
             None => tracer,
         };
         render_with(scene, accel, &tracer, w, h, progress)

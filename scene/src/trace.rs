@@ -435,7 +435,8 @@ impl<'a> Tracer<'a> {
 
     /// The same tracer over the wide BVH `wide` of its [`Accel`]
     /// (`render --wide`): single rays, no planes, each wide node tested by the
-    /// node tester's golden model ([`Boxes::Compressed`]) or by the
+    /// `node` unit ([`Boxes::Node`]), the window-and-anchors model
+    /// ([`Boxes::Anchored`]) or by the
     /// conservative slab on exact binary32 child boxes ([`Boxes::Exact`]).
     pub fn with_wide(mut self, wide: &'a WideAccel, boxes: Boxes) -> Tracer<'a> {
         self.opts.bundles.enabled = false;

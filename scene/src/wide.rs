@@ -21,10 +21,12 @@
 //! consecutive in [`WideBvh::prims`] from its `prim_base`.
 //!
 //! **Traversal** (`trace::Tracer::with_wide`, single rays): per node, the
-//! node tester's golden model (`golden_model::node`, the `node` unit's
-//! transaction: every valid slot tested conservatively against its decoded
-//! box, the slots returned sorted, hits first and nearer first;
-//! [`Boxes::Compressed`]), or as the baseline the conservative slab
+//! `node` unit's transaction (`golden_model::node_reorigin`, through
+//! [`crate::units::Units::node`]: every valid slot tested conservatively
+//! against its decoded box from the parent's entry on, the slots returned
+//! sorted, hits first and nearer first; [`Boxes::Node`]), the earlier
+//! window-and-anchors model (`golden_model::node`, [`Boxes::Anchored`]), or
+//! as the baseline the conservative slab
 //! (`golden_model::slab::eval_conservative`, binary32) on every exact
 //! binary32 child box, hits sorted by entry ([`Boxes::Exact`]). A
 //! conservative test never misses a child the ray truly reaches, and the
@@ -272,15 +274,16 @@ impl WideAccel {
 /// Which boxes a traversal tests.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Boxes {
-    /// the compressed node, tested by the node tester (`golden_model::node`)
-    Compressed,
+    /// the compressed node, tested by the window-and-anchors model
+    /// (`golden_model::node`, docs/node.md §1-9; no RTL)
+    Anchored,
     /// the exact binary32 child boxes (an uncompressed node of the same tree)
     Exact,
-    /// the compressed node, tested by the re-origin design study
-    /// (`golden_model::node_reorigin`, docs/node.md §10): each node gets the
-    /// parent's entry for it as its start, the root the entry of a conservative
-    /// slab on its box
-    Reorigin,
+    /// the compressed node, tested by the `node` unit
+    /// (`golden_model::node_reorigin`, docs/node.md §10, §12): each node gets
+    /// the parent's entry for it as its start, the root the entry of a
+    /// conservative slab on its box
+    Node,
 }
 
 impl Tracer<'_> {
@@ -355,12 +358,12 @@ impl Tracer<'_> {
             .expect("a wide format is a valid node shape");
         let study = ReoriginParams::new(FloatFormat::BINARY32, n, bvh.format.box_bits());
         let bytes = match boxes {
-            Boxes::Compressed | Boxes::Reorigin => bvh.format.record_bytes(),
+            Boxes::Anchored | Boxes::Node => bvh.format.record_bytes(),
             Boxes::Exact => bvh.format.baseline_bytes(),
         } as u64;
         // the start of each node's test (re-origin study): the root's from a box test
         let root_start = match boxes {
-            Boxes::Reorigin => {
+            Boxes::Node => {
                 let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
                 for (i, (l, h)) in bvh.exact[0].iter().enumerate() {
                     if bvh.nodes[0].valid >> i & 1 == 1 {
@@ -394,7 +397,7 @@ impl Tracer<'_> {
             let t_max = r.box_t_max();
             order.clear();
             match boxes {
-                Boxes::Compressed => {
+                Boxes::Anchored => {
                     // the node tester: slots sorted, hits first, nearer first
                     let out = node::eval(
                         params,
@@ -408,7 +411,7 @@ impl Tracer<'_> {
                     );
                     order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
                 }
-                Boxes::Reorigin => {
+                Boxes::Node => {
                     let ray = NodeRay {
                         o,
                         inv_d,
@@ -548,7 +551,7 @@ pub fn report(
         .iter()
         .map(|&format| {
             let wide = WideAccel::build(accel, format, tlas_box_bits)?;
-            let (hq, sq) = primary(scene, accel, &wide, Boxes::Compressed, w, h);
+            let (hq, sq) = primary(scene, accel, &wide, Boxes::Node, w, h);
             let (he, se) = primary(scene, accel, &wide, Boxes::Exact, w, h);
             let key = |h: &Hit| (h.inst, h.prim, h.t.to_bits());
             Ok(ReportRow {

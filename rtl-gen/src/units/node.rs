@@ -464,12 +464,23 @@ struct AxisTerms {
 /// The per-axis slope of the per-child test: significands rounded down and
 /// up, the shift `z`, and whether each is above the cap.
 struct Slope {
-    /// `sig_lo · 2^z`: cells per frame step rounded down, in units of `2^kmin`
-    down: Sig,
+    /// cells per frame step rounded down, `sig · 2^z` in units of `2^kmin`
+    down: Scaled,
     /// rounded up
-    up: Sig,
-    lo_over: Sig,
-    hi_over: Sig,
+    up: Scaled,
+}
+
+/// A slope `sig · 2^z`: the distance is shifted by `z` (after a clamp at
+/// `2^(sat − z)`, beyond which the product reaches the cap anyway), so the
+/// product is `(q + g + 3) × (m + 1)` bits, one DSP block.
+#[derive(Clone, Copy)]
+struct Scaled {
+    sig: Sig,
+    shift: Sig,
+    /// `2^(sat − z)`
+    limit: Sig,
+    /// above the cap: every positive distance gives `C`
+    over: Sig,
 }
 
 /// Builds `node` for a configuration.
@@ -720,20 +731,23 @@ pub fn build(cfg: &Config) -> Module {
                 };
                 let lo_over = over(m, z, lo_w);
                 let hi_over = over(m, z_hi, sig_hi);
-                // shifted once per node (an over-cap slope's bits do not matter)
-                let shift_lo = m.slice(z, zbits - 1, 0);
-                let shift_hi = m.slice(z_hi, zbits - 1, 0);
-                let down = zext(m, ax.sig_lo, mb + zmax);
-                let down = m.shl(down, shift_lo);
-                // below the cap an upper slope fits m + zmax bits too (sig·2^z ≤ 2^(m−1+zmax))
-                let up = zext(m, sig_hi, mb + 1 + zmax);
-                let up = m.shl(up, shift_hi);
-                let up = m.slice(up, mb + zmax - 1, 0);
+                // an over-cap slope's shift does not matter
+                let top = m.uint(zmax + 1, 1u128 << zmax);
+                let scaled = |m: &mut ModuleBuilder, sig: Sig, z: Sig, over: Sig, what: &str| {
+                    m.scope(what, |m| {
+                        let shift = m.slice(z, zbits - 1, 0);
+                        let limit = m.shr(top, shift);
+                        Scaled {
+                            sig,
+                            shift: m.name(shift, "shift"),
+                            limit: m.name(limit, "distance_limit"),
+                            over: m.name(over, "over_cap"),
+                        }
+                    })
+                };
                 Slope {
-                    down: m.name(down, "slope_down"),
-                    up: m.name(up, "slope_up"),
-                    lo_over: m.name(lo_over, "down_over_cap"),
-                    hi_over: m.name(hi_over, "up_over_cap"),
+                    down: scaled(m, lo_w, z, lo_over, "down"),
+                    up: scaled(m, sig_hi, z_hi, hi_over, "up"),
                 }
             })
         })
@@ -793,10 +807,8 @@ pub fn build(cfg: &Config) -> Module {
                     let par_miss = m.and(ax.parallel, outside);
                     let axis_miss = m.or(par_miss, behind);
                     // a parallel axis's entry distance is at most 0 when it does not miss
-                    let near = m.scope("entry_cells", |m| {
-                        cells(m, cfg, dn, sl.down, sl.lo_over, false)
-                    });
-                    let far = m.scope("exit_cells", |m| cells(m, cfg, df, sl.up, sl.hi_over, true));
+                    let near = m.scope("entry_cells", |m| cells(m, cfg, dn, sl.down, false));
+                    let far = m.scope("exit_cells", |m| cells(m, cfg, df, sl.up, true));
                     let far = m.mux(ax.parallel, cap, far);
                     (
                         m.name(axis_miss, "misses"),
@@ -878,27 +890,29 @@ pub fn build(cfg: &Config) -> Module {
 }
 
 /// Cells from `T` to a plane `dist` frame steps (`2^−g` units, SInt) away:
-/// 0 for a distance at most 0, else `⌊dist·slope·2^kmin⌋` (`⌈⌉` when `up`),
-/// `kmin = h − m + 1 − g`, capped at `C`; `C` when the slope is over the cap.
-/// SInt of `K + 2`.
-fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Sig, over: Sig, up: bool) -> Sig {
-    let (q, g, h, mb) = (cfg.box_bits, POS_FRAC, CELL_BITS, cfg.slope_bits);
+/// 0 for a distance at most 0, else `⌊dist·sig·2^(z + kmin)⌋` (`⌈⌉` when
+/// `up`), `kmin = h − m + 1 − g`, capped at `C`; `C` when the slope is over
+/// the cap. SInt of `K + 2`.
+fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool) -> Sig {
+    let (g, h, mb) = (POS_FRAC, CELL_BITS, cfg.slope_bits);
     let k_cap = cfg.cap_bits();
     let cap_w = k_cap + 2;
     let cap = m.sint(cap_w, 1i128 << k_cap);
     let zero = m.sint(cap_w, 0);
     let dw = dist.width();
-    // a distance of 2^(q+2+g) or more reaches the cap at any slope
-    let sat = q + 2 + g;
+    let lw = slope.limit.width();
     let zero_d = m.sint(dw, 0);
     let positive = m.lt(zero_d, dist);
+    // at most 2^(sat − z): beyond it the product reaches the cap at this slope
     let mag = m.slice(dist, dw - 2, 0);
-    let limit = m.uint(dw - 1, 1u128 << sat);
+    let mag = zext(m, mag, (dw - 1).max(lw));
+    let limit = zext(m, slope.limit, (dw - 1).max(lw));
     let big = m.lt(limit, mag);
     let mag = m.mux(big, limit, mag);
-    let mag = m.slice(mag, sat, 0);
+    let mag = m.slice(mag, lw - 1, 0);
+    let mag = m.shl(mag, slope.shift);
     let mag = m.name(mag, "distance");
-    let product = m.mul(mag, slope);
+    let product = m.mul(mag, slope.sig);
     let product = m.name(product, "product");
     let pw = product.width();
     let kmin = h as i64 - mb as i64 + 1 - g as i64;
@@ -933,7 +947,7 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Sig, over: Sig, 
     let v = m.slice(value, k_cap, 0);
     let v = to_sint(m, v, cap_w);
     let v = m.mux(capped, cap, v);
-    let v = m.mux(over, cap, v);
+    let v = m.mux(slope.over, cap, v);
     // 0 at a distance of 0 or less: an entry already crossed, an exit at T (a negative exit
     // distance misses, decided beside this)
     let not_pos = m.not(positive);
