@@ -318,9 +318,7 @@ fn wide_renders_are_the_binary32_single_ray_render() {
                 assert_eq!(ids, bin.ids, "{name} N={n} q={q} {boxes:?}: primary()");
             }
             let ratio = child_tests[0] as f64 / child_tests[1] as f64;
-            println!(
-                "{name} N={n} q={q}: child tests node unit / exact binary32 boxes {ratio:.4}"
-            );
+            println!("{name} N={n} q={q}: child tests node unit / exact binary32 boxes {ratio:.4}");
             if q == 8 {
                 assert!(
                     ratio <= 1.10,

@@ -311,11 +311,14 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
     }
     let top = m.name(top, "window_top");
     let sw = w + 3;
+    // Σ ±kept as Σ (kept ^ negative) + #negative: one adder a term, the count of
+    // negative terms added with the counts of lost bits
     let mut base = m.sint(sw, 0);
+    let mut negatives = m.uint(2, 0);
     let mut down = m.uint(2, 0);
     let mut up = m.uint(2, 0);
     for (i, t) in terms.iter().enumerate() {
-        (base, down, up) = m.scope(&format!("term{i}"), |m| {
+        (base, negatives, down, up) = m.scope(&format!("term{i}"), |m| {
             let wi = t.sig.width();
             let wt = wi.max(w);
             // the significand at the top of a wt-bit field, moved down by max top − top
@@ -350,23 +353,27 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
             let kept = m.name(kept, "kept");
             let lost = m.name(lost, "lost");
             let kept_s = to_sint(m, kept, sw);
-            let sum = m.add(base, kept_s);
-            let dif = m.sub(base, kept_s);
-            let plus = sext(m, sum, sw);
-            let minus = sext(m, dif, sw);
-            let base = m.mux(t.negative, minus, plus);
+            let flip = m.as_uint(t.negative);
+            let flip = m.cat(&vec![flip; sw as usize]);
+            let flip = m.as_sint(flip);
+            let ones_complement = m.xor(kept_s, flip);
+            let sum = m.add(base, ones_complement);
+            let base = sext(m, sum, sw);
+            let negatives = add_bit(m, negatives, t.negative);
             let neg_lost = m.and(t.negative, lost);
             let not_neg = m.not(t.negative);
             let pos_lost = m.and(not_neg, lost);
             let down = add_bit(m, down, neg_lost);
             let up = add_bit(m, up, pos_lost);
-            (m.name(base, "partial_sum"), down, up)
+            (m.name(base, "partial_sum"), negatives, down, up)
         });
     }
-    let down = to_sint(m, down, sw);
-    let up = to_sint(m, up, sw);
-    let lo = ssub(m, base, down, sw);
-    let hi = sadd(m, base, up, sw);
+    let negatives = to_sint(m, negatives, 4);
+    let (down, up) = (to_sint(m, down, 4), to_sint(m, up, 4));
+    let lo_adjust = ssub(m, negatives, down, 4);
+    let hi_adjust = sadd(m, negatives, up, 4);
+    let lo = sadd(m, base, lo_adjust, sw);
+    let hi = sadd(m, base, hi_adjust, sw);
     let bw = tw + 1;
     let top = sext(m, top, bw);
     let wc = m.sint(bw, i128::from(w));
