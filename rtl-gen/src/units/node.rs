@@ -399,61 +399,63 @@ fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig) -> Sig {
 }
 
 /// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`, a Bool), `v` and `s` SInt, clamped
-/// to `±2^bits`: SInt of `bits + 2`.
+/// to `±2^bits`: SInt of `bits + 2`. One right shifter: `v` with `bits + 2`
+/// zeros below it, shifted right by `bits + 2 − s` (a larger `s` saturates
+/// any nonzero `v`).
 fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let ow = bits + 2;
     let vw = v.width();
-    let sw = s.width();
+    let ew = vw + ow;
     let lim = m.sint(ow, 1i128 << bits);
     let neg_lim = m.sint(ow, -(1i128 << bits));
-    let clamp = |m: &mut ModuleBuilder, x: Sig| -> Sig {
-        let xw = x.width().max(ow);
-        let x = sext(m, x, xw);
-        let (hi, lo) = (sext(m, lim, xw), sext(m, neg_lim, xw));
-        let above = m.lt(hi, x);
-        let below = m.lt(x, lo);
-        let x = m.slice(x, ow - 1, 0);
-        let x = m.as_sint(x);
-        let x = m.mux(above, lim, x);
-        m.mux(below, neg_lim, x)
-    };
-    let right = m.msb(s);
-    // left: v clamped first (a shift only moves it away from zero), then moved
-    let left_v = clamp(m, v);
-    let lw = 2 * ow;
-    let left_v = sext(m, left_v, lw);
-    let s_u = m.as_uint(s);
-    let cap = bits_for(u64::from(ow));
-    let limit = m.uint(sw, u128::from(ow));
-    let far = m.lt(limit, s_u);
-    let amount = m.slice(s_u, cap - 1, 0);
-    let limit_c = m.slice(limit, cap - 1, 0);
-    let amount = m.mux(far, limit_c, amount);
-    let moved = m.shl(left_v, amount);
-    let left = clamp(m, moved);
-    let left = m.name(left, "shifted_up");
-    // right: an arithmetic shift floors; a lost bit rounds up
-    let zero = m.sint(sw, 0);
-    let neg_s = m.sub(zero, s);
-    let neg_s = m.slice(neg_s, sw - 1, 0);
-    let rcap = bits_for(u64::from(vw));
-    let rlimit = m.uint(sw, u128::from(vw));
-    let rfar = m.lt(rlimit, neg_s);
-    let ramount = m.slice(neg_s, rcap - 1, 0);
-    let rlimit_c = m.slice(rlimit, rcap - 1, 0);
-    let ramount = m.mux(rfar, rlimit_c, ramount);
-    let floor = m.shr(v, ramount);
-    // a one below weight n was shifted out: trailing zeros below n
+    // the shift right: ow − s, from 0 (s = ow) to ew (everything out)
+    let sw = s.width().max(bits_for(u64::from(ew)) + 1) + 1;
+    let s = sext(m, s, sw);
+    let headroom = m.sint(sw, i128::from(ow));
+    let right = ssub(m, headroom, s, sw);
+    let huge = m.msb(right);
+    let huge = m.name(huge, "saturates");
+    let rcap = bits_for(u64::from(ew));
+    let limit = m.sint(sw, i128::from(ew));
+    let all_out = m.lt(limit, right);
+    let amount = m.slice(right, rcap - 1, 0);
+    let limit_u = m.uint(rcap, u128::from(ew));
+    let amount = m.mux(all_out, limit_u, amount);
+    let amount = m.name(amount, "shift");
+    let zeros = m.uint(ow, 0);
+    let ext = m.cat(&[v, zeros]);
+    let ext = m.as_sint(ext);
+    let floor = m.shr(ext, amount);
+    // a one below the shift's reach was lost: trailing zeros of v + ow below it
     let tz = trailing_zeros(m, v);
-    let lost = m.lt(tz, ramount);
+    let tw = tz.width().max(rcap) + 1;
+    let tz = zext(m, tz, tw);
+    let headroom_u = m.uint(tw, u128::from(ow));
+    let reach = m.add(tz, headroom_u);
+    let amount_w = zext(m, amount, tw + 1);
+    let reach = zext(m, reach, tw + 1);
+    let lost = m.lt(reach, amount_w);
     let lost = m.and(lost, up);
     let l = m.as_uint(lost);
     let l = to_sint(m, l, 2);
-    let f = m.add(floor, l);
-    let floor = sext(m, f, vw + 1);
-    let right_v = clamp(m, floor);
-    let right_v = m.name(right_v, "shifted_down");
-    m.mux(right, right_v, left)
+    let r = m.add(floor, l);
+    let rw = r.width();
+    let (hi, lo) = (sext(m, lim, rw), sext(m, neg_lim, rw));
+    let above = m.lt(hi, r);
+    let below = m.lt(r, lo);
+    let r = m.slice(r, ow - 1, 0);
+    let r = m.as_sint(r);
+    let r = m.mux(above, lim, r);
+    let r = m.mux(below, neg_lim, r);
+    // s beyond the headroom: any nonzero v is beyond the clamp
+    let zero_v = m.sint(vw, 0);
+    let negative = m.lt(v, zero_v);
+    let nonzero = m.ne(v, zero_v);
+    let zero_o = m.sint(ow, 0);
+    let sat = m.mux(negative, neg_lim, lim);
+    let sat = m.mux(nonzero, sat, zero_o);
+    let r = m.mux(huge, sat, r);
+    m.name(r, "on_grid")
 }
 
 /// The per-node terms of one axis.
