@@ -162,10 +162,12 @@ pub enum Command {
         /// one row per ray type (primary, shadow, AO) instead of all rays together
         #[arg(long)]
         by_kind: bool,
-        /// over a wide BVH of N = 2, 4 or 8 children per compressed node instead (node tester
-        /// golden model, single rays, no planes), beside the same tree with exact binary32
-        /// child boxes; ends with one line per scene `child tests per ray q=<q> / binary32:
-        /// <scene> <ratio>`; an error (exit 2) when an image differs from the binary32 single-ray render
+        /// over a wide BVH of N = 2, 4 or 8 children per compressed node instead (the `node`
+        /// unit, single rays, no planes): the units (node at the BLAS and TLAS shapes, the
+        /// roots' slab, transform, triangle) and LUT-cycles and DSP-cycles per ray, beside the
+        /// same tree with exact binary32 child boxes; one line per scene `child tests per ray
+        /// q=<q> / binary32: <scene> <ratio>` and `LUT-cycles per ray, node unit ...`; an error
+        /// (exit 2) when an image differs from the binary32 single-ray render
         #[arg(long, value_name = "N")]
         wide: Option<usize>,
         /// with --wide: bits per child box integer, 4..=16
@@ -376,7 +378,15 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
                         tlas_box_bits,
                     )?);
                 }
-                to.text(&crate::per_ray::wide_markdown(&loads))?;
+                let areas = match no_synth {
+                    true => None,
+                    false => Some(crate::per_ray::wide_areas(
+                        format,
+                        tlas_box_bits,
+                        cached_only,
+                    )?),
+                };
+                to.text(&crate::per_ray::wide_markdown(&loads, areas.as_deref()))?;
                 if loads.iter().any(|w| !w.same_image) {
                     return Err("a wide render differs from the binary32 single-ray render".into());
                 }

@@ -172,7 +172,7 @@ pub fn workloads(scene: &Path, width: u32, by_kind: bool) -> Result<Vec<Workload
 }
 
 /// One scene's render over a wide BVH (`per-ray --wide N`): the same tree
-/// traced with its compressed nodes through the node tester's golden model,
+/// traced with its compressed nodes through the `node` unit's model,
 /// and with exact binary32 child boxes (the denominator that keeps a looser
 /// node test from hiding behind an identical image).
 #[derive(Debug, Clone)]
@@ -233,13 +233,117 @@ pub fn wide_workload(
     })
 }
 
-/// The wide report: per scene the transactions per ray with the compressed
-/// nodes and with exact boxes, then one line per scene
-/// `child tests per ray q=<q> / binary32: <scene> <ratio>`.
-pub fn wide_markdown(loads: &[WideWorkload]) -> String {
-    let mut s = String::from(
-        "Per ray over a wide BVH (golden render, single rays, no planes; the node unit's \
-         per-node block is not built yet, so no LUT-cycles):\n\n\
+/// The units of a ray's traversal over a wide BVH: role, unit and parameters
+/// (binary32): the `node` unit at the BLAS and the TLAS shape, the
+/// conservative slab of each tree's root, the transform, the triangle test.
+pub fn wide_roles(
+    format: WideFormat,
+    tlas_box_bits: u32,
+) -> Vec<(&'static str, &'static str, Vec<String>)> {
+    let node = |q: u32| {
+        vec![
+            format!("children={}", format.children()),
+            format!("box_bits={q}"),
+            "stages=4".to_string(),
+        ]
+    };
+    let fixed = |p: &[&str]| p.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    vec![
+        ("node test, BLAS", "node", node(format.box_bits())),
+        ("node test, TLAS", "node", node(tlas_box_bits)),
+        (
+            "root box test (one per tree entered)",
+            "slab",
+            fixed(&["rounding=conservative", "stages=4"]),
+        ),
+        ("instance transform", "transform", fixed(&["stages=8"])),
+        ("triangle test", "triangle", fixed(&["stages=8"])),
+    ]
+}
+
+/// Transactions of a wide render in [`wide_roles`] order.
+fn wide_tests(k: &KindStats) -> [u64; 5] {
+    [
+        k.node_visits - k.tlas_node_visits,
+        k.tlas_node_visits,
+        k.root_box_tests,
+        k.transforms,
+        k.tri_tests,
+    ]
+}
+
+/// The Xilinx estimate of each of [`wide_roles`]'s units.
+pub fn wide_areas(
+    format: WideFormat,
+    tlas_box_bits: u32,
+    cached_only: bool,
+) -> Result<Vec<Area>, String> {
+    wide_roles(format, tlas_box_bits)
+        .into_iter()
+        .map(|(_, unit, p)| {
+            let g = rtl_flow::generate(unit, &p).map_err(|e| format!("{unit}: {e}"))?;
+            let x = synth::xilinx_estimate(&g, cached_only)?;
+            Ok(Area {
+                luts: x.luts,
+                dsps: x.dsps,
+            })
+        })
+        .collect()
+}
+
+/// LUT-cycles and DSP-cycles per ray of a wide render with [`wide_areas`].
+pub fn wide_cost_per_ray(k: &KindStats, areas: &[Area]) -> (f64, f64) {
+    let tests = wide_tests(k);
+    let sum = |f: fn(&Area) -> u64| {
+        tests
+            .iter()
+            .zip(areas)
+            .map(|(&n, a)| n as f64 * f(a) as f64)
+            .sum::<f64>()
+            / k.rays.max(1) as f64
+    };
+    (sum(|a| a.luts), sum(|a| a.dsps))
+}
+
+/// The wide report: with `areas`, the units and per scene the LUT-cycles and
+/// DSP-cycles per ray of the `node` unit's render; per scene the
+/// transactions per ray with the compressed nodes and with exact boxes, then
+/// one line per scene `child tests per ray q=<q> / binary32: <scene> <ratio>`
+/// (and with areas `LUT-cycles per ray: <scene> <LUT> <DSP>`).
+pub fn wide_markdown(loads: &[WideWorkload], areas: Option<&[Area]>) -> String {
+    let mut s = String::new();
+    if let (Some(areas), Some(w)) = (areas, loads.first()) {
+        s += "Units (binary32; Xilinx 7-series, `synth_xilinx -flatten` synthesis estimates):\n\n\
+              | role | unit | parameters | xc7 LUT | DSP48E1 |\n|---|---|---|---|---|\n";
+        for ((role, unit, p), a) in wide_roles(w.format, w.tlas_box_bits).iter().zip(areas) {
+            let _ = writeln!(
+                s,
+                "| {role} | `{unit}` | {} | {} | {} |",
+                p.join(" "),
+                a.luts,
+                a.dsps
+            );
+        }
+        s += "\nPer ray with the `node` unit (every unit one transaction per clock):\n\n\
+              | scene | rays |";
+        for (role, _, _) in wide_roles(w.format, w.tlas_box_bits) {
+            let _ = write!(s, " {role} / ray |");
+        }
+        s += " LUT-cycles / ray | DSP-cycles / ray |\n|---|---|---|---|---|---|---|---|---|\n";
+        for w in loads {
+            let k = &w.node;
+            let _ = write!(s, "| {} | {} |", w.scene, k.rays);
+            for n in wide_tests(k) {
+                let _ = write!(s, " {:.2} |", k.per_ray(n));
+            }
+            let (l, d) = wide_cost_per_ray(k, areas);
+            let _ = writeln!(s, " {l:.0} | {d:.1} |");
+        }
+        s.push('\n');
+    }
+    s += &String::from(
+        "Per ray over a wide BVH (golden render, single rays, no planes; the `node` unit's \
+         model, its root box tests among the child tests):\n\n\
          | scene | N | q | TLAS q | rays | node tests / ray | child tests / ray | node bytes / ray | transforms / ray | triangle tests / ray | binary32 boxes: child tests / ray | node bytes / ray | image = binary32 single-ray render |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
@@ -272,6 +376,18 @@ pub fn wide_markdown(loads: &[WideWorkload]) -> String {
             w.scene,
             w.child_test_ratio()
         );
+    }
+    if let Some(areas) = areas {
+        for w in loads {
+            let (l, d) = wide_cost_per_ray(&w.node, areas);
+            let _ = writeln!(
+                s,
+                "LUT-cycles per ray, node unit N={} q={}: {} {l:.0} LUT, {d:.1} DSP48E1",
+                w.format.children(),
+                w.format.box_bits(),
+                w.scene
+            );
+        }
     }
     s
 }

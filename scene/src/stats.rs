@@ -71,8 +71,14 @@ pub struct KindStats {
     pub node_visits: u64,
     /// ... node record bytes fetched
     pub node_bytes: u64,
-    /// ... child boxes tested (valid slots of the visited nodes)
+    /// ... child boxes tested (valid slots of the visited nodes; with the
+    /// `node` unit also the root box tests)
     pub child_tests: u64,
+    /// ... of the node visits, those of TLAS nodes
+    pub tlas_node_visits: u64,
+    /// ... box tests of a tree's root before its first node test (`node`
+    /// unit: one per tree entered, a conservative slab on the root's box)
+    pub root_box_tests: u64,
 }
 
 impl KindStats {
@@ -99,6 +105,8 @@ impl KindStats {
         self.node_visits += o.node_visits;
         self.node_bytes += o.node_bytes;
         self.child_tests += o.child_tests;
+        self.tlas_node_visits += o.tlas_node_visits;
+        self.root_box_tests += o.root_box_tests;
     }
     /// `x` per ray.
     pub fn per_ray(&self, x: u64) -> f64 {

@@ -300,6 +300,7 @@ impl Tracer<'_> {
         let inv_d = slab_reciprocal(FloatFormat::BINARY32, &d);
         self.walk(
             &wide.tlas,
+            true,
             None,
             boxes,
             o,
@@ -316,6 +317,7 @@ impl Tracer<'_> {
                     let mesh = self.meshes[x.mesh];
                     self.walk(
                         &wide.blas[x.mesh],
+                        false,
                         wide.dop.get(x.mesh).map(Vec::as_slice),
                         boxes,
                         o,
@@ -341,6 +343,7 @@ impl Tracer<'_> {
     fn walk(
         &self,
         bvh: &WideBvh,
+        tlas: bool,
         dop: Option<&[DopNode]>,
         boxes: Boxes,
         o: [u64; 3],
@@ -375,6 +378,7 @@ impl Tracer<'_> {
                 }
                 let out = box_test((lo, hi), o, inv_d, r.box_t_max());
                 st.child_tests += 1; // the root box test, counted as one child test
+                st.root_box_tests += 1;
                 if !out.hit {
                     return;
                 }
@@ -392,6 +396,7 @@ impl Tracer<'_> {
             let id = id as usize;
             let node = &bvh.nodes[id];
             st.node_visits += 1;
+            st.tlas_node_visits += u64::from(tlas);
             st.node_bytes += bytes;
             st.child_tests += node.valid.count_ones() as u64;
             let t_max = r.box_t_max();
