@@ -80,6 +80,12 @@ pub enum Command {
         /// the proven binary32 unit calls hits; much slower)
         #[arg(long)]
         exact_all: bool,
+        /// fit the wide BVH's node shape instead: per N = 2, 4, 8 the smallest q whose render
+        /// over the wide BVH (the `node` unit) is the binary32 image with child tests at most
+        /// 1 + --target-rate times those of exact boxes; the cheapest in LUT-cycles per ray
+        /// (node bytes per ray with --no-synth); writes that `node` unit's RTL
+        #[arg(long, conflicts_with_all = ["exact_all", "json"])]
+        wide: bool,
     },
     /// The box testers side by side (silhouette ray/bundle, RNE and conservative slab, the slab's reciprocal per box test, RAABB's figures): one table, the issue-19 targets checked
     Boxes {
@@ -463,9 +469,29 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             out,
             json,
             exact_all,
+            wide,
         } => {
             let sc = crate::fit::load(&scene)?;
             let name = scene.display().to_string();
+            if wide {
+                let w = width.unwrap_or(sc.render.width);
+                let f = crate::fit_wide::fit_wide(&sc, &name, w, target_rate, !no_synth)?;
+                let format = f.format();
+                let params = vec![
+                    format!("children={}", format.children()),
+                    format!("box_bits={}", format.box_bits()),
+                ];
+                let g = rtl_flow::generate("node", &params)?;
+                for p in g.write(&out, 1000.0 / fmax)? {
+                    println!("wrote {}", p.display());
+                }
+                let report = f.report(&name, target_rate);
+                let rp = out.join("fit-report.md");
+                std::fs::write(&rp, &report).map_err(|e| format!("{}: {e}", rp.display()))?;
+                println!("{report}");
+                println!("wrote {}", rp.display());
+                return Ok(());
+            }
             let o = crate::fit::FitOptions {
                 target_rate,
                 target_mhz: fmax,

@@ -18,6 +18,7 @@ pub mod cull;
 pub mod depth;
 pub mod dot_styles;
 pub mod fit;
+pub mod fit_wide;
 pub mod fpga;
 pub mod per_ray;
 pub mod prove;

@@ -208,6 +208,21 @@ pub fn wide_workload(
     tlas_box_bits: u32,
 ) -> Result<WideWorkload, String> {
     let s = Scene::load(scene).map_err(|e| e.to_string())?;
+    let name = scene
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    wide_workload_of(&s, &name, width, format, tlas_box_bits)
+}
+
+/// [`wide_workload`] of a loaded scene called `name`.
+pub fn wide_workload_of(
+    s: &Scene,
+    name: &str,
+    width: u32,
+    format: WideFormat,
+    tlas_box_bits: u32,
+) -> Result<WideWorkload, String> {
     let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
     let acc = Accel::build(&s, false);
     let wide = WideAccel::build(&acc, format, tlas_box_bits)?;
@@ -221,10 +236,7 @@ pub fn wide_workload(
     let (node, exact) = (run(Boxes::Node), run(Boxes::Exact));
 
     Ok(WideWorkload {
-        scene: scene
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default(),
+        scene: name.to_string(),
         format,
         tlas_box_bits,
         same_image: node.same_image(&binary) && exact.same_image(&binary),

@@ -108,3 +108,66 @@ fn fit_writes_json_and_rejects_a_scene_without_instances() {
     let err = cost::fit::load(&scenes.join("no_such_scene.toml")).unwrap_err();
     assert!(err.contains("no_such_scene.toml"), "{err}");
 }
+
+/// `fit --wide`: the bunny's node shape at width 48 under the 10 % rule: the
+/// chosen q is within the rule and every smaller q of its N was refused (at
+/// width 64 it is N = 4, q = 6), the chosen `node` unit's RTL is written; a
+/// rule of 0 to 1 only.
+#[test]
+fn fit_wide_chooses_the_smallest_q_within_the_rule() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fit-wide");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = |rate: &str| {
+        Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+            .args([
+                "fit",
+                "--wide",
+                "--no-synth",
+                "--width",
+                "48",
+                "--target-rate",
+                rate,
+            ])
+            .arg(root.join("scenes/bunny.toml"))
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let r = run("0.10");
+    let text = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        r.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("fit --wide: N="))
+        .unwrap_or_else(|| panic!("{text}"));
+    let (n, q): (u32, u32) = {
+        let f: Vec<u32> = line
+            .split(|c: char| !c.is_ascii_digit())
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse().unwrap())
+            .collect();
+        (f[0], f[1])
+    };
+    // every smaller q of that N was refused for its child tests, and q itself is within the rule
+    let row = text
+        .lines()
+        .find(|l| l.starts_with(&format!("| {n} | {q} |")))
+        .unwrap_or_else(|| panic!("{text}"));
+    let ratio: f64 = row.split('|').nth(4).unwrap().trim().parse().unwrap();
+    assert!(ratio <= 1.10, "{row}");
+    for smaller in 4..q {
+        assert!(row.contains(&format!("q={smaller}: ")), "{row}");
+    }
+    assert!(q < 12, "the bunny needs no more than q = {q}: {text}");
+    assert!(out.join(format!("node_n{n}_q{q}_m8_e8m23_s4.v")).exists());
+    assert!(out.join("fit-report.md").exists());
+    let bad = run("2");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--target-rate 2"));
+}
