@@ -788,7 +788,7 @@ pub fn build(cfg: &Config) -> Module {
     for i in 0..n {
         let (hit, near) = m.scope(&format!("slot{i}"), |m| {
             let mut near_max = zero_c;
-            let mut far_min = far_top;
+            let mut fars = vec![far_top];
             let mut missed = m.bool(false);
             for a in 0..3 {
                 let ax = &axes[a];
@@ -828,12 +828,16 @@ pub fn build(cfg: &Config) -> Module {
                 missed = m.or(missed, axis_miss);
                 let larger = m.lt(near_max, near);
                 near_max = m.mux(larger, near, near_max);
-                let smaller = m.lt(far, far_min);
-                far_min = m.mux(smaller, far, far_min);
+                fars.push(far);
             }
             let near_max = m.name(near_max, "near_max");
-            let far_min = m.name(far_min, "far_min");
-            let overlap = m.le(near_max, far_min);
+            // near_max ≤ min far as four comparisons (no multiplexers for the minimum)
+            let mut overlap = m.bool(true);
+            for far in fars {
+                let before = m.le(near_max, far);
+                overlap = m.and(overlap, before);
+            }
+            let overlap = m.name(overlap, "overlap");
             let not_missed = m.not(missed);
             let hit = m.and(overlap, not_missed);
             (m.name(hit, "box_hit"), near_max)
@@ -955,8 +959,8 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
     let capped = m.lt(cap_u, value);
     let v = m.slice(value, k_cap, 0);
     let v = to_sint(m, v, cap_w);
-    let v = m.mux(capped, cap, v);
-    let v = m.mux(slope.over, cap, v);
+    let at_cap = m.or(capped, slope.over);
+    let v = m.mux(at_cap, cap, v);
     // 0 at a distance of 0 or less: an entry already crossed, an exit at T (a negative exit
     // distance misses, decided beside this)
     let not_pos = m.not(positive);
