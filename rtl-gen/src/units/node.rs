@@ -65,7 +65,7 @@ crate::params! {
         /// significant bits m of the per-axis time per frame step
         slope_bits: u32 [4..=16] = 8,
         /// pipeline stages (latency in cycles), placed by the delay model
-        stages: u32 [0..=24] = 4,
+        stages: u32 [0..=48] = 4,
     }
 }
 
