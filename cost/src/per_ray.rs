@@ -224,14 +224,14 @@ pub fn wide_workload_of(
     tlas_box_bits: u32,
 ) -> Result<WideWorkload, String> {
     let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
-    let acc = Accel::build(&s, false);
+    let acc = Accel::build(s, false);
     let wide = WideAccel::build(&acc, format, tlas_box_bits)?;
     let opts = TraceOpts::single_rays();
     let golden = Golden::default();
-    let binary = render(&s, &acc, &golden, opts, width, h, false);
+    let binary = render(s, &acc, &golden, opts, width, h, false);
     let run = |boxes: Boxes| {
-        let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(&wide, boxes);
-        render_with(&s, &acc, &tracer, width, h, false)
+        let tracer = Tracer::new(s, &acc, &golden, opts).with_wide(&wide, boxes);
+        render_with(s, &acc, &tracer, width, h, false)
     };
     let (node, exact) = (run(Boxes::Node), run(Boxes::Exact));
 

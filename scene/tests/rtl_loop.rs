@@ -93,9 +93,7 @@ fn every_node_test_through_the_rtl_gives_the_identical_image() {
     let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rtl_loop_wide");
     let _ = std::fs::remove_dir_all(&work);
     let (w, h) = (32, 32);
-    let mut opts = TraceOpts::default();
-    opts.planes = false;
-    opts.bundles.enabled = false;
+    let opts = TraceOpts::single_rays();
     let r = rtl_loop(&s, &acc, Some(&wide), opts, w, h, &work, false).expect("rtl loop runs");
     eprintln!("cornell {w}x{h} wide N=4, {} rays\n{r}", r.golden.rays());
     assert!(r.ok(), "{r}");
