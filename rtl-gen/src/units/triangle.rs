@@ -51,7 +51,7 @@ use crate::arith::float::compare::compare;
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_module, mul_normal_module};
 use crate::arith::float::product_compare::{
-    factor, product_term, single_term, start_product, term_le, Factor,
+    factor_normal, product_term, single_term, start_product, term_le, Factor,
 };
 use crate::arith::float::unpack::unpack;
 use crate::arith::float::{Format, Rounding};
@@ -485,6 +485,9 @@ fn segment_by_products(
     t_max: Sig,
 ) -> (Sig, Sig, Sig) {
     let wf = cfg.wide;
+    // det, T, the widened bounds and the limit are zero or normal in wf
+    // (internal_format), or the transaction is invalid
+    let factor = factor_normal;
     let det_f = factor(m, wf, det, "det_factor");
     let unsigned = m.bool(false);
     let det_abs = Factor {

@@ -198,7 +198,8 @@ pub fn round_range_module(
         Range::Any => shift_to_grid(&mut m, fmt, exp, sig, &plan),
         Range::Normal { lead } => shift_in_range(&mut m, fmt, exp, sig, lead, &plan),
     };
-    let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n);
+    let in_range = range != Range::Any;
+    let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n, in_range);
     finish_operator(m, plan[2], &fmt.ty(), &Rounded { z }, "rounder")
 }
 
@@ -250,10 +251,10 @@ pub fn round_down_up_module(
     let rdn = Rm::fixed(Rounding::Rdn);
     let rup = Rm::fixed(Rounding::Rup);
     let down = m.scope("down", |m| {
-        round_and_pack(m, fmt, &rdn, sign_down, class, sticky_in, &n)
+        round_and_pack(m, fmt, &rdn, sign_down, class, sticky_in, &n, false)
     });
     let up = m.scope("up", |m| {
-        round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n)
+        round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n, false)
     });
     finish_operator(
         m,
@@ -414,7 +415,10 @@ fn shift_in_range(
     }
 }
 
-/// Step 3: round in mode `rm`, pack, overflow, specials.
+/// Step 3: round in mode `rm`, pack, overflow, specials; `in_range`: the
+/// value is zero or finite and does not overflow (no saturation, no
+/// infinity or NaN to select).
+#[allow(clippy::too_many_arguments)]
 fn round_and_pack(
     m: &mut ModuleBuilder,
     fmt: Format,
@@ -423,6 +427,7 @@ fn round_and_pack(
     class: Sig,
     sticky_in: Sig,
     n: &OnGrid,
+    in_range: bool,
 ) -> Sig {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let (shifted, lost, base, sig_zero) = (n.shifted, n.lost, n.base, n.sig_zero);
@@ -454,6 +459,20 @@ fn round_and_pack(
     let packed = m.add(packed, inc_w);
     let packed = zext(m, packed, pw);
     let packed = m.name(packed, "packed_mag");
+    let mag_w = e + f;
+    let zero_mag = m.uint(mag_w, 0);
+    if in_range {
+        let packed_mag = m.slice(packed, mag_w - 1, 0);
+        let fin = m.mux(sig_zero, zero_mag, packed_mag);
+        let k = m.uint(2, CLASS_ZERO);
+        let is_zero = m.eq(class, k);
+        let is_zero = m.name(is_zero, "class_zero");
+        let mag = m.mux(is_zero, zero_mag, fin);
+        let mag = m.name(mag, "mag");
+        let sign_u = m.as_uint(sign);
+        let z = m.cat(&[sign_u, mag]);
+        return m.name(z, "result");
+    }
     // packed >= the infinity's code: an exponent field of all ones or a carry
     // above it (bit tests, not a comparison after the addition)
     let exp_field = m.slice(packed, e + f - 1, f);
@@ -462,10 +481,8 @@ fn round_and_pack(
     let carried = m.any_set(above);
     let ovf = m.or(exp_all_ones, carried);
     let ovf = m.name(ovf, "overflow");
-    let mag_w = e + f;
     let inf_mag = m.uint(mag_w, fmt.inf_bits());
     let max_mag = m.uint(mag_w, fmt.inf_bits() - 1);
-    let zero_mag = m.uint(mag_w, 0);
     let sat = m.mux(to_inf, inf_mag, max_mag);
     let sat = m.name(sat, "saturated");
     let packed_mag = m.slice(packed, mag_w - 1, 0);
