@@ -52,7 +52,6 @@ use crate::float::{
     add, classify, convert, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
 };
 use crate::transform::recip;
-use std::cmp::Ordering;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
 
@@ -170,25 +169,6 @@ pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
         .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
 }
 
-/// The exact sign of the edge function `Q_X·P_Y − Q_Y·P_X` of the directed
-/// edge `P → Q` (ray-space coordinates of `w`): the order of the two exact
-/// products, which the unit compares before rounding them. `Equal` for a
-/// non-finite coordinate (an invalid transaction, whatever it gives).
-fn edge_sign(w: FloatFormat, p: &[u64; 3], q: &[u64; 3]) -> Ordering {
-    use crate::transform::exact::decode;
-    let product = |x: u64, y: u64| {
-        let ((mx, ex), (my, ey)) = (decode(w, x)?, decode(w, y)?);
-        Some((mx * my, ex + ey))
-    };
-    match (product(q[0], p[1]), product(q[1], p[0])) {
-        (Some((m1, e1)), Some((m2, e2))) => {
-            let e = e1.min(e2);
-            (m1 << (e1 - e) as usize).cmp(&(m2 << (e2 - e) as usize))
-        }
-        _ => Ordering::Equal,
-    }
-}
-
 /// The values of the datapath for one transaction, in the internal format.
 struct Datapath {
     /// the internal format
@@ -210,6 +190,7 @@ struct Datapath {
 fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath> {
     let w = internal_format(fmt)?;
     let wide = |v: u64| convert(fmt, w, v, mode);
+    let zero = w.zero(false);
     let all = x.o.iter().chain(&x.s).chain(&x.a).chain(&x.b).chain(&x.c);
     let invalid = all.clone().any(|&v| !fmt.is_finite(v))
         || fmt.is_nan(x.t_min)
@@ -236,11 +217,11 @@ fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath>
         sub(w, mul(w, q[0], p[1], mode), mul(w, q[1], p[0], mode), mode)
     };
     let (u, v, e_w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
-    // step 4: the exact signs of the edge functions, Q_X·P_Y against
-    // Q_Y·P_X (zero counts as inside); det and T from the rounded values
-    let signs = [edge_sign(w, &b, &c), edge_sign(w, &c, &a), edge_sign(w, &a, &b)];
-    let negative = signs.contains(&Ordering::Less);
-    let positive = signs.contains(&Ordering::Greater);
+    // step 4: zero counts as inside (an edge function is never NaN for
+    // finite input, and non-finite input is invalid whatever it gives)
+    let edges = [u, v, e_w];
+    let negative = edges.iter().any(|&e| lt(w, e, zero));
+    let positive = edges.iter().any(|&e| lt(w, zero, e));
     let det = add(w, add(w, u, v, mode), e_w, mode);
     let weighted = add(
         w,

@@ -50,14 +50,11 @@ use crate::arith::float::add::{add_normal_module, sub_widening_normal_module};
 use crate::arith::float::compare::compare;
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_module, mul_normal_module};
-use crate::arith::float::bits::add_const;
 use crate::arith::float::product_compare::{
-    factor_normal, product_term, single_term, start_product, term_le, Factor, ProductStart,
+    factor_normal, product_term, single_term, start_product, term_le, Factor,
 };
-use crate::arith::float::round::{round_rm_range, Range, Raw};
-use crate::arith::float::unpack::CLASS_FINITE;
 use crate::arith::float::unpack::unpack;
-use crate::arith::float::{Format, Rm, Rounding};
+use crate::arith::float::{Format, Rounding};
 use crate::arith::ports::{rounded, Operand, Pair, Source};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
@@ -356,56 +353,34 @@ pub fn build(cfg: &Config) -> Module {
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
 
     // step 3: RN(Q_X·P_Y) − RN(Q_Y·P_X) for the directed edge P → Q (the
-    // neighbour subtracts the same two rounded products the other way), and
-    // its sign from the exact products: Q_X·P_Y against Q_Y·P_X compared
-    // exactly, on the products the multipliers form before rounding
-    let factors: Vec<[Factor; 2]> = ["a", "b", "c"]
-        .iter()
-        .zip([a, b, c])
-        .map(|(v, r)| {
-            [
-                factor_normal(&mut m, wf, r[0], &format!("{v}_x_factor")),
-                factor_normal(&mut m, wf, r[1], &format!("{v}_y_factor")),
-            ]
-        })
-        .collect();
-    let edge = |m: &mut ModuleBuilder, name: &str, p: usize, q: usize| {
-        let (fp, fq) = (factors[p], factors[q]);
-        let exact = |m: &mut ModuleBuilder, role: &str, x: &Factor, y: &Factor| {
-            let inst = format!("u_edge_{name}_{role}");
-            let start = start_product(m, wf, x, y, 0, &inst);
-            let term = product_term(m, wf, &start, &format!("edge_{name}_{role}_term"));
-            let rounded = round_product(m, wf, mode, x, y, &start, &format!("u_edge_{name}_{role}_round"));
-            (term, rounded)
-        };
-        let (qx_py, qx_py_rounded) = exact(m, "qx_py", &fq[0], &fp[1]);
-        let (qy_px, qy_px_rounded) = exact(m, "qy_px", &fq[1], &fp[0]);
-        let value = rounded(
-            m,
-            &format!("u_edge_{name}"),
-            &wsub,
-            &Pair::new(qx_py_rounded, qy_px_rounded),
-        );
-        let (below, above) = m.scope(&format!("edge_{name}"), |m| {
-            let not_below = m.scope("not_below", |m| term_le(m, &qy_px, &qx_py));
-            let not_above = m.scope("not_above", |m| term_le(m, &qx_py, &qy_px));
-            let below = m.not(not_below);
-            let above = m.not(not_above);
-            (m.name(below, "below_zero"), m.name(above, "above_zero"))
-        });
-        (value, below, above)
+    // neighbour subtracts the same two rounded products the other way)
+    let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
+        let qx_py = rounded(m, &format!("u_edge_{name}_qx_py"), &mul, &Pair::new(q[0], p[1]));
+        let qy_px = rounded(m, &format!("u_edge_{name}_qy_px"), &mul, &Pair::new(q[1], p[0]));
+        rounded(m, &format!("u_edge_{name}"), &wsub, &Pair::new(qx_py, qy_px))
     };
-    let (e_u, u_below, u_above) = edge(&mut m, "bc", 1, 2);
-    let (e_v, v_below, v_above) = edge(&mut m, "ca", 2, 0);
-    let (e_w, w_below, w_above) = edge(&mut m, "ab", 0, 1);
+    let e_u = edge(&mut m, "bc", b, c);
+    let e_v = edge(&mut m, "ca", c, a);
+    let e_w = edge(&mut m, "ab", a, b);
 
-    // step 4: the exact signs (zero counts as inside; an edge function is
-    // never NaN for finite input, and non-finite input is invalid whatever
-    // it gives), det and T as rounded products and sums
-    let negative = m.or(u_below, v_below);
-    let negative = m.or(negative, w_below);
-    let positive = m.or(u_above, v_above);
-    let positive = m.or(positive, w_above);
+    // step 4: signs (zero counts as inside; an edge function is never NaN
+    // for finite input, and non-finite input is invalid whatever it gives),
+    // det and T as rounded products and sums
+    let mut negative = m.bool(false);
+    let mut positive = m.bool(false);
+    for (name, e) in [("e_u", e_u), ("e_v", e_v), ("e_w", e_w)] {
+        let (lt0, gt0) = m.scope(name, |m| {
+            let sign = m.msb(e);
+            let mag = m.slice(e, wf.width() - 2, 0);
+            let nonzero = m.any_set(mag);
+            let not_sign = m.not(sign);
+            let lt0 = m.and(sign, nonzero);
+            let gt0 = m.and(not_sign, nonzero);
+            (m.name(lt0, "below_zero"), m.name(gt0, "above_zero"))
+        });
+        negative = m.or(negative, lt0);
+        positive = m.or(positive, gt0);
+    }
     let mixed = m.and(negative, positive);
     let inside = m.not(mixed);
     let inside = m.name(inside, "inside_edges");
@@ -546,44 +521,6 @@ fn segment_by_products(
     let before_max = m.scope("t_to_max", |m| term_le(m, &t_signed, &max_det));
     let far = m.scope("t_far", |m| term_le(m, &limit_det, &t_abs));
     (after_min, before_max, far)
-}
-
-/// `x·y` rounded in `mode` into `wf` from the exact significand product of
-/// `start` (the multiplier the exact edge sign reads): the product of two
-/// zero-or-normal factors within wf's normal range (internal_format), so the
-/// rounder of [`Range::Normal`] with one leading zero at most; equal to
-/// `mul_normal_module`'s result.
-fn round_product(
-    m: &mut ModuleBuilder,
-    wf: Format,
-    mode: Rounding,
-    x: &Factor,
-    y: &Factor,
-    start: &ProductStart,
-    inst: &str,
-) -> Sig {
-    let f = wf.frac_bits as i64;
-    let sign = m.xor(x.sign, y.sign);
-    // bit 0 of the significand product weighs 2^(exp_x + exp_y − 2F)
-    let exp = add_const(m, start.exp_sum, -2 * f, start.exp_sum.width() + 1);
-    let class = m.uint(2, CLASS_FINITE);
-    let no_sticky = m.bool(false);
-    let raw = Raw {
-        sign,
-        class,
-        exp,
-        sig: start.sig,
-        sticky: no_sticky,
-    };
-    round_rm_range(
-        m,
-        wf,
-        &Rm::fixed(mode),
-        &raw,
-        Range::Normal { lead: 1 },
-        0,
-        inst,
-    )
 }
 
 impl Description for Triangle {
