@@ -242,7 +242,8 @@ fn step(x: f32, k: i32) -> f32 {
 /// points a few ulps around it): whenever the exact ray meets one of the two
 /// triangles and the edge is not on the silhouette seen along the ray (the
 /// two triangles on opposite sides of the plane through the edge and the
-/// direction), the unit hits at least one of them.
+/// direction), the unit hits at least one of them; it hits both, where the
+/// exact test meets one, on a bounded share of these rays.
 #[test]
 fn shared_edges_are_watertight() {
     // every rounding mode: a rounded edge function keeps its sign or is zero
@@ -331,6 +332,10 @@ fn shared_edges_watertight_in(mode: RoundingMode) {
          meets one"
     );
     assert_eq!(leaks, 0);
+    // a ray within rounding of an edge (of ray space, or of the two rounded
+    // products of an edge function) may hit both triangles: measured 3.4 to
+    // 6.7 % of the counted rays per mode (docs/triangle.md §2)
+    assert!(doubles <= counted / 10, "{doubles} double hits of {counted}");
     assert!(
         counted > rays / 3,
         "too few rays counted: {counted} of {rays}"
