@@ -60,6 +60,7 @@ use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
+use crate::retime::Products;
 
 /// The `triangle` unit.
 pub struct Triangle;
@@ -73,6 +74,16 @@ crate::choice! {
         Tnum = "tnum",
         /// also t and the barycentrics
         Full = "full",
+    }
+}
+
+crate::choice! {
+    /// How the retimer flattens the 24x24-style products of the datapath.
+    pub enum ProductsParam {
+        /// 18x18 blocks and their sum (ECP5)
+        Split = "split",
+        /// one product each (xc7 DSP48E1)
+        Whole = "whole",
     }
 }
 
@@ -92,6 +103,11 @@ crate::params! {
         outputs: Outputs = Outputs::Full,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 6,
+        /// split: products wider than 18 bits cut into 18x18 blocks and their sum when
+        /// stages are placed (ECP5's MULT18X18D, registers between blocks and sum); whole:
+        /// each product one multiplication (a 7-series DSP48E1 takes 25x18 and sums a wider
+        /// product's pieces in its cascade: half the DSP48 and no LUT adders)
+        products: ProductsParam = ProductsParam::Split,
     }
 }
 
@@ -137,6 +153,8 @@ pub struct Config {
     pub outputs: Outputs,
     /// pipeline registers
     pub stages: u32,
+    /// how the retimer flattens products
+    pub products: Products,
 }
 
 impl Config {
@@ -157,7 +175,15 @@ pub fn triangle_name(cfg: &Config) -> String {
         Rounding::Rne => String::new(),
         r => format!("_{}", r.word()),
     };
-    format!("triangle_{}{round}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
+    let products = match cfg.products {
+        Products::Split => "",
+        Products::Whole => "_whole",
+    };
+    format!(
+        "triangle_{}{round}_{out}{products}_s{}",
+        cfg.fmt.tag(),
+        cfg.stages
+    )
 }
 
 /// The data inputs: `o_* kz s_* a_* b_* c_* t_min t_max` (`*` = x, y, z;
@@ -466,7 +492,7 @@ pub fn build(cfg: &Config) -> Module {
     if cfg.stages == 0 {
         return datapath;
     }
-    let (mut module, _) = crate::retime::balance(&datapath, cfg.stages)
+    let (mut module, _) = crate::retime::balance_with(&datapath, cfg.stages, cfg.products)
         .expect("the triangle datapath is feed-forward");
     module.name = datapath.name.clone();
     module
@@ -538,6 +564,10 @@ impl Description for Triangle {
             round: p.round,
             outputs: p.outputs,
             stages: p.stages,
+            products: match p.products {
+                ProductsParam::Split => Products::Split,
+                ProductsParam::Whole => Products::Whole,
+            },
         })
     }
     fn generate(&self, cfg: &Config) -> Module {
