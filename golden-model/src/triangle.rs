@@ -48,9 +48,7 @@
 //! `t_max`, `kz = 3`, or a hit whose `t` lies beyond the format's finite
 //! range.
 
-use crate::float::{
-    add, classify, convert, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
-};
+use crate::float::{add, classify, convert, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
 use crate::transform::recip;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;

@@ -335,7 +335,10 @@ fn shared_edges_watertight_in(mode: RoundingMode) {
     // a ray within rounding of an edge (of ray space, or of the two rounded
     // products of an edge function) may hit both triangles: measured 3.4 to
     // 6.7 % of the counted rays per mode (docs/triangle.md §2)
-    assert!(doubles <= counted / 10, "{doubles} double hits of {counted}");
+    assert!(
+        doubles <= counted / 10,
+        "{doubles} double hits of {counted}"
+    );
     assert!(
         counted > rays / 3,
         "too few rays counted: {counted} of {rays}"

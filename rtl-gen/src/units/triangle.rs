@@ -381,9 +381,24 @@ pub fn build(cfg: &Config) -> Module {
     // step 3: RN(Q_X·P_Y) − RN(Q_Y·P_X) for the directed edge P → Q (the
     // neighbour subtracts the same two rounded products the other way)
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
-        let qx_py = rounded(m, &format!("u_edge_{name}_qx_py"), &mul, &Pair::new(q[0], p[1]));
-        let qy_px = rounded(m, &format!("u_edge_{name}_qy_px"), &mul, &Pair::new(q[1], p[0]));
-        rounded(m, &format!("u_edge_{name}"), &wsub, &Pair::new(qx_py, qy_px))
+        let qx_py = rounded(
+            m,
+            &format!("u_edge_{name}_qx_py"),
+            &mul,
+            &Pair::new(q[0], p[1]),
+        );
+        let qy_px = rounded(
+            m,
+            &format!("u_edge_{name}_qy_px"),
+            &mul,
+            &Pair::new(q[1], p[0]),
+        );
+        rounded(
+            m,
+            &format!("u_edge_{name}"),
+            &wsub,
+            &Pair::new(qx_py, qy_px),
+        )
     };
     let e_u = edge(&mut m, "bc", b, c);
     let e_v = edge(&mut m, "ca", c, a);

@@ -161,7 +161,12 @@ pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32
 /// overflowing (the caller guarantees it; outside that the result is
 /// unspecified): the rounder builds no right shift for subnormal results.
 /// Equal to [`add_module`] wherever the guarantee holds. Name `…_normal_s…`.
-pub fn add_normal_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32) -> Arc<Module> {
+pub fn add_normal_module(
+    fmt: Format,
+    mode: impl Into<RoundSel>,
+    sub: bool,
+    stages: u32,
+) -> Arc<Module> {
     add_range_module(fmt, mode, sub, true, stages)
 }
 
@@ -186,7 +191,10 @@ fn add_range_module(
     };
     let mut m = fmt.operator_module(
         name,
-        format!("Floating-point {what} in {}, rounded {mode}.{promise}", fmt.tag()),
+        format!(
+            "Floating-point {what} in {}, rounded {mode}.{promise}",
+            fmt.tag()
+        ),
         stages,
     );
     m.param("round", mode);
@@ -270,7 +278,15 @@ fn sub_widening_range_module(
     let s = add_raw(&mut m, fmt, a, b, true, raw_cuts);
     let raw = s.for_mode(&mut m, mode);
     let rs: u32 = round_cuts.iter().sum();
-    finish_rounded_range(m, to, &Rm::fixed(mode), &raw, range, rs, "widening subtractor")
+    finish_rounded_range(
+        m,
+        to,
+        &Rm::fixed(mode),
+        &raw,
+        range,
+        rs,
+        "widening subtractor",
+    )
 }
 
 #[cfg(test)]
