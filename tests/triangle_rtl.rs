@@ -12,20 +12,30 @@ use golden_model::float::FloatFormat;
 use golden_model::triangle::eval;
 use rtl_flow::triangle::TriangleBench;
 
-/// (exp_bits, frac_bits, round, outputs, stages, pipeline)
+/// (exp_bits, frac_bits, round, outputs, stages, pipeline, products)
 /// (the unit's plan is the delay-balanced placement, so `pipeline=balanced`
 /// builds the same registers; checked once by hand: e8m7 full s5 balanced,
 /// 1,000,000 vectors, 0 mismatches). The binary32 configuration is the
 /// renderer's (`render rtl-loop` shares its harness).
-type Case = (u32, u32, &'static str, &'static str, u32, &'static str);
+type Case = (
+    u32,
+    u32,
+    &'static str,
+    &'static str,
+    u32,
+    &'static str,
+    &'static str,
+);
 const CASES: &[Case] = &[
-    (8, 23, "rne", "full", 8, "plan"),
-    (8, 7, "rtz", "full", 4, "plan"),
-    (5, 6, "rdn", "hit", 0, "plan"),
+    (8, 23, "rne", "full", 8, "plan", "split"),
+    (8, 7, "rtz", "full", 4, "plan", "split"),
+    (5, 6, "rdn", "hit", 0, "plan", "split"),
     // the issue-42 format (binary16's range, internal e9m10), a directed mode
-    (5, 10, "rup", "full", 2, "plan"),
+    (5, 10, "rup", "full", 2, "plan", "split"),
     // t as numerator and denominator, the segment test by products (issue 42)
-    (8, 23, "rne", "tnum", 8, "plan"),
+    (8, 23, "rne", "tnum", 8, "plan", "split"),
+    // the cost target's configuration: whole products for xc7 (issue 42)
+    (8, 23, "rne", "tnum", 8, "plan", "whole"),
 ];
 
 fn params(c: &Case) -> Vec<String> {
@@ -40,6 +50,9 @@ fn params(c: &Case) -> Vec<String> {
         format!("stages={}", c.4),
         format!("pipeline={}", c.5),
     ]);
+    if c.6 != "split" {
+        p.push(format!("products={}", c.6));
+    }
     p
 }
 

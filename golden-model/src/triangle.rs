@@ -1,27 +1,29 @@
-//! Golden model of `triangle`: a watertight ray/triangle test in the manner
-//! of Woop, Benthin and Wald (2013, "Watertight ray/triangle
-//! intersection"), every operation rounded once in one internal format
-//! ([`internal_format`]: the unit's fraction width and an exponent range in
-//! which no value of the datapath overflows or underflows for finite
-//! inputs), to nearest even ([`eval`]) or in any rounding mode
+//! Golden model of `triangle`: a watertight ray/triangle test in Woop,
+//! Benthin and Wald's formulation (2013, "Watertight ray/triangle
+//! intersection"), every product, difference and sum rounded once in one
+//! internal format ([`internal_format`]: the unit's fraction width and an
+//! exponent range in whose normal range every value of the datapath lies
+//! for finite inputs), to nearest even ([`eval`]) or in any rounding mode
 //! ([`eval_with`]); and an exact rational reference ([`exact`]).
 //!
 //! Per ray (software, [`shear`]): `kz` is the axis of the largest `|d|`
 //! (the first on ties), `kx = kz + 1`, `ky = kz + 2` (mod 3), and
 //! `s = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz)` each correctly rounded.
-//! Per triangle (the unit, [`eval`]), in the internal format:
+//! Per triangle (the unit, [`eval`]), in the internal format, `RN` the
+//! rounding in the mode:
 //!
 //! 1. each vertex relative to the origin, `p = P − o` (three subtractions,
 //!    the inputs widened exactly);
-//! 2. sheared into ray space, `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz`
-//!    (one fused multiply-add each), `Z = s_z·p_kz`;
-//! 3. the edge functions as two-term fused dot products, rounded once:
-//!    `U = C_X·B_Y − C_Y·B_X`, `V = A_X·C_Y − A_Y·C_X`,
-//!    `W = B_X·A_Y − B_Y·A_X`;
+//! 2. sheared into ray space, `X = p_kx − RN(s_x·p_kz)`,
+//!    `Y = p_ky − RN(s_y·p_kz)`, and `p_kz` (the scale `s_z` is applied
+//!    once, to `T`);
+//! 3. the edge functions, two rounded products and a rounded difference:
+//!    `U = RN(C_X·B_Y) − RN(C_Y·B_X)`, `V = RN(A_X·C_Y) − RN(A_Y·C_X)`,
+//!    `W = RN(B_X·A_Y) − RN(B_Y·A_X)`;
 //! 4. inside unless some of `U, V, W` is negative and some positive;
-//!    `det = U + V + W` and `T = U·A_Z + V·B_Z + W·C_Z` as fused dot
-//!    products; `det = 0` is a miss (a triangle seen edge-on, or with a
-//!    repeated vertex);
+//!    `det = (U + V) + W` and `T = s_z·((U·a_kz + V·b_kz) + W·c_kz)`, every
+//!    operation rounded; `det = 0` is a miss (a triangle seen edge-on, or
+//!    with a repeated vertex);
 //! 5. `r = 1/det`, `t = T·r`, barycentrics `u = V·r` (of B), `v = W·r` (of
 //!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
 //!    rounded into the unit's format.
@@ -29,24 +31,24 @@
 //! **Why it is watertight.** A vertex's sheared coordinates depend only on
 //! the vertex and the ray, so two triangles sharing it compute the same
 //! `X, Y`. Each edge function depends only on its directed edge
-//! (`P → Q` gives `Q_X·P_Y − Q_Y·P_X`), and the neighbour across an edge
-//! walks it the other way: its value is the exact negation. Rounded once in
-//! a format where it can neither overflow nor underflow, in any mode, each
-//! has the sign of its exact value, so the two see opposite signs or both
-//! a zero. So a ray that leaves one triangle across an edge (its edge
-//! function negative there) finds the neighbour's positive, and zero counts
-//! as inside for both: no ray falls between the two. (Woop et al. need a
-//! double-precision fallback because their edge functions round each
-//! product; here the difference is fused.)
+//! (`P → Q` gives `RN(Q_X·P_Y) − RN(Q_Y·P_X)`), and the neighbour across an
+//! edge walks it the other way: it subtracts the same two rounded products
+//! in the opposite order. In the internal format nothing underflows or
+//! overflows, so a rounded difference has the sign of the exact difference
+//! of the two rounded products, in any mode: the two triangles see opposite
+//! signs or both a zero, and zero counts as inside for both. So no ray falls
+//! between them. The signs are those of the rounded products, not of the
+//! exact edge function: where the two products round to the same value
+//! (a ray within about an ulp of the edge's line in ray space) both
+//! triangles see a zero and both may hit. Woop et al. recompute such a zero
+//! in double precision; the unit does not (docs/triangle.md §2).
 //!
 //! Outputs when there is no hit: `t = u = v = +0`. `invalid` (with a miss)
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
 //! `t_max`, `kz = 3`, or a hit whose `t` lies beyond the format's finite
 //! range.
 
-use crate::float::{
-    classify, convert, dot3, fma, le, lt, mul, sub, Class, FloatFormat, RoundingMode,
-};
+use crate::float::{add, classify, convert, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
 use crate::transform::recip;
 
 const RNE: RoundingMode = RoundingMode::NearestEven;
@@ -142,23 +144,24 @@ pub fn eval(fmt: FloatFormat, x: &TriIn) -> TriOut {
 }
 
 /// The internal format of the unit for `fmt`: the same fraction width, the
-/// smallest exponent width (at least `fmt`'s) with which no value of the
-/// datapath overflows or underflows for finite inputs, so every rounding in
-/// it is the rounding of an unbounded exponent and the signs of the edge
-/// functions, `det` and `T` are exact in every mode; `None` if no supported
+/// smallest exponent width (at least `fmt`'s) in whose normal range every
+/// nonzero value of steps 1-4 lies for finite inputs, so every rounding in
+/// it is the rounding of an unbounded exponent (a rounded value has its
+/// exact value's sign, in every mode); `None` if no supported
 /// format (exponent at most 11 bits, width at most 64) has that range
-/// (formats with more than 8 exponent bits).
+/// (more than 8 exponent bits, or 8 with more than 44 fraction bits).
 ///
 /// With `g = emin − F` (the grid of `fmt`'s subnormals) and `M = 2^(emax+1)`:
 /// a difference `P − o` is a multiple of `2^g` below `2M`; the ray-space
 /// coordinates multiples of `2^(2g)` below `4M²`; the edge functions and
 /// `det` multiples of `2^(4g)` below `2^7·M⁴`; `T` a multiple of `2^(6g)`
 /// below `2^8·M⁶`; `1/det` below `2^(−4g)`. The internal bias is the
-/// smallest with `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`.
+/// smallest with `emin' ≤ 6g` (every nonzero value normal) and
+/// `emax' ≥ 6·emax + 16`.
 pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
     let (emin, emax, f) = (fmt.emin() as i64, fmt.emax() as i64, fmt.frac_bits() as i64);
     let g = emin - f;
-    let bias_needed = (6 * emax + 16).max(1 - 6 * g - f);
+    let bias_needed = (6 * emax + 16).max(1 - 6 * g);
     (fmt.exp_bits()..=FloatFormat::MAX_EXP_BITS)
         .find(|&e| (1i64 << (e - 1)) - 1 >= bias_needed)
         .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
@@ -194,34 +197,42 @@ fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath>
     let (kx, ky) = other_axes(x.kz);
     let kz = x.kz as usize % 3;
     let s = x.s.map(wide);
-    // steps 1-2: each vertex in ray space (the difference rounded into w)
+    // steps 1-2: each vertex in ray space (the difference rounded into w),
+    // `[X, Y, p_kz]`: the shear by s_z is applied once, to T
     let sheared = |p: &[u64; 3]| {
         let r = [0, 1, 2].map(|i| sub(w, wide(p[i]), wide(x.o[i]), mode));
         let (px, py, pz) = (r[kx], r[ky], r[kz]);
         [
-            fma(w, w.negate(s[0]), pz, px, mode),
-            fma(w, w.negate(s[1]), pz, py, mode),
-            mul(w, s[2], pz, mode),
+            sub(w, px, mul(w, s[0], pz, mode), mode),
+            sub(w, py, mul(w, s[1], pz, mode), mode),
+            pz,
         ]
     };
     let (a, b, c) = (sheared(&x.a), sheared(&x.b), sheared(&x.c));
-    // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
+    // step 3: RN(Q_X·P_Y) − RN(Q_Y·P_X) for the directed edge P → Q (the
+    // neighbour subtracts the same two rounded products the other way)
     let edge = |p: &[u64; 3], q: &[u64; 3]| {
-        dot3(w, [q[0], w.negate(q[1]), zero], [p[1], p[0], zero], mode)
+        sub(w, mul(w, q[0], p[1], mode), mul(w, q[1], p[0], mode), mode)
     };
     let (u, v, e_w) = (edge(&b, &c), edge(&c, &a), edge(&a, &b));
-    // step 4
+    // step 4: zero counts as inside (an edge function is never NaN for
+    // finite input, and non-finite input is invalid whatever it gives)
     let edges = [u, v, e_w];
     let negative = edges.iter().any(|&e| lt(w, e, zero));
     let positive = edges.iter().any(|&e| lt(w, zero, e));
-    let numbers = edges.iter().all(|&e| !w.is_nan(e));
-    let det = dot3(w, edges, [one(w); 3], mode);
-    let t_num = dot3(w, edges, [a[2], b[2], c[2]], mode);
+    let det = add(w, add(w, u, v, mode), e_w, mode);
+    let weighted = add(
+        w,
+        add(w, mul(w, u, a[2], mode), mul(w, v, b[2], mode), mode),
+        mul(w, e_w, c[2], mode),
+        mode,
+    );
+    let t_num = mul(w, s[2], weighted, mode);
     let det_zero = classify(w, det) == Class::Zero;
     Some(Datapath {
         w,
         invalid,
-        inside: numbers && !(negative && positive) && !det_zero,
+        inside: !(negative && positive) && !det_zero,
         e_v: v,
         e_w,
         det,

@@ -1,7 +1,10 @@
 //! `render --tri golden` (the `triangle` unit's golden model, binary32)
 //! against `--tri exact` (exact rational test) on the shipped scenes: every
-//! pixel's primary hit (instance and triangle) identical, `t` within the
-//! unit's error, the shading identical bit for bit where `t` rounds alike.
+//! pixel's primary hit (instance and triangle) identical, except where two
+//! surfaces meet the ray at the same depth within the unit's `t` error (a
+//! tie the unit's rounding may break the other way: 2 pixels of cornell at
+//! 32 px since Woop et al.'s rounded products, issue #42; none before), `t`
+//! within the unit's error.
 
 use scene::bvh::Accel;
 use scene::render::render;
@@ -36,17 +39,31 @@ fn unit_triangle_test_gives_the_exact_image() {
         let hits = exact.ids.iter().filter(|k| k.0 != u32::MAX).count();
         assert!(hits > exact.ids.len() / 10, "{name}: {hits} hits");
         let mut worst = 0.0f64;
+        let mut ties = 0;
         for p in 0..exact.ids.len() {
-            assert_eq!(
-                unit.ids[p], exact.ids[p],
-                "{name}: pixel {p} instance and triangle"
-            );
+            let (a, b) = (f64::from_bits(unit.t[p]), f64::from_bits(exact.t[p]));
+            if unit.ids[p] != exact.ids[p] {
+                // another surface at the same depth, within the unit's t error
+                assert!(
+                    unit.ids[p].0 != u32::MAX
+                        && exact.ids[p].0 != u32::MAX
+                        && ((a - b) / b).abs() < 2e-6,
+                    "{name}: pixel {p} instance and triangle {:?} (t {a}) against {:?} (t {b})",
+                    unit.ids[p],
+                    exact.ids[p]
+                );
+                ties += 1;
+                continue;
+            }
             if exact.ids[p].0 != u32::MAX {
-                let (a, b) = (f64::from_bits(unit.t[p]), f64::from_bits(exact.t[p]));
                 worst = worst.max(((a - b) / b).abs());
             }
         }
-        eprintln!("{name} {w} px: {hits} hits, ids identical, worst relative t error {worst:.2e}");
+        eprintln!(
+            "{name} {w} px: {hits} hits, ids identical but for {ties} ties at equal depth, \
+             worst relative t error {worst:.2e}"
+        );
+        assert!(ties <= 2, "{name}: {ties} ties");
         // the unit's t: about an ulp typically, a few near grazing angles
         assert!(worst < 2e-6, "{name}: t error {worst:.2e}");
     }

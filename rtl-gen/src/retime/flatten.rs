@@ -3,6 +3,7 @@
 //! products are split on the way ([`split_product`]).
 
 use super::split::split_product;
+use super::Products;
 use crate::ir::{Module, NodeId, Op, Port, Ty};
 use std::collections::HashMap;
 
@@ -37,6 +38,7 @@ fn inline(
     inputs: &[(usize, u32)],
     prefix: &str,
     nodes: &mut Vec<FlatNode>,
+    products: Products,
 ) -> Result<Vec<(usize, u32)>, String> {
     let mut map: Vec<(usize, u32)> = Vec::with_capacity(m.nodes.len());
     let mut inlined: HashMap<usize, Vec<(usize, u32)>> = HashMap::new();
@@ -69,6 +71,7 @@ fn inline(
                         &ins,
                         &format!("{prefix}{}_", instance.name),
                         nodes,
+                        products,
                     )?;
                     inlined.insert(*inst, outs);
                 }
@@ -89,7 +92,7 @@ fn inline(
                 let first = nodes.len();
                 let id = match op {
                     Op::Const(_) => push(nodes, op, node.ty, node.name.clone()),
-                    Op::Mul(a, b) => split_product(
+                    Op::Mul(a, b) if products == Products::Split => split_product(
                         nodes,
                         a.0 as usize,
                         b.0 as usize,
@@ -124,7 +127,7 @@ pub(super) fn push(nodes: &mut Vec<FlatNode>, op: Op, ty: Ty, name: String) -> u
     nodes.len() - 1
 }
 
-pub(super) fn flatten(m: &Module) -> Result<Flat, String> {
+pub(super) fn flatten(m: &Module, products: Products) -> Result<Flat, String> {
     let mut nodes = Vec::new();
     let inputs: Vec<(usize, u32)> = m
         .inputs
@@ -142,7 +145,7 @@ pub(super) fn flatten(m: &Module) -> Result<Flat, String> {
             (p, 0)
         })
         .collect();
-    let outs = inline(m, &inputs, "", &mut nodes)?;
+    let outs = inline(m, &inputs, "", &mut nodes, products)?;
     let skip = usize::from(m.handshake.is_some());
     let outputs = m.outputs[skip..]
         .iter()

@@ -19,14 +19,14 @@ pub(super) struct Graph {
     pub(super) delay: Vec<f64>,
 }
 
-pub(super) fn analyse(m: &Module) -> Result<Graph, String> {
+pub(super) fn analyse(m: &Module, products: super::Products) -> Result<Graph, String> {
     if m.instances.iter().any(|i| has_handshake_below(&i.module)) {
         return Err(format!(
             "module {}: a submodule has its own handshake",
             m.name
         ));
     }
-    let flat = flatten(m)?;
+    let flat = flatten(m, products)?;
     let n = flat.nodes.len();
     let mut live = vec![false; n];
     let mut is_output = vec![false; n];

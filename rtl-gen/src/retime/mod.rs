@@ -45,6 +45,18 @@ use schedule::{
 };
 use split::on_dsp;
 
+/// How [`balance_with`] flattens a product wider than a DSP block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Products {
+    /// unsigned products wider than 18 bits become 18x18 blocks and their
+    /// sum (ECP5's MULT18X18D; registers can go between blocks and sum)
+    Split,
+    /// every product stays one `*`, for the synthesis tool to map (a 7-series
+    /// DSP48E1 takes 25x18 and sums the pieces of a wider product in its
+    /// cascade, so a split there costs blocks and LUT adders)
+    Whole,
+}
+
 /// What [`balance`] did, for the reports.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Balance {
@@ -55,7 +67,7 @@ pub struct Balance {
 /// The delay model's clock period of `m` as it is pipelined: the longest
 /// chain of [`delay`]s between two registers, in LUT levels.
 pub fn modelled_period(m: &Module) -> Result<f64, String> {
-    let g = analyse(m)?;
+    let g = analyse(m, Products::Split)?;
     let built = Schedule {
         stage: g.flat.nodes.iter().map(|n| n.built).collect(),
     };
@@ -66,7 +78,16 @@ pub fn modelled_period(m: &Module) -> Result<f64, String> {
 /// (see the module documentation). The result has the same ports and
 /// function, `latency` cycles of latency, and no instances.
 pub fn balance(m: &Module, latency: u32) -> Result<(Module, Balance), String> {
-    let g = analyse(m)?;
+    balance_with(m, latency, Products::Split)
+}
+
+/// [`balance`] with the products flattened as `products` says.
+pub fn balance_with(
+    m: &Module,
+    latency: u32,
+    products: Products,
+) -> Result<(Module, Balance), String> {
+    let g = analyse(m, products)?;
     let last = latency;
     // with the DSP output routes starting a stage (a register at every
     // block's pins) where the latency allows it, else as plain logic

@@ -1,11 +1,11 @@
-//! `triangle`: a watertight ray/triangle test in the manner of Woop, Benthin
-//! and Wald (2013), every operation rounded once in one rounding mode
-//! (`round`) and in one internal format ([`internal_format`]: the unit's
-//! fraction width, an exponent range in which nothing of the datapath
-//! overflows or underflows for finite inputs), so the signs of the edge
-//! functions, `det` and `T` are the exact signs of the rounded ray-space
-//! coordinates in every mode and for every finite input (issues #16, #42;
-//! golden twin `golden_model::triangle`, docs/triangle.md).
+//! `triangle`: a watertight ray/triangle test in Woop, Benthin and Wald's
+//! formulation (2013), every product, difference and sum rounded once in one
+//! rounding mode (`round`) and in one internal format ([`internal_format`]:
+//! the unit's fraction width, an exponent range in which every value of the
+//! datapath is zero or normal for finite inputs), so two triangles sharing
+//! an edge subtract the same two rounded products in opposite order and see
+//! opposite signs (or both zero) in every mode, for every finite input
+//! (issues #16, #42; golden twin `golden_model::triangle`, docs/triangle.md).
 //!
 //! Inputs per ray: the origin `o`, the axis `kz` of the direction's largest
 //! component and the shear constants `s = (d_kx/d_kz, d_ky/d_kz, 1/d_kz)`,
@@ -15,17 +15,19 @@
 //! 1. `p = P − o` per vertex, rounded into the internal format;
 //!    `kx = kz + 1`, `ky = kz + 2` (mod 3) select components; the shear
 //!    constants and the bounds are widened into it exactly;
-//! 2. ray space: `X = p_kx − s_x·p_kz`, `Y = p_ky − s_y·p_kz` (fused
-//!    multiply-add), `Z = s_z·p_kz`;
-//! 3. edge functions, each a two-term fused dot product rounded once:
-//!    `U = C_X·B_Y − C_Y·B_X`, `V = A_X·C_Y − A_Y·C_X`, `W = B_X·A_Y − B_Y·A_X`
-//!    (a directed edge `P → Q` gives `Q_X·P_Y − Q_Y·P_X`; the neighbour
-//!    across it gets the exact negation, which is what makes the test
-//!    watertight);
-//! 4. inside unless some edge function is negative and another positive;
-//!    `det = U + V + W`, `T = U·A_Z + V·B_Z + W·C_Z` (fused dot products);
+//! 2. ray space: `X = p_kx − RN(s_x·p_kz)`, `Y = p_ky − RN(s_y·p_kz)`, and
+//!    `p_kz` itself (the scale `s_z` is applied once, to `T`);
+//! 3. edge functions, two rounded products and one rounded difference:
+//!    `U = RN(C_X·B_Y) − RN(C_Y·B_X)`, `V = RN(A_X·C_Y) − RN(A_Y·C_X)`,
+//!    `W = RN(B_X·A_Y) − RN(B_Y·A_X)` (a directed edge `P → Q` gives
+//!    `RN(Q_X·P_Y) − RN(Q_Y·P_X)`; the neighbour across it subtracts the
+//!    same two rounded products the other way: the opposite sign, or both
+//!    zero, which is what makes the test watertight);
+//! 4. inside unless some edge function is negative and another positive
+//!    (zero counts as inside); `det = (U + V) + W`,
+//!    `T = s_z·((U·a_kz + V·b_kz) + W·c_kz)`, each operation rounded;
 //! 5. `r = 1/det`, `t = T·r`, `u = V·r`, `v = W·r` in the internal format;
-//!    `hit` iff inside, `det ≠ 0`, no NaN edge function and
+//!    `hit` iff inside, `det ≠ 0` and
 //!    `t_min ≤ t ≤ t_max` (compared there) and `|t|` below `2^(emax+1)` of
 //!    the unit's format; `t`, `u`, `v` rounded into the unit's format (exact
 //!    in its normal range), +0 without a hit; `invalid` (and no hit) for a
@@ -44,22 +46,21 @@
 
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
-use crate::arith::float::add::sub_widening_module;
+use crate::arith::float::add::{add_normal_module, sub_widening_normal_module};
 use crate::arith::float::compare::compare;
 use crate::arith::float::convert::convert_module;
-use crate::arith::float::dot3::dot3_module;
-use crate::arith::float::fma::fma_module;
-use crate::arith::float::mul::mul_module;
+use crate::arith::float::mul::{mul_module, mul_normal_module};
 use crate::arith::float::product_compare::{
-    factor, product_term, single_term, start_product, term_le, Factor,
+    factor_normal, product_term, single_term, start_product, term_le, Factor,
 };
 use crate::arith::float::unpack::unpack;
-use crate::arith::float::{negate, Format, Rounding};
-use crate::arith::ports::{rounded, DotTerms, Operand, Pair, Source, Triple};
+use crate::arith::float::{Format, Rounding};
+use crate::arith::ports::{rounded, Operand, Pair, Source};
 use crate::arith::recip::recip_module;
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
+use crate::retime::Products;
 
 /// The `triangle` unit.
 pub struct Triangle;
@@ -73,6 +74,16 @@ crate::choice! {
         Tnum = "tnum",
         /// also t and the barycentrics
         Full = "full",
+    }
+}
+
+crate::choice! {
+    /// How the retimer flattens the 24x24-style products of the datapath.
+    pub enum ProductsParam {
+        /// 18x18 blocks and their sum (ECP5)
+        Split = "split",
+        /// one product each (xc7 DSP48E1)
+        Whole = "whole",
     }
 }
 
@@ -92,31 +103,37 @@ crate::params! {
         outputs: Outputs = Outputs::Full,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 6,
+        /// split: products wider than 18 bits cut into 18x18 blocks and their sum when
+        /// stages are placed (ECP5's MULT18X18D, registers between blocks and sum); whole:
+        /// each product one multiplication (a 7-series DSP48E1 takes 25x18 and sums a wider
+        /// product's pieces in its cascade: half the DSP48 and no LUT adders)
+        products: ProductsParam = ProductsParam::Split,
     }
 }
 
 /// The internal format of the datapath for the unit's format `fmt`: the
 /// same fraction width and the smallest exponent width (at least `fmt`'s)
-/// in which no value of the datapath overflows or underflows for finite
+/// in whose normal range every nonzero value of steps 1-4 lies for finite
 /// inputs, so every rounding there is the rounding of an unbounded exponent
-/// and the signs of the edge functions, `det` and `T` are exact in every
-/// mode (docs/triangle.md §2). With `g = emin − F`: differences are
+/// (a rounded value keeps its exact value's sign, in every mode) and the
+/// operators build no subnormal or overflow logic (docs/triangle.md §2). With `g = emin − F`: differences are
 /// multiples of `2^g` below `2^(emax+2)`, ray-space coordinates multiples of
 /// `2^(2g)` below `2^(2·emax+4)`, edge functions and `det` multiples of
 /// `2^(4g)` below `2^(4·emax+11)`, `T` a multiple of `2^(6g)` below
 /// `2^(6·emax+14)`; so the internal bias is the smallest with
-/// `emin' − F ≤ 6g` and `emax' ≥ 6·emax + 16`. `Err` when no supported
-/// format has that range (more than 8 exponent bits).
+/// `emin' ≤ 6g` and `emax' ≥ 6·emax + 16`. `Err` when no supported
+/// format has that range (more than 8 exponent bits, or 8 with more than 44 fraction bits).
 pub fn internal_format(fmt: Format) -> Result<Format, String> {
     let (emin, emax, f) = (fmt.emin(), fmt.emax(), fmt.frac_bits as i64);
     let g = emin - f;
-    let bias = (6 * emax + 16).max(1 - 6 * g - f);
+    let bias = (6 * emax + 16).max(1 - 6 * g);
     let e = (fmt.exp_bits..=11)
         .find(|&e| (1i64 << (e - 1)) - 1 >= bias)
         .ok_or_else(|| {
             format!(
                 "{}: the triangle unit's internal format needs an exponent bias of at least \
-                 {bias}, more than 11 exponent bits (formats of up to 8 exponent bits have one)",
+                 {bias}, more than 11 exponent bits (formats of up to 7 exponent bits, and of 8 \
+                 with at most 44 fraction bits, have one)",
                 fmt.tag()
             )
         })?;
@@ -136,6 +153,8 @@ pub struct Config {
     pub outputs: Outputs,
     /// pipeline registers
     pub stages: u32,
+    /// how the retimer flattens products
+    pub products: Products,
 }
 
 impl Config {
@@ -156,7 +175,15 @@ pub fn triangle_name(cfg: &Config) -> String {
         Rounding::Rne => String::new(),
         r => format!("_{}", r.word()),
     };
-    format!("triangle_{}{round}_{out}_s{}", cfg.fmt.tag(), cfg.stages)
+    let products = match cfg.products {
+        Products::Split => "",
+        Products::Whole => "_whole",
+    };
+    format!(
+        "triangle_{}{round}_{out}{products}_s{}",
+        cfg.fmt.tag(),
+        cfg.stages
+    )
 }
 
 /// The data inputs: `o_* kz s_* a_* b_* c_* t_min t_max` (`*` = x, y, z;
@@ -249,10 +276,11 @@ pub fn build(cfg: &Config) -> Module {
     let mut m = ModuleBuilder::with_handshake(triangle_name(cfg));
     m.describe(
         "Watertight ray/triangle test (Woop, Benthin, Wald 2013), every operation rounded in \
-         `round` into an internal format with the exponent range of every finite input \
-         (exact signs, no overflow): vertices minus o, sheared \
-         into ray space by (kz, s), edge functions as fused two-term dot products (a shared edge \
-         gives exactly negated values), det and T as fused dot products, t = T * (1/det); hit iff \
+         `round` into an internal format in whose normal range every value of the datapath \
+         lies for finite input: vertices minus o, sheared into ray space by (kz, s), edge \
+         functions as the difference of two rounded products (a shared edge subtracts the same \
+         products in opposite order: opposite signs), det and T as rounded sums of rounded \
+         products, t = T * (1/det); hit iff \
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
          v (weight of c) are 0 without a hit; invalid for non-finite input, kz = 3 or a hit \
          whose t the format cannot hold.",
@@ -300,9 +328,12 @@ pub fn build(cfg: &Config) -> Module {
     };
     // the datapath in wf: differences rounded into it, the shear constants
     // and the bounds widened exactly
-    let sub = sub_widening_module(fmt, wf, mode, 0);
-    let fma = fma_module(wf, mode, 0);
-    let mul = mul_module(wf, mode, 0);
+    // steps 1-4 never leave wf's normal range (internal_format), so their
+    // operators build no subnormal or overflow logic
+    let sub = sub_widening_normal_module(fmt, wf, mode, 0);
+    let wsub = add_normal_module(wf, mode, true, 0);
+    let wadd = add_normal_module(wf, mode, false, 0);
+    let mul = mul_normal_module(wf, mode, 0);
     let widen = convert_module(fmt, wf, mode, 0);
     let s = [0, 1, 2].map(|i| {
         rounded(
@@ -312,8 +343,7 @@ pub fn build(cfg: &Config) -> Module {
             &Source::new(s[i]),
         )
     });
-    let neg_sx = negate(&mut m, wf, s[0]);
-    let neg_sy = negate(&mut m, wf, s[1]);
+    // [X, Y, p_kz] per vertex: the shear by s_z is applied once, to T
     let mut ray_space = Vec::new();
     for (v, p) in ["a", "b", "c"].iter().zip(&verts) {
         let rel = [0, 1, 2].map(|i| {
@@ -328,76 +358,84 @@ pub fn build(cfg: &Config) -> Module {
         let px = pick(&mut m, &rel, 1);
         let py = pick(&mut m, &rel, 2);
         let pz = m.name(pz, &format!("{v}_along_z"));
-        let sx = rounded(
-            &mut m,
-            &format!("u_{v}_shear_x"),
-            &fma,
-            &Triple::new(neg_sx, pz, px),
-        );
-        let sy = rounded(
-            &mut m,
-            &format!("u_{v}_shear_y"),
-            &fma,
-            &Triple::new(neg_sy, pz, py),
-        );
-        let sz = rounded(
-            &mut m,
-            &format!("u_{v}_scale_z"),
-            &mul,
-            &Pair::new(s[2], pz),
-        );
-        ray_space.push([sx, sy, sz]);
+        let shear = |m: &mut ModuleBuilder, axis: &str, sk: Sig, pk: Sig| {
+            let along = rounded(
+                m,
+                &format!("u_{v}_shear_{axis}_product"),
+                &mul,
+                &Pair::new(sk, pz),
+            );
+            rounded(
+                m,
+                &format!("u_{v}_shear_{axis}"),
+                &wsub,
+                &Pair::new(pk, along),
+            )
+        };
+        let sx = shear(&mut m, "x", s[0], px);
+        let sy = shear(&mut m, "y", s[1], py);
+        ray_space.push([sx, sy, pz]);
     }
     let (a, b, c) = (ray_space[0], ray_space[1], ray_space[2]);
 
-    // step 3: Q_X·P_Y − Q_Y·P_X for the directed edge P → Q
-    let dot = dot3_module(wf, mode, 0);
-    let zero = m.uint(wf.width(), 0);
+    // step 3: RN(Q_X·P_Y) − RN(Q_Y·P_X) for the directed edge P → Q (the
+    // neighbour subtracts the same two rounded products the other way)
     let edge = |m: &mut ModuleBuilder, name: &str, p: [Sig; 3], q: [Sig; 3]| {
-        let nqy = negate(m, wf, q[1]);
+        let qx_py = rounded(
+            m,
+            &format!("u_edge_{name}_qx_py"),
+            &mul,
+            &Pair::new(q[0], p[1]),
+        );
+        let qy_px = rounded(
+            m,
+            &format!("u_edge_{name}_qy_px"),
+            &mul,
+            &Pair::new(q[1], p[0]),
+        );
         rounded(
             m,
             &format!("u_edge_{name}"),
-            &dot,
-            &DotTerms::new([q[0], nqy, zero], [p[1], p[0], zero]),
+            &wsub,
+            &Pair::new(qx_py, qy_px),
         )
     };
     let e_u = edge(&mut m, "bc", b, c);
     let e_v = edge(&mut m, "ca", c, a);
     let e_w = edge(&mut m, "ab", a, b);
 
-    // step 4: signs, det, T
+    // step 4: signs (zero counts as inside; an edge function is never NaN
+    // for finite input, and non-finite input is invalid whatever it gives),
+    // det and T as rounded products and sums
     let mut negative = m.bool(false);
     let mut positive = m.bool(false);
-    let mut nan_edge = m.bool(false);
     for (name, e) in [("e_u", e_u), ("e_v", e_v), ("e_w", e_w)] {
-        let (lt0, gt0, nan) = m.scope(name, |m| {
-            let (lt0, _, _) = m.scope("below", |m| compare(m, wf, e, zero));
-            let (gt0, _, _) = m.scope("above", |m| compare(m, wf, zero, e));
-            let u = unpack(m, wf, e);
-            (lt0, gt0, u.nan)
+        let (lt0, gt0) = m.scope(name, |m| {
+            let sign = m.msb(e);
+            let mag = m.slice(e, wf.width() - 2, 0);
+            let nonzero = m.any_set(mag);
+            let not_sign = m.not(sign);
+            let lt0 = m.and(sign, nonzero);
+            let gt0 = m.and(not_sign, nonzero);
+            (m.name(lt0, "below_zero"), m.name(gt0, "above_zero"))
         });
         negative = m.or(negative, lt0);
         positive = m.or(positive, gt0);
-        nan_edge = m.or(nan_edge, nan);
     }
     let mixed = m.and(negative, positive);
-    let outside = m.or(mixed, nan_edge);
-    let inside = m.not(outside);
+    let inside = m.not(mixed);
     let inside = m.name(inside, "inside_edges");
-    let one = m.uint(wf.width(), (wf.bias() as u128) << wf.frac_bits);
-    let det = rounded(
-        &mut m,
-        "u_det",
-        &dot,
-        &DotTerms::new([e_u, e_v, e_w], [one, one, one]),
-    );
-    let t_num = rounded(
-        &mut m,
-        "u_t_num",
-        &dot,
-        &DotTerms::new([e_u, e_v, e_w], [a[2], b[2], c[2]]),
-    );
+    let u_plus_v = rounded(&mut m, "u_det_uv", &wadd, &Pair::new(e_u, e_v));
+    let det = rounded(&mut m, "u_det", &wadd, &Pair::new(u_plus_v, e_w));
+    let weigh = |m: &mut ModuleBuilder, name: &str, e: Sig, z: Sig| {
+        rounded(m, &format!("u_t_{name}"), &mul, &Pair::new(e, z))
+    };
+    let u_za = weigh(&mut m, "u_za", e_u, a[2]);
+    let v_zb = weigh(&mut m, "v_zb", e_v, b[2]);
+    let w_zc = weigh(&mut m, "w_zc", e_w, c[2]);
+    let uv_z = rounded(&mut m, "u_t_uv", &wadd, &Pair::new(u_za, v_zb));
+    let weighted = rounded(&mut m, "u_t_weighted", &wadd, &Pair::new(uv_z, w_zc));
+    let t_num = rounded(&mut m, "u_t_num", &mul, &Pair::new(s[2], weighted));
     let det_zero = m.scope("det", |m| unpack(m, wf, det).zero);
 
     let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
@@ -405,6 +443,8 @@ pub fn build(cfg: &Config) -> Module {
     let (t_rounded, after_min, before_max, far) = if cfg.full() {
         // step 5: t in wf, compared with the bounds there
         let recip = recip_module(wf, mode, 0);
+        // t, u, v can be subnormal in wf: the general multiplier
+        let mul = mul_module(wf, mode, 0);
         let r = rounded(&mut m, "u_recip_det", &recip, &Operand { x: det });
         let t = rounded(&mut m, "u_t", &mul, &Pair::new(t_num, r));
         let (_, after_min, _) = m.scope("t_from_min", |m| compare(m, wf, t_min, t));
@@ -414,7 +454,7 @@ pub fn build(cfg: &Config) -> Module {
         let beyond = (wf.bias() + fmt.emax() + 1) as u128;
         let first_beyond = m.uint(wf.width() - 1, beyond << wf.frac_bits);
         let far = m.ge(t_mag, first_beyond);
-        (Some((t, r)), after_min, before_max, far)
+        (Some((t, r, mul)), after_min, before_max, far)
     } else {
         // step 5 without a division: t_min·|det| <= T·sgn(det) <= t_max·|det|
         // and 2^(emax+1)·|det| <= |T| (a t beyond fmt), exact products
@@ -437,7 +477,7 @@ pub fn build(cfg: &Config) -> Module {
     let near = m.not(far);
     let hit = m.and(candidate, near);
     let hit = m.name(hit, "hit_found");
-    let t_u_v = t_rounded.map(|(t, r)| {
+    let t_u_v = t_rounded.map(|(t, r, mul)| {
         let u = rounded(&mut m, "u_bary_u", &mul, &Pair::new(e_v, r));
         let v = rounded(&mut m, "u_bary_v", &mul, &Pair::new(e_w, r));
         let narrow = convert_module(wf, fmt, mode, 0);
@@ -467,7 +507,7 @@ pub fn build(cfg: &Config) -> Module {
     if cfg.stages == 0 {
         return datapath;
     }
-    let (mut module, _) = crate::retime::balance(&datapath, cfg.stages)
+    let (mut module, _) = crate::retime::balance_with(&datapath, cfg.stages, cfg.products)
         .expect("the triangle datapath is feed-forward");
     module.name = datapath.name.clone();
     module
@@ -486,6 +526,9 @@ fn segment_by_products(
     t_max: Sig,
 ) -> (Sig, Sig, Sig) {
     let wf = cfg.wide;
+    // det, T, the widened bounds and the limit are zero or normal in wf
+    // (internal_format), or the transaction is invalid
+    let factor = factor_normal;
     let det_f = factor(m, wf, det, "det_factor");
     let unsigned = m.bool(false);
     let det_abs = Factor {
@@ -525,7 +568,7 @@ impl Description for Triangle {
     type Params = TriangleParams;
     type Config = Config;
     const NAME: &'static str = "triangle";
-    const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, fused edge functions";
+    const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, edge functions as differences of rounded products";
     fn config(&self, p: &TriangleParams) -> Result<Config, ParamError> {
         let fmt = super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?;
         let wide = internal_format(fmt)
@@ -536,6 +579,10 @@ impl Description for Triangle {
             round: p.round,
             outputs: p.outputs,
             stages: p.stages,
+            products: match p.products {
+                ProductsParam::Split => Products::Split,
+                ProductsParam::Whole => Products::Whole,
+            },
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -12,7 +12,7 @@
 //! otherwise; equal-signed zeros keep their sign.
 
 use super::bits::{add_const, shr_jam};
-use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded_range, Range, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::ports::{Pair, PairPorts};
@@ -154,11 +154,47 @@ pub fn add_name(fmt: Format, mode: RoundSel, sub: bool, stages: u32) -> String {
 /// `z = a + b` (or `a - b` if `sub`) in `fmt`, rounded in `mode`, with
 /// `stages` pipeline registers (latency `stages`).
 pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32) -> Arc<Module> {
+    add_range_module(fmt, mode, sub, false, stages)
+}
+
+/// [`add_module`] for a sum that is zero or normal, never subnormal nor
+/// overflowing (the caller guarantees it; outside that the result is
+/// unspecified): the rounder builds no right shift for subnormal results.
+/// Equal to [`add_module`] wherever the guarantee holds. Name `…_normal_s…`.
+pub fn add_normal_module(
+    fmt: Format,
+    mode: impl Into<RoundSel>,
+    sub: bool,
+    stages: u32,
+) -> Arc<Module> {
+    add_range_module(fmt, mode, sub, true, stages)
+}
+
+fn add_range_module(
+    fmt: Format,
+    mode: impl Into<RoundSel>,
+    sub: bool,
+    normal: bool,
+    stages: u32,
+) -> Arc<Module> {
     let mode: RoundSel = mode.into();
     let what = if sub { "a - b" } else { "a + b" };
+    let (name, range, promise) = if normal {
+        let op = if sub { "fsub" } else { "fadd" };
+        (
+            format!("{op}_{}_{mode}_normal_s{stages}", fmt.tag()),
+            Range::Normal { lead: u32::MAX },
+            " The sum is zero or normal (guaranteed by the caller).",
+        )
+    } else {
+        (add_name(fmt, mode, sub, stages), Range::Any, "")
+    };
     let mut m = fmt.operator_module(
-        add_name(fmt, mode, sub, stages),
-        format!("Floating-point {what} in {}, rounded {mode}.", fmt.tag()),
+        name,
+        format!(
+            "Floating-point {what} in {}, rounded {mode}.{promise}",
+            fmt.tag()
+        ),
         stages,
     );
     m.param("round", mode);
@@ -169,7 +205,7 @@ pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32
     let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);
     let raw = s.for_rm(&mut m, &rm);
     let rs: u32 = round_cuts.iter().sum();
-    finish_rounded(m, fmt, &rm, &raw, rs, "adder")
+    finish_rounded_range(m, fmt, &rm, &raw, range, rs, "adder")
 }
 
 /// Module name of the widening subtractor.
@@ -183,13 +219,48 @@ pub fn sub_widening_name(fmt: Format, to: Format, mode: Rounding, stages: u32) -
 /// Equal to widening both operands exactly into `to` and subtracting there;
 /// with a wider exponent the difference never overflows.
 pub fn sub_widening_module(fmt: Format, to: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+    sub_widening_range_module(fmt, to, mode, false, stages)
+}
+
+/// [`sub_widening_module`] into a `to` whose normal range holds every
+/// nonzero difference of two `fmt` values (its smallest normal at most
+/// `fmt`'s smallest subnormal; asserted): no right shift for subnormal
+/// results. Name `…_normal_s…`.
+pub fn sub_widening_normal_module(
+    fmt: Format,
+    to: Format,
+    mode: Rounding,
+    stages: u32,
+) -> Arc<Module> {
+    assert!(
+        to.emin() <= fmt.emin() - fmt.frac_bits as i64 && to.emax() > fmt.emax(),
+        "{}'s normal range holds every difference of {} values",
+        to.tag(),
+        fmt.tag()
+    );
+    sub_widening_range_module(fmt, to, mode, true, stages)
+}
+
+fn sub_widening_range_module(
+    fmt: Format,
+    to: Format,
+    mode: Rounding,
+    normal: bool,
+    stages: u32,
+) -> Arc<Module> {
     assert!(
         to.frac_bits >= fmt.frac_bits && to.exp_bits >= fmt.exp_bits,
         "{} holds every {} value",
         to.tag(),
         fmt.tag()
     );
-    let mut m = ModuleBuilder::new(sub_widening_name(fmt, to, mode, stages));
+    let (name, range) = if normal {
+        let name = format!("fsub_{}_to_{}_{mode}_normal_s{stages}", fmt.tag(), to.tag());
+        (name, Range::Normal { lead: u32::MAX })
+    } else {
+        (sub_widening_name(fmt, to, mode, stages), Range::Any)
+    };
+    let mut m = ModuleBuilder::new(name);
     m.describe(format!(
         "Floating-point a - b of two {} values, rounded {mode} into {}.",
         fmt.tag(),
@@ -207,7 +278,15 @@ pub fn sub_widening_module(fmt: Format, to: Format, mode: Rounding, stages: u32)
     let s = add_raw(&mut m, fmt, a, b, true, raw_cuts);
     let raw = s.for_mode(&mut m, mode);
     let rs: u32 = round_cuts.iter().sum();
-    finish_rounded(m, to, &Rm::fixed(mode), &raw, rs, "widening subtractor")
+    finish_rounded_range(
+        m,
+        to,
+        &Rm::fixed(mode),
+        &raw,
+        range,
+        rs,
+        "widening subtractor",
+    )
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! `mul` in the wide format, without its `(F + 1)²` multiplier.
 
 use super::bits::add_const;
-use super::round::{class_of, finish_rounded, Raw, ROUND_STEPS};
+use super::round::{class_of, finish_rounded, finish_rounded_range, Range, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
 use crate::arith::int::umul_module;
@@ -108,10 +108,45 @@ pub fn mul_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
 
 /// `z = a · b` in `fmt`, rounded in `mode`, `stages` pipeline registers.
 pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
+    mul_range_module(fmt, mode, Range::Any, stages)
+}
+
+/// Module name of the multiplier whose operands and product stay in the
+/// normal range ([`mul_normal_module`]).
+pub fn mul_normal_name(fmt: Format, mode: RoundSel, stages: u32) -> String {
+    format!("fmul_{}_{mode}_normal_s{stages}", fmt.tag())
+}
+
+/// [`mul_module`] for operands that are zero or normal and a product that
+/// neither underflows nor overflows (the caller guarantees it; outside that
+/// the result is unspecified): the product of two normal significands has
+/// at most one leading zero, so the rounder shifts by one bit at most and
+/// builds no subnormal or overflow path. Equal to [`mul_module`] wherever
+/// the guarantee holds.
+pub fn mul_normal_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Module> {
+    mul_range_module(fmt, mode, Range::Normal { lead: 1 }, stages)
+}
+
+fn mul_range_module(
+    fmt: Format,
+    mode: impl Into<RoundSel>,
+    range: Range,
+    stages: u32,
+) -> Arc<Module> {
     let mode: RoundSel = mode.into();
+    let (name, promise) = match range {
+        Range::Any => (mul_name(fmt, mode, stages), ""),
+        Range::Normal { .. } => (
+            mul_normal_name(fmt, mode, stages),
+            " Operands zero or normal, the product in the normal range (guaranteed by the caller).",
+        ),
+    };
     let mut m = fmt.operator_module(
-        mul_name(fmt, mode, stages),
-        format!("Floating-point a * b in {}, rounded {mode}.", fmt.tag()),
+        name,
+        format!(
+            "Floating-point a * b in {}, rounded {mode}.{promise}",
+            fmt.tag()
+        ),
         stages,
     );
     m.param("round", mode);
@@ -121,7 +156,7 @@ pub fn mul_module(fmt: Format, mode: impl Into<RoundSel>, stages: u32) -> Arc<Mo
     let (raw_cuts, round_cuts) = plan.split_at(MUL_RAW_STEPS as usize);
     let raw = mul_raw(&mut m, fmt, a, b, raw_cuts.iter().sum(), "u_mul");
     let rs: u32 = round_cuts.iter().sum();
-    finish_rounded(m, fmt, &rm, &raw, rs, "multiplier")
+    finish_rounded_range(m, fmt, &rm, &raw, range, rs, "multiplier")
 }
 
 /// Module name of the mixed-width multiplier.

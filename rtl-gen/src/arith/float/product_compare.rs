@@ -21,7 +21,7 @@
 //! NaN flag computed from the inputs.
 
 use super::bits::{add_const, to_sint};
-use super::unpack::{normalize, unpack, Normalized};
+use super::unpack::{norm_exp_width, normalize, unpack, Normalized};
 use super::{sint_width, Format};
 use crate::arith::int::{sext, umul_module};
 use crate::arith::ports::product;
@@ -56,6 +56,25 @@ pub fn factor(m: &mut ModuleBuilder, fmt: Format, x: Sig, name: &str) -> Factor 
             inf: m.name(u.inf, "inf"),
             exp,
             sig,
+        }
+    })
+}
+
+/// [`factor`] of an encoding that the caller guarantees to be zero or
+/// normal (or not finite, where its verdicts are masked): the significand's
+/// top bit is already the hidden bit, so no leading-zero count and no shift.
+/// Equal to [`factor`] for every zero or normal `x`.
+#[track_caller]
+pub fn factor_normal(m: &mut ModuleBuilder, fmt: Format, x: Sig, name: &str) -> Factor {
+    m.scope(name, |m| {
+        let u = unpack(m, fmt, x);
+        let exp = add_const(m, u.eff_exp, -fmt.bias(), norm_exp_width(fmt));
+        Factor {
+            sign: u.sign,
+            zero: m.name(u.zero, "zero"),
+            inf: m.name(u.inf, "inf"),
+            exp: m.name(exp, "exp_norm"),
+            sig: u.sig,
         }
     })
 }

@@ -80,6 +80,23 @@ pub fn class_of(m: &mut ModuleBuilder, nan: Sig, inf: Sig) -> Sig {
     m.name(class, "class_code")
 }
 
+/// What the producer of a raw value guarantees to the rounder (HardFloat's
+/// `flRoundOpt_neverUnderflows`/`neverOverflows`): the rounder builds no
+/// logic for what cannot happen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Range {
+    /// any value: subnormal results (a right shift with sticky), overflow
+    Any,
+    /// the exact value is zero or lies in the normal range of the format
+    /// (no subnormal result, no overflow), and a nonzero significand has at
+    /// most `lead` leading zeros (so the normalising shift is `lead` bits
+    /// at most: 1 for a product of normal operands)
+    Normal {
+        /// the most leading zeros of a nonzero significand
+        lead: u32,
+    },
+}
+
 /// Module name of the rounder.
 pub fn round_name(
     fmt: Format,
@@ -88,8 +105,24 @@ pub fn round_name(
     mode: RoundSel,
     stages: u32,
 ) -> String {
+    round_range_name(fmt, sig_width, exp_width, mode, Range::Any, stages)
+}
+
+/// Module name of the rounder for values in `range` (`_n<lead>` unless `Any`).
+pub fn round_range_name(
+    fmt: Format,
+    sig_width: u32,
+    exp_width: u32,
+    mode: RoundSel,
+    range: Range,
+    stages: u32,
+) -> String {
+    let range = match range {
+        Range::Any => String::new(),
+        Range::Normal { lead } => format!("_n{lead}"),
+    };
     format!(
-        "fround_{}_w{sig_width}x{exp_width}_{mode}_s{stages}",
+        "fround_{}_w{sig_width}x{exp_width}_{mode}{range}_s{stages}",
         fmt.tag()
     )
 }
@@ -106,16 +139,42 @@ pub fn round_module(
     mode: impl Into<RoundSel>,
     stages: u32,
 ) -> Arc<Module> {
+    round_range_module(fmt, sig_width, exp_width, mode, Range::Any, stages)
+}
+
+/// [`round_module`] for raw values in `range` (the producer's guarantee;
+/// outside it the result is unspecified).
+pub fn round_range_module(
+    fmt: Format,
+    sig_width: u32,
+    exp_width: u32,
+    mode: impl Into<RoundSel>,
+    range: Range,
+    stages: u32,
+) -> Arc<Module> {
     let mode: RoundSel = mode.into();
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let sw = sig_width;
+    let range = match range {
+        Range::Normal { lead } => Range::Normal {
+            lead: lead.min(sw - 1),
+        },
+        Range::Any => Range::Any,
+    };
     assert!(
         sw >= f + 2,
         "rounder needs a significand of at least F + 2 bits"
     );
-    let mut m = ModuleBuilder::new(round_name(fmt, sw, exp_width, mode, stages));
+    let mut m = ModuleBuilder::new(round_range_name(fmt, sw, exp_width, mode, range, stages));
+    let promise = match range {
+        Range::Any => String::new(),
+        Range::Normal { lead } => format!(
+            " The value is zero or normal (no subnormal result, no overflow) and a nonzero \
+             significand has at most {lead} leading zeros: the producer guarantees it."
+        ),
+    };
     m.describe(format!(
-        "Shared rounder: raw (sign, class, exp, {sw}-bit sig, sticky) to {} in mode {mode}.",
+        "Shared rounder: raw (sign, class, exp, {sw}-bit sig, sticky) to {} in mode {mode}.{promise}",
         fmt.tag()
     ));
     m.param("exp_bits", e)
@@ -135,8 +194,12 @@ pub fn round_module(
         rm,
     } = declare_inputs(&mut m, &ports);
     let rm = Rm::new(mode, rm);
-    let n = shift_to_grid(&mut m, fmt, exp, sig, &plan);
-    let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n);
+    let n = match range {
+        Range::Any => shift_to_grid(&mut m, fmt, exp, sig, &plan),
+        Range::Normal { lead } => shift_in_range(&mut m, fmt, exp, sig, lead, &plan),
+    };
+    let in_range = range != Range::Any;
+    let z = round_and_pack(&mut m, fmt, &rm, sign, class, sticky_in, &n, in_range);
     finish_operator(m, plan[2], &fmt.ty(), &Rounded { z }, "rounder")
 }
 
@@ -188,10 +251,10 @@ pub fn round_down_up_module(
     let rdn = Rm::fixed(Rounding::Rdn);
     let rup = Rm::fixed(Rounding::Rup);
     let down = m.scope("down", |m| {
-        round_and_pack(m, fmt, &rdn, sign_down, class, sticky_in, &n)
+        round_and_pack(m, fmt, &rdn, sign_down, class, sticky_in, &n, false)
     });
     let up = m.scope("up", |m| {
-        round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n)
+        round_and_pack(m, fmt, &rup, sign_up, class, sticky_in, &n, false)
     });
     finish_operator(
         m,
@@ -300,7 +363,62 @@ fn shift_to_grid(m: &mut ModuleBuilder, fmt: Format, exp: Sig, sig: Sig, plan: &
     }
 }
 
-/// Step 3: round in mode `rm`, pack, overflow, specials.
+/// Steps 1-2 for a value in the normal range whose nonzero significand has
+/// at most `lead` leading zeros: the leading zeros of the top `lead + 1`
+/// bits, the left shift, no distance to emin and no right shift.
+fn shift_in_range(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    exp: Sig,
+    sig: Sig,
+    lead: u32,
+    plan: &[u32],
+) -> OnGrid {
+    let sw = sig.width();
+    let cw = lzc_width(sw);
+    let half = 1i64 << (exp.width() - 1);
+    let offset = sw as i64 - 1 - fmt.emin();
+    let (d_lo, d_hi) = (-half + offset, half - 1 + offset);
+    let dw = sint_width(d_lo.min(-1), d_hi.max(1i64 << cw)) + 1;
+    // the biased exponent minus one of the normalised value, exp + sw - 1 -
+    // emin - lz (as in shift_to_grid, never below 0 here)
+    let exp_w = to_sint(m, exp, dw);
+    let off = m.sint(dw, offset as i128);
+    let d = m.add(exp_w, off);
+    let d = to_sint(m, d, dw);
+    let top = m.slice(sig, sw - 1, sw - 1 - lead.min(sw - 1));
+    let lz = lzc(m, top);
+    let lshift = zext(m, lz, lz.width().max(1));
+    let lshift = m.name(lshift, "lshift");
+    let lz_s = to_sint(m, lshift, dw);
+    let base = m.sub(d, lz_s);
+    let bw = (dw - 1).max(1);
+    let base = m.slice(base, bw - 1, 0);
+    let base = m.name(base, "exp_base");
+    let sig_any = m.any_set(sig);
+    let sig_zero = m.not(sig_any);
+    let sig_zero = m.name(sig_zero, "sig_zero");
+    for _ in 0..plan[0] {
+        m.stage();
+    }
+    let shifted = m.shl(sig, lshift);
+    let shifted = m.name(shifted, "sig_shifted");
+    let lost = m.bool(false);
+    for _ in 0..plan[1] {
+        m.stage();
+    }
+    OnGrid {
+        shifted,
+        lost,
+        base,
+        sig_zero,
+    }
+}
+
+/// Step 3: round in mode `rm`, pack, overflow, specials; `in_range`: the
+/// value is zero or finite and does not overflow (no saturation, no
+/// infinity or NaN to select).
+#[allow(clippy::too_many_arguments)]
 fn round_and_pack(
     m: &mut ModuleBuilder,
     fmt: Format,
@@ -309,6 +427,7 @@ fn round_and_pack(
     class: Sig,
     sticky_in: Sig,
     n: &OnGrid,
+    in_range: bool,
 ) -> Sig {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let (shifted, lost, base, sig_zero) = (n.shifted, n.lost, n.base, n.sig_zero);
@@ -340,6 +459,20 @@ fn round_and_pack(
     let packed = m.add(packed, inc_w);
     let packed = zext(m, packed, pw);
     let packed = m.name(packed, "packed_mag");
+    let mag_w = e + f;
+    let zero_mag = m.uint(mag_w, 0);
+    if in_range {
+        let packed_mag = m.slice(packed, mag_w - 1, 0);
+        let fin = m.mux(sig_zero, zero_mag, packed_mag);
+        let k = m.uint(2, CLASS_ZERO);
+        let is_zero = m.eq(class, k);
+        let is_zero = m.name(is_zero, "class_zero");
+        let mag = m.mux(is_zero, zero_mag, fin);
+        let mag = m.name(mag, "mag");
+        let sign_u = m.as_uint(sign);
+        let z = m.cat(&[sign_u, mag]);
+        return m.name(z, "result");
+    }
     // packed >= the infinity's code: an exponent field of all ones or a carry
     // above it (bit tests, not a comparison after the addition)
     let exp_field = m.slice(packed, e + f - 1, f);
@@ -348,10 +481,8 @@ fn round_and_pack(
     let carried = m.any_set(above);
     let ovf = m.or(exp_all_ones, carried);
     let ovf = m.name(ovf, "overflow");
-    let mag_w = e + f;
     let inf_mag = m.uint(mag_w, fmt.inf_bits());
     let max_mag = m.uint(mag_w, fmt.inf_bits() - 1);
-    let zero_mag = m.uint(mag_w, 0);
     let sat = m.mux(to_inf, inf_mag, max_mag);
     let sat = m.name(sat, "saturated");
     let packed_mag = m.slice(packed, mag_w - 1, 0);
@@ -439,14 +570,28 @@ pub fn round(
 /// pipeline over them, outputs the result as `z` and finishes the module.
 #[track_caller]
 pub fn finish_rounded(
-    mut m: ModuleBuilder,
+    m: ModuleBuilder,
     fmt: Format,
     rm: &Rm,
     raw: &Raw,
     stages: u32,
     what: &str,
 ) -> Arc<Module> {
-    let z = round_rm(&mut m, fmt, rm, raw, stages, "u_round");
+    finish_rounded_range(m, fmt, rm, raw, Range::Any, stages, what)
+}
+
+/// [`finish_rounded`] for a raw value in `range`.
+#[track_caller]
+pub fn finish_rounded_range(
+    mut m: ModuleBuilder,
+    fmt: Format,
+    rm: &Rm,
+    raw: &Raw,
+    range: Range,
+    stages: u32,
+    what: &str,
+) -> Arc<Module> {
+    let z = round_rm_range(&mut m, fmt, rm, raw, range, stages, "u_round");
     finish_operator(m, stages, &fmt.ty(), &Rounded { z }, what)
 }
 
@@ -461,8 +606,22 @@ pub fn round_rm(
     stages: u32,
     inst: &str,
 ) -> Sig {
+    round_rm_range(m, fmt, rm, raw, Range::Any, stages, inst)
+}
+
+/// [`round_rm`] for a raw value in `range` ([`round_range_module`]).
+#[track_caller]
+pub fn round_rm_range(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    rm: &Rm,
+    raw: &Raw,
+    range: Range,
+    stages: u32,
+    inst: &str,
+) -> Sig {
     let (sig, exp) = padded(m, fmt, raw);
-    let module = round_module(fmt, sig.width(), exp.width(), rm.sel, stages);
+    let module = round_range_module(fmt, sig.width(), exp.width(), rm.sel, range, stages);
     let value = RawValue {
         sign: raw.sign,
         cls: raw.class,
