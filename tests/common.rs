@@ -15,13 +15,31 @@ pub fn scratch(name: &str) -> PathBuf {
 
 /// Generates `unit` with `params` and writes it into a scratch directory
 /// private to `test` (tests run in parallel).
-pub fn generate(test: &str, unit: &str, params: &[&str]) -> (Generated, PathBuf) {
-    let params: Vec<String> = params.iter().map(|s| s.to_string()).collect();
+pub fn generate<S: AsRef<str>>(test: &str, unit: &str, params: &[S]) -> (Generated, PathBuf) {
+    let params: Vec<String> = params.iter().map(|s| s.as_ref().to_string()).collect();
     let g = rtl_flow::generate(unit, &params)
         .unwrap_or_else(|e| panic!("generate {unit} {params:?}: {e}"));
     let dir = scratch(&format!("{test}/{}", g.module.name));
     g.write(&dir, 10.0).expect("write generated files");
     (g, dir)
+}
+
+/// Vectors `0..total` of the unit's seeded stimulus with the golden model's
+/// answers, as (inputs, outputs): what a test of the stimulus's reach reads.
+pub fn golden_vectors(
+    g: &Generated,
+    seed: u64,
+    total: u64,
+) -> impl Iterator<Item = (Vec<u64>, Vec<u64>)> {
+    let tb = g.testbench();
+    let (n_in, n_out) = (g.ports.inputs.len(), g.ports.outputs.len());
+    (0..total).map(move |i| {
+        let mut v = vec![0u64; n_in];
+        let mut out = vec![0u64; n_out];
+        tb.vector(seed, i, &mut v);
+        tb.eval(&v, &mut out);
+        (v, out)
+    })
 }
 
 /// Lints, builds and cross-checks `vectors` vectors; returns the report.

@@ -42,9 +42,7 @@ fn params(c: &Case) -> Vec<String> {
 
 fn evaluate(unit: &str, cases: &[Case]) {
     for c in cases {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, _) = generate(&format!("{unit}_eval"), unit, &p);
+        let (g, _) = generate(&format!("{unit}_eval"), unit, &params(c));
         assert_eq!(g.module.latency, c.5);
         assert!(
             g.module.name.contains(&format!("_k{}_s{}", c.4, c.5)),
@@ -57,9 +55,7 @@ fn evaluate(unit: &str, cases: &[Case]) {
 
 fn verilate(unit: &str, cases: &[Case], seed: u64) {
     for c in cases {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate(&format!("{unit}_verilator"), unit, &p);
+        let (g, dir) = generate(&format!("{unit}_verilator"), unit, &params(c));
         cross_checked(&g, &dir, c.6, seed);
     }
 }

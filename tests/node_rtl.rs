@@ -17,7 +17,7 @@
 
 mod common;
 
-use common::{cross_checked, evaluated, generate};
+use common::{cross_checked, evaluated, generate, golden_vectors};
 use rtl_gen::units::node_child::{Config as ChildConfig, NodeChildOut};
 use rtl_gen::units::ports;
 
@@ -44,9 +44,7 @@ fn params(c: &Case) -> Vec<String> {
 #[test]
 fn node_sort_evaluator_matches_golden_model() {
     for c in CASES {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, _) = generate("node_sort_eval", "node_sort", &p);
+        let (g, _) = generate("node_sort_eval", "node_sort", &params(c));
         assert_eq!(g.module.latency, c.2);
         assert_eq!(
             g.module.name,
@@ -59,9 +57,7 @@ fn node_sort_evaluator_matches_golden_model() {
 #[test]
 fn node_sort_matches_golden_model_in_verilator() {
     for c in CASES.iter().filter(|c| c.3 > 0) {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("node_sort_verilator", "node_sort", &p);
+        let (g, dir) = generate("node_sort_verilator", "node_sort", &params(c));
         cross_checked(&g, &dir, c.3, 7);
     }
 }
@@ -76,9 +72,7 @@ fn child_params(c: &(u32, u32, u64)) -> Vec<String> {
 #[test]
 fn node_child_evaluator_matches_golden_model() {
     for c in CHILD_CASES {
-        let p = child_params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, _) = generate("node_child_eval", "node_child", &p);
+        let (g, _) = generate("node_child_eval", "node_child", &child_params(c));
         assert_eq!(g.module.latency, c.1);
         assert_eq!(g.module.name, format!("node_child_q{}_s{}", c.0, c.1));
         evaluated(&g, 3_000, 11);
@@ -88,9 +82,7 @@ fn node_child_evaluator_matches_golden_model() {
 #[test]
 fn node_child_matches_golden_model_in_verilator() {
     for c in CHILD_CASES.iter().filter(|c| c.2 > 0) {
-        let p = child_params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("node_child_verilator", "node_child", &p);
+        let (g, dir) = generate("node_child_verilator", "node_child", &child_params(c));
         cross_checked(&g, &dir, c.2, 7);
     }
 }
@@ -99,21 +91,14 @@ fn node_child_matches_golden_model_in_verilator() {
 /// hold hits (some with an entry past the window start) and misses.
 #[test]
 fn node_child_stimulus_reaches_hits_misses_and_entries() {
-    let (g, _) = generate("node_child_cover", "node_child", &[]);
-    let tb = g.testbench();
+    let (g, _) = generate::<&str>("node_child_cover", "node_child", &[]);
     let cfg = ChildConfig {
         box_bits: 8,
         stages: 2,
     };
-    let n_in = ports::list::<rtl_gen::units::node_child::NodeChildIn<()>>(&cfg).len();
-    let n_out = ports::list::<NodeChildOut<()>>(&cfg).len();
     let (mut hits, mut far_entries) = (0, 0);
     let total = 20_000;
-    for i in 0..total {
-        let mut v = vec![0u64; n_in];
-        let mut out = vec![0u64; n_out];
-        tb.vector(3, i, &mut v);
-        tb.eval(&v, &mut out);
+    for (_, out) in golden_vectors(&g, 3, total) {
         let o: NodeChildOut<u64> = ports::unpack(&cfg, &out);
         if o.hit == 1 {
             hits += 1;
@@ -164,9 +149,7 @@ fn node_params(c: &NodeCase) -> Vec<String> {
 #[test]
 fn node_evaluator_matches_golden_model() {
     for c in NODE_CASES {
-        let p = node_params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, _) = generate("node_eval", "node", &p);
+        let (g, _) = generate("node_eval", "node", &node_params(c));
         assert_eq!(g.module.latency, c.4);
         evaluated(&g, 3_000, 11);
     }
@@ -178,8 +161,7 @@ fn node_evaluator_matches_golden_model() {
 #[test]
 fn node_stimulus_reaches_every_kind_of_answer() {
     use rtl_gen::units::node::{Config as NodeConfig, NodeIn, NodeOut};
-    let (g, _) = generate("node_cover", "node", &[]);
-    let tb = g.testbench();
+    let (g, _) = generate::<&str>("node_cover", "node", &[]);
     let cfg = NodeConfig {
         fmt: rtl_gen::arith::float::Format::new(8, 23).unwrap(),
         children: 4,
@@ -187,16 +169,10 @@ fn node_stimulus_reaches_every_kind_of_answer() {
         slope_bits: 8,
         stages: 4,
     };
-    let n_in = ports::list::<NodeIn<()>>(&cfg).len();
-    let n_out = ports::list::<NodeOut<()>>(&cfg).len();
     let cap = 1u64 << cfg.cap_bits();
     let (mut bad, mut empty, mut hits, mut inner, mut capped, mut mixed) = (0, 0, 0, 0, 0, 0);
     let total = 20_000;
-    for i in 0..total {
-        let mut v = vec![0u64; n_in];
-        let mut out = vec![0u64; n_out];
-        tb.vector(3, i, &mut v);
-        tb.eval(&v, &mut out);
+    for (v, out) in golden_vectors(&g, 3, total) {
         let o: NodeOut<u64> = ports::unpack(&cfg, &out);
         let r: NodeIn<u64> = ports::unpack(&cfg, &v);
         if o.bad == 1 {
@@ -225,9 +201,7 @@ fn node_stimulus_reaches_every_kind_of_answer() {
 #[test]
 fn node_matches_golden_model_in_verilator() {
     for c in NODE_CASES.iter().filter(|c| c.5 > 0) {
-        let p = node_params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("node_verilator", "node", &p);
+        let (g, dir) = generate("node_verilator", "node", &node_params(c));
         cross_checked(&g, &dir, c.5, 7);
     }
 }

@@ -146,9 +146,7 @@ fn formats_without_an_internal_format_are_refused() {
 #[test]
 fn triangle_matches_golden_model_in_verilator() {
     for c in CASES {
-        let p = params(c);
-        let p: Vec<&str> = p.iter().map(String::as_str).collect();
-        let (g, dir) = generate("triangle_verilator", "triangle", &p);
+        let (g, dir) = generate("triangle_verilator", "triangle", &params(c));
         assert_eq!(g.module.latency, c.4);
         evaluated(&g, 5_000, 3);
         cross_checked(&g, &dir, 1_000_000, 16);
