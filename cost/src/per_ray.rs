@@ -247,7 +247,10 @@ pub fn wide_workload_of(
 
 /// The units of a ray's traversal over a wide BVH: role, unit and parameters
 /// (binary32): the `node` unit at the BLAS and the TLAS shape, the
-/// conservative slab of each tree's root, the transform, the triangle test.
+/// conservative slab of each tree's root, the transform, and the triangle
+/// test with `outputs=tnum` (the renderer's `--tri tnum` gives the `full`
+/// image bit for bit, the division in software) and whole products (one
+/// DSP48E1 cascade per product on xc7).
 pub fn wide_roles(
     format: WideFormat,
     tlas_box_bits: u32,
@@ -269,7 +272,11 @@ pub fn wide_roles(
             fixed(&["rounding=conservative", "stages=4"]),
         ),
         ("instance transform", "transform", fixed(&["stages=8"])),
-        ("triangle test", "triangle", fixed(&["stages=8"])),
+        (
+            "triangle test (t as T/det, divided in software per hit)",
+            "triangle",
+            fixed(&["outputs=tnum", "products=whole", "stages=8"]),
+        ),
     ]
 }
 

@@ -132,6 +132,9 @@ pub enum TriKind {
     F64,
     /// the `triangle` unit's golden model at binary32 (bit for bit what the RTL computes)
     Golden,
+    /// the same unit with `outputs=tnum` (no divider): `t = T/det` divided in software once
+    /// per hit, as a shader would
+    Tnum,
     /// exact rational test (slow)
     Exact,
 }
@@ -289,6 +292,7 @@ fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
         tri: match c.tri {
             TriKind::F64 => TriTest::F64,
             TriKind::Golden => TriTest::Golden,
+            TriKind::Tnum => TriTest::GoldenTnum,
             TriKind::Exact => TriTest::Exact,
         },
     };

@@ -185,6 +185,10 @@ pub enum TriTest {
     F64,
     /// the `triangle` unit's golden model at binary32 (`golden_model::triangle`)
     Golden,
+    /// the `triangle` unit with `outputs=tnum`: the segment test in the unit
+    /// (exact products, no division), `t = T/det` finished in software once
+    /// per hit (`golden_model::triangle::finish_t`, the unit's `full` rounding)
+    GoldenTnum,
     /// the exact rational test (`golden_model::triangle::exact`)
     Exact,
 }
@@ -383,7 +387,7 @@ fn tri_t_max(r: &TRay) -> u64 {
 
 /// The `triangle` unit on the model-space ray: `t` of a hit in `[0, best so
 /// far]`.
-fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> {
+fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3], tnum: bool) -> Option<f64> {
     let x = golden_triangle::TriIn {
         o: r.o,
         kz: r.shear.0,
@@ -394,8 +398,31 @@ fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3]) -> Option<f64> 
         t_min: bits(0.0),
         t_max: tri_t_max(r),
     };
-    let out = units.triangle(&x);
-    out.hit.then(|| f32::from_bits(out.t as u32) as f64)
+    let t = if tnum {
+        // the unit tests the exact T/det against a bound three ulps above t_max
+        // (`full`'s t = RN(T·RN(1/det)) is within 2^-23 (1 + 2^-24) of T/det relative,
+        // at most two ulps and a hair); the shader divides once per accepted hit and
+        // keeps `full`'s decision, t ≤ t_max
+        let wide = golden_triangle::TriIn {
+            t_max: golden_model::float::nudge(FloatFormat::BINARY32, x.t_max, 3),
+            ..x
+        };
+        let out = units.triangle_tnum(&wide);
+        out.hit
+            .then(|| {
+                golden_triangle::finish_t(
+                    FloatFormat::BINARY32,
+                    golden_model::float::RoundingMode::NearestEven,
+                    out.t_num,
+                    out.t_den,
+                )
+            })
+            .filter(|&t| f32::from_bits(t as u32) <= f32::from_bits(x.t_max as u32))
+    } else {
+        let out = units.triangle(&x);
+        out.hit.then_some(out.t)
+    };
+    t.map(|t| f32::from_bits(t as u32) as f64)
 }
 
 /// The exact rational test on the model-space ray: `t` (rounded to f64)
@@ -459,7 +486,7 @@ impl<'a> Tracer<'a> {
         } else {
             r.enter_instance(self.units, x, id);
         }
-        if self.opts.tri == TriTest::Golden {
+        if matches!(self.opts.tri, TriTest::Golden | TriTest::GoldenTnum) {
             r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);
         }
     }
@@ -475,7 +502,8 @@ impl<'a> Tracer<'a> {
             let v = m.corners(t);
             let found = match self.opts.tri {
                 TriTest::F64 => intersect(o, d, &v, r.hit.t),
-                TriTest::Golden => unit_triangle(self.units, r, &v),
+                TriTest::Golden => unit_triangle(self.units, r, &v, false),
+                TriTest::GoldenTnum => unit_triangle(self.units, r, &v, true),
                 TriTest::Exact => exact_triangle(r, &v),
             };
             if let Some(th) = found {

@@ -18,7 +18,7 @@ use golden_model::node_reorigin::{self, ReoriginParams};
 use golden_model::transform::{
     self, DotStyle, InstanceTransform, InverseSource, ModelRay, WorldRay,
 };
-use golden_model::triangle::{self, TriIn, TriOut};
+use golden_model::triangle::{self, TriIn, TriNum, TriOut};
 use std::sync::LazyLock;
 
 /// The inputs of one `cull_ray` transaction, borrowed from the traversal.
@@ -75,6 +75,8 @@ pub trait Units: Sync {
     fn cull(&self, x: &ChildTestIn) -> bool;
     /// The watertight ray/triangle test (`triangle` unit, `outputs=full`).
     fn triangle(&self, x: &TriIn) -> TriOut;
+    /// The same test with `outputs=tnum`: `T` and `det`, no division.
+    fn triangle_tnum(&self, x: &TriIn) -> TriNum;
     /// One ray against one wide node, the hit slots sorted (`node` unit).
     fn node(&self, x: &NodeTestIn) -> NodeOut;
 }
@@ -121,6 +123,9 @@ impl Units for GoldenUnits {
     }
     fn triangle(&self, x: &TriIn) -> TriOut {
         triangle::eval(self.triangle, x)
+    }
+    fn triangle_tnum(&self, x: &TriIn) -> TriNum {
+        triangle::eval_tnum(self.triangle, RoundingMode::NearestEven, x)
     }
     fn node(&self, x: &NodeTestIn) -> NodeOut {
         node_reorigin::eval(x.params, x.ray, *x.d, x.t_start, x.node)

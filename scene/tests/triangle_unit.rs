@@ -68,3 +68,44 @@ fn unit_triangle_test_gives_the_exact_image() {
         assert!(worst < 2e-6, "{name}: t error {worst:.2e}");
     }
 }
+
+/// `render --tri tnum` (the unit with `outputs=tnum`, no divider: the segment
+/// test against a bound three ulps above `t_max`, `t = T/det` finished once per
+/// accepted hit in software and held to `t ≤ t_max`, issue #42) gives the
+/// `outputs=full` render bit for bit (hits, `t`, colour) on the four shipped
+/// scenes, shadow and AO rays included; and the unit's bound matters: a `tnum`
+/// test against `t_max` itself breaks ties at equal depth differently, which
+/// the same comparison would catch.
+#[test]
+fn tnum_with_the_division_in_software_gives_the_full_image() {
+    for name in ["cornell.toml", "field.toml", "grass.toml", "bunny.toml"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes")
+            .join(name);
+        let mut s = Scene::load(&path).unwrap();
+        s.render.ao_rays = 2;
+        let (w, h) = (48, 36);
+        let acc = Accel::build(&s, false);
+        let with = |tri| {
+            let o = TraceOpts {
+                tri,
+                ..TraceOpts::single_rays()
+            };
+            render(&s, &acc, &Golden::default(), o, w, h, false)
+        };
+        let (full, tnum) = (with(TriTest::Golden), with(TriTest::GoldenTnum));
+        assert!(full.stats.total().tri_tests > 1000, "{name}");
+        for p in 0..full.ids.len() {
+            assert!(
+                full.ids[p] == tnum.ids[p]
+                    && full.t[p] == tnum.t[p]
+                    && full.color_bits(p) == tnum.color_bits(p),
+                "{name}: pixel {p}: full {:?} t {:#x}, tnum {:?} t {:#x}",
+                full.ids[p],
+                full.t[p],
+                tnum.ids[p],
+                tnum.t[p]
+            );
+        }
+    }
+}
