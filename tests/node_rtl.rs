@@ -12,8 +12,8 @@
 //! start. `rtl-gen check` runs the others at 10^6 (docs/node.md §7-8).
 //! `node` (`golden_model::node_reorigin::eval`, the unit a wide render
 //! uses): N = 4, 8, 2 at q = 8, 8, 12 on 10^6 vectors each in Verilator,
-//! four more shapes and formats in the evaluator, and its stimulus reaches
-//! every kind of answer.
+//! five more shapes and formats (e3m2 and e5m10 among them) in the evaluator,
+//! and its stimulus reaches every kind of answer.
 
 mod common;
 
@@ -128,12 +128,14 @@ const NODE_CASES: &[NodeCase] = &[
     (4, 12, 12, "binary32", 0, 0),
     (4, 16, 8, "binary32", 3, 0),
     (4, 8, 8, "e5m10", 1, 0),
+    (2, 4, 8, "e3m2", 2, 0),
 ];
 
 fn node_params(c: &NodeCase) -> Vec<String> {
     let (e, f) = match c.3 {
         "binary32" => (8, 23),
         "e5m10" => (5, 10),
+        "e3m2" => (3, 2),
         other => panic!("format {other}"),
     };
     vec![
