@@ -129,7 +129,7 @@ fn renders_and_per_ray_over_the_wide_bvh() {
     let o = run(&b);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{out}");
-    assert!(out.contains("node tester N=4 q=8"), "{out}");
+    assert!(out.contains("node unit N=4 q=8"), "{out}");
     assert!(out.contains("| node visits/ray |"), "{out}");
     // the hit dumps agree below their headers (which name the tester)
     let body = |p: &str| {
