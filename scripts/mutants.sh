@@ -38,7 +38,7 @@ if [ -d "$root/../shared" ]; then ln -sfn "$root/../shared" "$work/tmp/shared"; 
 export TMPDIR="$work/tmp"
 export MUTANTS_REAL_CARGO="${CARGO:-cargo}"
 export CARGO="$root/scripts/mutants-cargo.sh"
-mutants=(cargo-mutants mutants --dir "$root" --jobs 1)
+mutants=(cargo-mutants mutants --dir "$root")  # one job: the default
 sharded=(--sharding round-robin --shard)  # round-robin: shards take about as long
 
 summary() {  # caught / missed / unviable / timeout of a cargo-mutants output dir
