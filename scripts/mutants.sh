@@ -73,6 +73,9 @@ case "${1:-}" in
         ;;
     --in-diff)
         base="${2:-HEAD^1}"
+        if [ "$(git rev-parse --is-shallow-repository)" = true ]; then
+            git fetch -q --deepen=1 || true  # a shallow clone: fetch the parent if it can
+        fi
         if ! git rev-parse -q --verify "$base^{commit}" >/dev/null; then
             echo "--in-diff: no commit $base to compare HEAD with (a shallow clone? fetch its history)" >&2
             exit 2
