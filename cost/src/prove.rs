@@ -306,15 +306,19 @@ fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
     } else if log.contains("DONE (UNKNOWN") {
         Ok((Verdict::Open, log))
     } else {
-        let tail: Vec<&str> = log.lines().rev().take(15).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
         Err(format!(
             "{} -f prove.sby in {} gave no result:\n{}",
             sby.display(),
             dir.display(),
-            tail.join("\n")
+            last_lines(&log, 15)
         ))
     }
+}
+
+/// The last `n` lines of a tool's log, for an error message.
+fn last_lines(log: &str, n: usize) -> String {
+    let lines: Vec<&str> = log.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join("\n")
 }
 
 /// What the Yosys run said.
@@ -337,14 +341,12 @@ pub(crate) fn run_yosys_script(dir: &Path, script: &str) -> Result<String, Strin
         .map_err(|e| format!("running {}: {e} (scripts/setup.sh)", yosys.display()))?;
     let log = std::fs::read_to_string(dir.join("prove.log")).unwrap_or_default();
     if !out.status.success() {
-        let tail: Vec<&str> = log.lines().rev().take(12).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
         return Err(format!(
             "{} -s {script} in {} failed:\n{}{}",
             yosys.display(),
             dir.display(),
             String::from_utf8_lossy(&out.stderr),
-            tail.join("\n")
+            last_lines(&log, 12)
         ));
     }
     Ok(log)
