@@ -3,11 +3,13 @@
 # depths and both register placements (issue 39): each pipelined design against the same unit at
 # stages=0. Prints a markdown table (unit, parameters, depth, placement, result, seconds) and
 # exits 1 if any proof fails. Usage: bash scripts/prove-equiv.sh [rtl-gen binary] > table.md
-# (docs/proofs.md has the last run's table and its time). PROVE_TIMEOUT: seconds per proof.
+# (docs/proofs.md has the last run's table and its time). PROVE_TIMEOUT: seconds per proof;
+# PROVE_SOLVER: boolector (default) or sat (rtl-gen prove --solver).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bin="${1:-target/release/rtl-gen}"
 limit="${PROVE_TIMEOUT:-600}"  # seconds per proof
+solver="${PROVE_SOLVER:-boolector}"
 [ -x "$bin" ] || { echo "no $bin: cargo build --release --bin rtl-gen first" >&2; exit 2; }
 
 # the small format of each unit (parameters besides stages and pipeline); a unit not named
@@ -35,7 +37,7 @@ for u in $units; do
             t0=$(date +%s.%N)
             # shellcheck disable=SC2046
             out=$(timeout "$limit" "$bin" prove "$u" $(small "$u") -p stages=$s -p pipeline=$p \
-                --work "out/prove-equiv/$u-s$s-$p" 2>&1)
+                --solver "$solver" --work "out/prove-equiv/$u-s$s-$p" 2>&1)
             rc=$?
             line=$(tail -1 <<< "$out")
             t1=$(date +%s.%N)

@@ -9,7 +9,8 @@
 #    unit's closed-cube sweep over the whole float range (TRIANGLE_RANGE=full);
 # 3. the golden models' fast paths against the generic models at 10^8 vectors per unit and
 #    format class (issue #20; RELEASE_FAST_CASES), unless RELEASE_FAST=0;
-# 4. the mutation check (scripts/mutants.sh), unless RELEASE_MUTANTS=0.
+# 4. one shard of the mutation testing (scripts/mutants.sh --shard, RELEASE_MUTANTS_SHARD,
+#    default 0/150: about 29 mutants, 30 minutes), unless RELEASE_MUTANTS=0.
 #
 #   bash scripts/release.sh                        # everything, reports in out/release/
 #   RELEASE_SHARD=2/4 bash scripts/release.sh      # shard 2 of 4 of the vector checks only
@@ -79,6 +80,6 @@ if [ "${RELEASE_FAST:-1}" != 0 ]; then
     echo "fast paths: $classes classes, at least $fast vectors each, fast == generic, $(( $(date +%s) - t0 )) s (log $out/fast_paths.log)"
 fi
 if [ "${RELEASE_MUTANTS:-1}" != 0 ]; then
-    bash scripts/mutants.sh | tee "$out/mutants.log" | tail -1
+    bash scripts/mutants.sh --shard "${RELEASE_MUTANTS_SHARD:-0/150}" | tee "$out/mutants.log" | tail -1
 fi
 echo "release: done in $(( $(date +%s) - start )) s, all bit-exact"

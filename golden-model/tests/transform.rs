@@ -249,6 +249,25 @@ fn singular_and_non_finite_transforms_raise_the_flag_and_give_nan() {
     }
 }
 
+/// A determinant that overflows to ∞ while every cofactor is finite: 1/det
+/// rounds to 0, so every entry of the inverse is a finite 0 and only the
+/// determinant's class says the matrix cannot be inverted.
+#[test]
+fn an_overflowing_determinant_is_singular_though_the_inverse_is_finite() {
+    let big = b(2f32.powi(43));
+    let r = [big, 0, 0, 0, big, 0, 0, 0, big];
+    for dot in DotStyle::ALL {
+        let h = invert_hw(F, RNE, dot, &r, false);
+        assert_eq!(h.det, b(f32::INFINITY), "{dot:?}");
+        assert!(
+            h.inv.iter().all(|&x| F.is_finite(x)),
+            "{dot:?} {:x?}",
+            h.inv
+        );
+        assert!(h.singular, "{dot:?}");
+    }
+}
+
 #[test]
 fn hardware_inverse_is_within_a_few_ulps_of_the_exact_one_when_well_conditioned() {
     // TRANSFORM_CASES: cases over all dot styles (scripts/release.sh: 10^7)

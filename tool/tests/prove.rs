@@ -2,8 +2,10 @@
 //! units proved equal to their stages=0 reference in both placements, and
 //! two planted bugs (a wrong comparison, a valid bit one stage early) found,
 //! each with a vector file that `rtl-gen sim --verilog` replays in Verilator
-//! to the same wrong answer. Needs the pinned Yosys (scripts/setup.sh);
-//! without it the test fails saying so.
+//! to the same wrong answer. Both solvers: Boolector (the default, through
+//! yowasp-sby; a planted bug's trace then comes from Yosys sat) and Yosys sat
+//! (`--solver sat`). Needs the pinned Yosys and Boolector (scripts/setup.sh);
+//! without them the test fails saying so.
 
 use std::path::{Path, PathBuf};
 mod common;
@@ -18,7 +20,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// The last line of a run that must end with `proved:`.
-fn assert_proved(args: &[&str]) {
+fn assert_proved(args: &[&str]) -> String {
     let o = rtl_gen(args);
     let t = text(&o);
     let last = t.lines().last().unwrap_or("");
@@ -27,13 +29,14 @@ fn assert_proved(args: &[&str]) {
         "rtl-gen {args:?}: exit {:?}\n{t}",
         o.status.code()
     );
+    last.to_string()
 }
 
 #[test]
 fn pipelines_are_proved_equal_to_their_reference() {
     let w = scratch("ok");
     let work = |n: &str| w.join(n).display().to_string();
-    assert_proved(&[
+    let boolector = assert_proved(&[
         "prove",
         "mulcmp",
         "-p",
@@ -45,6 +48,22 @@ fn pipelines_are_proved_equal_to_their_reference() {
         "--work",
         &work("mulcmp"),
     ]);
+    assert!(boolector.contains("k-induction, Boolector"), "{boolector}");
+    let sat = assert_proved(&[
+        "prove",
+        "mulcmp",
+        "-p",
+        "a_width=6",
+        "-p",
+        "b_width=6",
+        "-p",
+        "stages=2",
+        "--solver",
+        "sat",
+        "--work",
+        &work("mulcmp-sat"),
+    ]);
+    assert!(sat.contains("temporal induction"), "{sat}");
     assert_proved(&[
         "prove",
         "fadd",
@@ -188,6 +207,17 @@ fn bad_requests_are_errors() {
         (
             vec!["prove", "mulcmp", "--reference", "stages=4"],
             "deeper than",
+        ),
+        (
+            vec![
+                "prove",
+                "slab",
+                "--property",
+                "sound",
+                "--solver",
+                "boolector",
+            ],
+            "--property sound runs Yosys sat",
         ),
     ] {
         let o = rtl_gen(&args);

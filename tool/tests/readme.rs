@@ -155,6 +155,11 @@ fn the_readme_keeps_the_two_commands_ci_runs() {
         ci.lines().any(|l| l.trim() == tests),
         ".ci/run runs the README's test command exactly"
     );
+    let mutants = "bash scripts/mutants.sh --in-diff";
+    assert!(
+        text.contains(mutants) && ci.lines().any(|l| l.trim() == mutants),
+        "the README and .ci/run both run the last change's mutants"
+    );
     assert!(root().join("scripts/main.sh").is_file());
 }
 

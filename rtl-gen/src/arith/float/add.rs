@@ -296,6 +296,17 @@ mod tests {
     use crate::golden_twin::{golden_format, golden_mode};
     use golden_model::float::{convert, sub, RoundingMode};
 
+    /// The sum's exponent (the larger biased exponent, 1 ..= 2^E − 1, less
+    /// bias + F + 3) takes no more bits than its range: binary32 spans −152
+    /// to 102 (9 signed bits), e5m10 −27 to 3 (6), e2m1 −4 to −2 (3).
+    #[test]
+    fn the_sum_exponent_is_as_narrow_as_its_range() {
+        let f = |e, m| Format::new(e, m).unwrap();
+        assert_eq!(add_exp_width(f(8, 23)), 9);
+        assert_eq!(add_exp_width(f(5, 10)), 6);
+        assert_eq!(add_exp_width(f(2, 1)), 3);
+    }
+
     /// The widening difference against the golden difference of both
     /// operands widened exactly: every pair of a small format in every
     /// mode, random pairs of binary32 and e5m10 into the triangle unit's
