@@ -265,31 +265,49 @@ struct Term {
 /// Trailing zeros of `x` (its width when `x` is zero): the leading zeros of
 /// its bits reversed.
 fn trailing_zeros(m: &mut ModuleBuilder, x: Sig) -> Sig {
-    let bits: Vec<Sig> = (0..x.width())
-        .map(|i| {
-            let b = m.bit_at(x, i);
-            m.as_uint(b)
-        })
-        .collect();
-    let reversed = m.cat(&bits);
-    let tz = lzc(m, reversed);
-    m.name(tz, "trailing_zeros")
+    m.scope("trailing", |m| {
+        let bits: Vec<Sig> = (0..x.width())
+            .map(|i| {
+                let b = m.bit_at(x, i);
+                m.as_uint(b)
+            })
+            .collect();
+        let reversed = m.cat(&bits);
+        let reversed = m.name(reversed, "reversed");
+        let tz = lzc(m, reversed);
+        m.name(tz, "zeros")
+    })
 }
 
-/// A finite float as a window term, its sign flipped by `negate`.
-fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool) -> Term {
-    // top = eff_exp − bias + 1
-    let tw = top_bits(fmt);
-    let e = to_sint(m, u.eff_exp, tw);
-    let k = m.sint(tw, 1 - fmt.bias() as i128);
-    let top = sadd(m, e, k, tw);
-    let negative = if negate { m.not(u.sign) } else { u.sign };
-    Term {
-        negative,
-        sig: u.sig,
-        zero: u.zero,
-        top: m.name(top, "top"),
-        tz: trailing_zeros(m, u.sig),
+/// A finite float as a window term (in scope `what`), its sign flipped by
+/// `negate`.
+fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool, what: &str) -> Term {
+    m.scope(what, |m| {
+        // top = eff_exp − bias + 1
+        let tw = top_bits(fmt);
+        let e = to_sint(m, u.eff_exp, tw);
+        let e = m.name(e, "eff_exp");
+        let k = m.sint(tw, 1 - fmt.bias() as i128);
+        let top = sadd(m, e, k, tw);
+        let negative = if negate { m.not(u.sign) } else { u.sign };
+        Term {
+            negative: m.name(negative, "negative"),
+            sig: u.sig,
+            zero: u.zero,
+            top: m.name(top, "top"),
+            tz: trailing_zeros(m, u.sig),
+        }
+    })
+}
+
+impl Term {
+    /// The same value negated.
+    fn negated(&self, m: &mut ModuleBuilder) -> Term {
+        let negative = m.not(self.negative);
+        Term {
+            negative: m.name(negative, "negated"),
+            ..*self
+        }
     }
 }
 
@@ -302,12 +320,17 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
     let floor_top = m.sint(tw, -(1i128 << (tw - 1)));
     let tops: Vec<Sig> = terms
         .iter()
-        .map(|t| m.mux(t.zero, floor_top, t.top))
+        .enumerate()
+        .map(|(i, t)| {
+            let v = m.mux(t.zero, floor_top, t.top);
+            m.name(v, &format!("term{i}_live_top"))
+        })
         .collect();
     let mut top = tops[0];
-    for &t in &tops[1..] {
+    for (i, &t) in tops.iter().enumerate().skip(1) {
         let above = m.lt(top, t);
-        top = m.mux(above, t, top);
+        let v = m.mux(above, t, top);
+        top = m.name(v, &format!("top_through_term{i}"));
     }
     let top = m.name(top, "window_top");
     let sw = w + 3;
@@ -325,7 +348,9 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
             let padded = zext(m, t.sig, wt);
             let lift = m.uint(bits_for(u64::from(wt)), u64::from(wt - wi) as u128);
             let padded = m.shl(padded, lift);
+            let padded = m.name(padded, "aligned_to_top");
             let gap = m.sub(top, tops[i]);
+            let gap = m.name(gap, "top_gap");
             let gap = m.slice(gap, tw - 1, 0);
             let cap = bits_for(u64::from(wt));
             let limit = m.uint(tw, u128::from(wt));
@@ -344,38 +369,56 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
             };
             let cw = gap.width().max(t.tz.width()) + 2;
             let reach = to_sint(m, gap, cw);
+            let reach = m.name(reach, "gap_wide");
             let shift = m.sint(cw, i128::from(wi) - i128::from(w));
             let reach = sadd(m, reach, shift, cw);
+            let reach = m.name(reach, "reach");
             let tz = to_sint(m, t.tz, cw);
+            let tz = m.name(tz, "trailing_wide");
             let below = m.lt(tz, reach);
             let live = m.not(t.zero);
             let lost = m.and(below, live);
             let kept = m.name(kept, "kept");
             let lost = m.name(lost, "lost");
             let kept_s = to_sint(m, kept, sw);
+            let kept_s = m.name(kept_s, "kept_wide");
             let flip = m.as_uint(t.negative);
             let flip = m.cat(&vec![flip; sw as usize]);
             let flip = m.as_sint(flip);
+            let flip = m.name(flip, "sign_mask");
             let ones_complement = m.xor(kept_s, flip);
+            let ones_complement = m.name(ones_complement, "ones_complement");
             let sum = m.add(base, ones_complement);
+            let sum = m.name(sum, "sum_wide");
             let base = sext(m, sum, sw);
-            let negatives = add_bit(m, negatives, t.negative);
+            let negatives = add_bit(m, negatives, t.negative, "negatives");
             let neg_lost = m.and(t.negative, lost);
+            let neg_lost = m.name(neg_lost, "lost_negative");
             let not_neg = m.not(t.negative);
             let pos_lost = m.and(not_neg, lost);
-            let down = add_bit(m, down, neg_lost);
-            let up = add_bit(m, up, pos_lost);
+            let pos_lost = m.name(pos_lost, "lost_positive");
+            let down = add_bit(m, down, neg_lost, "down");
+            let up = add_bit(m, up, pos_lost, "up");
             (m.name(base, "partial_sum"), negatives, down, up)
         });
     }
     let negatives = to_sint(m, negatives, 4);
-    let (down, up) = (to_sint(m, down, 4), to_sint(m, up, 4));
+    let negatives = m.name(negatives, "negative_terms");
+    let down = to_sint(m, down, 4);
+    let down = m.name(down, "lost_below");
+    let up = to_sint(m, up, 4);
+    let up = m.name(up, "lost_above");
     let lo_adjust = ssub(m, negatives, down, 4);
+    let lo_adjust = m.name(lo_adjust, "low_adjust");
     let hi_adjust = sadd(m, negatives, up, 4);
+    let hi_adjust = m.name(hi_adjust, "high_adjust");
     let lo = sadd(m, base, lo_adjust, sw);
+    let lo = m.name(lo, "low_wide");
     let hi = sadd(m, base, hi_adjust, sw);
+    let hi = m.name(hi, "high_wide");
     let bw = tw + 1;
     let top = sext(m, top, bw);
+    let top = m.name(top, "top_wide");
     let wc = m.sint(bw, i128::from(w));
     let b = ssub(m, top, wc, bw);
     (
@@ -391,11 +434,13 @@ fn mask_of(q: u32) -> u128 {
 }
 
 /// `count + bit`, a 2-bit count (at most 3 terms).
-fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig) -> Sig {
+fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig, what: &str) -> Sig {
     let b = m.as_uint(bit);
     let b = zext(m, b, 2);
     let s = m.add(count, b);
-    m.slice(s, 1, 0)
+    let s = m.name(s, &format!("{what}_sum"));
+    let s = m.slice(s, 1, 0);
+    m.name(s, what)
 }
 
 /// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`, a Bool), `v` and `s` SInt, clamped
@@ -411,13 +456,16 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     // the shift right: ow − s, from 0 (s = ow) to ew (everything out)
     let sw = s.width().max(bits_for(u64::from(ew)) + 1) + 1;
     let s = sext(m, s, sw);
+    let s = m.name(s, "scale_wide");
     let headroom = m.sint(sw, i128::from(ow));
     let right = ssub(m, headroom, s, sw);
+    let right = m.name(right, "right");
     let huge = m.msb(right);
     let huge = m.name(huge, "saturates");
     let rcap = bits_for(u64::from(ew));
     let limit = m.sint(sw, i128::from(ew));
     let all_out = m.lt(limit, right);
+    let all_out = m.name(all_out, "all_out");
     let amount = m.slice(right, rcap - 1, 0);
     let limit_u = m.uint(rcap, u128::from(ew));
     let amount = m.mux(all_out, limit_u, amount);
@@ -425,35 +473,54 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let zeros = m.uint(ow, 0);
     let ext = m.cat(&[v, zeros]);
     let ext = m.as_sint(ext);
+    let ext = m.name(ext, "with_headroom");
     let floor = m.shr(ext, amount);
+    let floor = m.name(floor, "floor");
     // a one below the shift's reach was lost: trailing zeros of v + ow below it
     let tz = trailing_zeros(m, v);
     let tw = tz.width().max(rcap) + 1;
     let tz = zext(m, tz, tw);
+    let tz = m.name(tz, "trailing_wide");
     let headroom_u = m.uint(tw, u128::from(ow));
     let reach = m.add(tz, headroom_u);
+    let reach = m.name(reach, "reach");
     let amount_w = zext(m, amount, tw + 1);
+    let amount_w = m.name(amount_w, "shift_wide");
     let reach = zext(m, reach, tw + 1);
+    let reach = m.name(reach, "reach_wide");
     let lost = m.lt(reach, amount_w);
     let lost = m.and(lost, up);
+    let lost = m.name(lost, "round_up");
     let l = m.as_uint(lost);
     let l = to_sint(m, l, 2);
+    let l = m.name(l, "increment");
     let r = m.add(floor, l);
+    let r = m.name(r, "rounded");
     let rw = r.width();
-    let (hi, lo) = (sext(m, lim, rw), sext(m, neg_lim, rw));
+    let hi = sext(m, lim, rw);
+    let lo = sext(m, neg_lim, rw);
     let above = m.lt(hi, r);
+    let above = m.name(above, "above_limit");
     let below = m.lt(r, lo);
+    let below = m.name(below, "below_limit");
     let r = m.slice(r, ow - 1, 0);
     let r = m.as_sint(r);
+    let r = m.name(r, "rounded_low");
     let r = m.mux(above, lim, r);
+    let r = m.name(r, "clamped_above");
     let r = m.mux(below, neg_lim, r);
+    let r = m.name(r, "clamped");
     // s beyond the headroom: any nonzero v is beyond the clamp
     let zero_v = m.sint(vw, 0);
     let negative = m.lt(v, zero_v);
+    let negative = m.name(negative, "negative");
     let nonzero = m.ne(v, zero_v);
+    let nonzero = m.name(nonzero, "nonzero");
     let zero_o = m.sint(ow, 0);
     let sat = m.mux(negative, neg_lim, lim);
+    let sat = m.name(sat, "saturated");
     let sat = m.mux(nonzero, sat, zero_o);
+    let sat = m.name(sat, "saturated_or_zero");
     let r = m.mux(huge, sat, r);
     m.name(r, "on_grid")
 }
@@ -522,6 +589,12 @@ pub fn build(cfg: &Config) -> Module {
     let t_min = un(&mut m, "t_min".into(), r.t_min);
     let t_max = un(&mut m, "t_max".into(), r.t_max);
     let t_start = un(&mut m, "t_start".into(), r.t_start);
+    let slot_valid: Vec<Sig> = (0..n)
+        .map(|i| {
+            let v = m.bit_at(r.valid, i as u32);
+            m.name(v, &format!("slot{i}_valid"))
+        })
+        .collect();
     // bad input
     let bad = m.scope("bad_input", |m| {
         let mut flags = Vec::new();
@@ -543,19 +616,14 @@ pub fn build(cfg: &Config) -> Module {
         flags.push(t_min.nan);
         flags.push(t_max.nan);
         flags.push(t_start.nan);
-        for i in 0..n {
-            let valid = m.bit_at(r.valid, i as u32);
+        for (i, &valid) in slot_valid.iter().enumerate() {
             for a in 0..3 {
                 let inverted = m.lt(r.hi[i][a], r.lo[i][a]);
                 let wrong = m.and(valid, inverted);
                 flags.push(wrong);
             }
         }
-        let mut any = flags[0];
-        for &f in &flags[1..] {
-            any = m.or(any, f);
-        }
-        m.name(any, "is_bad")
+        crate::arith::float::classify::any_of(m, &flags, "is_bad")
     });
     // T = max(t_min, t_start): t_min unless t_start is strictly later
     let (t_bits, t_u) = m.scope("start", |m| {
@@ -581,7 +649,7 @@ pub fn build(cfg: &Config) -> Module {
         let e = m.or(a, b);
         m.name(e, "empty")
     });
-    let t_term = float_term(&mut m, fmt, &t_u, false);
+    let t_term = float_term(&mut m, fmt, &t_u, false, "start_term");
     // per axis: the position at T, E, the slope significands
     let axes: Vec<AxisTerms> = (0..3)
         .map(|a| {
@@ -590,9 +658,9 @@ pub fn build(cfg: &Config) -> Module {
                 let not_parallel = m.not(parallel);
                 let mirror = m.and(inv[a].sign, not_parallel);
                 let mirror = m.name(mirror, "mirror");
-                let ot = float_term(m, fmt, &o[a], false);
-                let frame = float_term(m, fmt, &org[a], true);
-                let dt = float_term(m, fmt, &d[a], false);
+                let ot = float_term(m, fmt, &o[a], false, "origin_term");
+                let frame = float_term(m, fmt, &org[a], true, "frame_term");
+                let dt = float_term(m, fmt, &d[a], false, "direction_term");
                 let product = m.mul(t_u.sig, d[a].sig);
                 let product = m.name(product, "t_times_d");
                 let sign = m.ne(t_u.sign, d[a].sign);
@@ -611,11 +679,15 @@ pub fn build(cfg: &Config) -> Module {
                     tz,
                 };
                 let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w);
-                // s = B − (e − g)
-                let sw = b.width().max(r.exp[a].width()) + 2;
+                // s = B − (e − g); the frame exponent widened once for this and E
+                let nz = m.scope("inv_d_normalised", |m| normalize(m, fmt, &inv[a]));
+                let sw = b.width().max(r.exp[a].width()).max(nz.exp.width()) + 2;
+                let frame_exp = sext(m, r.exp[a], sw);
+                let frame_exp = m.name(frame_exp, "frame_exp_wide");
                 let bs = sext(m, b, sw);
-                let es = sext(m, r.exp[a], sw);
-                let s = ssub(m, bs, es, sw);
+                let bs = m.name(bs, "sum_exp_wide");
+                let s = ssub(m, bs, frame_exp, sw);
+                let s = m.name(s, "grid_shift_less_g");
                 let gc = m.sint(sw, i128::from(g));
                 let s = sadd(m, s, gc, sw);
                 let s = m.name(s, "grid_shift");
@@ -628,19 +700,23 @@ pub fn build(cfg: &Config) -> Module {
                 let (x_lo, x_hi) = m.scope("plane_frame", |m| {
                     let xw = x_lo.width() + 1;
                     let top = m.sint(xw, (mask_of(q) as i128) << g);
-                    let (lo_w, hi_w) = (sext(m, x_lo, xw), sext(m, x_hi, xw));
+                    let lo_w = sext(m, x_lo, xw);
+                    let lo_w = m.name(lo_w, "low_wide");
+                    let hi_w = sext(m, x_hi, xw);
+                    let hi_w = m.name(hi_w, "high_wide");
                     let mirrored_lo = ssub(m, top, hi_w, xw);
+                    let mirrored_lo = m.name(mirrored_lo, "mirrored_low");
                     let mirrored_hi = ssub(m, top, lo_w, xw);
+                    let mirrored_hi = m.name(mirrored_hi, "mirrored_high");
                     let lo = m.mux(mirror, mirrored_lo, lo_w);
                     let hi = m.mux(mirror, mirrored_hi, hi_w);
                     (m.name(lo, "from_lo"), m.name(hi, "from_hi"))
                 });
                 // E = e + ⌊log2 |inv_d|⌋
-                let nz = normalize(m, fmt, &inv[a]);
-                let ew = nz.exp.width().max(r.exp[a].width()) + 2;
+                let ew = sw;
                 let e1 = sext(m, nz.exp, ew);
-                let e2 = sext(m, r.exp[a], ew);
-                let e_sum = sadd(m, e1, e2, ew);
+                let e1 = m.name(e1, "inv_d_exp_wide");
+                let e_sum = sadd(m, e1, frame_exp, ew);
                 // m-bit significands: rounded down, and up past inv_d's successor
                 let fw = fmt.frac_bits + 1;
                 let (sig_lo, sig_hi) = m.scope("slope", |m| {
@@ -764,8 +840,8 @@ pub fn build(cfg: &Config) -> Module {
     // the window end: ⌈(t_max − T)/2^G⌉, capped at C (C for t_max = +∞)
     let cap_w = k_cap + 2;
     let far_top = m.scope("window_end", |m| {
-        let end = float_term(m, fmt, &t_max, false);
-        let start = float_term(m, fmt, &t_u, true);
+        let end = float_term(m, fmt, &t_max, false, "end_term");
+        let start = t_term.negated(m);
         let (_, hi, b) = window_sum(m, &[end, start], cfg.end_window_bits());
         let sw = b.width().max(gw) + 2;
         let bs = sext(m, b, sw);
@@ -805,9 +881,13 @@ pub fn build(cfg: &Config) -> Module {
                     let exit = to_sint(m, exit, dist_bits);
                     let from_lo = sext(m, ax.x_lo, dist_bits);
                     let from_hi = sext(m, ax.x_hi, dist_bits);
-                    let dn = ssub(m, entry, from_hi, dist_bits);
+                    let dn = m.sub(entry, from_hi);
+                    let dn = m.name(dn, "entry_gap");
+                    let dn = sext(m, dn, dist_bits);
                     let dn = m.name(dn, "entry_distance");
-                    let df = ssub(m, exit, from_lo, dist_bits);
+                    let df = m.sub(exit, from_lo);
+                    let df = m.name(df, "exit_gap");
+                    let df = sext(m, df, dist_bits);
                     let df = m.name(df, "exit_distance");
                     // an exit behind T misses; a parallel axis misses outside its slab
                     let behind = m.msb(df);
@@ -856,7 +936,7 @@ pub fn build(cfg: &Config) -> Module {
     let (slot_hit, slot_entry): (Vec<Sig>, Vec<Sig>) = (0..n)
         .map(|i| {
             m.scope(&format!("slot{i}"), |m| {
-                let valid = m.bit_at(r.valid, i as u32);
+                let valid = slot_valid[i];
                 let live = m.not(none);
                 let tested = m.and(live, hits[i]);
                 let yes = m.bool(true);
@@ -922,6 +1002,7 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
     let limit = zext(m, slope.limit, (dw - 1).max(lw));
     let big = m.lt(limit, mag);
     let mag = m.mux(big, limit, mag);
+    let mag = m.name(mag, "limited");
     let mag = m.slice(mag, lw - 1, 0);
     let mag = m.shl(mag, slope.shift);
     let mag = m.name(mag, "distance");
