@@ -146,7 +146,7 @@ fn renders_and_per_ray_over_the_wide_bvh() {
         std::fs::read(&wide_png).unwrap()
     );
 
-    let o = run(&["per-ray", scene, "--width", "24", "--wide", "4"]);
+    let o = run(&["per-ray", scene, "--width", "24", "--wide", "4", "--no-synth"]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{out}");
     let line = out
@@ -154,7 +154,8 @@ fn renders_and_per_ray_over_the_wide_bvh() {
         .find(|l| l.starts_with("child tests per ray q=8 / binary32: field.toml "))
         .unwrap_or_else(|| panic!("{out}"));
     let ratio: f64 = line.rsplit(' ').next().unwrap().parse().unwrap();
-    assert!((1.0..=1.10).contains(&ratio), "{line}");
+    // below 1 when rays that miss a tree's root box skip its N children (docs/wide.md §5)
+    assert!((0.85..=1.10).contains(&ratio), "{line}");
     assert!(out.contains("| yes |"), "{out}");
 
     for (args, says) in [
