@@ -146,7 +146,15 @@ fn renders_and_per_ray_over_the_wide_bvh() {
         std::fs::read(&wide_png).unwrap()
     );
 
-    let o = run(&["per-ray", scene, "--width", "24", "--wide", "4", "--no-synth"]);
+    let o = run(&[
+        "per-ray",
+        scene,
+        "--width",
+        "24",
+        "--wide",
+        "4",
+        "--no-synth",
+    ]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{out}");
     let line = out
