@@ -116,19 +116,23 @@ fn node_child_stimulus_reaches_hits_misses_and_entries() {
     );
 }
 
-/// `node` (children, box_bits, slope_bits, format, stages, Verilator vectors; 0: the
-/// evaluator only)
-type NodeCase = (u32, u32, u32, &'static str, u32, u64);
+/// `node` (children, box_bits, slope_bits, format, stages, products, Verilator vectors;
+/// 0: the evaluator only). Both product structures: `whole` shifts each slope once per
+/// node, `split` each distance per child.
+type NodeCase = (u32, u32, u32, &'static str, u32, &'static str, u64);
 
 const NODE_CASES: &[NodeCase] = &[
-    (4, 8, 8, "binary32", 4, 1_000_000),
-    (8, 8, 8, "binary32", 2, 1_000_000),
-    (2, 12, 8, "binary32", 1, 1_000_000),
-    (2, 8, 8, "binary32", 0, 0),
-    (4, 12, 12, "binary32", 0, 0),
-    (4, 16, 8, "binary32", 3, 0),
-    (4, 8, 8, "e5m10", 1, 0),
-    (2, 4, 8, "e3m2", 2, 0),
+    (4, 8, 8, "binary32", 4, "whole", 1_000_000),
+    (8, 8, 8, "binary32", 2, "split", 1_000_000),
+    (2, 12, 8, "binary32", 1, "split", 1_000_000),
+    (2, 8, 8, "binary32", 0, "split", 0),
+    (8, 8, 8, "binary32", 0, "whole", 0),
+    (4, 12, 12, "binary32", 0, "whole", 0),
+    (4, 16, 8, "binary32", 3, "split", 0),
+    (4, 16, 8, "binary32", 3, "whole", 0),
+    (4, 8, 8, "e5m10", 1, "whole", 0),
+    (2, 4, 8, "e3m2", 2, "split", 0),
+    (2, 4, 8, "e3m2", 2, "whole", 0),
 ];
 
 fn node_params(c: &NodeCase) -> Vec<String> {
@@ -145,6 +149,7 @@ fn node_params(c: &NodeCase) -> Vec<String> {
         format!("exp_bits={e}"),
         format!("frac_bits={f}"),
         format!("stages={}", c.4),
+        format!("products={}", c.5),
     ]
 }
 
@@ -170,6 +175,7 @@ fn node_stimulus_reaches_every_kind_of_answer() {
         box_bits: 8,
         slope_bits: 8,
         stages: 4,
+        products: rtl_gen::retime::Products::Split,
     };
     let cap = 1u64 << cfg.cap_bits();
     let (mut bad, mut empty, mut hits, mut inner, mut capped, mut mixed) = (0, 0, 0, 0, 0, 0);
@@ -202,8 +208,8 @@ fn node_stimulus_reaches_every_kind_of_answer() {
 
 #[test]
 fn node_matches_golden_model_in_verilator() {
-    for c in NODE_CASES.iter().filter(|c| c.5 > 0) {
+    for c in NODE_CASES.iter().filter(|c| c.6 > 0) {
         let (g, dir) = generate("node_verilator", "node", &node_params(c));
-        cross_checked(&g, &dir, c.5, 7);
+        cross_checked(&g, &dir, c.6, 7);
     }
 }

@@ -22,6 +22,14 @@ pub const DESIGNS: [(&str, &str, &[&str]); 5] = [
     ("frecip RTZ", "frecip", &["round=rtz"]),
 ];
 
+/// The node tester beside them (issue #36): (label, N), q = 8, whole
+/// products (the xc7 build); its figures are per node test, divided by N
+/// for the per-child table.
+pub const NODE_SHAPES: [(&str, u32); 2] = [("node N=4 q=8", 4), ("node N=8 q=8", 8)];
+
+/// Issue #36's per-child targets: (N, at most xc7 LUT, at most DSP48).
+const NODE_TARGETS: [(u32, f64, f64); 2] = [(4, 1_500.0, 2.0), (8, 1_000.0, 2.0)];
+
 /// One synthesised design.
 #[derive(Debug, Clone)]
 pub struct Row {
@@ -74,8 +82,24 @@ pub fn synthesise(
     };
     let mut rows = Vec::new();
     for &frac in fracs {
-        for (label, unit, extra) in DESIGNS {
-            let mut p: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
+        let nodes: Vec<(&'static str, &str, Vec<String>)> = NODE_SHAPES
+            .iter()
+            .map(|&(label, n)| {
+                let p = vec![
+                    format!("children={n}"),
+                    "box_bits=8".to_string(),
+                    "products=whole".to_string(),
+                ];
+                (label, "node", p)
+            })
+            .collect();
+        let designs = DESIGNS
+            .iter()
+            .map(|&(label, unit, extra)| {
+                (label, unit, extra.iter().map(|s| s.to_string()).collect())
+            })
+            .chain(nodes);
+        for (label, unit, mut p) in designs {
             let depth = if unit == "frecip" {
                 recip_stages
             } else {
@@ -212,6 +236,7 @@ pub fn markdown(rows: &[Row], loads: &[SceneLoad], stages: u32, recip_stages: u3
         );
     }
 
+    s += &node_section(rows, &fracs);
     s += "\nThe slab needs 1/d per ray (three reciprocals): per box test it costs slab + 3 · frecip / N, \
           N = box tests per ray (single rays, no planes, measured on the shipped scenes):\n\n\
           | scene | rays | N | format | conservative slab LUT | + 3 frecip / N | silhouette ray LUT |\n|---|---|---|---|---|---|---|\n";
@@ -276,6 +301,51 @@ pub fn markdown(rows: &[Row], loads: &[SceneLoad], stages: u32, recip_stages: u3
     s
 }
 
+/// The node tester per child test: its figures divided by N, and issue
+/// #36's targets checked at binary32.
+fn node_section(rows: &[Row], fracs: &[u32]) -> String {
+    let mut s = "\nThe node tester per child test (one node test of N q-bit child boxes divided by N, \
+                 the per-node part shared; binary32 silhouette ray for comparison):\n\n\
+                 | design | format | Xilinx LUT / child | DSP48 / child | iCE40 LUT4 / child | ECP5 LUT4 / child | ECP5 DSP / child | silhouette ray LUT / box test |\n\
+                 |---|---|---|---|---|---|---|---|\n"
+        .to_string();
+    let mut checks = String::new();
+    for &frac in fracs {
+        let ray = find(rows, "silhouette ray", frac)
+            .map_or("-".to_string(), |r| r.xilinx_luts().to_string());
+        for (label, n) in NODE_SHAPES {
+            let Some(r) = find(rows, label, frac) else {
+                continue;
+            };
+            let per = |v: u64| v as f64 / n as f64;
+            let x = r.report.xilinx.clone().unwrap_or_default();
+            let ice = r.report.ice40.as_ref().map_or(0, |i| i.luts);
+            let (el, ed) = r.report.ecp5.as_ref().map_or((0, 0), |e| (e.luts, e.dsps));
+            s += &format!(
+                "| {label} | e8m{frac} | {:.0} | {:.2} | {:.0} | {:.0} | {:.2} | {ray} |\n",
+                per(x.luts),
+                per(x.dsps),
+                per(ice),
+                per(el),
+                per(ed)
+            );
+            if let Some(&(_, lut, dsp)) = NODE_TARGETS.iter().find(|t| t.0 == n && frac == 23) {
+                let ok = per(x.luts) <= lut && per(x.dsps) <= dsp;
+                checks += &format!(
+                    "- {}: {label} binary32: {:.0} LUT and {:.2} DSP48 per child test (at most {lut:.0} and {dsp:.0})\n",
+                    if ok { "met" } else { "NOT MET" },
+                    per(x.luts),
+                    per(x.dsps)
+                );
+            }
+        }
+    }
+    if !checks.is_empty() {
+        s += &format!("\nTargets of issue #36 (Xilinx, per child test):\n\n{checks}");
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -305,6 +375,8 @@ mod tests {
             row("slab conservative", 23, 9_000, 12),
             row("slab RNE", 23, 7_000, 12),
             row("frecip RTZ", 23, 1_000, 0),
+            row("node N=4 q=8", 23, 8_000, 8),
+            row("node N=8 q=8", 23, 12_000, 56),
         ];
         let loads = [SceneLoad {
             scene: "s.toml".into(),
@@ -328,6 +400,19 @@ mod tests {
         );
         assert!(
             t.contains("RAABB (published, Xilinx XST, exponent 11) | m=23 | 17561"),
+            "{t}"
+        );
+        // the node per child test: both over the LUT figure, N = 8 over the DSP one too
+        assert!(
+            t.contains("| node N=4 q=8 | e8m23 | 2000 | 2.00 | 0 | 0 | 0.00 | 8000 |"),
+            "{t}"
+        );
+        assert!(
+            t.contains("- NOT MET: node N=4 q=8 binary32: 2000 LUT and 2.00 DSP48 per child test (at most 1500 and 2)"),
+            "{t}"
+        );
+        assert!(
+            t.contains("- NOT MET: node N=8 q=8 binary32: 1500 LUT and 7.00 DSP48 per child test (at most 1000 and 2)"),
             "{t}"
         );
         // a failed synthesis is a row that says so, not a figure

@@ -250,7 +250,7 @@ pub fn wide_workload_of(
 /// conservative slab of each tree's root, the transform, and the triangle
 /// test with `outputs=tnum` (the renderer's `--tri tnum` gives the `full`
 /// image bit for bit, the division in software) and whole products (one
-/// DSP48E1 cascade per product on xc7).
+/// DSP48E1 cascade per product on xc7, in the node unit too).
 pub fn wide_roles(
     format: WideFormat,
     tlas_box_bits: u32,
@@ -260,6 +260,7 @@ pub fn wide_roles(
             format!("children={}", format.children()),
             format!("box_bits={q}"),
             "stages=4".to_string(),
+            "products=whole".to_string(),
         ]
     };
     let fixed = |p: &[&str]| p.iter().map(|s| s.to_string()).collect::<Vec<_>>();

@@ -45,16 +45,18 @@ use schedule::{
 };
 use split::on_dsp;
 
-/// How [`balance_with`] flattens a product wider than a DSP block.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Products {
-    /// unsigned products wider than 18 bits become 18x18 blocks and their
-    /// sum (ECP5's MULT18X18D; registers can go between blocks and sum)
-    Split,
-    /// every product stays one `*`, for the synthesis tool to map (a 7-series
-    /// DSP48E1 takes 25x18 and sums the pieces of a wider product in its
-    /// cascade, so a split there costs blocks and LUT adders)
-    Whole,
+crate::choice! {
+    /// How [`balance_with`] flattens a product wider than a DSP block (a
+    /// unit parameter `products`).
+    pub enum Products {
+        /// unsigned products wider than 18 bits become 18x18 blocks and their
+        /// sum (ECP5's MULT18X18D; registers can go between blocks and sum)
+        Split = "split",
+        /// every product stays one `*`, for the synthesis tool to map (a 7-series
+        /// DSP48E1 takes 25x18 and sums the pieces of a wider product in its
+        /// cascade, so a split there costs blocks and LUT adders)
+        Whole = "whole",
+    }
 }
 
 /// What [`balance`] did, for the reports.

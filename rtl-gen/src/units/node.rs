@@ -40,6 +40,7 @@ use crate::arith::int::{bits_for, sext, zext};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
 use crate::params::ParamError;
+use crate::retime::Products;
 
 /// The `node` unit.
 pub struct Node;
@@ -66,6 +67,10 @@ crate::params! {
         slope_bits: u32 [4..=16] = 8,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 4,
+        /// split: products wider than 18 bits (the per-node `T·d`) cut into 18x18 blocks
+        /// and their sum when stages are placed (ECP5's MULT18X18D); whole: each product one
+        /// multiplication (a 7-series DSP48E1 takes 25x18: half the DSP48 and no LUT adders)
+        products: Products = Products::Split,
     }
 }
 
@@ -82,6 +87,8 @@ pub struct Config {
     pub slope_bits: u32,
     /// pipeline registers
     pub stages: u32,
+    /// how the retimer flattens the per-node products
+    pub products: Products,
 }
 
 impl Config {
@@ -233,10 +240,14 @@ impl<T: Copy> Record<T> for NodeOut<T> {
     }
 }
 
-/// Module name: `node_n{N}_q{q}_m{m}_{fmt}_s{stages}`.
+/// Module name: `node_n{N}_q{q}_m{m}_{fmt}[_whole]_s{stages}`.
 pub fn node_name(cfg: &Config) -> String {
+    let products = match cfg.products {
+        Products::Split => "",
+        Products::Whole => "_whole",
+    };
     format!(
-        "node_n{}_q{}_m{}_{}_s{}",
+        "node_n{}_q{}_m{}_{}{products}_s{}",
         cfg.children,
         cfg.box_bits,
         cfg.slope_bits,
@@ -546,15 +557,19 @@ struct Slope {
     up: Scaled,
 }
 
-/// A slope `sig · 2^z`: the distance is shifted by `z` (after a clamp at
-/// `2^(sat − z)`, beyond which the product reaches the cap anyway), so the
-/// product is `(q + g + 3) × (m + 1)` bits, one DSP block.
+/// A slope `sig · 2^z` and how the product meets it. `products=split`: the
+/// distance is clamped at `2^(sat − z)` (beyond it the product reaches the cap
+/// anyway) and shifted by `z`, so the product is `(q + g + 3) × (m + 1)` bits,
+/// one 18×18 block. `products=whole`: the significand is shifted once per node
+/// (`m + 1 + zmax` bits) and each child multiplies its distance by it, a
+/// `(q + g + 4) × (m + 1 + zmax)` product that one DSP48E1 (25×18) takes whole,
+/// with no shifter and no clamp per child.
 #[derive(Clone, Copy)]
 struct Scaled {
+    /// the slope's factor of the product: `sig`, or `sig · 2^z` (whole)
     sig: Sig,
-    shift: Sig,
-    /// `2^(sat − z)`
-    limit: Sig,
+    /// `z` and `2^(sat − z)` when the distance is shifted (split)
+    distance_shift: Option<(Sig, Sig)>,
     /// above the cap: every positive distance gives `C`
     over: Sig,
 }
@@ -818,15 +833,27 @@ pub fn build(cfg: &Config) -> Module {
                 let hi_over = over(m, z_hi, sig_hi);
                 // an over-cap slope's shift does not matter
                 let top = m.uint(zmax + 1, 1u128 << zmax);
+                let whole = cfg.products == Products::Whole;
                 let scaled = |m: &mut ModuleBuilder, sig: Sig, z: Sig, over: Sig, what: &str| {
                     m.scope(what, |m| {
                         let shift = m.slice(z, zbits - 1, 0);
-                        let limit = m.shr(top, shift);
-                        Scaled {
-                            sig,
-                            shift: m.name(shift, "shift"),
-                            limit: m.name(limit, "distance_limit"),
-                            over: m.name(over, "over_cap"),
+                        let shift = m.name(shift, "shift");
+                        let over = m.name(over, "over_cap");
+                        if whole {
+                            let wide = zext(m, sig, mb + 1 + zmax);
+                            let sig = m.shl(wide, shift);
+                            Scaled {
+                                sig: m.name(sig, "shifted"),
+                                distance_shift: None,
+                                over,
+                            }
+                        } else {
+                            let limit = m.shr(top, shift);
+                            Scaled {
+                                sig,
+                                distance_shift: Some((shift, m.name(limit, "distance_limit"))),
+                                over,
+                            }
                         }
                     })
                 };
@@ -976,8 +1003,8 @@ pub fn build(cfg: &Config) -> Module {
     if cfg.stages == 0 {
         return datapath;
     }
-    let (mut module, _) =
-        crate::retime::balance(&datapath, cfg.stages).expect("the node datapath is feed-forward");
+    let (mut module, _) = crate::retime::balance_with(&datapath, cfg.stages, cfg.products)
+        .expect("the node datapath is feed-forward");
     module.name = datapath.name.clone();
     module
 }
@@ -993,18 +1020,23 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
     let cap = m.sint(cap_w, 1i128 << k_cap);
     let zero = m.sint(cap_w, 0);
     let dw = dist.width();
-    let lw = slope.limit.width();
     let zero_d = m.sint(dw, 0);
     let positive = m.lt(zero_d, dist);
-    // at most 2^(sat − z): beyond it the product reaches the cap at this slope
     let mag = m.slice(dist, dw - 2, 0);
-    let mag = zext(m, mag, (dw - 1).max(lw));
-    let limit = zext(m, slope.limit, (dw - 1).max(lw));
-    let big = m.lt(limit, mag);
-    let mag = m.mux(big, limit, mag);
-    let mag = m.name(mag, "limited");
-    let mag = m.slice(mag, lw - 1, 0);
-    let mag = m.shl(mag, slope.shift);
+    let mag = match slope.distance_shift {
+        None => mag,
+        Some((shift, limit)) => {
+            // at most 2^(sat − z): beyond it the product reaches the cap at this slope
+            let lw = limit.width();
+            let mag = zext(m, mag, (dw - 1).max(lw));
+            let limit = zext(m, limit, (dw - 1).max(lw));
+            let big = m.lt(limit, mag);
+            let mag = m.mux(big, limit, mag);
+            let mag = m.name(mag, "limited");
+            let mag = m.slice(mag, lw - 1, 0);
+            m.shl(mag, shift)
+        }
+    };
     let mag = m.name(mag, "distance");
     let product = m.mul(mag, slope.sig);
     let product = m.name(product, "product");
@@ -1067,6 +1099,7 @@ impl Description for Node {
             box_bits: p.box_bits,
             slope_bits: p.slope_bits,
             stages: p.stages,
+            products: p.products,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {

@@ -77,16 +77,6 @@ crate::choice! {
     }
 }
 
-crate::choice! {
-    /// How the retimer flattens the 24x24-style products of the datapath.
-    pub enum ProductsParam {
-        /// 18x18 blocks and their sum (ECP5)
-        Split = "split",
-        /// one product each (xc7 DSP48E1)
-        Whole = "whole",
-    }
-}
-
 crate::params! {
     /// The triangle unit's parameters.
     pub struct TriangleParams {
@@ -107,7 +97,7 @@ crate::params! {
         /// stages are placed (ECP5's MULT18X18D, registers between blocks and sum); whole:
         /// each product one multiplication (a 7-series DSP48E1 takes 25x18 and sums a wider
         /// product's pieces in its cascade: half the DSP48 and no LUT adders)
-        products: ProductsParam = ProductsParam::Split,
+        products: Products = Products::Split,
     }
 }
 
@@ -579,10 +569,7 @@ impl Description for Triangle {
             round: p.round,
             outputs: p.outputs,
             stages: p.stages,
-            products: match p.products {
-                ProductsParam::Split => Products::Split,
-                ProductsParam::Whole => Products::Whole,
-            },
+            products: p.products,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {
