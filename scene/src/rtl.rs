@@ -1,11 +1,13 @@
 //! RTL in the loop: every box, transform, cull and triangle test of a render
 //! answered by the Verilated units instead of their golden models.
 //!
-//! 1. **Generate**: the six units of the loop ([`Stream`]) in the
+//! 1. **Generate**: the units of the loop ([`Stream`]) in the
 //!    configurations of their own Verilator tests (`tests/*_rtl.rs`), so the
 //!    harness builds are shared through the cache (`target/rtl-cache`); the
 //!    loop checks that these are the renderer's configurations
-//!    ([`GoldenUnits`]).
+//!    ([`GoldenUnits`]). The triangle unit has two builds, `outputs=full`
+//!    for [`TriTest::Golden`] and `outputs=tnum` for [`TriTest::GoldenTnum`];
+//!    a render uses one, and only used units are built.
 //! 2. **Record**: the golden render runs with a [`Recorder`], which answers
 //!    from the golden models and keeps every unit call as the unit's input
 //!    port values (the port packing of the unit's own testbench), one
@@ -16,7 +18,7 @@
 //!    written as one `rtlvec` file and run through the unit's Verilated
 //!    harness ([`sim::Harness::run`], back to back, one transaction per
 //!    clock); every output vector is also compared with the unit's golden
-//!    model (all output ports).
+//!    model (all output ports; the first mismatches are kept with a replay).
 //! 4. **Replay**: the render runs again with an [`RtlTester`], which answers
 //!    every call from the RTL outputs, looked up by the exact input port
 //!    values (tiles run in parallel, so the order is not replayed). A call
