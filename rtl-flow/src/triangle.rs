@@ -16,7 +16,7 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_tnum, eval_with, shear, TriIn, TriOut};
+use golden_model::triangle::{eval_tnum, eval_with, shear, TriIn, TriNum, TriOut};
 use rtl_gen::units::ports;
 use rtl_gen::units::triangle::{Config, Outputs, TriangleIn, TriangleOut};
 
@@ -225,6 +225,18 @@ impl TriangleBench {
             v,
         }
     }
+
+    /// The result of an `outputs=tnum` (or `hit`) unit's output ports.
+    pub fn tnum_from_ports(&self, out: &[u64]) -> TriNum {
+        let r: TriangleOut<u64> = ports::unpack(&self.unit, out);
+        let [t_num, t_den] = r.t_num_den.expect("T and det need outputs=tnum or hit");
+        TriNum {
+            hit: r.hit & 1 != 0,
+            invalid: r.invalid & 1 != 0,
+            t_num,
+            t_den,
+        }
+    }
 }
 
 impl TriangleBench {
@@ -236,9 +248,9 @@ impl TriangleBench {
     pub fn mode(&self) -> RoundingMode {
         self.mode
     }
-    /// Whether the unit outputs `t` and the barycentrics (`outputs=full`).
-    pub fn full(&self) -> bool {
-        self.unit.full()
+    /// What the unit outputs.
+    pub fn outputs(&self) -> Outputs {
+        self.unit.outputs
     }
 }
 

@@ -52,9 +52,9 @@ pub struct Common {
     /// AO rays per pixel (default: the scene's)
     #[arg(long)]
     ao: Option<u32>,
-    /// ray/triangle test
-    #[arg(long, value_enum, default_value = "f64")]
-    tri: TriKind,
+    /// ray/triangle test [default: f64; rtl-loop: golden, the `outputs=full` unit]
+    #[arg(long, value_enum)]
+    tri: Option<TriKind>,
 }
 
 /// A traversal over a wide BVH instead of the binary one (docs/wide.md, docs/node.md).
@@ -216,9 +216,11 @@ pub enum Command {
     /// RTL in the loop: record every box, transform, cull and triangle test of
     /// a (small) golden render, run them through the Verilated binary32 units
     /// (one stream per unit), render again answering every test from the RTL
-    /// outputs and check the image is bit-identical. Prints one line per unit;
-    /// exit 1 when a unit or the image differs (or a unit the render uses got
-    /// no test).
+    /// outputs and check the image is bit-identical. `--tri golden` (the
+    /// default) runs the triangle tests through the `outputs=full` unit, `--tri
+    /// tnum` through the `outputs=tnum products=whole` one. Prints one line per
+    /// unit; exit 1 when a unit or the image differs (or a unit the render uses
+    /// got no test).
     RtlLoop {
         #[command(flatten)]
         c: Common,
@@ -289,7 +291,7 @@ fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
             ..BundleOpts::default()
         },
         f32_transform: false,
-        tri: match c.tri {
+        tri: match c.tri.unwrap_or(TriKind::F64) {
             TriKind::F64 => TriTest::F64,
             TriKind::Golden => TriTest::Golden,
             TriKind::Tnum => TriTest::GoldenTnum,
@@ -603,6 +605,16 @@ fn run(command: Command) -> Result<ExitCode, String> {
         }
         Command::RtlLoop { c, wide, out, work } => {
             let (s, w, h, mut opts) = setup(&c)?;
+            opts.tri = match c.tri {
+                None | Some(TriKind::Golden) => TriTest::Golden,
+                Some(TriKind::Tnum) => TriTest::GoldenTnum,
+                Some(TriKind::F64 | TriKind::Exact) => {
+                    return Err(
+                        "rtl-loop runs the triangle unit: --tri golden (outputs=full) or tnum"
+                            .into(),
+                    )
+                }
+            };
             if wide.exact_boxes || wide.anchors || wide.dop {
                 return Err(
                     "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors or --dop"

@@ -1,11 +1,13 @@
 //! RTL in the loop: every box, transform, cull and triangle test of a render
 //! answered by the Verilated units instead of their golden models.
 //!
-//! 1. **Generate**: the six units of the loop ([`Stream`]) in the
+//! 1. **Generate**: the units of the loop ([`Stream`]) in the
 //!    configurations of their own Verilator tests (`tests/*_rtl.rs`), so the
 //!    harness builds are shared through the cache (`target/rtl-cache`); the
 //!    loop checks that these are the renderer's configurations
-//!    ([`GoldenUnits`]).
+//!    ([`GoldenUnits`]). The triangle unit has two builds, `outputs=full`
+//!    for [`TriTest::Golden`] and `outputs=tnum` for [`TriTest::GoldenTnum`];
+//!    a render uses one, and only used units are built.
 //! 2. **Record**: the golden render runs with a [`Recorder`], which answers
 //!    from the golden models and keeps every unit call as the unit's input
 //!    port values (the port packing of the unit's own testbench), one
@@ -16,7 +18,7 @@
 //!    written as one `rtlvec` file and run through the unit's Verilated
 //!    harness ([`sim::Harness::run`], back to back, one transaction per
 //!    clock); every output vector is also compared with the unit's golden
-//!    model (all output ports).
+//!    model (all output ports; the first mismatches are kept with a replay).
 //! 4. **Replay**: the render runs again with an [`RtlTester`], which answers
 //!    every call from the RTL outputs, looked up by the exact input port
 //!    values (tiles run in parallel, so the order is not replayed). A call
@@ -55,8 +57,12 @@ use rtl_flow::transform::TransformBench;
 use rtl_flow::triangle::TriangleBench;
 use rtl_flow::{self, configured, Generated};
 use rtl_gen::units::{
-    cull::Cull, cull_ray::CullRay, node::Node, silhouette::Silhouette, transform::Transform,
-    triangle::Triangle,
+    cull::Cull,
+    cull_ray::CullRay,
+    node::Node,
+    silhouette::Silhouette,
+    transform::Transform,
+    triangle::{Outputs, Triangle},
 };
 use sim::Harness;
 use std::collections::HashMap;
@@ -78,8 +84,11 @@ pub enum Stream {
     CullRay,
     /// `cull`: one child's cull-plane test
     Cull,
-    /// `triangle`: the watertight ray/triangle test
+    /// `triangle`, `outputs=full`: the watertight ray/triangle test
     Triangle,
+    /// `triangle`, `outputs=tnum`: the same test giving `T` and `det`, no
+    /// divider (`--tri tnum`; `t` is divided in software)
+    TriangleTnum,
     /// `node`: one ray against a BLAS node of the wide BVH (`--wide N`)
     Node,
     /// `node`: one ray against a TLAS node (q of the TLAS)
@@ -91,13 +100,14 @@ pub const STREAMS: usize = Stream::ALL.len();
 
 impl Stream {
     /// Every stream, in report order.
-    pub const ALL: [Stream; 8] = [
+    pub const ALL: [Stream; 9] = [
         Stream::BoxShared,
         Stream::BoxBounded,
         Stream::Transform,
         Stream::CullRay,
         Stream::Cull,
         Stream::Triangle,
+        Stream::TriangleTnum,
         Stream::Node,
         Stream::NodeTlas,
     ];
@@ -109,14 +119,15 @@ impl Stream {
             Stream::Transform => "transform",
             Stream::CullRay => "cull_ray",
             Stream::Cull => "cull",
-            Stream::Triangle => "triangle",
+            Stream::Triangle | Stream::TriangleTnum => "triangle",
             Stream::Node | Stream::NodeTlas => "node",
         }
     }
 
     /// The unit's parameters: those of its Verilator test in CI
     /// (`tests/silhouette_rtl.rs`, `transform_rtl.rs` `xf_fma`,
-    /// `cull_rtl.rs` K = 4, `triangle_rtl.rs` binary32), same order.
+    /// `cull_rtl.rs` K = 4, `triangle_rtl.rs` binary32 `full` and `tnum`
+    /// with whole products, the build per-ray costs), same order.
     pub fn params(self, wide: WideShape) -> Vec<String> {
         const CULL: &[&str] = &[
             "exp_bits=8",
@@ -137,6 +148,14 @@ impl Stream {
                 "outputs=full",
                 "stages=8",
                 "pipeline=plan",
+            ],
+            Stream::TriangleTnum => &[
+                "exp_bits=8",
+                "frac_bits=23",
+                "outputs=tnum",
+                "stages=8",
+                "pipeline=plan",
+                "products=whole",
             ],
             Stream::Node | Stream::NodeTlas => {
                 // the configuration of tests/node_rtl.rs at this shape
@@ -163,6 +182,7 @@ impl Stream {
             Stream::CullRay => "cull_ray",
             Stream::Cull => "cull",
             Stream::Triangle => "triangle",
+            Stream::TriangleTnum => "triangle (tnum)",
             Stream::Node => "node (BLAS)",
             Stream::NodeTlas => "node (TLAS)",
         }
@@ -170,9 +190,12 @@ impl Stream {
 
     /// Whether a render with `opts` (over a wide BVH if `wide`) calls this
     /// unit at all (bounded-origin bundles need bundles, the cull units need
-    /// planes, the box tester is the node unit's over a wide BVH).
+    /// planes, the box tester is the node unit's over a wide BVH, the
+    /// triangle unit is the `tnum` one with `--tri tnum`).
     pub fn used(self, opts: &TraceOpts, wide: bool) -> bool {
         match self {
+            Stream::Triangle => opts.tri != TriTest::GoldenTnum,
+            Stream::TriangleTnum => opts.tri == TriTest::GoldenTnum,
             Stream::BoxBounded => !wide && opts.bundles.enabled,
             Stream::BoxShared => !wide,
             Stream::CullRay | Stream::Cull => !wide && opts.planes,
@@ -220,6 +243,7 @@ pub struct LoopUnits {
     cull_ray: CullRayBench,
     cull: CullBench,
     triangle: TriangleBench,
+    triangle_tnum: TriangleBench,
     node: NodeBench,
     node_tlas: NodeBench,
 }
@@ -247,6 +271,7 @@ impl LoopUnits {
             cull_ray: CullRayBench::new(&configured(&CullRay, p(Stream::CullRay))),
             cull: CullBench::new(&configured(&Cull, p(Stream::Cull))),
             triangle: TriangleBench::new(&configured(&Triangle, p(Stream::Triangle))),
+            triangle_tnum: TriangleBench::new(&configured(&Triangle, p(Stream::TriangleTnum))),
             node: NodeBench::new(&configured(&Node, p(Stream::Node))),
             node_tlas: NodeBench::new(&configured(&Node, p(Stream::NodeTlas))),
             generated,
@@ -275,14 +300,16 @@ impl LoopUnits {
                 "not the renderer's plane configuration".into(),
             );
         }
-        if self.triangle.format() != golden.triangle
-            || self.triangle.mode() != RoundingMode::NearestEven
-            || !self.triangle.full()
-        {
-            return mismatch(
-                Stream::Triangle,
-                "binary32, RNE, outputs=full expected".into(),
-            );
+        for (s, bench, outputs) in [
+            (Stream::Triangle, &self.triangle, Outputs::Full),
+            (Stream::TriangleTnum, &self.triangle_tnum, Outputs::Tnum),
+        ] {
+            if bench.format() != golden.triangle
+                || bench.mode() != RoundingMode::NearestEven
+                || bench.outputs() != outputs
+            {
+                return mismatch(s, format!("binary32, RNE, outputs={outputs} expected"));
+            }
         }
         for (s, bench, q) in [
             (Stream::Node, &self.node, wide.box_bits),
@@ -347,6 +374,9 @@ impl LoopUnits {
     }
     fn pack_triangle(&self, x: &TriIn) -> Packed {
         self.packed(Stream::Triangle, |v| self.triangle.to_ports(x, v))
+    }
+    fn pack_triangle_tnum(&self, x: &TriIn) -> Packed {
+        self.packed(Stream::TriangleTnum, |v| self.triangle_tnum.to_ports(x, v))
     }
     /// A BLAS node's test goes to the BLAS stream, a TLAS node's (its q) to the TLAS one.
     fn node_bench(&self, x: &NodeTestIn) -> (Stream, &NodeBench) {
@@ -442,7 +472,7 @@ impl Units for Recorder<'_> {
         GoldenUnits::get().triangle(x)
     }
     fn triangle_tnum(&self, x: &TriIn) -> TriNum {
-        // never called: the loop renders with `outputs=full` (`TriTest::Golden`)
+        self.record(self.units.pack_triangle_tnum(x));
         GoldenUnits::get().triangle_tnum(x)
     }
     fn node(&self, x: &NodeTestIn) -> NodeOut {
@@ -550,8 +580,10 @@ impl Units for RtlTester<'_> {
         }
     }
     fn triangle_tnum(&self, x: &TriIn) -> TriNum {
-        // never called: the loop renders with `outputs=full` (`TriTest::Golden`)
-        GoldenUnits::get().triangle_tnum(x)
+        match self.lookup(&self.units.pack_triangle_tnum(x)) {
+            Some(out) => self.units.triangle_tnum.tnum_from_ports(out),
+            None => GoldenUnits::get().triangle_tnum(x),
+        }
     }
     fn node(&self, x: &NodeTestIn) -> NodeOut {
         let (_, bench) = self.units.node_bench(x);
@@ -579,6 +611,9 @@ pub struct UnitReport {
     pub cycles: u64,
     /// RTL output vectors differing from the golden model (any output port)
     pub mismatches: u64,
+    /// the first [`SHOWN_MISMATCHES`] of them: the vector, both results and
+    /// how to replay it
+    pub shown: Vec<sim::Mismatch>,
     /// calls the replay answered from the RTL outputs
     pub answered: u64,
     /// calls of the replay whose input had not been run (should be 0)
@@ -590,6 +625,31 @@ pub struct UnitReport {
 }
 
 impl UnitReport {
+    /// A report of `vectors` calls (`distinct` inputs) of stream `s` run
+    /// through harness `top`, before the comparison and the replay.
+    fn new(
+        s: Stream,
+        top: &str,
+        vectors: u64,
+        distinct: u64,
+        build: (Duration, bool),
+        run: Duration,
+    ) -> UnitReport {
+        UnitReport {
+            stream: s,
+            used: true,
+            top: top.to_string(),
+            vectors,
+            distinct,
+            cycles: 0,
+            mismatches: 0,
+            shown: Vec::new(),
+            answered: 0,
+            missing: 0,
+            build,
+            run,
+        }
+    }
     /// The unit agreed everywhere: no RTL/golden mismatch, nothing missing,
     /// as many calls replayed as recorded, and exercised if the render uses it.
     pub fn ok(&self) -> bool {
@@ -672,6 +732,19 @@ impl std::fmt::Display for LoopReport {
         for u in &self.units {
             writeln!(f, "{}", u.line())?;
         }
+        for u in self.units.iter().filter(|u| !u.shown.is_empty()) {
+            writeln!(
+                f,
+                "\n{} (`{}`), {} of {} mismatches:",
+                u.stream.label(),
+                u.top,
+                u.shown.len(),
+                u.mismatches
+            )?;
+            for m in &u.shown {
+                write!(f, "{m}")?;
+            }
+        }
         writeln!(
             f,
             "image: {} of {} pixels differ from the golden render: {}",
@@ -706,6 +779,9 @@ pub fn differing_pixels(a: &Frame, b: &Frame) -> u64 {
         .count() as u64
 }
 
+/// Mismatches described per unit (the vector, both results, a replay).
+pub const SHOWN_MISMATCHES: usize = 3;
+
 /// One stream run through its unit's RTL.
 struct StreamRun {
     report: UnitReport,
@@ -720,32 +796,48 @@ fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<St
     let name = &g.module.name;
     let dir = dir.join(name);
     let (n_in, n_out) = (g.ports.inputs.len(), g.ports.outputs.len());
-    let started = Instant::now();
-    let (build, cycles, outputs, run) = if inputs.is_empty() {
-        ((Duration::ZERO, false), 0, Vec::new(), Duration::ZERO)
-    } else {
-        g.write(&dir, 10.0).map_err(|e| e.to_string())?;
-        let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root()).map_err(e)?;
-        let build = (started.elapsed(), harness.was_cached());
-        let started = Instant::now();
-        let (stats, outputs) = harness
-            .run_records(
-                inputs.chunks(n_in),
-                &dir.join(name),
-                &sim::RunOptions::default(),
-            )
-            .map_err(e)?;
-        (build, stats.cycles, outputs, started.elapsed())
-    };
     let vectors = inputs.len() / n_in;
+    let mut answers = Answers::with_capacity(vectors);
+    if inputs.is_empty() {
+        return Ok(StreamRun {
+            report: UnitReport::new(s, name, 0, 0, (Duration::ZERO, false), Duration::ZERO),
+            answers,
+        });
+    }
+    let started = Instant::now();
+    g.write(&dir, 10.0).map_err(|e| e.to_string())?;
+    let harness = Harness::build(&g.ports, &dir, &sim::default_cache_root()).map_err(e)?;
+    let build = (started.elapsed(), harness.was_cached());
+    let started = Instant::now();
+    let (stats, outputs) = harness
+        .run_records(
+            inputs.chunks(n_in),
+            &dir.join(name),
+            &sim::RunOptions::default(),
+        )
+        .map_err(e)?;
+    let run = started.elapsed();
     let bench = g.testbench();
     let mut golden = vec![0u64; n_out];
-    let mut answers = Answers::with_capacity(vectors);
-    let mut mismatches = 0;
-    for (v, out) in inputs.chunks(n_in).zip(outputs.chunks(n_out)) {
+    let (mut mismatches, mut shown) = (0, Vec::new());
+    for (index, (v, out)) in inputs.chunks(n_in).zip(outputs.chunks(n_out)).enumerate() {
         bench.eval(v, &mut golden);
         if golden != out {
             mismatches += 1;
+            if shown.len() < SHOWN_MISMATCHES {
+                // vector `index` of the stream, written alone for a traced replay
+                let stem = format!("{name}-vec{index}");
+                shown.push(sim::describe_mismatch(
+                    &harness,
+                    &dir,
+                    &stem,
+                    None,
+                    index as u64,
+                    v,
+                    &golden,
+                    out,
+                ));
+            }
         }
         if let Some(prev) = answers.insert(v.to_vec(), out.to_vec()) {
             if prev != out {
@@ -755,30 +847,20 @@ fn run_stream(s: Stream, g: &Generated, inputs: &[u64], dir: &Path) -> Result<St
             }
         }
     }
-    Ok(StreamRun {
-        report: UnitReport {
-            stream: s,
-            used: true,
-            top: name.clone(),
-            vectors: vectors as u64,
-            distinct: answers.len() as u64,
-            cycles,
-            mismatches,
-            answered: 0,
-            missing: 0,
-            build,
-            run,
-        },
-        answers,
-    })
+    let mut report = UnitReport::new(s, name, vectors as u64, answers.len() as u64, build, run);
+    report.cycles = stats.cycles;
+    report.mismatches = mismatches;
+    report.shown = shown;
+    Ok(StreamRun { report, answers })
 }
 
 /// Renders `w`×`h` with the golden models (recording every unit call),
 /// runs the calls through the Verilated units (one stream each; `work`
 /// holds the generated Verilog and the vector files), renders again
 /// answering from the RTL outputs and compares. The triangle test is the
-/// `triangle` unit's (`opts.tri` is set to [`TriTest::Golden`]) and rays are
-/// transformed by the `transform` unit. With `wide`, the rays traverse the
+/// `triangle` unit's: the `outputs=tnum` unit if `opts.tri` is
+/// [`TriTest::GoldenTnum`], else the `outputs=full` one (`opts.tri` is set
+/// to [`TriTest::Golden`]); rays are transformed by the `transform` unit. With `wide`, the rays traverse the
 /// wide BVH and every node test is the `node` unit's (its TLAS and BLAS
 /// shapes two streams).
 #[allow(clippy::too_many_arguments)]
@@ -792,7 +874,9 @@ pub fn rtl_loop(
     work: &Path,
     progress: bool,
 ) -> Result<LoopReport, String> {
-    opts.tri = TriTest::Golden;
+    if opts.tri != TriTest::GoldenTnum {
+        opts.tri = TriTest::Golden;
+    }
     opts.f32_transform = false;
     let shape = wide.map_or_else(WideShape::default, |wa| WideShape {
         children: wa.format.children(),

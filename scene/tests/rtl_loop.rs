@@ -1,5 +1,6 @@
 //! RTL in the loop (the second test: over a wide BVH, every node test through
-//! the `node` unit): every box, transform, cull and triangle test of a
+//! the `node` unit; the third: every triangle test through the `outputs=tnum`
+//! unit, `--tri tnum`): every box, transform, cull and triangle test of a
 //! cornell 32×32 render (AO 2, bundles and cull planes on) runs through the
 //! Verilated binary32 units (the configurations of `tests/silhouette_rtl.rs`,
 //! `transform_rtl.rs`, `cull_rtl.rs` and `triangle_rtl.rs`, so the harness
@@ -32,10 +33,13 @@ fn every_unit_through_the_rtl_gives_the_identical_image() {
         "something is hit"
     );
     for u in &r.units {
-        let node = matches!(u.stream, Stream::Node | Stream::NodeTlas);
+        let unused = matches!(
+            u.stream,
+            Stream::Node | Stream::NodeTlas | Stream::TriangleTnum
+        );
         assert_eq!(
-            u.used, !node,
-            "{}: the default render uses every unit but the node tester",
+            u.used, !unused,
+            "{}: the default render uses every unit but the node tester and the tnum triangle",
             u.top
         );
         assert_eq!(u.mismatches, 0, "{r}");
@@ -113,4 +117,61 @@ fn every_node_test_through_the_rtl_gives_the_identical_image() {
     assert!(n(Stream::NodeTlas) >= 1000, "{r}");
     assert!(n(Stream::Node) >= 1000, "{r}");
     assert_eq!(g.tri_tests, n(Stream::Triangle), "{r}");
+}
+
+/// `rtl-loop --tri tnum`: every triangle test of a cornell 32×32 render (AO 2,
+/// bundles and planes on) through the Verilated `triangle outputs=tnum
+/// products=whole` (the build `per-ray` costs; `T` and `det` out, no divider,
+/// `t` divided in software once per accepted hit), 0 bits differing from the
+/// golden `tnum` model, and the RTL-answered image identical to the render
+/// with the `outputs=full` unit's golden model (`--tri golden`): ids, `t`
+/// bits, colour bits.
+#[test]
+fn every_triangle_test_through_the_tnum_unit_gives_the_full_image() {
+    use scene::render::render;
+    use scene::rtl::differing_pixels;
+    use scene::tester::Golden;
+    use scene::trace::TriTest;
+    let mut s =
+        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml")).unwrap();
+    s.render.ao_rays = 2;
+    let acc = Accel::build(&s, true);
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rtl_loop_tnum");
+    let _ = std::fs::remove_dir_all(&work);
+    let (w, h) = (32, 32);
+    let opts = TraceOpts {
+        tri: TriTest::GoldenTnum,
+        ..TraceOpts::default()
+    };
+    let r = rtl_loop(&s, &acc, None, opts, w, h, &work, false).expect("rtl loop runs");
+    eprintln!("cornell {w}x{h} --tri tnum, {} rays\n{r}", r.golden.rays());
+    assert!(r.ok(), "{r}");
+    let (full, tnum) = (r.unit(Stream::Triangle), r.unit(Stream::TriangleTnum));
+    assert!(!full.used && full.vectors == 0, "{}", full.line());
+    assert!(tnum.used, "{}", tnum.line());
+    assert_eq!(tnum.mismatches, 0, "{r}");
+    assert_eq!(tnum.missing, 0, "{r}");
+    assert_eq!(tnum.answered, tnum.vectors, "{r}");
+    assert!(tnum.top.contains("tnum"), "{}", tnum.top);
+    let g = r.golden.stats.total();
+    assert_eq!(g.tri_tests, tnum.vectors, "{r}");
+    assert!(tnum.vectors >= 1000, "{}", tnum.line());
+    assert_eq!(r.differing_pixels, 0, "{r}");
+    // the image of the `outputs=full` unit's golden model, same options
+    let golden_full = render(
+        &s,
+        &acc,
+        &Golden::default(),
+        TraceOpts {
+            tri: TriTest::Golden,
+            ..opts
+        },
+        w,
+        h,
+        false,
+    );
+    assert!(golden_full.ids.iter().any(|k| k.0 != u32::MAX));
+    assert_eq!(differing_pixels(&golden_full, &r.rtl), 0, "{r}");
+    assert_eq!(golden_full.ids, r.rtl.ids);
+    assert_eq!(golden_full.t, r.rtl.t);
 }

@@ -27,8 +27,8 @@ pub mod ports;
 pub mod vectors;
 
 pub use check::{
-    cross_check, mix64, replay, CheckOptions, CheckReport, Golden, Mismatch, Progress, ProgressFn,
-    RandomStimulus, Stimulus, WorkerReport,
+    cross_check, describe_mismatch, mix64, replay, CheckOptions, CheckReport, Golden, Mismatch,
+    Progress, ProgressFn, RandomStimulus, Stimulus, WorkerReport,
 };
 pub use error::{Location, SimError};
 pub use harness::{default_cache_root, lint, verilator_version, Harness, RunOptions, RunStats};

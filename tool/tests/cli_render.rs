@@ -3,7 +3,7 @@
 //! image (the dumps agree line for line), the dump is one line per pixel
 //! with a documented header, and a bad format is an error (exit 2) that
 //! writes nothing. A scene with a non-finite vertex: exit 2 with the message,
-//! no image.
+//! no image. `rtl-loop --tri f64` or `exact`: exit 2.
 
 use std::path::Path;
 use std::process::Command;
@@ -121,4 +121,29 @@ transform = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]
         "{err}"
     );
     assert!(!out.exists(), "wrote {}", out.display());
+}
+
+/// `rtl-loop` runs the triangle unit: `--tri f64` or `exact` asked of it is an
+/// error (exit 2) before anything is built or written.
+#[test]
+fn rtl_loop_refuses_a_software_triangle_test() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl-loop-bad-tri");
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell.toml");
+    for tri in ["f64", "exact"] {
+        let png = dir.join("x.png");
+        let r = Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+            .arg("rtl-loop")
+            .arg(&scene)
+            .args(["--width", "8", "--tri", tri, "-o"])
+            .arg(&png)
+            .arg("--work")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "--tri {tri}: {err}");
+        assert!(err.contains("--tri golden (outputs=full) or tnum"), "{err}");
+        assert!(!dir.exists(), "--tri {tri} wrote {}", dir.display());
+    }
 }

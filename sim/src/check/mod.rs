@@ -470,7 +470,7 @@ fn named(ports: &[Port], values: &[u64]) -> Vec<(String, u64)> {
         .collect()
 }
 
-/// Describes one mismatch and writes its vector to a replay file.
+/// Describes one mismatch of a cross-check and writes its vector to a replay file.
 fn mismatch(
     h: &Harness,
     opts: &CheckOptions,
@@ -479,22 +479,38 @@ fn mismatch(
     expected: &[u64],
     got: &[u64],
 ) -> Mismatch {
-    let ports = h.ports();
     let dir = opts
         .mismatch_dir
         .clone()
         .unwrap_or_else(|| std::env::temp_dir().join("rtl-sim-mismatches"));
-    let stem = format!("{}-seed{:x}-vec{index}", ports.top, opts.seed);
+    let stem = format!("{}-seed{:x}-vec{index}", h.ports().top, opts.seed);
+    let hint = opts.replay_hint.as_ref().map(|hint| {
+        hint.replace("{index}", &index.to_string())
+            .replace("{seed}", &opts.seed.to_string())
+    });
+    describe_mismatch(h, &dir, &stem, hint, index, inputs, expected, got)
+}
+
+/// Describes vector `index` on which `h` answered `got` and the golden model
+/// `expected`, and writes the vector to `dir/<stem>.rtlvec` for a replay with
+/// a VCD trace (`hint`, a caller's own replay command, listed first). Used by
+/// the cross-check and by callers that stream their own vectors.
+#[allow(clippy::too_many_arguments)]
+pub fn describe_mismatch(
+    h: &Harness,
+    dir: &Path,
+    stem: &str,
+    hint: Option<String>,
+    index: u64,
+    inputs: &[u64],
+    expected: &[u64],
+    got: &[u64],
+) -> Mismatch {
+    let ports = h.ports();
     let file = dir.join(format!("{stem}.rtlvec"));
     let vcd = dir.join(format!("{stem}.vcd"));
-    let written = write_vector(&dir, &file, &ports.inputs, inputs);
-    let mut replay = Vec::new();
-    if let Some(hint) = &opts.replay_hint {
-        replay.push(
-            hint.replace("{index}", &index.to_string())
-                .replace("{seed}", &opts.seed.to_string()),
-        );
-    }
+    let written = write_vector(dir, &file, &ports.inputs, inputs);
+    let mut replay: Vec<String> = hint.into_iter().collect();
     // the traced variant is built (once, cached) only when something failed
     match (&written, h.traced()) {
         (Ok(()), Ok(traced)) => replay.push(format!(
