@@ -260,6 +260,12 @@ pub enum Command {
         /// height (default: the scene's, scaled with --width)
         #[arg(long)]
         height: Option<u32>,
+        /// also bound what a bundle mode of the node tester could save: the camera rays in
+        /// T×T pixel tiles, an oracle bundle test per node two or more of a tile's rays test
+        /// (one line per scene and shape: tests per ray, the break-even cost of a bundle
+        /// node test in single node tests; docs/wide.md §6)
+        #[arg(long, value_name = "T")]
+        bundle_tile: Option<u32>,
     },
     /// rays/s of the golden-model renderer and of a plain f32 slab renderer, same scene, same
     /// run; the last line is `golden/slab rays/s ratio: R` (golden with bundles).
@@ -669,7 +675,11 @@ fn run(command: Command) -> Result<ExitCode, String> {
             tlas_box_bits,
             width,
             height,
+            bundle_tile,
         } => {
+            if bundle_tile == Some(0) {
+                return Err("--bundle-tile must be at least 1".into());
+            }
             let mut shapes = Vec::new();
             for &n in &children {
                 for &q in &box_bits {
@@ -702,6 +712,21 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     .map_err(|e| format!("{}: {e}", path.display()))?
                 {
                     rows.push((name.clone(), r));
+                }
+                for &f in shapes.iter().filter(|_| bundle_tile.is_some()) {
+                    let t = bundle_tile.unwrap_or(1);
+                    let wide = crate::wide::WideAccel::build(&acc, f, tlas_box_bits)?;
+                    let b = crate::wide_bundle::bundle_bound(&s, &acc, &wide, w, h, t);
+                    let (alone, bundle, single) = b.per_ray();
+                    println!(
+                        "bundle bound N={} q={} tile {t}x{t}: {name} node tests/ray {alone:.2} alone; \
+                         with an oracle bundle test {bundle:.2} bundle + {single:.2} single, {:.1} % \
+                         of bundle tests answer every ray; break-even {:.2} node tests per bundle test",
+                        f.children(),
+                        f.box_bits(),
+                        100.0 * b.resolved as f64 / b.bundle_tests.max(1) as f64,
+                        b.break_even()
+                    );
                 }
             }
             println!("\n{}", crate::wide::report_table(&rows));

@@ -20,3 +20,4 @@ pub mod tester;
 pub mod trace;
 pub mod units;
 pub mod wide;
+pub mod wide_bundle;
