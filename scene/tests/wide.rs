@@ -520,8 +520,14 @@ fn the_bundle_bound_counts_every_node_test_and_resolves_boxes_best() {
         let b = bundle_bound(&s, &acc, &wide, w, h, 4);
         let (_, st) = primary(&s, &acc, &wide, Boxes::Node, w, h);
         assert_eq!(b.rays, u64::from(w * h), "{name}");
-        assert_eq!(b.single_tests, st.node_visits, "{name}: every node test once");
-        assert!(b.resolved <= b.bundle_tests && b.single_after < b.single_tests, "{b:?}");
+        assert_eq!(
+            b.single_tests, st.node_visits,
+            "{name}: every node test once"
+        );
+        assert!(
+            b.resolved <= b.bundle_tests && b.single_after < b.single_tests,
+            "{b:?}"
+        );
         resolved.push(b.resolved as f64 / b.bundle_tests as f64);
         let be = b.break_even();
         assert!(be > 1.0 && be < 30.0, "{name}: break-even {be}");

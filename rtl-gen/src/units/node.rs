@@ -1054,16 +1054,15 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
         )
     } else {
         let drop = (-kmin) as u32;
-        let kept = m.slice(product, pw - 1, drop);
         if up {
-            let below = m.slice(product, drop - 1, 0);
-            let lost = m.any_set(below);
-            let l = m.as_uint(lost);
-            let l = zext(m, l, pw - drop);
-            let v = m.add(kept, l);
-            (v, pw - drop + 1)
+            // ⌈p / 2^drop⌉ = ⌊(p + 2^drop − 1) / 2^drop⌋: the constant added to the
+            // product, which a DSP48E1's post-adder can take
+            let bias = m.uint(pw, (1u128 << drop) - 1);
+            let v = m.add(product, bias);
+            let v = m.name(v, "product_biased");
+            (m.slice(v, pw, drop), pw + 1 - drop)
         } else {
-            (kept, pw - drop)
+            (m.slice(product, pw - 1, drop), pw - drop)
         }
     };
     let value = m.name(value, "cells");
