@@ -245,12 +245,20 @@ pub fn wide_workload_of(
     })
 }
 
+/// The node unit's `products` at q box bits and its default slope bits.
+fn node_products(q: u32) -> rtl_gen::retime::Products {
+    use rtl_gen::params::ParamSet;
+    let slope_bits = rtl_gen::units::node::NodeParams::defaults().slope_bits;
+    rtl_gen::units::node::xc7_products(q, slope_bits)
+}
+
 /// The units of a ray's traversal over a wide BVH: role, unit and parameters
 /// (binary32): the `node` unit at the BLAS and the TLAS shape, the
 /// conservative slab of each tree's root, the transform, and the triangle
 /// test with `outputs=tnum` (the renderer's `--tri tnum` gives the `full`
 /// image bit for bit, the division in software) and whole products (one
-/// DSP48E1 cascade per product on xc7, in the node unit too).
+/// DSP48E1 cascade per product on xc7; the node unit's where its child
+/// products stay one block, `rtl_gen::units::node::xc7_products`).
 pub fn wide_roles(
     format: WideFormat,
     tlas_box_bits: u32,
@@ -260,7 +268,7 @@ pub fn wide_roles(
             format!("children={}", format.children()),
             format!("box_bits={q}"),
             "stages=4".to_string(),
-            "products=whole".to_string(),
+            format!("products={}", node_products(q)),
         ]
     };
     let fixed = |p: &[&str]| p.iter().map(|s| s.to_string()).collect::<Vec<_>>();

@@ -240,6 +240,20 @@ impl<T: Copy> Record<T> for NodeOut<T> {
     }
 }
 
+/// The `products` that keeps each child's product on one DSP48E1 (xc7):
+/// `whole` while the distance (`q + g + 4` bits) and the shifted slope
+/// (`m + q + g + 3` bits) fit its unsigned 17 × 24, else `split` (at q = 16
+/// a whole product would take four blocks).
+pub fn xc7_products(box_bits: u32, slope_bits: u32) -> Products {
+    let distance = box_bits + POS_FRAC + 4;
+    let slope = slope_bits + box_bits + POS_FRAC + 3;
+    if distance <= 17 && slope <= 24 {
+        Products::Whole
+    } else {
+        Products::Split
+    }
+}
+
 /// Module name: `node_n{N}_q{q}_m{m}_{fmt}[_whole]_s{stages}`.
 pub fn node_name(cfg: &Config) -> String {
     let products = match cfg.products {
