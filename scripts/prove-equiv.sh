@@ -20,6 +20,7 @@ small() {
         cull | cull_ray) echo "-p exp_bits=2 -p frac_bits=1 -p plane_exp_bits=2 -p plane_frac_bits=1 -p k=1" ;;
         transform) echo "-p exp_bits=2 -p frac_bits=1 -p id_bits=1" ;;
         fcvt) echo "-p exp_bits=3 -p frac_bits=2 -p to_exp_bits=2 -p to_frac_bits=1" ;;
+        node) echo "-p exp_bits=3 -p frac_bits=2 -p children=2 -p box_bits=4 -p slope_bits=4" ;;
         node_child) echo "-p box_bits=4" ;;
         node_sort) echo "-p children=4 -p box_bits=4" ;;
         raycull) echo "" ;;

@@ -90,6 +90,29 @@ fn pipelines_are_proved_equal_to_their_reference() {
         "--work",
         &work("node_sort"),
     ]);
+    // the largest unit in CI: the node tester at e3m2, whole products, balanced
+    assert_proved(&[
+        "prove",
+        "node",
+        "-p",
+        "exp_bits=3",
+        "-p",
+        "frac_bits=2",
+        "-p",
+        "children=2",
+        "-p",
+        "box_bits=4",
+        "-p",
+        "slope_bits=4",
+        "-p",
+        "products=whole",
+        "-p",
+        "pipeline=balanced",
+        "-p",
+        "stages=2",
+        "--work",
+        &work("node"),
+    ]);
 }
 
 /// Emits mulcmp (6x6, 2 stages) into a directory, applies `edit` to its top
