@@ -72,6 +72,28 @@ fn report_is_sane_on_a_small_render() {
     }
 }
 
+/// `--bundle-tile T` adds one bundle-bound line per shape whose figures add up.
+#[test]
+fn the_bundle_bound_line_is_printed() {
+    let o = wide(&["--children", "4", "--bundle-tile", "4"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("bundle bound N=4 q=8 tile 4x4: cornell node tests/ray "))
+        .unwrap_or_else(|| panic!("no bundle-bound line: {out}"));
+    let nums: Vec<f64> = line
+        .split(|c: char| c.is_whitespace() || c == ';' || c == ',')
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    // alone, bundle, single, resolved %, break-even
+    let [alone, bundle, single, resolved, even] = nums[nums.len() - 5..] else {
+        panic!("{line}")
+    };
+    assert!(bundle + single < alone, "{line}");
+    assert!(resolved > 0.0 && resolved <= 100.0 && even > 1.0, "{line}");
+}
+
 #[test]
 fn bad_shapes_are_errors() {
     for (args, msg) in [
@@ -79,6 +101,7 @@ fn bad_shapes_are_errors() {
         (["--box-bits", "3"], "box bits = 3"),
         (["--box-bits", "17"], "box bits = 17"),
         (["--tlas-box-bits", "17"], "TLAS box bits 17"),
+        (["--bundle-tile", "0"], "--bundle-tile must be at least 1"),
     ] {
         let o = wide(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
