@@ -455,14 +455,14 @@ impl Cases {
         // ordered corners mostly (as values: the sign-magnitude bits do not order)
         let val = |b: u64| value_f64(fmt, b);
         for a in 0..3 {
-            if self.next() % 8 != 0 && val(c[a]) > val(c[a + 3]) {
+            if !self.next().is_multiple_of(8) && val(c[a]) > val(c[a + 3]) {
                 c.swap(a, a + 3);
             }
         }
         // origins on the box's planes (a segment from 0 then starts in the box)
-        if self.next() % 2 == 0 {
+        if self.next().is_multiple_of(2) {
             for a in 0..3 {
-                if self.next() % 2 == 0 {
+                if self.next().is_multiple_of(2) {
                     c[6 + a] = c[a + 3 * (self.next() % 2) as usize];
                 }
             }
@@ -625,14 +625,14 @@ pub fn check_region_reference(
             if x[12] & !c.ray.sign_bit() == c.ray.inf(false) {
                 x[12] = gen.finite(c.ray); // region_hit takes a finite t_min
             }
-            if gen.next() % 2 == 0 {
+            if gen.next().is_multiple_of(2) {
                 // from a corner of the box (mostly ordered): the planes decide
                 for a in 0..3 {
                     x[6 + a] = x[a + 3 * (gen.next() % 2) as usize];
                 }
                 x[12] = c.ray.zero(false);
             }
-            let corner = gen.next() % 2 == 0;
+            let corner = gen.next().is_multiple_of(2);
             for a in 0..3 {
                 let r = if corner { x[a] } else { gen.finite(c.ray) };
                 x.push(r);
