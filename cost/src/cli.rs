@@ -305,8 +305,8 @@ pub struct ProveArgs {
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,
     /// build the unit with a planted bug (docs/proofs.md; e.g. `cull --plant lt-for-le`); the
-    /// proof must end with a counterexample, replayed with the planted Verilog (in the job
-    /// directory's `planted/`)
+    /// proof must end with a counterexample, replayed with the planted Verilog (written beside
+    /// the job directory, `<job>.planted/`)
     #[arg(long, value_name = "NAME")]
     plant: Option<String>,
 }
