@@ -274,9 +274,9 @@ pub enum SolverArg {
 pub enum Property {
     /// the unit (any stages, either placement) against its combinational reference
     Equiv,
-    /// never a miss for a ray that meets the box: the unit at stages=0 against an exact
-    /// reference in Verilog, every input of its (small) format (silhouette mode=ray, slab
-    /// rounding=conservative)
+    /// never a miss for a ray that meets the box, never a wrongful cull: the unit at stages=0
+    /// against an exact reference in Verilog, every input of its (small) format (silhouette,
+    /// slab rounding=conservative, cull)
     Sound,
 }
 
@@ -304,6 +304,11 @@ pub struct ProveArgs {
     /// the solver of `--property equiv` (default boolector; `sound` runs Yosys sat)
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,
+    /// build the unit with a planted bug (docs/proofs.md; e.g. `cull --plant lt-for-le`); the
+    /// proof must end with a counterexample, replayed with the planted Verilog (written beside
+    /// the job directory, `<job>.planted/`)
+    #[arg(long, value_name = "NAME")]
+    plant: Option<String>,
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
@@ -851,18 +856,34 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             }
             let mut given = a.params.clone();
             given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
-            let unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
+            let mut unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
+            if let Some(dir) = &a.verilog {
+                unit.use_verilog_from(dir).map_err(|e| e.to_string())?;
+            }
             let work = a
                 .work
                 .clone()
                 .unwrap_or_else(|| crate::prove::default_work(&unit).with_extension("sound"));
-            return crate::prove_sound::sound(&unit, &work, 20_000);
+            let mut verilog = a.verilog.clone();
+            if let Some(name) = &a.plant {
+                // beside the job directory: `sound` empties that first
+                let dir = work.with_extension("planted");
+                crate::prove::plant(&mut unit, name, &dir)?;
+                verilog = Some(dir);
+            }
+            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000);
+        }
+        let mut dut_verilog = a.verilog.clone();
+        if let Some(name) = &a.plant {
+            let dir = work.with_extension("planted");
+            crate::prove::plant(&mut dut, name, &dir)?;
+            dut_verilog = Some(dir);
         }
         match a.property {
             Property::Sound => unreachable!("proved above"),
             Property::Equiv => crate::prove::equiv(&crate::prove::EquivJob {
                 dut: &dut,
-                dut_verilog: a.verilog.as_deref(),
+                dut_verilog: dut_verilog.as_deref(),
                 reference: &reference,
                 work: &work,
                 solver: match a.solver.unwrap_or(SolverArg::Boolector) {

@@ -718,6 +718,69 @@ fn bits_hex(bits: &str) -> Result<String, String> {
     ))
 }
 
+/// A bug planted on purpose (`rtl-gen prove --plant NAME`): one text edit of
+/// a unit's generated top module, which the proof must refute. The planted
+/// Verilog is written to the job directory for `rtl-gen sim --verilog`, so
+/// the counterexample replays in Verilator against the (unplanted) golden
+/// model.
+pub struct Plant {
+    /// the unit it applies to
+    pub unit: &'static str,
+    /// its name on the command line
+    pub name: &'static str,
+    /// what it breaks
+    pub what: &'static str,
+    from: &'static str,
+    to: &'static str,
+}
+
+/// Every plant (docs/proofs.md).
+pub const PLANTS: &[Plant] = &[Plant {
+    unit: "cull",
+    name: "lt-for-le",
+    what: "plane 0's exit compared with the entry by `<` where `<=` is due: a segment that meets \
+           the region in one point only, where plane 0's crossing meets the entry, is culled",
+    from: "assign exit0_ok = (t_lo_key <= q0_key)",
+    to: "assign exit0_ok = (t_lo_key < q0_key)",
+}];
+
+/// Plants `name` in `g`'s top module and writes `g`'s Verilog, planted, to
+/// `dir`; the plant.
+pub fn plant(g: &mut Generated, name: &str, dir: &Path) -> Result<&'static Plant, String> {
+    let Some(plant) = PLANTS.iter().find(|p| p.unit == g.unit && p.name == name) else {
+        let known: Vec<String> = PLANTS
+            .iter()
+            .map(|p| format!("{} --plant {}", p.unit, p.name))
+            .collect();
+        return Err(format!(
+            "no plant `{name}` for {}: the plants are {}",
+            g.unit,
+            known.join(", ")
+        ));
+    };
+    let top = format!("{}.v", g.module.name);
+    let file = g
+        .files
+        .iter_mut()
+        .find(|f| f.file_name == top)
+        .ok_or_else(|| format!("{top} is not among the generated files"))?;
+    if !file.text.contains(plant.from) {
+        return Err(format!(
+            "--plant {name}: `{}` is not in {top} ({} {}): the plant is written for stages=0",
+            plant.from,
+            g.unit,
+            g.param_args()
+        ));
+    }
+    file.text = file.text.replacen(plant.from, plant.to, 1);
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for f in &g.files {
+        std::fs::write(dir.join(&f.file_name), &f.text)
+            .map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    Ok(plant)
+}
+
 /// The default job directory of a proof of `g`.
 pub fn default_work(g: &Generated) -> PathBuf {
     PathBuf::from("out/prove").join(&g.ports.top)
