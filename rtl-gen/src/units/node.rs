@@ -499,40 +499,8 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let ext = m.cat(&[v, zeros]);
     let ext = m.as_sint(ext);
     let ext = m.name(ext, "with_headroom");
-    // only the floor's low ow bits are formed (the shifter's upper outputs go): the floor
-    // fits ow bits when v's bits from max(0, shift − 1) up all equal its sign, i.e. when
-    // v has at least vw − max(0, shift − 1) leading sign bits; otherwise it is beyond
-    // the clamp on the side of that sign
     let floor = m.shr(ext, amount);
-    let floor = m.slice(floor, ow - 1, 0);
-    let floor = m.as_sint(floor);
-    let floor = m.name(floor, "floor_low");
-    let sign = m.msb(v);
-    let sign_bits = m.as_uint(sign);
-    let sign_bits = m.cat(&vec![sign_bits; vw as usize]);
-    let v_bits = m.as_uint(v);
-    let from_sign = m.xor(v_bits, sign_bits);
-    let lead = lzc(m, from_sign);
-    let lead = m.name(lead, "leading_sign_bits");
-    let cw = lead.width().max(rcap) + 2;
-    let lead_w = zext(m, lead, cw);
-    let one = m.uint(rcap, 1);
-    let zero_a = m.uint(rcap, 0);
-    let positive_shift = m.lt(zero_a, amount);
-    let below_shift = m.sub(amount, one);
-    let below_shift = m.slice(below_shift, rcap - 1, 0);
-    let below_shift = m.mux(positive_shift, below_shift, zero_a);
-    let below_shift = zext(m, below_shift, cw);
-    let width_c = m.uint(cw + 1, u128::from(vw));
-    let covered = m.add(lead_w, below_shift);
-    let covered = zext(m, covered, cw + 1);
-    let covered = m.name(covered, "sign_bits_and_shift");
-    let fits = m.le(width_c, covered);
-    // at shift 0 the headroom's top zero is the floor's sign: a negative v does not fit
-    let not_neg = m.not(sign);
-    let sign_ok = m.or(positive_shift, not_neg);
-    let fits = m.and(fits, sign_ok);
-    let fits = m.name(fits, "floor_fits");
+    let floor = m.name(floor, "floor");
     // a one below the shift's reach was lost: trailing zeros of v + ow below it
     let tz = trailing_zeros(m, v);
     let tw = tz.width().max(rcap) + 1;
@@ -557,14 +525,8 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let hi = sext(m, lim, rw);
     let lo = sext(m, neg_lim, rw);
     let above = m.lt(hi, r);
-    let below = m.lt(r, lo);
-    // a floor beyond ow bits is beyond the clamp on its sign's side
-    let beyond = m.not(fits);
-    let beyond_above = m.and(beyond, not_neg);
-    let beyond_below = m.and(beyond, sign);
-    let above = m.mux(fits, above, beyond_above);
     let above = m.name(above, "above_limit");
-    let below = m.mux(fits, below, beyond_below);
+    let below = m.lt(r, lo);
     let below = m.name(below, "below_limit");
     let r = m.slice(r, ow - 1, 0);
     let r = m.as_sint(r);
@@ -1106,15 +1068,16 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
         )
     } else {
         let drop = (-kmin) as u32;
+        let kept = m.slice(product, pw - 1, drop);
         if up {
-            // ⌈p / 2^drop⌉ = ⌊(p + 2^drop − 1) / 2^drop⌋: the constant added to the
-            // product, which a DSP48E1's post-adder can take
-            let bias = m.uint(pw, (1u128 << drop) - 1);
-            let v = m.add(product, bias);
-            let v = m.name(v, "product_biased");
-            (m.slice(v, pw, drop), pw + 1 - drop)
+            let below = m.slice(product, drop - 1, 0);
+            let lost = m.any_set(below);
+            let l = m.as_uint(lost);
+            let l = zext(m, l, pw - drop);
+            let v = m.add(kept, l);
+            (v, pw - drop + 1)
         } else {
-            (m.slice(product, pw - 1, drop), pw - drop)
+            (kept, pw - drop)
         }
     };
     let value = m.name(value, "cells");
