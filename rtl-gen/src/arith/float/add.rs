@@ -11,7 +11,8 @@
 //! one in every mode. An exact zero from opposite signs is -0 in RDN, +0
 //! otherwise; equal-signed zeros keep their sign.
 
-use super::bits::{add_const, shr_jam};
+use super::bits::{add_const, shr_jam, shr_jam_tz};
+use crate::arith::int::zext;
 use super::round::{class_of, finish_rounded_range, Range, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
@@ -69,6 +70,36 @@ pub fn add_raw(
     negate_b: bool,
     cuts: &[u32],
 ) -> SumRaw {
+    add_raw_with(m, fmt, a, b, negate_b, cuts, false)
+}
+
+/// [`add_raw`], the same value, built for area (the normal-range operators):
+/// the alignment's sticky bit from the trailing zeros of the smaller
+/// significand ([`shr_jam_tz`]) instead of a shifted mask, and one adder
+/// with the smaller operand complemented for an effective subtraction
+/// instead of a sum, a difference and a choice.
+#[track_caller]
+pub fn add_raw_lean(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    a: Sig,
+    b: Sig,
+    negate_b: bool,
+    cuts: &[u32],
+) -> SumRaw {
+    add_raw_with(m, fmt, a, b, negate_b, cuts, true)
+}
+
+#[track_caller]
+fn add_raw_with(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    a: Sig,
+    b: Sig,
+    negate_b: bool,
+    cuts: &[u32],
+    lean: bool,
+) -> SumRaw {
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let w = fmt.width();
     let ua = m.scope("a", |m| unpack(m, fmt, a));
@@ -114,17 +145,40 @@ pub fn add_raw(
     let grs = m.uint(3, 0);
     let big_ext = m.cat(&[sig_big, grs]);
     let small_ext = m.cat(&[sig_small, grs]);
-    let small_al = shr_jam(m, small_ext, diff);
+    let small_al = if lean {
+        shr_jam_tz(m, small_ext, diff)
+    } else {
+        shr_jam(m, small_ext, diff)
+    };
     let small_al = m.name(small_al, "small_aligned");
     for _ in 0..cuts[1] {
         m.stage();
     }
 
     // step 3: add or subtract (never negative: big >= small)
-    let s_add = m.add(big_ext, small_al);
-    let s_sub = m.sub(big_ext, small_al);
-    let s_sub = m.as_uint(s_sub);
-    let sum = m.mux(eff_sub, s_sub, s_add);
+    let sum = if lean {
+        // big + (small ^ -eff_sub) + eff_sub in one adder: the carry in as a
+        // low bit added to a one ({big, 1} + {small', eff_sub}), modulo
+        // 2^(F + 5) (a difference is never negative)
+        let sw = big_ext.width() + 1;
+        let big_w = zext(m, big_ext, sw);
+        let small_w = zext(m, small_al, sw);
+        let ones = m.uint(sw, (1u128 << sw) - 1);
+        let zeros = m.uint(sw, 0);
+        let flip = m.mux(eff_sub, ones, zeros);
+        let small_c = m.xor(small_w, flip);
+        let one = m.uint(1, 1);
+        let carry_in = m.as_uint(eff_sub);
+        let lhs = m.cat(&[big_w, one]);
+        let rhs = m.cat(&[small_c, carry_in]);
+        let s = m.add(lhs, rhs);
+        m.slice(s, sw, 1)
+    } else {
+        let s_add = m.add(big_ext, small_al);
+        let s_sub = m.sub(big_ext, small_al);
+        let s_sub = m.as_uint(s_sub);
+        m.mux(eff_sub, s_sub, s_add)
+    };
     let sum = m.name(sum, "sum");
     let sum_any = m.any_set(sum);
     let sum_zero = m.not(sum_any);
@@ -202,7 +256,11 @@ fn add_range_module(
     let rm = Rm::new(mode, rm);
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = add_raw(&mut m, fmt, a, b, sub, raw_cuts);
+    let s = if normal {
+        add_raw_lean(&mut m, fmt, a, b, sub, raw_cuts)
+    } else {
+        add_raw(&mut m, fmt, a, b, sub, raw_cuts)
+    };
     let raw = s.for_rm(&mut m, &rm);
     let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(m, fmt, &rm, &raw, range, rs, "adder")
@@ -275,7 +333,11 @@ fn sub_widening_range_module(
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = add_raw(&mut m, fmt, a, b, true, raw_cuts);
+    let s = if normal {
+        add_raw_lean(&mut m, fmt, a, b, true, raw_cuts)
+    } else {
+        add_raw(&mut m, fmt, a, b, true, raw_cuts)
+    };
     let raw = s.for_mode(&mut m, mode);
     let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(
