@@ -75,9 +75,10 @@ pub fn add_raw(
 
 /// [`add_raw`], the same value, built for area (the normal-range operators):
 /// the alignment's sticky bit from the trailing zeros of the smaller
-/// significand ([`shr_jam_tz`]) instead of a shifted mask, and one adder
+/// significand ([`shr_jam_tz`]) instead of a shifted mask, one adder
 /// with the smaller operand complemented for an effective subtraction
-/// instead of a sum, a difference and a choice.
+/// instead of a sum, a difference and a choice, and one exponent
+/// difference after the selection instead of two before it.
 #[track_caller]
 pub fn add_raw_lean(
     m: &mut ModuleBuilder,
@@ -116,13 +117,21 @@ fn add_raw_with(
     let exp_big = m.mux(a_big, ua.eff_exp, ub.eff_exp);
     let sign_big = m.mux(a_big, ua.sign, sign_b);
     let sign_big = m.name(sign_big, "sign_big");
-    // both differences beside the comparison, then a selection (not the
-    // subtraction after the selection): the non-negative one's low E bits
-    let diff_ab = m.sub(ua.eff_exp, ub.eff_exp);
-    let diff_ab = m.slice(diff_ab, e - 1, 0);
-    let diff_ba = m.sub(ub.eff_exp, ua.eff_exp);
-    let diff_ba = m.slice(diff_ba, e - 1, 0);
-    let diff = m.mux(a_big, diff_ab, diff_ba);
+    // the non-negative difference's low E bits
+    let diff = if lean {
+        // one subtraction after the selection: smaller, one step longer
+        let exp_small = m.mux(a_big, ub.eff_exp, ua.eff_exp);
+        let d = m.sub(exp_big, exp_small);
+        m.slice(d, e - 1, 0)
+    } else {
+        // both differences beside the comparison, then a selection (not
+        // the subtraction after the selection)
+        let diff_ab = m.sub(ua.eff_exp, ub.eff_exp);
+        let diff_ab = m.slice(diff_ab, e - 1, 0);
+        let diff_ba = m.sub(ub.eff_exp, ua.eff_exp);
+        let diff_ba = m.slice(diff_ba, e - 1, 0);
+        m.mux(a_big, diff_ab, diff_ba)
+    };
     let diff = m.name(diff, "exp_diff");
     let eff_sub = m.xor(ua.sign, sign_b);
     let eff_sub = m.name(eff_sub, "eff_sub");
