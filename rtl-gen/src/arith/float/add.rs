@@ -12,10 +12,10 @@
 //! otherwise; equal-signed zeros keep their sign.
 
 use super::bits::{add_const, shr_jam, shr_jam_tz};
-use crate::arith::int::zext;
 use super::round::{class_of, finish_rounded_range, Range, Raw, ROUND_STEPS};
 use super::unpack::unpack;
 use super::{sint_width, spread, Format, Rm, RoundSel, Rounding};
+use crate::arith::int::zext;
 use crate::arith::ports::{Pair, PairPorts};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::Module;
@@ -70,25 +70,24 @@ pub fn add_raw(
     negate_b: bool,
     cuts: &[u32],
 ) -> SumRaw {
-    add_raw_with(m, fmt, a, b, negate_b, cuts, false)
+    add_raw_with(m, fmt, a, b, negate_b, cuts, Shape::General)
 }
 
-/// [`add_raw`], the same value, built for area (the normal-range operators):
-/// the alignment's sticky bit from the trailing zeros of the smaller
-/// significand ([`shr_jam_tz`]) instead of a shifted mask, one adder
-/// with the smaller operand complemented for an effective subtraction
-/// instead of a sum, a difference and a choice, and one exponent
-/// difference after the selection instead of two before it.
-#[track_caller]
-pub fn add_raw_lean(
-    m: &mut ModuleBuilder,
-    fmt: Format,
-    a: Sig,
-    b: Sig,
-    negate_b: bool,
-    cuts: &[u32],
-) -> SumRaw {
-    add_raw_with(m, fmt, a, b, negate_b, cuts, true)
+/// How [`add_raw_with`] builds the exact sum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    /// [`add_raw`]
+    General,
+    /// the same value built for area (the normal-range operators): the
+    /// alignment's sticky bit from the trailing zeros of the smaller
+    /// significand ([`shr_jam_tz`]) instead of a shifted mask, one adder
+    /// with the smaller operand complemented for an effective subtraction
+    /// instead of a sum, a difference and a choice, and one exponent
+    /// difference after the selection instead of two before it
+    Lean,
+    /// `Lean` for operands of one sign (or zeros): the magnitudes
+    /// added, never subtracted ([`add_same_sign_normal_module`])
+    SameSign,
 }
 
 #[track_caller]
@@ -99,8 +98,9 @@ fn add_raw_with(
     b: Sig,
     negate_b: bool,
     cuts: &[u32],
-    lean: bool,
+    shape: Shape,
 ) -> SumRaw {
+    let lean = shape != Shape::General;
     let (e, f) = (fmt.exp_bits, fmt.frac_bits);
     let w = fmt.width();
     let ua = m.scope("a", |m| unpack(m, fmt, a));
@@ -133,7 +133,11 @@ fn add_raw_with(
         m.mux(a_big, diff_ab, diff_ba)
     };
     let diff = m.name(diff, "exp_diff");
-    let eff_sub = m.xor(ua.sign, sign_b);
+    let eff_sub = if shape == Shape::SameSign {
+        m.bool(false)
+    } else {
+        m.xor(ua.sign, sign_b)
+    };
     let eff_sub = m.name(eff_sub, "eff_sub");
     let both_inf = m.and(ua.inf, ub.inf);
     let inf_minus_inf = m.and(both_inf, eff_sub);
@@ -165,7 +169,9 @@ fn add_raw_with(
     }
 
     // step 3: add or subtract (never negative: big >= small)
-    let sum = if lean {
+    let sum = if shape == Shape::SameSign {
+        m.add(big_ext, small_al)
+    } else if lean {
         // big + (small ^ -eff_sub) + eff_sub in one adder: the carry in as a
         // low bit added to a one ({big, 1} + {small', eff_sub}), modulo
         // 2^(F + 5) (a difference is never negative)
@@ -217,7 +223,7 @@ pub fn add_name(fmt: Format, mode: RoundSel, sub: bool, stages: u32) -> String {
 /// `z = a + b` (or `a - b` if `sub`) in `fmt`, rounded in `mode`, with
 /// `stages` pipeline registers (latency `stages`).
 pub fn add_module(fmt: Format, mode: impl Into<RoundSel>, sub: bool, stages: u32) -> Arc<Module> {
-    add_range_module(fmt, mode, sub, false, stages)
+    add_range_module(fmt, mode, sub, AddRange::Any, stages)
 }
 
 /// [`add_module`] for a sum that is zero or normal, never subnormal nor
@@ -230,27 +236,59 @@ pub fn add_normal_module(
     sub: bool,
     stages: u32,
 ) -> Arc<Module> {
-    add_range_module(fmt, mode, sub, true, stages)
+    add_range_module(fmt, mode, sub, AddRange::Normal, stages)
+}
+
+/// [`add_normal_module`]'s `a + b` for operands of one sign (either may be
+/// a zero of any sign): the magnitudes are added, never subtracted, so the
+/// sum has at most one leading zero and the rounder shifts by one bit at
+/// most. For operands of opposite signs the result is unspecified (a
+/// caller that ignores it there: the triangle unit's `det`, which matters
+/// only when the three edge functions agree in sign), and a zero sum may
+/// have either sign. Name `fadd_…_samesign_s…`.
+pub fn add_same_sign_normal_module(fmt: Format, mode: Rounding, stages: u32) -> Arc<Module> {
+    add_range_module(fmt, mode, false, AddRange::SameSign, stages)
+}
+
+/// What an adder's caller guarantees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AddRange {
+    /// nothing
+    Any,
+    /// a sum that is zero or normal
+    Normal,
+    /// that, and operands of one sign
+    SameSign,
 }
 
 fn add_range_module(
     fmt: Format,
     mode: impl Into<RoundSel>,
     sub: bool,
-    normal: bool,
+    guarantee: AddRange,
     stages: u32,
 ) -> Arc<Module> {
     let mode: RoundSel = mode.into();
     let what = if sub { "a - b" } else { "a + b" };
-    let (name, range, promise) = if normal {
-        let op = if sub { "fsub" } else { "fadd" };
-        (
+    let op = if sub { "fsub" } else { "fadd" };
+    let (name, range, promise) = match guarantee {
+        AddRange::Any => (add_name(fmt, mode, sub, stages), Range::Any, ""),
+        AddRange::Normal => (
             format!("{op}_{}_{mode}_normal_s{stages}", fmt.tag()),
             Range::Normal { lead: u32::MAX },
             " The sum is zero or normal (guaranteed by the caller).",
-        )
-    } else {
-        (add_name(fmt, mode, sub, stages), Range::Any, "")
+        ),
+        AddRange::SameSign => (
+            format!("{op}_{}_{mode}_samesign_s{stages}", fmt.tag()),
+            Range::Normal { lead: 1 },
+            " The operands have one sign and the sum is zero or normal (guaranteed by the \
+             caller); the sign of a zero sum is unspecified.",
+        ),
+    };
+    let shape = match guarantee {
+        AddRange::Any => Shape::General,
+        AddRange::Normal => Shape::Lean,
+        AddRange::SameSign => Shape::SameSign,
     };
     let mut m = fmt.operator_module(
         name,
@@ -265,11 +303,7 @@ fn add_range_module(
     let rm = Rm::new(mode, rm);
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = if normal {
-        add_raw_lean(&mut m, fmt, a, b, sub, raw_cuts)
-    } else {
-        add_raw(&mut m, fmt, a, b, sub, raw_cuts)
-    };
+    let s = add_raw_with(&mut m, fmt, a, b, sub, raw_cuts, shape);
     let raw = s.for_rm(&mut m, &rm);
     let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(m, fmt, &rm, &raw, range, rs, "adder")
@@ -342,11 +376,8 @@ fn sub_widening_range_module(
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
     let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
     let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = if normal {
-        add_raw_lean(&mut m, fmt, a, b, true, raw_cuts)
-    } else {
-        add_raw(&mut m, fmt, a, b, true, raw_cuts)
-    };
+    let shape = if normal { Shape::Lean } else { Shape::General };
+    let s = add_raw_with(&mut m, fmt, a, b, true, raw_cuts, shape);
     let raw = s.for_mode(&mut m, mode);
     let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(
