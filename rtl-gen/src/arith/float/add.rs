@@ -526,4 +526,49 @@ mod tests {
             }
         }
     }
+
+    /// The normal-range adders are built as [`Shape::Lean`] says (the same
+    /// values as the general adder, so only their structure tells): no mask
+    /// shifted for the sticky bit, one exponent difference and one adder of
+    /// significands (no subtraction beside it); the one-sign adder no
+    /// complement either.
+    #[test]
+    fn normal_range_adders_are_built_lean() {
+        use crate::ir::Op;
+        let fmt = Format::new(11, 23).unwrap();
+        let count =
+            |m: &Module, pick: fn(&Op) -> bool| m.nodes.iter().filter(|n| pick(&n.op)).count();
+        let shl = |op: &Op| matches!(op, Op::Shl(..));
+        let subs = |op: &Op| matches!(op, Op::Sub(..));
+        let xors = |op: &Op| matches!(op, Op::Bit(crate::ir::BitOp::Xor, ..));
+        for sub_op in [false, true] {
+            let general = add_module(fmt, Rounding::Rne, sub_op, 0);
+            let lean = add_normal_module(fmt, Rounding::Rne, sub_op, 0);
+            assert!(
+                count(&general, shl) >= 1,
+                "{}: the mask shift",
+                general.name
+            );
+            assert_eq!(count(&lean, shl), 0, "{}: no mask shift", lean.name);
+            // general: two exponent differences and the significands' difference
+            assert_eq!(count(&general, subs), 3, "{}", general.name);
+            assert_eq!(
+                count(&lean, subs),
+                1,
+                "{}: one exponent difference",
+                lean.name
+            );
+        }
+        let widening =
+            sub_widening_normal_module(Format::new(8, 23).unwrap(), fmt, Rounding::Rne, 0);
+        assert_eq!(count(&widening, shl), 0, "{}", widening.name);
+        assert_eq!(count(&widening, subs), 1, "{}", widening.name);
+        let lean = add_normal_module(fmt, Rounding::Rne, false, 0);
+        let one_sign = add_same_sign_normal_module(fmt, Rounding::Rne, 0);
+        assert!(
+            count(&one_sign, xors) < count(&lean, xors),
+            "{}: no complement",
+            one_sign.name
+        );
+    }
 }
