@@ -46,7 +46,9 @@
 
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
-use crate::arith::float::add::{add_normal_module, sub_widening_normal_module};
+use crate::arith::float::add::{
+    add_normal_module, add_same_sign_normal_module, sub_widening_normal_module,
+};
 use crate::arith::float::compare::compare;
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::mul::{mul_module, mul_normal_module};
@@ -415,8 +417,11 @@ pub fn build(cfg: &Config) -> Module {
     let mixed = m.and(negative, positive);
     let inside = m.not(mixed);
     let inside = m.name(inside, "inside_edges");
-    let u_plus_v = rounded(&mut m, "u_det_uv", &wadd, &Pair::new(e_u, e_v));
-    let det = rounded(&mut m, "u_det", &wadd, &Pair::new(u_plus_v, e_w));
+    // det matters only inside (a hit needs it), where U, V, W agree in
+    // sign: its adders add magnitudes and never cancel
+    let det_add = add_same_sign_normal_module(wf, mode, 0);
+    let u_plus_v = rounded(&mut m, "u_det_uv", &det_add, &Pair::new(e_u, e_v));
+    let det = rounded(&mut m, "u_det", &det_add, &Pair::new(u_plus_v, e_w));
     let weigh = |m: &mut ModuleBuilder, name: &str, e: Sig, z: Sig| {
         rounded(m, &format!("u_t_{name}"), &mul, &Pair::new(e, z))
     };

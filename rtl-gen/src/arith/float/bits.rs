@@ -93,6 +93,38 @@ pub fn shr_sticky(m: &mut ModuleBuilder, x: Sig, amount: Sig) -> (Sig, Sig) {
     (shifted, sticky)
 }
 
+/// Number of trailing zeros of `x` (`w` bits, unsigned), `w` when `x` is zero;
+/// UInt of [`lzc_width`]`(w)` bits: [`lzc`] of the bits in reverse order.
+#[track_caller]
+pub fn tzc(m: &mut ModuleBuilder, x: Sig) -> Sig {
+    let x = m.as_uint(x);
+    let bits: Vec<Sig> = (0..x.width()).map(|i| m.slice(x, i, i)).collect();
+    let reversed = m.cat(&bits);
+    lzc(m, reversed)
+}
+
+/// [`shr_jam`] with the sticky bit from the trailing zeros of `x` (a bit is
+/// shifted out iff `x ≠ 0` and `tzc(x) < amount`): a count and a comparison
+/// instead of a mask as wide as `x` shifted by `amount`.
+#[track_caller]
+pub fn shr_jam_tz(m: &mut ModuleBuilder, x: Sig, amount: Sig) -> Sig {
+    let x = m.as_uint(x);
+    let w = x.width();
+    let shifted = m.shr(x, amount);
+    let tz = tzc(m, x);
+    let cw = tz.width().max(amount.width());
+    let tz = zext(m, tz, cw);
+    let amount_w = zext(m, amount, cw);
+    let below = m.lt(tz, amount_w);
+    let nonzero = m.any_set(x);
+    let sticky = m.and(below, nonzero);
+    let sticky = m.name(sticky, "shifted_out");
+    let sticky = m.as_uint(sticky);
+    let sticky = zext(m, sticky, w);
+    let r = m.or(shifted, sticky);
+    m.name(r, "jam")
+}
+
 /// `a` (UInt or SInt) as an SInt of `w` bits (zero- or sign-extended; `w` must hold it).
 #[track_caller]
 pub fn to_sint(m: &mut ModuleBuilder, a: Sig, w: u32) -> Sig {
