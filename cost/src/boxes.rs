@@ -22,9 +22,9 @@ pub const DESIGNS: [(&str, &str, &[&str]); 5] = [
     ("frecip RTZ", "frecip", &["round=rtz"]),
 ];
 
-/// The node tester beside them (issue #36): (label, N), q = 8, whole
-/// products (the xc7 build); its figures are per node test, divided by N
-/// for the per-child table.
+/// The node tester beside them (issue #36): (label, N), q = 8, the xc7
+/// build's products ([`crate::per_ray::node_products`]); its figures are per
+/// node test, divided by N for the per-child table.
 pub const NODE_SHAPES: [(&str, u32); 2] = [("node N=4 q=8", 4), ("node N=8 q=8", 8)];
 
 /// Issue #36's per-child targets: (N, at most xc7 LUT, at most DSP48).
@@ -88,7 +88,7 @@ pub fn synthesise(
                 let p = vec![
                     format!("children={n}"),
                     "box_bits=8".to_string(),
-                    "products=whole".to_string(),
+                    format!("products={}", crate::per_ray::node_products(8)),
                 ];
                 (label, "node", p)
             })

@@ -246,7 +246,7 @@ pub fn wide_workload_of(
 }
 
 /// The node unit's `products` at q box bits and its default slope bits.
-fn node_products(q: u32) -> rtl_gen::retime::Products {
+pub(crate) fn node_products(q: u32) -> rtl_gen::retime::Products {
     use rtl_gen::params::ParamSet;
     let slope_bits = rtl_gen::units::node::NodeParams::defaults().slope_bits;
     rtl_gen::units::node::xc7_products(q, slope_bits)

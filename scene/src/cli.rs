@@ -708,25 +708,22 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     || path.display().to_string(),
                     |x| x.to_string_lossy().into(),
                 );
-                for r in crate::wide::report(&s, &acc, &shapes, tlas_box_bits, w, h)
+                for r in crate::wide::report(&s, &acc, &shapes, tlas_box_bits, w, h, bundle_tile)
                     .map_err(|e| format!("{}: {e}", path.display()))?
                 {
+                    if let Some((t, b)) = &r.bundle {
+                        let (alone, bundle, single) = b.per_ray();
+                        println!(
+                            "bundle bound N={} q={} tile {t}x{t}: {name} node tests/ray {alone:.2} alone; \
+                             with an oracle bundle test {bundle:.2} bundle + {single:.2} single, {:.1} % \
+                             of bundle tests answer every ray; break-even {:.2} node tests per bundle test",
+                            r.format.children(),
+                            r.format.box_bits(),
+                            100.0 * b.resolved_share(),
+                            b.break_even()
+                        );
+                    }
                     rows.push((name.clone(), r));
-                }
-                for &f in shapes.iter().filter(|_| bundle_tile.is_some()) {
-                    let t = bundle_tile.unwrap_or(1);
-                    let wide = crate::wide::WideAccel::build(&acc, f, tlas_box_bits)?;
-                    let b = crate::wide_bundle::bundle_bound(&s, &acc, &wide, w, h, t);
-                    let (alone, bundle, single) = b.per_ray();
-                    println!(
-                        "bundle bound N={} q={} tile {t}x{t}: {name} node tests/ray {alone:.2} alone; \
-                         with an oracle bundle test {bundle:.2} bundle + {single:.2} single, {:.1} % \
-                         of bundle tests answer every ray; break-even {:.2} node tests per bundle test",
-                        f.children(),
-                        f.box_bits(),
-                        100.0 * b.resolved as f64 / b.bundle_tests.max(1) as f64,
-                        b.break_even()
-                    );
                 }
             }
             println!("\n{}", crate::wide::report_table(&rows));

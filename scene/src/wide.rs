@@ -540,6 +540,9 @@ pub struct ReportRow {
     pub exact: KindStats,
     /// both traversals found the same nearest hit on every pixel
     pub same_hits: bool,
+    /// when asked for: the tile and the bundle bound of the camera rays
+    /// ([`crate::wide_bundle`])
+    pub bundle: Option<(u32, crate::wide_bundle::BundleBound)>,
 }
 
 impl ReportRow {
@@ -551,7 +554,8 @@ impl ReportRow {
 }
 
 /// Builds the wide BVH of every shape and traces the `w`×`h` camera rays
-/// through it twice (decoded boxes, exact binary32 boxes).
+/// through it twice (decoded boxes, exact binary32 boxes), and with
+/// `bundle_tile` a third time for the bundle bound of that tile.
 pub fn report(
     scene: &Scene,
     accel: &Accel,
@@ -559,6 +563,7 @@ pub fn report(
     tlas_box_bits: u32,
     w: u32,
     h: u32,
+    bundle_tile: Option<u32>,
 ) -> Result<Vec<ReportRow>, String> {
     shapes
         .iter()
@@ -575,6 +580,12 @@ pub fn report(
                 compressed: sq,
                 exact: se,
                 same_hits: hq.iter().map(key).eq(he.iter().map(key)),
+                bundle: bundle_tile.map(|t| {
+                    (
+                        t,
+                        crate::wide_bundle::bundle_bound(scene, accel, &wide, w, h, t),
+                    )
+                }),
             })
         })
         .collect()

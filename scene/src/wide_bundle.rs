@@ -95,6 +95,12 @@ impl BundleBound {
         (self.single_tests - self.single_after) as f64 / self.bundle_tests.max(1) as f64
     }
 
+    /// The share of bundle tests that answer for every ray (AllHit or AllMiss
+    /// on every slot).
+    pub fn resolved_share(&self) -> f64 {
+        self.resolved as f64 / self.bundle_tests.max(1) as f64
+    }
+
     /// Node tests per ray alone, and bundle plus single tests per ray with
     /// the oracle.
     pub fn per_ray(&self) -> (f64, f64, f64) {

@@ -528,7 +528,7 @@ fn the_bundle_bound_counts_every_node_test_and_resolves_boxes_best() {
             b.resolved <= b.bundle_tests && b.single_after < b.single_tests,
             "{b:?}"
         );
-        resolved.push(b.resolved as f64 / b.bundle_tests as f64);
+        resolved.push(b.resolved_share());
         let be = b.break_even();
         assert!(be > 1.0 && be < 30.0, "{name}: break-even {be}");
     }

@@ -67,9 +67,11 @@ crate::params! {
         slope_bits: u32 [4..=16] = 8,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 4,
-        /// split: products wider than 18 bits (the per-node `T·d`) cut into 18x18 blocks
-        /// and their sum when stages are placed (ECP5's MULT18X18D); whole: each product one
-        /// multiplication (a 7-series DSP48E1 takes 25x18: half the DSP48 and no LUT adders)
+        /// split (ECP5's 18x18 MULT18X18D): each child's distance clamped and shifted so its
+        /// product fits one block, the per-node `T·d` cut into 18x18 blocks and their sum when
+        /// stages are placed; whole (a 7-series DSP48E1 takes 25x18): the slope shifted once
+        /// per node, each child's product one block, `T·d` one multiplication each
+        /// (`xc7_products` says where whole stays one block)
         products: Products = Products::Split,
     }
 }
