@@ -62,7 +62,8 @@ pub use tools::{fpga_venv, tool, yosys_version, Tool};
 
 /// Bumped whenever a script or a parser changes (invalidates the cache).
 /// 4: Yosys 0.70 (yowasp) instead of Debian's 0.23, `synth_xilinx`, ECP5 place and route.
-pub const RUNNER_VERSION: u32 = 4;
+/// 5: the iCE40 depth stops at the mapped flip-flops (`SB_DFF*`).
+pub const RUNNER_VERSION: u32 = 5;
 
 /// The pinned toolchain (`scripts/fpga-requirements.txt`), part of the cache key.
 pub const TOOLCHAIN_PINS: &str = include_str!("../../../scripts/fpga-requirements.txt");
