@@ -1050,6 +1050,34 @@ fn rtz_contract(v: &mut String, fmt: FloatFormat) -> Vec<String> {
     assumes
 }
 
+/// The unit's instance `u_unit` at stages=0: the clock, reset low, `in_valid`
+/// high, each data input to `input(name)`, `out_valid` open and each output
+/// to `output(name)` (open when `None`).
+fn unit_instance(
+    unit: &Generated,
+    input: impl Fn(&str) -> String,
+    output: impl Fn(&str) -> Option<String>,
+) -> String {
+    let p = &unit.ports;
+    let mut conns = vec![
+        format!(".{}(clk)", p.clock),
+        format!(".{}(1'b0)", p.reset),
+        format!(".{}(1'b1)", p.in_valid),
+    ];
+    conns.extend(
+        p.inputs
+            .iter()
+            .map(|x| format!(".{}({})", x.name, input(&x.name))),
+    );
+    conns.push(format!(".{}()", p.out_valid));
+    conns.extend(
+        p.outputs
+            .iter()
+            .map(|x| format!(".{}({})", x.name, output(&x.name).unwrap_or_default())),
+    );
+    format!("{} u_unit ({});", p.top, conns.join(", "))
+}
+
 /// The wrapper `prove_sound`: the unit (stages=0) beside the reference, the
 /// input contract assumed, `exact hit → unit hit` asserted.
 pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
@@ -1090,34 +1118,27 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
          .p_max_x(p_max_x), .p_max_y(p_max_y), .p_max_z(p_max_z), .o_x(o_x), .o_y(o_y), .o_z(o_z), \
          .d_x(d_x), .d_y(d_y), .d_z(d_z), .t_min(t_min), .t_max(t_max), .hit(exact_hit));"
     );
-    let mut conns = vec![
-        format!(".{}(clk)", p.clock),
-        format!(".{}(1'b0)", p.reset),
-        format!(".{}(1'b1)", p.in_valid),
-    ];
-    for x in &p.inputs {
-        match x.name.strip_prefix("o_lo_") {
-            // the bundle's shared origin is the free ray's
-            Some(a) => conns.push(format!(".{}(o_{a})", x.name)),
-            None => conns.push(format!(".{0}({0})", x.name)),
-        }
-    }
     let _ = writeln!(
         v,
         "    (* keep *) wire unit_hit;\n    (* keep *) wire unit_all_hit;"
     );
-    conns.push(format!(".{}()", p.out_valid));
-    for x in &p.outputs {
-        match x.name.as_str() {
-            "hit" | "any_hit" => conns.push(format!(".{}(unit_hit)", x.name)),
-            "all_hit" => conns.push(".all_hit(unit_all_hit)".into()),
-            _ => conns.push(format!(".{}()", x.name)),
-        }
-    }
     if !bundle {
         let _ = writeln!(v, "    assign unit_all_hit = 1'b0;");
     }
-    let _ = writeln!(v, "    {} u_unit ({});", p.top, conns.join(", "));
+    let instance = unit_instance(
+        unit,
+        // the bundle's shared origin is the free ray's
+        |name| match name.strip_prefix("o_lo_") {
+            Some(a) => format!("o_{a}"),
+            None => name.to_string(),
+        },
+        |name| match name {
+            "hit" | "any_hit" => Some("unit_hit".into()),
+            "all_hit" => Some("unit_all_hit".into()),
+            _ => None,
+        },
+    );
+    let _ = writeln!(v, "    {instance}");
     // the contract: no NaN; box, origin, direction finite
     let exp_ones = |x: &str| exp_ones(fmt, x);
     let mut assumes = Vec::new();
@@ -1291,25 +1312,13 @@ fn cull_wrapper(unit: &Generated, c: CullFormats) -> String {
             assumes.push(format!("{x}{j}_ok"));
         }
     }
-    let mut conns = vec![
-        format!(".{}(clk)", p.clock),
-        format!(".{}(1'b0)", p.reset),
-        format!(".{}(1'b1)", p.in_valid),
-    ];
-    conns.extend(p.inputs.iter().map(|x| format!(".{0}({0})", x.name)));
-    conns.push(format!(".{}()", p.out_valid));
-    for x in &p.outputs {
-        match x.name.as_str() {
-            "keep" => conns.push(".keep(unit_keep)".into()),
-            _ => conns.push(format!(".{}()", x.name)),
-        }
-    }
+    let instance = unit_instance(unit, str::to_string, |name| {
+        (name == "keep").then(|| "unit_keep".to_string())
+    });
     let _ = writeln!(
         v,
-        "    (* keep *) wire unit_keep;\n    {} u_unit ({});\n    always @(*) begin\n        \
+        "    (* keep *) wire unit_keep;\n    {instance}\n    always @(*) begin\n        \
          assume ({});\n        // never a wrongful cull\n        assert (!exact_hit || unit_keep);\n    end\nendmodule",
-        p.top,
-        conns.join(", "),
         assumes.join("\n            && ")
     );
     v
@@ -1330,6 +1339,8 @@ fn node_wrapper(
 ) -> String {
     let p = &unit.ports;
     let (reference, _) = exact_node_child_reference(fmt, q, out);
+    // the outputs the assertions read: the sorted slots, the base and the cell
+    let read = |name: &str| name.starts_with("out") || name == "t_base" || name == "grid_exp";
     let mut v = String::new();
     let mut ports = vec!["input wire clk".to_string()];
     ports.extend(
@@ -1354,10 +1365,8 @@ fn node_wrapper(
         .iter()
         .flat_map(|n| AXES.iter().map(move |a| format!(".{n}_{a}({n}_{a}), ")))
         .collect();
-    for x in &p.outputs {
-        if x.name.starts_with("out") || x.name == "t_base" || x.name == "grid_exp" {
-            let _ = writeln!(v, "    wire [{}:0] unit_{};", x.width - 1, x.name);
-        }
+    for x in p.outputs.iter().filter(|x| read(&x.name)) {
+        let _ = writeln!(v, "    wire [{}:0] unit_{};", x.width - 1, x.name);
     }
     for i in 0..children {
         let slot: String = ["lo", "hi"]
@@ -1383,21 +1392,10 @@ fn node_wrapper(
             k1 = out.entry_bits - 1,
         );
     }
-    let mut conns = vec![
-        format!(".{}(clk)", p.clock),
-        format!(".{}(1'b0)", p.reset),
-        format!(".{}(1'b1)", p.in_valid),
-    ];
-    conns.extend(p.inputs.iter().map(|x| format!(".{0}({0})", x.name)));
-    conns.push(format!(".{}()", p.out_valid));
-    for x in &p.outputs {
-        if x.name.starts_with("out") || x.name == "t_base" || x.name == "grid_exp" {
-            conns.push(format!(".{0}(unit_{0})", x.name));
-        } else {
-            conns.push(format!(".{}()", x.name));
-        }
-    }
-    let _ = writeln!(v, "    {} u_unit ({});", p.top, conns.join(", "));
+    let instance = unit_instance(unit, str::to_string, |name| {
+        read(name).then(|| format!("unit_{name}"))
+    });
+    let _ = writeln!(v, "    {instance}");
     // a slot is reported hit when some sorted position names it with its hit bit set
     for i in 0..children {
         let named: Vec<String> = (0..children)

@@ -343,6 +343,35 @@ fn named_values(line: &str, after: &str) -> std::collections::BTreeMap<String, u
         .collect()
 }
 
+/// Runs a proof that must be refuted (exit 1); its `counterexample:` line.
+fn refuted(args: &[&str]) -> String {
+    let o = rtl_gen(args);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {t}");
+    t.lines()
+        .find(|l| l.starts_with("counterexample: "))
+        .unwrap_or_else(|| panic!("no counterexample:\n{t}"))
+        .to_string()
+}
+
+/// Runs the replay a counterexample line prints, as printed (with the
+/// planted Verilog); the report's row of the first output `differs` accepts
+/// that differs.
+fn replayed_mismatch(line: &str, differs: impl Fn(&str) -> bool) -> String {
+    let replay = line
+        .split("replay: rtl-gen ")
+        .nth(1)
+        .unwrap()
+        .trim_end_matches(')');
+    assert!(replay.contains("--verilog "), "{replay}");
+    let args: Vec<&str> = replay.split_whitespace().collect();
+    let t = text(&rtl_gen(&args));
+    t.lines()
+        .find(|l| l.contains("<- differs") && l.split_whitespace().next().is_some_and(&differs))
+        .unwrap_or_else(|| panic!("the replay shows no such mismatch:\n{t}"))
+        .to_string()
+}
+
 /// `--property sound` for the cull tester: the planted `<` for `<=`
 /// (`--plant lt-for-le`) refuted at e2m2 (one e2m2 plane): the
 /// counterexample's geometry meets the region for the exact Rust reference,
@@ -373,14 +402,8 @@ fn a_planted_wrongful_cull_is_found_and_replays() {
         "--work",
         &job,
     ];
-    let o = rtl_gen(&args);
-    let t = text(&o);
-    assert_eq!(o.status.code(), Some(1), "{t}");
-    let line = t
-        .lines()
-        .find(|l| l.starts_with("counterexample: "))
-        .unwrap_or_else(|| panic!("no counterexample:\n{t}"));
-    let g = named_values(line, "with the geometry ");
+    let line = refuted(&args);
+    let g = named_values(&line, "with the geometry ");
     let v3 = |n: &str| ["x", "y", "z"].map(|a| g[&format!("{n}_{a}")]);
     let ray = golden_model::float::FloatFormat::new(2, 2).unwrap();
     let exact = golden_model::cull::exact::region_hit(
@@ -402,19 +425,8 @@ fn a_planted_wrongful_cull_is_found_and_replays() {
         exact.region_hit,
         "the counterexample's segment meets the region exactly: {line}"
     );
-    // the replay the line prints, run as printed: the planted RTL culls, the golden model keeps
-    let replay = line
-        .split("replay: rtl-gen ")
-        .nth(1)
-        .unwrap()
-        .trim_end_matches(')');
-    assert!(replay.contains("--verilog "), "{replay}");
-    let args: Vec<&str> = replay.split_whitespace().collect();
-    let t = text(&rtl_gen(&args));
-    let row = t
-        .lines()
-        .find(|l| l.trim_start().starts_with("keep") && l.contains("<- differs"))
-        .unwrap_or_else(|| panic!("the replay shows no mismatch on keep:\n{t}"));
+    // the planted RTL culls, the golden model keeps
+    let row = replayed_mismatch(&line, |port| port == "keep");
     assert!(
         row.contains("golden 0x1") && row.contains("rtl 0x0"),
         "{row}"
@@ -453,14 +465,8 @@ fn a_planted_node_miss_is_found_and_replays() {
         "--work",
         &job,
     ];
-    let o = rtl_gen(&args);
-    let t = text(&o);
-    assert_eq!(o.status.code(), Some(1), "{t}");
-    let line = t
-        .lines()
-        .find(|l| l.starts_with("counterexample: "))
-        .unwrap_or_else(|| panic!("no counterexample:\n{t}"));
-    let g = named_values(line, "refuted: ");
+    let line = refuted(&args);
+    let g = named_values(&line, "refuted: ");
     let fmt = golden_model::float::FloatFormat::new(3, 2).unwrap();
     let value = |bits: u64| match decode(fmt, bits) {
         Exact::Fin { m, e } => m as f64 * 2f64.powi(e),
@@ -496,21 +502,10 @@ fn a_planted_node_miss_is_found_and_replays() {
         exact.hit,
         "the counterexample's ray meets slot 0's box exactly: {line}"
     );
-    // the replay the line prints, run as printed: the planted RTL misses, the golden model hits
-    let replay = line
-        .split("replay: rtl-gen ")
-        .nth(1)
-        .unwrap()
-        .trim_end_matches(')');
-    assert!(replay.contains("--verilog "), "{replay}");
-    let args: Vec<&str> = replay.split_whitespace().collect();
-    let t = text(&rtl_gen(&args));
-    let row = t
-        .lines()
-        .find(|l| {
-            l.trim_start().starts_with("out") && l.contains("_hit") && l.contains("<- differs")
-        })
-        .unwrap_or_else(|| panic!("the replay shows no mismatch on a hit:\n{t}"));
+    // the planted RTL misses, the golden model hits
+    let row = replayed_mismatch(&line, |port| {
+        port.starts_with("out") && port.ends_with("_hit")
+    });
     assert!(
         row.contains("golden 0x1") && row.contains("rtl 0x0"),
         "{row}"
