@@ -91,19 +91,10 @@ fn pipelines_are_proved_equal_to_their_reference() {
         &work("node_sort"),
     ]);
     // the largest unit in CI: the node tester at e3m2, whole products, balanced
-    assert_proved(&[
-        "prove",
-        "node",
-        "-p",
-        "exp_bits=3",
-        "-p",
-        "frac_bits=2",
-        "-p",
-        "children=2",
-        "-p",
-        "box_bits=4",
-        "-p",
-        "slope_bits=4",
+    let node_work = work("node");
+    let mut node = vec!["prove", "node"];
+    node.extend(NODE_SMALL);
+    node.extend([
         "-p",
         "products=whole",
         "-p",
@@ -111,9 +102,24 @@ fn pipelines_are_proved_equal_to_their_reference() {
         "-p",
         "stages=2",
         "--work",
-        &work("node"),
+        &node_work,
     ]);
+    assert_proved(&node);
 }
+
+/// The node tester's smallest build (e3m2, N = 2, q = 4, m = 4), as `-p` arguments.
+const NODE_SMALL: [&str; 10] = [
+    "-p",
+    "exp_bits=3",
+    "-p",
+    "frac_bits=2",
+    "-p",
+    "children=2",
+    "-p",
+    "box_bits=4",
+    "-p",
+    "slope_bits=4",
+];
 
 /// Emits mulcmp (6x6, 2 stages) into a directory, applies `edit` to its top
 /// file, proves the edited copy and replays the counterexample.
@@ -445,26 +451,16 @@ fn a_planted_node_miss_is_found_and_replays() {
     use golden_model::exact::ray_box::{decode, ray_hits_box, BoxIn, Exact, RayIn};
     let w = scratch("node-plant");
     let job = w.join("plant").display().to_string();
-    let args = [
-        "prove",
-        "node",
-        "-p",
-        "exp_bits=3",
-        "-p",
-        "frac_bits=2",
-        "-p",
-        "children=2",
-        "-p",
-        "box_bits=4",
-        "-p",
-        "slope_bits=4",
+    let mut args = vec!["prove", "node"];
+    args.extend(NODE_SMALL);
+    args.extend([
         "--property",
         "sound",
         "--plant",
         "lt-for-le",
         "--work",
         &job,
-    ];
+    ]);
     let line = refuted(&args);
     let g = named_values(&line, "refuted: ");
     let fmt = golden_model::float::FloatFormat::new(3, 2).unwrap();
