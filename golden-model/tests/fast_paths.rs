@@ -511,6 +511,51 @@ fn recip_every_mode() {
     eq.finish();
 }
 
+/// `native::round_exact_f64_down_up` (the cull tester's `1/|b|` bounds)
+/// against the generic conversion from binary64 rounded down and up, on
+/// values of both signs (its caller passes only non-negative ones): random
+/// `f64` across binary32's exponent range and beyond it (subnormal,
+/// overflowing), values on the target grid (exact: down = up), and specials.
+#[test]
+fn round_exact_f64_down_up_both_signs() {
+    use golden_model::float::{convert, native::round_exact_f64_down_up, native::to_f32};
+    let f64f = FloatFormat::BINARY64;
+    let fmts = [
+        FloatFormat::BINARY32,
+        FloatFormat::new(8, 18).unwrap(),
+        FloatFormat::new(8, 7).unwrap(),
+    ];
+    let mut rng = common::Rng::new(95);
+    let mut eq = Equal::new("round_exact_f64_down_up (e8m23, e8m18, e8m7; both signs)");
+    let f64_specials = specials(f64f);
+    for i in 0..cases() {
+        let to = fmts[(i % fmts.len() as u64) as usize];
+        let bits = match rng.below(8) {
+            // on the grid of `to` (exactly representable)
+            0 => {
+                let x = to_f32(to, operand(&mut rng, to, &specials(to))) as f64;
+                x.to_bits()
+            }
+            1 => f64_specials[rng.below(f64_specials.len() as u64) as usize],
+            // binary32's exponents -149 ..= 127 and a margin on each side
+            _ => {
+                let e = rng.range(-170, 140);
+                (rng.next() & (1 << 63)) | ((1023 + e) as u64) << 52 | (rng.next() >> 12)
+            }
+        };
+        let want = (
+            convert(f64f, to, bits, RoundingMode::Down),
+            convert(f64f, to, bits, RoundingMode::Up),
+        );
+        eq.check(
+            round_exact_f64_down_up(to, f64::from_bits(bits)),
+            want,
+            || format!("{to}: v = {:e} ({bits:#018x})", f64::from_bits(bits)),
+        );
+    }
+    eq.finish();
+}
+
 #[test]
 fn to_f32_every_pattern_of_small_formats() {
     use golden_model::float::{convert, native::to_f32};

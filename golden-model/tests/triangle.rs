@@ -72,6 +72,68 @@ fn exact_hit(o: [f32; 3], d: [f32; 3], tri: [[f32; 3]; 3]) -> Option<exact::Hit>
     )
 }
 
+/// The exact test's segment `t_min ≤ t ≤ t_max` with finite bounds (the
+/// tests above use `[0, ∞]`, where only `t_min`'s comparison is reached):
+/// closed at both ends, decided exactly for a `t` no float holds (1/3 lies
+/// between two neighbouring binary32 values), for bounds of either sign of
+/// exponent, and for the non-finite bounds.
+#[test]
+fn the_exact_test_honours_finite_bounds() {
+    let tri = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let hit = |oz: f32, dz: f32, t_min: f32, t_max: f32| {
+        let h = exact::intersect(
+            F32,
+            [bits(0.25), bits(0.25), bits(oz)],
+            [bits(0.0), bits(0.0), bits(dz)],
+            tri.map(|v| v.map(bits)),
+            bits(t_min),
+            bits(t_max),
+        );
+        h.map(|h| h.t_f64())
+    };
+    let inf = f32::INFINITY;
+    // t = 1/3 exactly: between the neighbours below and above it
+    let above = 1.0f32 / 3.0;
+    let below = f32::from_bits(above.to_bits() - 1);
+    assert!((below as f64) < 1.0 / 3.0 && 1.0 / 3.0 < (above as f64));
+    let third = |t_min: f32, t_max: f32| hit(-1.0, 3.0, t_min, t_max);
+    let t = third(0.0, inf).expect("the ray crosses the triangle's inside");
+    assert!((t - 1.0 / 3.0).abs() < 1e-15, "t = {t}");
+    for (t_min, t_max, want) in [
+        (0.0, above, true),
+        (0.0, below, false),
+        (below, inf, true),
+        (above, inf, false),
+        (below, above, true),
+        (-1.0, 1.0, true),
+        // bounds m·2^e with e ≥ 0
+        (0.0, 2f32.powi(30), true),
+        (2f32.powi(30), inf, false),
+        (0.0, 3.0, true),
+        (3.0, inf, false),
+        // non-finite bounds
+        (-inf, inf, true),
+        (0.0, -inf, false),
+        (inf, inf, false),
+        (f32::NAN, inf, false),
+        (0.0, f32::NAN, false),
+    ] {
+        assert_eq!(
+            third(t_min, t_max).is_some(),
+            want,
+            "t = 1/3 in [{t_min}, {t_max}]"
+        );
+    }
+    // t = 1 exactly (a float): the segment is closed at both ends
+    let one = |t_min: f32, t_max: f32| hit(-3.0, 3.0, t_min, t_max).is_some();
+    let (after, before) = (
+        f32::from_bits(1f32.to_bits() + 1),
+        f32::from_bits(1f32.to_bits() - 1),
+    );
+    assert!(one(1.0, 1.0) && one(0.0, 1.0) && one(1.0, inf));
+    assert!(!one(0.0, before) && !one(after, inf));
+}
+
 /// Random triangles and rays aimed near them: the golden model agrees with
 /// the exact test except within rounding distance of an edge, and its `t`
 /// is within a few ulps.

@@ -423,4 +423,11 @@ mod tests {
         assert_eq!(sint_width(-129, 0), 9);
         assert_eq!(sint_width(0, 128), 9);
     }
+
+    /// The `Display` of a format is its module-name tag (test messages print it).
+    #[test]
+    fn a_format_displays_as_its_tag() {
+        assert_eq!(Format::BINARY32.to_string(), "e8m23");
+        assert_eq!(Format::new(2, 1).unwrap().to_string(), "e2m1");
+    }
 }

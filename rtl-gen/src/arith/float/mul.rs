@@ -228,6 +228,19 @@ mod tests {
     use crate::golden_twin::{golden_format, golden_mode};
     use golden_model::float::{convert, mul, RoundingMode};
 
+    /// The product's exponent (the sum of each operand's `eff − bias − F`,
+    /// eff 1 ..= 2^E − 2) takes no more bits than its range: binary32 spans
+    /// −298 to 208 (10 signed bits), e5m10 −48 to 10 (7), e2m1 −2 to 0 (2),
+    /// e5m10 × binary32 −173 to 109 (9).
+    #[test]
+    fn the_product_exponent_is_as_narrow_as_its_range() {
+        let f = |e, m| Format::new(e, m).unwrap();
+        assert_eq!(mul_exp_width(f(8, 23)), 10);
+        assert_eq!(mul_exp_width(f(5, 10)), 7);
+        assert_eq!(mul_exp_width(f(2, 1)), 2);
+        assert_eq!(mul_mixed_exp_width(f(5, 10), f(8, 23)), 9);
+    }
+
     /// The mixed-width product against the golden model's product of both
     /// operands widened exactly into `to` (which contains both formats):
     /// every pair of a small pair of formats in every mode, random pairs of
