@@ -116,27 +116,28 @@ fn node_child_stimulus_reaches_hits_misses_and_entries() {
     );
 }
 
-/// `node` (children, box_bits, slope_bits, format, stages, products, Verilator vectors;
-/// 0: the evaluator only). Both product structures: `whole` shifts each slope once per
-/// node, `split` each distance per child.
-type NodeCase = (u32, u32, u32, &'static str, u32, &'static str, u64);
+/// `node` (children, box_bits, slope_bits, start_bits, format, stages, products,
+/// Verilator vectors; 0: the evaluator only). Both product structures: `whole` shifts each
+/// slope once per node, `split` each distance per child; start bits below the format's
+/// precision (binary32 at 18, 17 and 9, e5m10 at 6) round the start down.
+type NodeCase = (u32, u32, u32, u32, &'static str, u32, &'static str, u64);
 
 const NODE_CASES: &[NodeCase] = &[
-    (4, 8, 8, "binary32", 4, "whole", 1_000_000),
-    (8, 8, 8, "binary32", 2, "split", 1_000_000),
-    (2, 12, 8, "binary32", 1, "split", 1_000_000),
-    (2, 8, 8, "binary32", 0, "split", 0),
-    (8, 8, 8, "binary32", 0, "whole", 0),
-    (4, 12, 12, "binary32", 0, "whole", 0),
-    (4, 16, 8, "binary32", 3, "split", 0),
-    (4, 16, 8, "binary32", 3, "whole", 0),
-    (4, 8, 8, "e5m10", 1, "whole", 0),
-    (2, 4, 8, "e3m2", 2, "split", 0),
-    (2, 4, 8, "e3m2", 2, "whole", 0),
+    (4, 8, 9, 18, "binary32", 4, "whole", 1_000_000),
+    (8, 8, 9, 18, "binary32", 2, "split", 1_000_000),
+    (2, 12, 8, 17, "binary32", 1, "split", 1_000_000),
+    (2, 8, 8, 9, "binary32", 0, "split", 0),
+    (8, 8, 9, 18, "binary32", 0, "whole", 0),
+    (4, 12, 12, 17, "binary32", 0, "whole", 0),
+    (4, 16, 8, 17, "binary32", 3, "split", 0),
+    (4, 16, 8, 17, "binary32", 3, "whole", 0),
+    (4, 8, 8, 6, "e5m10", 1, "whole", 0),
+    (2, 4, 8, 17, "e3m2", 2, "split", 0),
+    (2, 4, 8, 17, "e3m2", 2, "whole", 0),
 ];
 
 fn node_params(c: &NodeCase) -> Vec<String> {
-    let (e, f) = match c.3 {
+    let (e, f) = match c.4 {
         "binary32" => (8, 23),
         "e5m10" => (5, 10),
         "e3m2" => (3, 2),
@@ -146,10 +147,11 @@ fn node_params(c: &NodeCase) -> Vec<String> {
         format!("children={}", c.0),
         format!("box_bits={}", c.1),
         format!("slope_bits={}", c.2),
+        format!("start_bits={}", c.3),
         format!("exp_bits={e}"),
         format!("frac_bits={f}"),
-        format!("stages={}", c.4),
-        format!("products={}", c.5),
+        format!("stages={}", c.5),
+        format!("products={}", c.6),
     ]
 }
 
@@ -157,7 +159,7 @@ fn node_params(c: &NodeCase) -> Vec<String> {
 fn node_evaluator_matches_golden_model() {
     for c in NODE_CASES {
         let (g, _) = generate("node_eval", "node", &node_params(c));
-        assert_eq!(g.module.latency, c.4);
+        assert_eq!(g.module.latency, c.5);
         evaluated(&g, 3_000, 11);
     }
 }
@@ -173,7 +175,8 @@ fn node_stimulus_reaches_every_kind_of_answer() {
         fmt: rtl_gen::arith::float::Format::new(8, 23).unwrap(),
         children: 4,
         box_bits: 8,
-        slope_bits: 8,
+        slope_bits: 9,
+        start_bits: 18,
         stages: 4,
         products: rtl_gen::retime::Products::Split,
     };
@@ -208,8 +211,8 @@ fn node_stimulus_reaches_every_kind_of_answer() {
 
 #[test]
 fn node_matches_golden_model_in_verilator() {
-    for c in NODE_CASES.iter().filter(|c| c.6 > 0) {
+    for c in NODE_CASES.iter().filter(|c| c.7 > 0) {
         let (g, dir) = generate("node_verilator", "node", &node_params(c));
-        cross_checked(&g, &dir, c.6, 7);
+        cross_checked(&g, &dir, c.7, 7);
     }
 }

@@ -11,8 +11,10 @@
 //!
 //! **Per node** (`q` box bits, `Q = 2^q − 1`; `g` position fraction bits,
 //! `h` cell bits, `m` slope bits):
-//! 1. `T = max(t_min, t_start)`; the ray's position at `T` in frame steps,
-//!    `x = (o + T·d − O)/2^e` per axis, bounded below and above in `2^−g`
+//! 1. `T = max(t_min, t_start)`, then rounded down to `p` significant bits
+//!    ([`start_term`]: still a lower bound of every hit, and each per-node
+//!    product `T·d` is `p × (F + 1)` bits, one DSP48E1 at `p = 17`); the
+//!    ray's position at `T` in frame steps, `x = (o + T·d − O)/2^e` per axis, bounded below and above in `2^−g`
 //!    steps from a window sum ([`window_sum`]: exact unless a term reaches
 //!    below the window, then one step wider per such term) and clamped to
 //!    `±2^(q + 3)` (a clamp that never changes a cell);
@@ -58,11 +60,14 @@ pub struct ReoriginParams {
     pub cell_bits: u32,
     /// significant bits m of the per-axis time per step
     pub slope_bits: u32,
+    /// significant bits p the start `T` is rounded down to
+    pub start_bits: u32,
 }
 
 impl ReoriginParams {
-    /// The defaults, the `node` unit's: g = 4, h = 4, m = 8 (docs/node.md §10:
-    /// m = 8 is within the tightness ceiling; m = 12 is 5 % tighter).
+    /// The defaults, the `node` unit's: g = 4, h = 4, m = 9, p = 18 (docs/node.md
+    /// §10, §12: m = 8 with an unrounded start is within the tightness ceiling,
+    /// m = 9 keeps it with the start rounded to 18 bits; m = 12 is 5 % tighter).
     pub fn new(fmt: FloatFormat, children: usize, box_bits: u32) -> ReoriginParams {
         ReoriginParams {
             fmt,
@@ -70,7 +75,8 @@ impl ReoriginParams {
             box_bits,
             pos_frac: 4,
             cell_bits: 4,
-            slope_bits: 8,
+            slope_bits: 9,
+            start_bits: 18,
         }
     }
 
@@ -153,6 +159,37 @@ impl Term {
             v: self.v.mul(&other.v),
             top: self.top + other.top,
         }
+    }
+}
+
+/// The start `T` rounded down to `p` significant bits of its encoding, as a
+/// window term: a positive normal `T` keeps the bits at or above `2^(top −
+/// p)` (and its `top`), a subnormal one becomes `+0`, a negative one `−2^top`
+/// (the term's `top` one more), so that every nonzero start has its leading
+/// bit at `2^(top − 1)` and `T·d` is `d·2^(top−1)` plus a `(p − 1)`-bit
+/// product. `None` when `−2^top` is not a float (`top > emax`): the caller
+/// then has no start. An earlier start is still a lower bound of every hit;
+/// what it costs is tightness (distances from it are longer, and so are the
+/// slopes' rounding errors on them).
+fn start_term(fmt: FloatFormat, p: u32, bits: u64) -> Option<Term> {
+    let t = Term::float(fmt, bits);
+    match t.v.signum() {
+        0 => Some(t),
+        1 if t.v.ilog2() < i64::from(fmt.emin()) => Some(Term {
+            v: Dyadic::new(IBig::ZERO, 0),
+            top: t.top,
+        }),
+        1 => {
+            let lsb = t.top - i64::from(p);
+            Some(Term {
+                v: Dyadic::new(t.v.div_pow2_round(lsb, false), lsb),
+                top: t.top,
+            })
+        }
+        _ => (t.top <= i64::from(fmt.emax())).then(|| Term {
+            v: Dyadic::new(IBig::from(-1), t.top),
+            top: t.top + 1,
+        }),
     }
 }
 
@@ -305,16 +342,16 @@ pub fn eval_with(
         (Some(a), _) => (Some(a), ray.t_min),
         (None, b) => (b, t_start),
     };
-    let Some(t) = t else {
-        // no finite start: nothing to re-originate at; every valid slot may be hit
-        return NodeOut {
-            bad: false,
-            t_base: Bound::NegInf,
-            grid_exp: 0,
-            slots: all(true, 0),
-        };
+    // no start: nothing to re-originate at; every valid slot may be hit
+    let open_out = || NodeOut {
+        bad: false,
+        t_base: Bound::NegInf,
+        grid_exp: 0,
+        slots: all(true, 0),
     };
-    let t_term = Term::float(fmt, t_bits);
+    let Some(t) = t else {
+        return open_out(); // no finite start
+    };
     let t_max = match decode(fmt, ray.t_max) {
         Exact::Fin { .. } => Some(Term::float(fmt, ray.t_max)),
         Exact::PosInf => None,
@@ -326,6 +363,9 @@ pub fn eval_with(
     {
         return miss_out();
     }
+    let Some(t_term) = start_term(fmt, p.start_bits, t_bits) else {
+        return open_out(); // a negative start in the largest binade: no float below it
+    };
     // clamped beyond ±2^(q + 3) steps: a distance from a clamped position is then at least
     // 2^(q + 3) − Q steps of at least 2^h cells, above the cap C = 2^(q + h + 2)
     let x_range = 1i64 << (q + 3 + p.pos_frac);
@@ -514,7 +554,7 @@ pub fn eval_with(
     crate::node::sort(&mut slots);
     NodeOut {
         bad: false,
-        t_base: Bound::Fin(t),
+        t_base: Bound::Fin(t_term.v),
         grid_exp,
         slots,
     }

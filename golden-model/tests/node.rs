@@ -965,7 +965,12 @@ fn reorigin_node_is_conservative() {
     let mut base_tmin = vec![[0u64; 5]; FAMILIES.len()];
     // the study's precision, read once (None: the defaults)
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
-    let (g, h, m) = (env("REORIGIN_G"), env("REORIGIN_H"), env("REORIGIN_M"));
+    let (g, h, m, p) = (
+        env("REORIGIN_G"),
+        env("REORIGIN_H"),
+        env("REORIGIN_M"),
+        env("REORIGIN_P"),
+    );
     let (mut done, mut k) = (0, 0);
     while done < pairs {
         let (fmt, n, q) = SHAPES[k % SHAPES.len()];
@@ -975,6 +980,7 @@ fn reorigin_node_is_conservative() {
         rp.pos_frac = g.unwrap_or(rp.pos_frac);
         rp.cell_bits = h.unwrap_or(rp.cell_bits);
         rp.slope_bits = m.unwrap_or(rp.slope_bits);
+        rp.start_bits = p.unwrap_or(rp.start_bits);
         let (t_start, entered) = start_bound(&c, &mut rng);
         let out = eval_reorigin(&rp, &c.ray, c.d, t_start, &c.node);
         let (t, b) = if entered {

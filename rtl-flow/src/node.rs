@@ -32,6 +32,7 @@ impl NodeBench {
         let fmt = golden_format(u.fmt);
         let mut params = ReoriginParams::new(fmt, u.children as usize, u.box_bits);
         params.slope_bits = u.slope_bits;
+        params.start_bits = u.start_bits;
         assert_eq!(
             params.pos_frac, POS_FRAC,
             "the position fraction is the model's"

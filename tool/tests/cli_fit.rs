@@ -165,7 +165,7 @@ fn fit_wide_chooses_the_smallest_q_within_the_rule() {
         assert!(row.contains(&format!("q={smaller}: ")), "{row}");
     }
     assert!(q < 12, "the bunny needs no more than q = {q}: {text}");
-    assert!(out.join(format!("node_n{n}_q{q}_m8_e8m23_s4.v")).exists());
+    assert!(out.join(format!("node_n{n}_q{q}_m9_e8m23_s4.v")).exists());
     assert!(out.join("fit-report.md").exists());
     let bad = run("2");
     assert_eq!(bad.status.code(), Some(2));

@@ -39,7 +39,7 @@ use crate::arith::float::{sint_width, Format};
 use crate::arith::int::{bits_for, sext, zext};
 use crate::builder::{ModuleBuilder, Sig};
 use crate::ir::{Module, Ty};
-use crate::params::ParamError;
+use crate::params::{ParamError, ParamSet};
 use crate::retime::Products;
 
 /// The `node` unit.
@@ -64,7 +64,11 @@ crate::params! {
         /// fraction bits F of the ray and frame format
         frac_bits: u32 [2..=23] = 23,
         /// significant bits m of the per-axis time per frame step
-        slope_bits: u32 [4..=16] = 8,
+        slope_bits: u32 [4..=16] = 9,
+        /// significant bits p the start `T` is rounded down to before the per-node products
+        /// `T·d`, formed as `d·2^(p−1)` plus `d` times the p − 1 bits below the leading one
+        /// (18: one DSP48E1 and its post-adder each; a negative `T` becomes `−2^top`)
+        start_bits: u32 [2..=24] = 18,
         /// pipeline stages (latency in cycles), placed by the delay model
         stages: u32 [0..=48] = 4,
         /// split (ECP5's 18x18 MULT18X18D): each child's distance clamped and shifted so its
@@ -87,6 +91,8 @@ pub struct Config {
     pub box_bits: u32,
     /// slope significand bits m
     pub slope_bits: u32,
+    /// significant bits p of the rounded start
+    pub start_bits: u32,
     /// pipeline registers
     pub stages: u32,
     /// how the retimer flattens the per-node products
@@ -256,14 +262,20 @@ pub fn xc7_products(box_bits: u32, slope_bits: u32) -> Products {
     }
 }
 
-/// Module name: `node_n{N}_q{q}_m{m}_{fmt}[_whole]_s{stages}`.
+/// Module name: `node_n{N}_q{q}_m{m}[_p{p}]_{fmt}[_whole]_s{stages}` (`_p` unless
+/// the default start bits).
 pub fn node_name(cfg: &Config) -> String {
     let products = match cfg.products {
         Products::Split => "",
         Products::Whole => "_whole",
     };
+    let start = if cfg.start_bits == NodeParams::defaults().start_bits {
+        String::new()
+    } else {
+        format!("_p{}", cfg.start_bits)
+    };
     format!(
-        "node_n{}_q{}_m{}_{}{products}_s{}",
+        "node_n{}_q{}_m{}{start}_{}{products}_s{}",
         cfg.children,
         cfg.box_bits,
         cfg.slope_bits,
@@ -325,6 +337,88 @@ fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool, wh
             tz: trailing_zeros(m, u.sig),
         }
     })
+}
+
+/// The start `T` (bits `t`, unpacked `u`) rounded down to `p` significant
+/// bits, as a window term (the model's `start_term`): a positive normal `T`
+/// keeps its top `p` significand bits, a subnormal one becomes zero, a
+/// negative one `−2^top` (the term's `top` one more), so a live term's
+/// leading bit is set. Returns the term, the rounded start's bits (`+0` when
+/// zero) and whether a negative `T` rounded beyond the format (`top > emax`).
+fn start_term(m: &mut ModuleBuilder, fmt: Format, p: u32, t: Sig, u: &Unpacked) -> (Term, Sig, Sig) {
+    let fw = fmt.frac_bits + 1;
+    let p = p.min(fw);
+    let drop = fw - p;
+    let exact = float_term(m, fmt, u, false, "exact");
+    let not_zero = m.not(u.zero);
+    let below = m.and(u.sign, not_zero);
+    let below = m.name(below, "negative");
+    // positive: the low `drop` bits cleared, in the significand and in the encoding
+    let kept = m.slice(u.sig, fw - 1, drop);
+    let power = m.uint(p, 1u128 << (p - 1));
+    let sig = m.mux(below, power, kept);
+    let sig = m.name(sig, "sig");
+    let truncated = if drop == 0 {
+        t
+    } else {
+        let high = m.slice(t, fmt.width() - 1, drop);
+        let zeros = m.uint(drop, 0);
+        m.cat(&[high, zeros])
+    };
+    let truncated = m.name(truncated, "truncated");
+    // negative: −2^top, the exponent field one above T's effective one
+    let ew = fmt.exp_bits;
+    let one = m.uint(ew, 1);
+    let field = m.add(u.eff_exp, one);
+    let field = m.slice(field, ew - 1, 0);
+    let sign = m.bool(true);
+    let sign = m.as_uint(sign);
+    let frac_zero = m.uint(fmt.frac_bits, 0);
+    let power_bits = m.cat(&[sign, field, frac_zero]);
+    let power_bits = m.name(power_bits, "power_of_two");
+    let all_ones = m.uint(ew, (1u128 << ew) - 1);
+    let to_inf = m.eq(field, all_ones);
+    let overflow = m.and(below, to_inf);
+    let bits = m.mux(below, power_bits, truncated);
+    let not_below = m.not(below);
+    let none = m.or(u.zero, u.sub);
+    let zero = m.and(not_below, none);
+    let tw = exact.top.width();
+    let lift = m.as_uint(below);
+    let lift = to_sint(m, lift, tw);
+    let top = sadd(m, exact.top, lift, tw);
+    let term = Term {
+        negative: exact.negative,
+        sig,
+        zero: m.name(zero, "zero"),
+        top: m.name(top, "top"),
+        tz: trailing_zeros(m, sig),
+    };
+    (term, m.name(bits, "bits"), m.name(overflow, "overflow"))
+}
+
+/// `a·b` for an `a` whose leading bit is set (a zero start is flagged, not
+/// formed): `b·2^(wa−1)` plus `b` times `a`'s lower `wa − 1` bits, a 17 × 24
+/// multiplication for an 18-bit `a`, one DSP48E1 whose post-adder takes the
+/// sum.
+fn leading_one_product(m: &mut ModuleBuilder, a: Sig, b: Sig) -> Sig {
+    let (wa, wb) = (a.width(), b.width());
+    let w = wa + wb;
+    if wa < 2 {
+        return zext(m, b, w);
+    }
+    let lower = m.slice(a, wa - 2, 0);
+    let lower = m.name(lower, "lower_bits");
+    let partial = m.mul(lower, b);
+    let partial = zext(m, partial, w);
+    let partial = m.name(partial, "lower_product");
+    let shifted = b;
+    let low_zeros = m.uint(wa - 1, 0);
+    let shifted = m.cat(&[shifted, low_zeros]);
+    let shifted = zext(m, shifted, w);
+    let shifted = m.name(shifted, "leading_product");
+    let sum = m.add(partial, shifted);
+    m.slice(sum, w - 1, 0)
 }
 
 impl Term {
@@ -665,6 +759,8 @@ pub fn build(cfg: &Config) -> Module {
     });
     let t_neg_inf = m.and(t_u.inf, t_u.sign);
     let t_neg_inf = m.name(t_neg_inf, "no_start");
+    let (t_term, t_rounded_bits, start_overflow) =
+        m.scope("start_rounded", |m| start_term(m, fmt, cfg.start_bits, t_bits, &t_u));
     // every slot a miss: a start at +∞, an end at −∞ or before T
     let none = m.scope("empty_segment", |m| {
         let not_s = m.not(t_min.sign);
@@ -680,7 +776,6 @@ pub fn build(cfg: &Config) -> Module {
         let e = m.or(a, b);
         m.name(e, "empty")
     });
-    let t_term = float_term(&mut m, fmt, &t_u, false, "start_term");
     // per axis: the position at T, E, the slope significands
     let axes: Vec<AxisTerms> = (0..3)
         .map(|a| {
@@ -692,10 +787,10 @@ pub fn build(cfg: &Config) -> Module {
                 let ot = float_term(m, fmt, &o[a], false, "origin_term");
                 let frame = float_term(m, fmt, &org[a], true, "frame_term");
                 let dt = float_term(m, fmt, &d[a], false, "direction_term");
-                let product = m.mul(t_u.sig, d[a].sig);
+                let product = m.scope("t_times_d", |m| leading_one_product(m, t_term.sig, d[a].sig));
                 let product = m.name(product, "t_times_d");
-                let sign = m.ne(t_u.sign, d[a].sign);
-                let zero = m.or(t_u.zero, d[a].zero);
+                let sign = m.ne(t_term.negative, d[a].sign);
+                let zero = m.or(t_term.zero, d[a].zero);
                 let tw = t_term.top.width();
                 let top = sadd(m, t_term.top, dt.top, tw);
                 // a product's trailing zeros are its factors' together
@@ -972,7 +1067,12 @@ pub fn build(cfg: &Config) -> Module {
     let eb = cfg.entry_bits();
     let sentinel = m.uint(eb, (1u128 << eb) - 1);
     let zero_e = m.uint(eb, 0);
-    let all_in = m.or(bad, t_neg_inf);
+    // no start (T = −∞, or a negative one rounded beyond the format) unless the segment is
+    // empty (the model checks t_max < T first; T = −∞ never makes it empty)
+    let not_none = m.not(none);
+    let overflow = m.and(start_overflow, not_none);
+    let open = m.or(t_neg_inf, overflow);
+    let all_in = m.or(bad, open);
     let all_in = m.name(all_in, "every_valid_slot");
     let good = m.not(bad);
     let none = m.and(none, good);
@@ -997,7 +1097,7 @@ pub fn build(cfg: &Config) -> Module {
     let neg_inf = m.uint(fmt.width(), fmt.inf_bits() | 1u128 << (fmt.width() - 1));
     let no_t = m.or(all_in, none);
     let plus_zero = m.uint(fmt.width(), 0);
-    let t_out = m.mux(t_u.zero, plus_zero, t_bits);
+    let t_out = m.mux(t_term.zero, plus_zero, t_rounded_bits);
     let t_out = m.mux(no_t, neg_inf, t_out);
     let zero_g = m.sint(gw, 0);
     let g_out = m.mux(no_t, zero_g, grid_exp);
@@ -1114,6 +1214,7 @@ impl Description for Node {
             children: p.children,
             box_bits: p.box_bits,
             slope_bits: p.slope_bits,
+            start_bits: p.start_bits,
             stages: p.stages,
             products: p.products,
         })
