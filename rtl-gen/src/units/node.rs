@@ -345,7 +345,13 @@ fn float_term(m: &mut ModuleBuilder, fmt: Format, u: &Unpacked, negate: bool, wh
 /// negative one `−2^top` (the term's `top` one more), so a live term's
 /// leading bit is set. Returns the term, the rounded start's bits (`+0` when
 /// zero) and whether a negative `T` rounded beyond the format (`top > emax`).
-fn start_term(m: &mut ModuleBuilder, fmt: Format, p: u32, t: Sig, u: &Unpacked) -> (Term, Sig, Sig) {
+fn start_term(
+    m: &mut ModuleBuilder,
+    fmt: Format,
+    p: u32,
+    t: Sig,
+    u: &Unpacked,
+) -> (Term, Sig, Sig) {
     let fw = fmt.frac_bits + 1;
     let p = p.min(fw);
     let drop = fw - p;
@@ -759,8 +765,9 @@ pub fn build(cfg: &Config) -> Module {
     });
     let t_neg_inf = m.and(t_u.inf, t_u.sign);
     let t_neg_inf = m.name(t_neg_inf, "no_start");
-    let (t_term, t_rounded_bits, start_overflow) =
-        m.scope("start_rounded", |m| start_term(m, fmt, cfg.start_bits, t_bits, &t_u));
+    let (t_term, t_rounded_bits, start_overflow) = m.scope("start_rounded", |m| {
+        start_term(m, fmt, cfg.start_bits, t_bits, &t_u)
+    });
     // every slot a miss: a start at +∞, an end at −∞ or before T
     let none = m.scope("empty_segment", |m| {
         let not_s = m.not(t_min.sign);
@@ -787,7 +794,9 @@ pub fn build(cfg: &Config) -> Module {
                 let ot = float_term(m, fmt, &o[a], false, "origin_term");
                 let frame = float_term(m, fmt, &org[a], true, "frame_term");
                 let dt = float_term(m, fmt, &d[a], false, "direction_term");
-                let product = m.scope("t_times_d", |m| leading_one_product(m, t_term.sig, d[a].sig));
+                let product = m.scope("t_times_d", |m| {
+                    leading_one_product(m, t_term.sig, d[a].sig)
+                });
                 let product = m.name(product, "t_times_d");
                 let sign = m.ne(t_term.negative, d[a].sign);
                 let zero = m.or(t_term.zero, d[a].zero);
