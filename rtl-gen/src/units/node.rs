@@ -601,8 +601,30 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let ext = m.cat(&[v, zeros]);
     let ext = m.as_sint(ext);
     let ext = m.name(ext, "with_headroom");
+    // only the low ow + 1 bits of the shift are formed: when v has significant bits at or
+    // above `amount`, `ext >> amount` is outside [−2^ow, 2^ow) and beyond the clamp whatever
+    // the rounding adds (found from v's leading sign bits, not from the shifted bits)
     let floor = m.shr(ext, amount);
-    let floor = m.name(floor, "floor");
+    let floor = m.slice(floor, ow, 0);
+    let floor = m.as_sint(floor);
+    let floor = m.name(floor, "floor_low");
+    let overflow = m.scope("beyond_low_bits", |m| {
+        // v ∈ [−2^k, 2^k) for k = vw − 1 − (leading zeros of v's bits xor their upper
+        // neighbours): the bits above k all equal the sign
+        let upper = m.slice(v, vw - 1, 1);
+        let lower = m.slice(v, vw - 2, 0);
+        let changes = m.xor(upper, lower);
+        let changes = m.as_uint(changes);
+        let same = lzc(m, changes);
+        let cw = same.width().max(amount.width()) + 1;
+        let same = zext(m, same, cw);
+        let amount_w = zext(m, amount, cw);
+        let sum = m.add(same, amount_w);
+        let sum = m.slice(sum, cw - 1, 0);
+        let len = m.uint(cw, u128::from(vw - 1));
+        let o = m.lt(sum, len);
+        m.name(o, "overflow")
+    });
     // a one below the shift's reach was lost: trailing zeros of v + ow below it
     let tz = trailing_zeros(m, v);
     let tw = tz.width().max(rcap) + 1;
@@ -637,16 +659,18 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let r = m.name(r, "clamped_above");
     let r = m.mux(below, neg_lim, r);
     let r = m.name(r, "clamped");
-    // s beyond the headroom: any nonzero v is beyond the clamp
     let zero_v = m.sint(vw, 0);
     let negative = m.lt(v, zero_v);
     let negative = m.name(negative, "negative");
+    let beyond = m.mux(negative, neg_lim, lim);
+    let beyond = m.name(beyond, "beyond_limit");
+    let r = m.mux(overflow, beyond, r);
+    let r = m.name(r, "clamped_or_beyond");
+    // s beyond the headroom: any nonzero v is beyond the clamp
     let nonzero = m.ne(v, zero_v);
     let nonzero = m.name(nonzero, "nonzero");
     let zero_o = m.sint(ow, 0);
-    let sat = m.mux(negative, neg_lim, lim);
-    let sat = m.name(sat, "saturated");
-    let sat = m.mux(nonzero, sat, zero_o);
+    let sat = m.mux(nonzero, beyond, zero_o);
     let sat = m.name(sat, "saturated_or_zero");
     let r = m.mux(huge, sat, r);
     m.name(r, "on_grid")
