@@ -22,6 +22,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
+mod split;
+
 /// The reference's inputs, in port order (the box, the ray, the segment).
 const RAY_BOX_PORTS: [&str; 14] = [
     "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z", "d_x",
@@ -1061,8 +1063,9 @@ fn unit_instance(
 }
 
 /// The wrapper `prove_sound`: the unit (stages=0) beside the reference, the
-/// input contract assumed, `exact hit → unit hit` asserted.
-pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
+/// input contract assumed, `exact hit → unit hit` asserted; with `split`,
+/// also the slab's lemmas ([`split`]).
+pub fn wrapper(unit: &Generated, fmt: FloatFormat, split: bool) -> Result<String, String> {
     let (reference, _) = exact_reference(fmt);
     let p = &unit.ports;
     let takes_inv_d = p.inputs.iter().any(|x| x.name == "inv_d_x");
@@ -1159,6 +1162,9 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
                 "real_d_lo_{a} <= real_d_{a} && real_d_{a} <= real_d_hi_{a}"
             ));
         }
+    }
+    if split {
+        v.push_str(&split::wrapper_part(fmt));
     }
     let _ = writeln!(
         v,
@@ -1434,13 +1440,15 @@ enum Kind {
 /// Proves `unit` (generated at stages=0; its Verilog from `verilog` when
 /// given, for the replay) sound against the exact reference in the job
 /// directory `work` (emptied first); the reference is checked in Icarus on
-/// `reference_cases` inputs before.
+/// `reference_cases` inputs before. `split`: prove the slab's lemmas
+/// ([`split`]) instead of the whole property in one SAT call.
 pub fn sound(
     unit: &Generated,
     verilog: Option<&Path>,
     work: &Path,
     reference_cases: usize,
     solver: crate::prove::Solver,
+    split: bool,
 ) -> Result<crate::prove::Outcome, String> {
     use crate::prove::Outcome;
     let v = unit.params.values();
@@ -1457,6 +1465,14 @@ pub fn sound(
             "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared), slab \
              -p rounding=conservative, cull and node, with handshake=valid (the testers whose inputs the exact \
              references take); not for {} {}",
+            unit.unit,
+            unit.param_args()
+        ));
+    }
+    if split && (unit.unit != "slab" || !matches!(solver, crate::prove::Solver::Sat)) {
+        return Err(format!(
+            "--split is built for slab -p rounding=conservative with --solver sat (its lemmas are \
+             the slab's per-axis bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1535,7 +1551,11 @@ pub fn sound(
         Kind::RayBox => {
             let (reference, reference_text) = exact_reference(fmt);
             files.push(put(&format!("{reference}.v"), &reference_text)?);
-            files.push(put("prove_sound.v", &wrapper(unit, fmt)?)?);
+            if split {
+                let (lemmas, lemmas_text) = split::lemma_module(fmt);
+                files.push(put(&format!("{lemmas}.v"), &lemmas_text)?);
+            }
+            files.push(put("prove_sound.v", &wrapper(unit, fmt, split)?)?);
             "# reachable: a ray that meets the box, one the unit rejects, an AllHit (bundles)\n\
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_hit 0 -set unit_hit 0\n\
@@ -1567,13 +1587,20 @@ pub fn sound(
                design -save proof\nchformal -assert -remove\n";
     script += covers;
     let cover_script = script.clone();
-    script += "design -load proof\n\
-               sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
+    if split {
+        script += &split::script();
+    } else {
+        script += "design -load proof\n\
+                   sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
+    }
     put("prove.ys", &script)?;
     // Yosys sat answers the covers and reads counterexamples; Boolector (SBY,
     // word-level) only proves, from the same files
     use crate::prove::{Solver, Verdict};
     let yosys_verdict = |log: &str| {
+        if split {
+            return split::verdict(log);
+        }
         if log.contains("SAT proof finished - model found: FAIL!") {
             Verdict::Failed
         } else if log.contains("SAT proof finished - no model found: SUCCESS!") {
@@ -1627,8 +1654,12 @@ pub fn sound(
                     ""
                 }
             ),
-            2,
-            "a hit and a rejected ray",
+            if split { 3 } else { 2 },
+            if split {
+                "a hit, a rejected ray and a hit where the unit's per-axis intervals meet"
+            } else {
+                "a hit and a rejected ray"
+            },
         ),
         Kind::Node { q, .. } => (
             format!(
@@ -1718,9 +1749,16 @@ pub fn sound(
             work.join("replay.txt").display()
         )));
     }
+    // the lemmas' results, when split
+    let lemmas = if split {
+        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+        format!(" (split: {})", split::summary(&log))
+    } else {
+        String::new()
+    };
     if !matches!(verdict, Verdict::Proved) {
         return Ok(Outcome::Unknown(format!(
-            "{what}: no verdict in {}",
+            "{what}: no verdict{lemmas} in {}",
             log_path.display()
         )));
     }
@@ -1732,7 +1770,7 @@ pub fn sound(
     }
     Ok(Outcome::Proved(format!(
         "{what}: the reference agreed with the Rust exact test on {reference_cases} simulated inputs ({checked}); \
-         {reachable} are reachable; {}, {:.1} s; {}",
+         {reachable} are reachable; {}{lemmas}, {:.1} s; {}",
         match solver {
             Solver::Sat => "Yosys sat",
             Solver::Boolector => "Boolector",
