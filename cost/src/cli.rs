@@ -319,8 +319,9 @@ pub struct ProveArgs {
     /// the job directory, `<job>.planted/`)
     #[arg(long, value_name = "NAME")]
     plant: Option<String>,
-    /// `--property sound` of `slab -p rounding=conservative` as lemmas (per-axis bounds, then
-    /// their combination), each its own SAT call: what proves at e3m2 (docs/proofs.md)
+    /// `--property sound` of `slab -p rounding=conservative` and `cull` as lemmas (bounds on
+    /// the unit's per-axis or per-plane results, then their combination), each its own SAT
+    /// call: what proves at e3m2 (docs/proofs.md)
     #[arg(long)]
     split: bool,
 }
@@ -869,7 +870,7 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             );
         }
         if a.split {
-            return Err("--split splits --property sound (the slab's lemmas)".into());
+            return Err("--split splits --property sound (its lemmas)".into());
         }
         let mut dut = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
         if let Some(dir) = &a.verilog {

@@ -1189,7 +1189,7 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat, split: bool) -> Result<String
 ///   negative), `0 ≤ rcp_lo ≤ 1/|b_lo| ≤ rcp_hi` (`rcp_hi` may be +∞) by
 ///   cross-multiplication; `+∞` both for `b_lo = 0` and `+0` both for
 ///   `b_lo = −∞`, as `cull_ray` gives them.
-fn cull_wrapper(unit: &Generated, c: CullFormats) -> String {
+fn cull_wrapper(unit: &Generated, c: CullFormats, split: bool) -> String {
     let p = &unit.ports;
     let fmt = c.ray;
     let w = fmt.width();
@@ -1303,9 +1303,13 @@ fn cull_wrapper(unit: &Generated, c: CullFormats) -> String {
     let instance = unit_instance(unit, str::to_string, |name| {
         (name == "keep").then(|| "unit_keep".to_string())
     });
+    let _ = writeln!(v, "    (* keep *) wire unit_keep;\n    {instance}");
+    if split {
+        v.push_str(&split::cull_wrapper_part(c));
+    }
     let _ = writeln!(
         v,
-        "    (* keep *) wire unit_keep;\n    {instance}\n    always @(*) begin\n        \
+        "    always @(*) begin\n        \
          assume ({});\n        // never a wrongful cull\n        assert (!exact_hit || unit_keep);\n    end\nendmodule",
         assumes.join("\n            && ")
     );
@@ -1440,7 +1444,7 @@ enum Kind {
 /// Proves `unit` (generated at stages=0; its Verilog from `verilog` when
 /// given, for the replay) sound against the exact reference in the job
 /// directory `work` (emptied first); the reference is checked in Icarus on
-/// `reference_cases` inputs before. `split`: prove the slab's lemmas
+/// `reference_cases` inputs before. `split`: prove the lemmas of the slab or the cull tester
 /// ([`split`]) instead of the whole property in one SAT call.
 pub fn sound(
     unit: &Generated,
@@ -1469,10 +1473,13 @@ pub fn sound(
             unit.param_args()
         ));
     }
-    if split && (unit.unit != "slab" || !matches!(solver, crate::prove::Solver::Sat)) {
+    if split
+        && (!["slab", "cull"].contains(&unit.unit.as_str())
+            || !matches!(solver, crate::prove::Solver::Sat))
+    {
         return Err(format!(
-            "--split is built for slab -p rounding=conservative with --solver sat (its lemmas are \
-             the slab's per-axis bounds); not for {} {}",
+            "--split is built for slab -p rounding=conservative and cull with --solver sat (its \
+             lemmas are their per-axis and per-plane bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1518,6 +1525,12 @@ pub fn sound(
         }
     } else {
         Kind::RayBox
+    };
+    // where a split proof cuts the unit
+    let cut = match kind {
+        _ if !split => None,
+        Kind::Cull(c) => Some(split::cull_cut(c.k)),
+        _ => Some(split::slab_cut()),
     };
     if work.exists() {
         std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
@@ -1573,7 +1586,7 @@ pub fn sound(
              sat -set-assumes -set child0_valid 1 -set unit_hit_0 0\n"
         }
         Kind::Cull(c) => {
-            files.push(put("prove_sound.v", &cull_wrapper(unit, c))?);
+            files.push(put("prove_sound.v", &cull_wrapper(unit, c, split))?);
             "# reachable: a segment that meets the region, and a cull of one that meets the box\n\
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_box_hit 1 -set unit_keep 0\n"
@@ -1587,8 +1600,8 @@ pub fn sound(
                design -save proof\nchformal -assert -remove\n";
     script += covers;
     let cover_script = script.clone();
-    if split {
-        script += &split::script();
+    if let Some(cut) = &cut {
+        script += &split::script(cut);
     } else {
         script += "design -load proof\n\
                    sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
@@ -1598,8 +1611,8 @@ pub fn sound(
     // word-level) only proves, from the same files
     use crate::prove::{Solver, Verdict};
     let yosys_verdict = |log: &str| {
-        if split {
-            return split::verdict(log);
+        if let Some(cut) = &cut {
+            return split::verdict(log, cut);
         }
         if log.contains("SAT proof finished - model found: FAIL!") {
             Verdict::Failed
@@ -1656,7 +1669,7 @@ pub fn sound(
             ),
             if split { 3 } else { 2 },
             if split {
-                "a hit, a rejected ray and a hit where the unit's per-axis intervals meet"
+                "a hit, a rejected ray and a hit where the unit's per-axis results meet"
             } else {
                 "a hit and a rejected ray"
             },
@@ -1683,8 +1696,13 @@ pub fn sound(
             "geometry finite, no NaN; [t_lo, t_hi] ⊇ the exact segment ∩ box; no_lo ≤ n·(o − r), \
              b_lo ≤ n·d, dir its sign, rcp_lo ≤ 1/|b_lo| ≤ rcp_hi by cross-multiplication"
                 .to_string(),
-            2,
-            "a segment that meets the region and a cull of one that meets the box",
+            if split { 3 } else { 2 },
+            if split {
+                "a segment that meets the region, a cull of one that meets the box and a region hit \
+                 where the unit's per-plane results meet"
+            } else {
+                "a segment that meets the region and a cull of one that meets the box"
+            },
         ),
     };
     let what = format!(
@@ -1750,9 +1768,9 @@ pub fn sound(
         )));
     }
     // the lemmas' results, when split
-    let lemmas = if split {
+    let lemmas = if let Some(cut) = &cut {
         let log = std::fs::read_to_string(&log_path).unwrap_or_default();
-        format!(" (split: {})", split::summary(&log))
+        format!(" (split: {})", split::summary(&log, cut))
     } else {
         String::new()
     };

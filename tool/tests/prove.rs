@@ -246,8 +246,8 @@ fn bad_requests_are_errors() {
             "no plant `lt-for-le` for slab",
         ),
         (
-            vec!["prove", "cull", "--property", "sound", "--split"],
-            "--split is built for slab",
+            vec!["prove", "node", "--property", "sound", "--split"],
+            "--split is built for slab -p rounding=conservative and cull",
         ),
         (
             vec!["prove", "slab", "--split"],
@@ -516,70 +516,117 @@ fn a_planted_node_miss_is_found_and_replays() {
     );
 }
 
-/// `--split`: the conservative slab's soundness as four lemmas (per-axis
-/// bounds on the unit's own instances, then their combination over free
-/// per-axis results) proved at e2m2, and each kind of lemma refuted when
-/// the unit breaks what it states: the y instance fed the x origin (a
-/// per-axis bound), the final comparison without its `=` case (the
-/// combination). So the lemmas are tied to the unit's real wires.
+/// `--split`: the conservative slab's and the cull tester's soundness as
+/// lemmas (bounds on the unit's own per-axis or per-plane results, then
+/// their combination over free results) proved at e2m2, and each kind of
+/// lemma refuted when the unit breaks what it states (at e2m1, quicker): the
+/// slab's y instance fed the x origin and plane 0's `rcp_hi` fed `rcp_lo`
+/// (a bound), the slab's final comparison without its `=` case and the cull
+/// plant `lt-for-le` (the combination). So the lemmas read the unit's real
+/// wires and are not vacuous.
 #[test]
-fn the_split_soundness_proof_proves_and_its_lemmas_bite() {
+fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
     let w = scratch("split");
-    let params = [
-        "-p",
-        "rounding=conservative",
-        "-p",
-        "exp_bits=2",
-        "-p",
-        "frac_bits=2",
-    ];
-    let job = w.join("proof").display().to_string();
-    let mut args = vec!["prove", "slab"];
-    args.extend(params);
-    args.extend(["--property", "sound", "--split", "--work", &job]);
-    let last = assert_proved(&args);
-    assert!(
-        last.contains("lemma_bounded_x proved, lemma_bounded_y proved, lemma_bounded_z proved, lemma_combine proved"),
-        "{last}"
-    );
-    let top = "slab_e2m2_cons_s0.v";
-    for (name, from, to, refuted) in [
-        ("wiring", ".o(o_y)", ".o(o_x)", "lemma_bounded_y refuted"),
+    let slab = |e: &'static str| ["-p", "rounding=conservative", "-p", "exp_bits=2", "-p", e];
+    let cull = |e: &'static str| {
+        [
+            "-p",
+            "exp_bits=2",
+            "-p",
+            e,
+            "-p",
+            "plane_exp_bits=2",
+            "-p",
+            "plane_frac_bits=1",
+            "-p",
+            "k=1",
+        ]
+    };
+    let run = |unit: &str, params: &[&str], extra: &[&str], job: &str| {
+        let job = w.join(job).display().to_string();
+        let mut args = vec!["prove", unit];
+        args.extend(params);
+        args.extend(["--property", "sound", "--split", "--work", &job]);
+        args.extend(extra);
+        let o = rtl_gen(&args);
+        (o.status.code(), text(&o))
+    };
+    for (unit, params, lemmas) in [
         (
-            "compare",
+            "slab",
+            slab("frac_bits=2").to_vec(),
+            "lemma_bounded_x proved, lemma_bounded_y proved, lemma_bounded_z proved, lemma_combine proved",
+        ),
+        (
+            "cull",
+            cull("frac_bits=2").to_vec(),
+            "lemma_plane0 proved, lemma_combine proved",
+        ),
+    ] {
+        let (code, t) = run(unit, &params, &[], unit);
+        assert!(
+            code == Some(0) && t.contains("proved: ") && t.contains(lemmas),
+            "{unit}: {t}"
+        );
+    }
+    // the lemmas bite: a hand-edited top (--verilog) or a plant
+    let edits = [
+        (
+            "slab",
+            "slab_e2m1_cons_s0.v",
+            ".o(o_y)",
+            ".o(o_x)",
+            "lemma_bounded_y refuted",
+        ),
+        (
+            "slab",
+            "slab_e2m1_cons_s0.v",
             "assign hit = order_lt | order_eq;",
             "assign hit = order_lt;",
             "lemma_combine refuted",
         ),
-    ] {
-        let src = w.join(name);
-        let mut e = vec!["emit", "slab"];
-        e.extend(params);
+        (
+            "cull",
+            "cull_e2m1_pe2m1_k1_s0.v",
+            ".rcp_hi(rcp_hi0)",
+            ".rcp_hi(rcp_lo0)",
+            "lemma_plane0 refuted",
+        ),
+    ];
+    for (i, (unit, top, from, to, refuted)) in edits.into_iter().enumerate() {
+        let params = match unit {
+            "slab" => slab("frac_bits=1").to_vec(),
+            _ => cull("frac_bits=1").to_vec(),
+        };
+        let src = w.join(format!("edit{i}"));
         let src_s = src.display().to_string();
+        let mut e = vec!["emit", unit];
+        e.extend(&params);
         e.extend(["-p", "stages=0", "--out", &src_s]);
         assert!(rtl_gen(&e).status.success());
         let file = src.join(top);
-        let text_v = std::fs::read_to_string(&file).unwrap();
-        assert!(text_v.contains(from), "{from} not in {top}");
-        std::fs::write(&file, text_v.replacen(from, to, 1)).unwrap();
-        let job = w.join(format!("{name}-proof")).display().to_string();
-        let mut args = vec!["prove", "slab"];
-        args.extend(params);
-        args.extend([
-            "--property",
-            "sound",
-            "--split",
-            "--verilog",
-            &src_s,
-            "--work",
-            &job,
-        ]);
-        let o = rtl_gen(&args);
-        let t = text(&o);
-        assert_eq!(o.status.code(), Some(1), "{name}: {t}");
+        let v = std::fs::read_to_string(&file).unwrap();
+        assert!(v.contains(from), "{from} not in {top}");
+        std::fs::write(&file, v.replacen(from, to, 1)).unwrap();
+        let (code, t) = run(
+            unit,
+            &params,
+            &["--verilog", &src_s],
+            &format!("edit{i}-proof"),
+        );
         assert!(
-            t.contains("not proved: ") && t.contains(refuted),
-            "{name}: {t}"
+            code == Some(1) && t.contains("not proved: ") && t.contains(refuted),
+            "{from} -> {to}: {t}"
         );
     }
+    let (code, t) = run(
+        "cull",
+        &cull("frac_bits=1"),
+        &["--plant", "lt-for-le"],
+        "plant",
+    );
+    assert!(
+        code == Some(1) && t.contains("lemma_combine refuted"),
+        "cull --plant lt-for-le: {t}"
+    );
 }

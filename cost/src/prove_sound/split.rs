@@ -1,8 +1,11 @@
-//! `--split`: the conservative slab's soundness proved as four lemmas, each
-//! a SAT problem small enough for e3m2, where the whole property is not
-//! (docs/proofs.md, "Splitting the proof").
+//! `--split`: soundness proved as lemmas, each a SAT problem small enough
+//! for e3m2, where the whole property is not (docs/proofs.md, "Splitting
+//! the proof"). The same scheme for the conservative slab (per-axis bounds)
+//! and the cull tester (per-plane bounds, [`cull_wrapper_part`]): the unit's
+//! own per-axis or per-plane results are watched by one lemma each, then
+//! cut (driven by free values) for the combination ([`Cut`], [`script`]).
 //!
-//! The lemmas, proved on the flattened wrapper (the unit as instantiated,
+//! The slab's lemmas, proved on the flattened wrapper (the unit as instantiated,
 //! so the top's wiring of each axis is the one proved), under the same
 //! input contract as the whole property:
 //!
@@ -34,13 +37,179 @@ use super::*;
 const AXIS_INSTANCE: &str = "u_unit.u_slab_";
 const AXIS_RESULTS: [&str; 2] = ["t_near", "t_far"];
 
-/// The lemmas' signals in the wrapper, in the order the script proves them.
-pub(super) const LEMMAS: [&str; 4] = [
-    "lemma_bounded_x",
-    "lemma_bounded_y",
-    "lemma_bounded_z",
-    "lemma_combine",
-];
+/// Where a split proof cuts the unit: each of the unit's wires the lemmas
+/// read (flattened name) beside the wrapper's wire that watches it (the
+/// bounds) or drives it once cut (the combination); the lemmas' signals in
+/// the order the script proves them, the combination (`lemma_combine`) last.
+pub(super) struct Cut {
+    wires: Vec<(String, String)>,
+    lemmas: Vec<String>,
+}
+
+/// The slab's cut: the three instances' `t_near`, `t_far`.
+pub(super) fn slab_cut() -> Cut {
+    Cut {
+        wires: AXIS_RESULTS
+            .iter()
+            .flat_map(|r| {
+                AXES.iter()
+                    .map(move |a| (format!("{r}_{a}"), format!("{AXIS_INSTANCE}{a}.{r}")))
+            })
+            .collect(),
+        lemmas: AXES
+            .iter()
+            .map(|a| format!("lemma_bounded_{a}"))
+            .chain(["lemma_combine".to_string()])
+            .collect(),
+    }
+}
+
+/// The cull tester's cut: per plane its instance's crossing `q` and
+/// `dist_neg` (`D < 0`).
+pub(super) fn cull_cut(k: usize) -> Cut {
+    Cut {
+        wires: (0..k)
+            .flat_map(|j| {
+                [
+                    (format!("unit_q{j}"), format!("u_unit.u_plane{j}.q")),
+                    (
+                        format!("unit_dist_neg{j}"),
+                        format!("u_unit.u_plane{j}.dist_neg"),
+                    ),
+                ]
+            })
+            .collect(),
+        lemmas: (0..k)
+            .map(|j| format!("lemma_plane{j}"))
+            .chain(["lemma_combine".to_string()])
+            .collect(),
+    }
+}
+
+/// The cull wrapper's part for the lemmas (inside `prove_sound`, after the
+/// exact region's wires `a_<j>` = `A`, `b_<j>` = `B` and the unit's
+/// instance; docs/cull.md §2-3.4):
+///
+/// * **plane_j**: the unit's plane keeps every `t ≥ 0` with `A + t·B ≤ 0`:
+///   an exit (`dir = 1`) every such `t ≤ q`, an entry (`dir = 2`) every
+///   such `t ≥ −q`, a parallel plane (else) with `dist_neg` none at all; a
+///   NaN `q` leaves the plane out. By linearity of `f(t) = A + t·B`: `S =
+///   {t ≥ 0 : f(t) ≤ 0}` is empty iff `A > 0 ∧ B ≥ 0`; `S ⊆ [0, q]` for `q ≥
+///   0` iff `B > 0 ∧ f(q) ≥ 0` or `B = 0 ∧ A > 0`; `S ⊆ [p, ∞)` for `p = −q >
+///   0` iff `A > 0 ∧ f(p) ≥ 0`; `f` at a float compared as `A·2^s ± q_v·B`.
+/// * **combine**: with `q`, `dist_neg` cut, if the unit's constraints meet
+///   as extended reals (`[t_lo, t_hi]`, and when `t_lo ≥ 0` every usable
+///   exit's `t ≤ q`, entry's `t ≥ −q`, no parallel plane with `dist_neg`),
+///   the unit keeps.
+///
+/// An exact region hit gives a real `t` in the segment ∩ box, hence in
+/// `[t_lo, t_hi]` (the contract), and on every plane's non-empty side; when
+/// `t_lo ≥ 0`, `t ≥ 0`, so by plane_j `t` satisfies the unit's planes: the
+/// constraints meet and, by combine, the unit keeps.
+pub(super) fn cull_wrapper_part(c: CullFormats) -> String {
+    let fmt = c.ray;
+    let w = fmt.width();
+    let fw = 2 * c.pdw() + 4;
+    let t_shift = fmt.bias() + fmt.frac_bits() as i32 - 1;
+    let mut v = String::from(
+        "    // --split: the unit's per-plane results, driven by the proof script (prove.ys)\n",
+    );
+    v.push_str(&extended_real(fmt, "t_lo"));
+    v.push_str(&extended_real(fmt, "t_hi"));
+    let _ = writeln!(
+        v,
+        "    // the planes apply (t_lo ≥ 0, −0 counts as 0): the witness t ≥ 0\n    \
+         wire t_lo_nonneg = !t_lo[{w1}] || t_lo[{w2}:0] == 0;",
+        w1 = w - 1,
+        w2 = w - 2
+    );
+    // the lower and upper ends of the unit's constraints: (in force, key, infinite the wrong way)
+    let mut lower = vec![(
+        "1'b1".to_string(),
+        "t_lo_key".to_string(),
+        "t_lo_up".to_string(),
+    )];
+    let mut upper = vec![(
+        "1'b1".to_string(),
+        "t_hi_key".to_string(),
+        "t_hi_down".to_string(),
+    )];
+    let mut meet = vec!["!t_lo_nan".to_string(), "!t_hi_nan".to_string()];
+    for j in 0..c.k {
+        let q = format!("unit_q{j}");
+        let _ = writeln!(
+            v,
+            "    (* keep *) wire [{w1}:0] {q};\n    (* keep *) wire unit_dist_neg{j};",
+            w1 = w - 1
+        );
+        v.push_str(&extended_real(fmt, &q));
+        let _ = writeln!(
+            v,
+            "    // plane {j}: the unit keeps every t ≥ 0 with A + t·B ≤ 0\n    \
+             wire {q}_neg = {q}[{w1}] && {q}[{w2}:0] != 0 && !{q}_nan;\n    \
+             wire signed [{f1}:0] {q}_v = value({q});\n    \
+             wire signed [{f1}:0] a{j}_scaled = a_{j} <<< {t_shift};\n    \
+             wire signed [{f1}:0] f_at_q{j} = a{j}_scaled + {q}_v * b_{j};\n    \
+             wire signed [{f1}:0] f_at_minus_q{j} = a{j}_scaled - {q}_v * b_{j};\n    \
+             wire none_ahead{j} = a_{j} > 0 && b_{j} >= 0;\n    \
+             wire exit{j} = dir{j} == 2'd1;\n    wire entry{j} = dir{j} == 2'd2;\n    \
+             (* keep *) wire lemma_plane{j} = exit{j}\n        \
+             ? ({q}_nan || {q}_up || ({q}_neg ? none_ahead{j} : ((b_{j} > 0 && f_at_q{j} >= 0) || (b_{j} == 0 && a_{j} > 0))))\n        \
+             : entry{j} ? ({q}_nan || !{q}_neg || ({q}_down ? none_ahead{j} : (a_{j} > 0 && f_at_minus_q{j} >= 0)))\n        \
+             : (!unit_dist_neg{j} || none_ahead{j});",
+            w1 = w - 1,
+            w2 = w - 2,
+            f1 = fw - 1,
+        );
+        let usable = format!("t_lo_nonneg && !{q}_nan");
+        lower.push((
+            format!("{usable} && entry{j}"),
+            format!("-{q}_key"),
+            format!("{q}_down"),
+        ));
+        upper.push((
+            format!("{usable} && exit{j}"),
+            format!("{q}_key"),
+            format!("{q}_down"),
+        ));
+        meet.push(format!(
+            "!(t_lo_nonneg && !exit{j} && !entry{j} && unit_dist_neg{j})"
+        ));
+    }
+    for (on, _, wrong) in lower.iter().chain(&upper) {
+        meet.push(format!("(!({on}) || !{wrong})"));
+    }
+    for (lo_on, lo, _) in &lower {
+        for (up_on, up, _) in &upper {
+            meet.push(format!("(!({lo_on}) || !({up_on}) || ({lo}) <= {up})"));
+        }
+    }
+    let _ = writeln!(
+        v,
+        "    // the unit's constraints meet as extended reals\n    \
+         (* keep *) wire lemma_meet = {};\n    \
+         (* keep *) wire lemma_combine = !lemma_meet || unit_keep;",
+        meet.join("\n        && ")
+    );
+    v
+}
+
+/// Wires `<x>_nan`, `<x>_up` (`+∞`), `<x>_down` (`−∞`) and `<x>_key`, the
+/// value of the float `x` of `fmt` as an extended real (decoded by the
+/// wrapper's `value`, [`decode_functions`]; `±∞` beyond every finite value,
+/// symmetric so that `−key` is the key of `−x`), compared signed.
+fn extended_real(fmt: FloatFormat, x: &str) -> String {
+    let kw = magnitude_bits(fmt) + 2;
+    format!(
+        "    wire {x}_nan = {};\n    wire {x}_up = {};\n    wire {x}_down = {};\n    \
+         wire signed [{k1}:0] {x}_key = {x}_up ? {kw}'sd{max} : {x}_down ? -{kw}'sd{max} : value({x});\n",
+        is_nan(fmt, x),
+        is_inf(fmt, x, false),
+        is_inf(fmt, x, true),
+        k1 = kw - 1,
+        max = (1u64 << (kw - 1)) - 1,
+    )
+}
 
 /// The module `slab_lemmas_e<E>m<F>`: from the ray/box inputs and the
 /// unit's per-axis results, `bounded_<a>` per axis and `meet` (module doc).
@@ -68,18 +237,8 @@ pub(super) fn lemma_module(fmt: FloatFormat) -> (String, String) {
     v.push_str(&decode_functions(fmt, "mag", "value", nw));
     // the reference's own per-axis terms (enter_a_n, exit_a_n, den_a, ...)
     let _ = box_bounds(&mut v, fmt, dw, false);
-    // every end as an extended real: ±∞ beyond every finite value
-    let kw = nw + 1;
     for x in results.iter().map(String::as_str).chain(["t_min", "t_max"]) {
-        let _ = writeln!(
-            v,
-            "    wire {x}_nan = {};\n    wire {x}_up = {};\n    wire {x}_down = {};\n    \
-             wire signed [{k1}:0] {x}_key = {x}_up ? $signed({{1'b0, {{{k1}{{1'b1}}}}}})\n        : {x}_down ? $signed({{1'b1, {{{k1}{{1'b0}}}}}}) : value({x});",
-            is_nan(fmt, x),
-            is_inf(fmt, x, false),
-            is_inf(fmt, x, true),
-            k1 = kw - 1
-        );
+        v.push_str(&extended_real(fmt, x));
     }
     for a in AXES {
         let _ = writeln!(
@@ -125,7 +284,7 @@ pub(super) fn lemma_module(fmt: FloatFormat) -> (String, String) {
 
 /// The wrapper's part for the lemmas: the per-axis results as wires the
 /// script drives (from the unit, or free where it cuts the unit), the lemma
-/// module, and each lemma as one signal ([`LEMMAS`]).
+/// module, and each lemma as one signal ([`slab_cut`]).
 pub(super) fn wrapper_part(fmt: FloatFormat) -> String {
     let (name, _) = lemma_module(fmt);
     let w = fmt.width();
@@ -151,42 +310,39 @@ pub(super) fn wrapper_part(fmt: FloatFormat) -> String {
 }
 
 /// The Yosys commands after the covers (the flattened wrapper saved as
-/// `proof`): bounded_a with the per-axis wires connected from the unit,
-/// (and the cover of their meeting), then combine with the unit's per-axis results driven by them instead
+/// `proof`): the bounds with the watching wires connected from the unit's
+/// (and the cover of an exact hit where the lemmas' `lemma_meet` holds),
+/// then the combination with the unit's wires driven by them instead
 /// (free: nothing else drives them), each lemma its own `sat` call.
-pub(super) fn script() -> String {
-    let wires = || {
-        AXIS_RESULTS.iter().flat_map(|r| {
-            AXES.iter()
-                .map(move |a| (format!("{r}_{a}"), format!("{AXIS_INSTANCE}{a}.{r}")))
-        })
-    };
-    let mut s = String::from("# the lemmas (prove_sound/split.rs): per-axis bounds on the unit's results\ndesign -load proof\n");
-    for (monitor, unit) in wires() {
+pub(super) fn script(cut: &Cut) -> String {
+    let mut s = String::from(
+        "# the lemmas (prove_sound/split.rs): bounds on the unit's own results\ndesign -load proof\n",
+    );
+    for (monitor, unit) in &cut.wires {
         let _ = writeln!(s, "connect -set {monitor} {unit}");
     }
-    // reachable: an exact hit where the unit's own intervals meet (the
+    // reachable: an exact hit where the unit's own results meet (the
     // combination's hypothesis, not vacuous)
     s += "sat -set-assumes -set exact_hit 1 -set lemma_meet 1\n";
-    for lemma in &LEMMAS[..3] {
+    let (combine, bounds) = cut.lemmas.split_last().expect("a combination");
+    for lemma in bounds {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
     }
-    s += "# the combination over free per-axis results\ndesign -load proof\n";
-    for (monitor, unit) in wires() {
+    s += "# the combination over free (cut) results\ndesign -load proof\n";
+    for (monitor, unit) in &cut.wires {
         let _ = writeln!(s, "connect -set {unit} {monitor}");
     }
     let _ = writeln!(
         s,
-        "opt_clean\nsat -set-assumes -prove {} 1 -show-inputs",
-        LEMMAS[3]
+        "opt_clean\nsat -set-assumes -prove {combine} 1 -show-inputs"
     );
     s
 }
 
 /// Each lemma's result in the log of [`script`] (Yosys sat's lines, in
-/// [`LEMMAS`] order): `Some(true)` proved, `Some(false)` refuted, `None`
+/// the cut's order): `Some(true)` proved, `Some(false)` refuted, `None`
 /// not reached.
-fn results(log: &str) -> Vec<Option<bool>> {
+fn results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
     let mut found = log.lines().filter_map(|l| {
         if l.contains("SAT proof finished - no model found: SUCCESS!") {
             Some(true)
@@ -196,14 +352,14 @@ fn results(log: &str) -> Vec<Option<bool>> {
             None
         }
     });
-    LEMMAS.iter().map(|_| found.next()).collect()
+    cut.lemmas.iter().map(|_| found.next()).collect()
 }
 
 /// Proved when every lemma is; a refuted lemma is no counterexample of the
 /// property (a lemma is stronger than what the property needs), so it
 /// leaves the verdict open, explained by [`summary`].
-pub(super) fn verdict(log: &str) -> crate::prove::Verdict {
-    if results(log).iter().all(|r| *r == Some(true)) {
+pub(super) fn verdict(log: &str, cut: &Cut) -> crate::prove::Verdict {
+    if results(log, cut).iter().all(|r| *r == Some(true)) {
         crate::prove::Verdict::Proved
     } else {
         crate::prove::Verdict::Open
@@ -211,10 +367,10 @@ pub(super) fn verdict(log: &str) -> crate::prove::Verdict {
 }
 
 /// One line per lemma: `lemma_bounded_x proved, ...`.
-pub(super) fn summary(log: &str) -> String {
-    LEMMAS
+pub(super) fn summary(log: &str, cut: &Cut) -> String {
+    cut.lemmas
         .iter()
-        .zip(results(log))
+        .zip(results(log, cut))
         .map(|(l, r)| {
             let r = match r {
                 Some(true) => "proved",
