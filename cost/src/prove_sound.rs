@@ -1164,7 +1164,7 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat, split: bool) -> Result<String
         }
     }
     if split {
-        v.push_str(&split::wrapper_part(fmt));
+        v.push_str(&split::wrapper_part(fmt, split::axis_unit(&unit.unit)));
     }
     let _ = writeln!(
         v,
@@ -1474,12 +1474,13 @@ pub fn sound(
         ));
     }
     if split
-        && (!["slab", "cull"].contains(&unit.unit.as_str())
+        && (!["slab", "cull", "silhouette"].contains(&unit.unit.as_str())
+            || is_bundle(unit)
             || !matches!(solver, crate::prove::Solver::Sat))
     {
         return Err(format!(
-            "--split is built for slab -p rounding=conservative and cull with --solver sat (its \
-             lemmas are their per-axis and per-plane bounds); not for {} {}",
+            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray and cull \
+             with --solver sat (its lemmas are their per-axis and per-plane bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1530,7 +1531,7 @@ pub fn sound(
     let cut = match kind {
         _ if !split => None,
         Kind::Cull(c) => Some(split::cull_cut(c.k)),
-        _ => Some(split::slab_cut()),
+        _ => Some(split::axis_unit(&unit.unit).cut()),
     };
     if work.exists() {
         std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
@@ -1565,7 +1566,7 @@ pub fn sound(
             let (reference, reference_text) = exact_reference(fmt);
             files.push(put(&format!("{reference}.v"), &reference_text)?);
             if split {
-                let (lemmas, lemmas_text) = split::lemma_module(fmt);
+                let (lemmas, lemmas_text) = split::lemma_module(fmt, split::axis_unit(&unit.unit));
                 files.push(put(&format!("{lemmas}.v"), &lemmas_text)?);
             }
             files.push(put("prove_sound.v", &wrapper(unit, fmt, split)?)?);

@@ -247,7 +247,7 @@ fn bad_requests_are_errors() {
         ),
         (
             vec!["prove", "node", "--property", "sound", "--split"],
-            "--split is built for slab -p rounding=conservative and cull",
+            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray and cull",
         ),
         (
             vec!["prove", "slab", "--split"],
@@ -516,18 +516,20 @@ fn a_planted_node_miss_is_found_and_replays() {
     );
 }
 
-/// `--split`: the conservative slab's and the cull tester's soundness as
-/// lemmas (bounds on the unit's own per-axis or per-plane results, then
-/// their combination over free results) proved at e2m2, and each kind of
-/// lemma refuted when the unit breaks what it states (at e2m1, quicker): the
-/// slab's y instance fed the x origin and plane 0's `rcp_hi` fed `rcp_lo`
-/// (a bound), the slab's final comparison without its `=` case and the cull
+/// `--split`: the conservative slab's, the cull tester's and the silhouette
+/// ray tester's soundness as lemmas (bounds on the unit's own per-axis or
+/// per-plane results, then their combination over free results) proved
+/// (e2m2; the silhouette e2m1), and each kind of lemma refuted when the
+/// unit breaks what it states (at e2m1, quicker): the slab's and the
+/// silhouette's y instance fed the x origin and plane 0's `rcp_hi` fed
+/// `rcp_lo` (a bound), the slab's final comparison without its `=` case and the cull
 /// plant `lt-for-le` (the combination). So the lemmas read the unit's real
 /// wires and are not vacuous.
 #[test]
 fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
     let w = scratch("split");
     let slab = |e: &'static str| ["-p", "rounding=conservative", "-p", "exp_bits=2", "-p", e];
+    let silhouette = |e: &'static str| ["-p", "mode=ray", "-p", "exp_bits=2", "-p", e];
     let cull = |e: &'static str| {
         [
             "-p",
@@ -562,6 +564,11 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
             cull("frac_bits=2").to_vec(),
             "lemma_plane0 proved, lemma_combine proved",
         ),
+        (
+            "silhouette",
+            silhouette("frac_bits=1").to_vec(),
+            "lemma_bounded_x proved, lemma_bounded_y proved, lemma_bounded_z proved, lemma_combine proved",
+        ),
     ] {
         let (code, t) = run(unit, &params, &[], unit);
         assert!(
@@ -586,6 +593,13 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
             "lemma_combine refuted",
         ),
         (
+            "silhouette",
+            "silhouette_e2m1_ray_cons_s0.v",
+            ".o(o_y)",
+            ".o(o_x)",
+            "lemma_bounded_y refuted",
+        ),
+        (
             "cull",
             "cull_e2m1_pe2m1_k1_s0.v",
             ".rcp_hi(rcp_hi0)",
@@ -596,6 +610,7 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
     for (i, (unit, top, from, to, refuted)) in edits.into_iter().enumerate() {
         let params = match unit {
             "slab" => slab("frac_bits=1").to_vec(),
+            "silhouette" => silhouette("frac_bits=1").to_vec(),
             _ => cull("frac_bits=1").to_vec(),
         };
         let src = w.join(format!("edit{i}"));
