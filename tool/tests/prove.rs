@@ -567,7 +567,11 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
         (
             "silhouette",
             silhouette("frac_bits=1").to_vec(),
-            "lemma_bounded_x proved, lemma_bounded_y proved, lemma_bounded_z proved, lemma_combine proved",
+            "lemma_bounded_z proved, lemma_test_edge_xy proved, lemma_test_edge_xz proved, \
+             lemma_test_edge_yx proved, lemma_test_edge_yz proved, lemma_test_edge_zx proved, \
+             lemma_test_edge_zy proved, lemma_test_dist_x proved, lemma_test_dist_y proved, \
+             lemma_test_dist_z proved, lemma_test_dir_x proved, lemma_test_dir_y proved, \
+             lemma_test_dir_z proved, lemma_combine proved",
         ),
     ] {
         let (code, t) = run(unit, &params, &[], unit);
