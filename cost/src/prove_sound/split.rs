@@ -1,9 +1,11 @@
 //! `--split`: soundness proved as lemmas, each a SAT problem small enough
 //! for e3m2, where the whole property is not (docs/proofs.md, "Splitting
-//! the proof"). The same scheme for the conservative slab (per-axis bounds)
-//! and the cull tester (per-plane bounds, [`cull_wrapper_part`]): the unit's
-//! own per-axis or per-plane results are watched by one lemma each, then
-//! cut (driven by free values) for the combination ([`Cut`], [`script`]).
+//! the proof"). The same scheme for the conservative slab and the
+//! silhouette ray tester (per-axis bounds, [`AxisUnit`]; the silhouette's
+//! combination cut once more per test, [`silhouette_terms`]) and the cull
+//! tester (per-plane bounds, [`cull_wrapper_part`]): the unit's own
+//! per-axis or per-plane results are watched by one lemma each, then cut
+//! (driven by free values) for the combination ([`Cut`], [`script`]).
 //!
 //! The slab's lemmas, proved on the flattened wrapper (the unit as instantiated,
 //! so the top's wiring of each axis is the one proved), under the same
