@@ -319,6 +319,11 @@ pub struct ProveArgs {
     /// the job directory, `<job>.planted/`)
     #[arg(long, value_name = "NAME")]
     plant: Option<String>,
+    /// `--property sound` of `slab -p rounding=conservative` and `cull` as lemmas (bounds on
+    /// the unit's per-axis or per-plane results, then their combination), each its own SAT
+    /// call: what proves at e3m2 (docs/proofs.md)
+    #[arg(long)]
+    split: bool,
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
@@ -855,7 +860,17 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
                 .unwrap_or_else(|| crate::prove::default_work(&unit).with_extension("sound"));
             let verilog = planted(&mut unit, &work)?;
             let solver = a.solver.unwrap_or(SolverArg::Sat).into();
-            return crate::prove_sound::sound(&unit, verilog.as_deref(), &work, 20_000, solver);
+            return crate::prove_sound::sound(
+                &unit,
+                verilog.as_deref(),
+                &work,
+                20_000,
+                solver,
+                a.split,
+            );
+        }
+        if a.split {
+            return Err("--split splits --property sound (its lemmas)".into());
         }
         let mut dut = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;
         if let Some(dir) = &a.verilog {

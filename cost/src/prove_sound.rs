@@ -22,6 +22,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
+mod split;
+
 /// The reference's inputs, in port order (the box, the ray, the segment).
 const RAY_BOX_PORTS: [&str; 14] = [
     "p_min_x", "p_min_y", "p_min_z", "p_max_x", "p_max_y", "p_max_z", "o_x", "o_y", "o_z", "d_x",
@@ -1061,8 +1063,9 @@ fn unit_instance(
 }
 
 /// The wrapper `prove_sound`: the unit (stages=0) beside the reference, the
-/// input contract assumed, `exact hit → unit hit` asserted.
-pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
+/// input contract assumed, `exact hit → unit hit` asserted; with `split`,
+/// also the slab's lemmas ([`split`]).
+pub fn wrapper(unit: &Generated, fmt: FloatFormat, split: bool) -> Result<String, String> {
     let (reference, _) = exact_reference(fmt);
     let p = &unit.ports;
     let takes_inv_d = p.inputs.iter().any(|x| x.name == "inv_d_x");
@@ -1160,6 +1163,9 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
             ));
         }
     }
+    if split {
+        v.push_str(&split::wrapper_part(fmt, split::axis_unit(&unit.unit)));
+    }
     let _ = writeln!(
         v,
         "    always @(*) begin\n        assume ({});\n        \
@@ -1183,7 +1189,7 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat) -> Result<String, String> {
 ///   negative), `0 ≤ rcp_lo ≤ 1/|b_lo| ≤ rcp_hi` (`rcp_hi` may be +∞) by
 ///   cross-multiplication; `+∞` both for `b_lo = 0` and `+0` both for
 ///   `b_lo = −∞`, as `cull_ray` gives them.
-fn cull_wrapper(unit: &Generated, c: CullFormats) -> String {
+fn cull_wrapper(unit: &Generated, c: CullFormats, split: bool) -> String {
     let p = &unit.ports;
     let fmt = c.ray;
     let w = fmt.width();
@@ -1297,9 +1303,13 @@ fn cull_wrapper(unit: &Generated, c: CullFormats) -> String {
     let instance = unit_instance(unit, str::to_string, |name| {
         (name == "keep").then(|| "unit_keep".to_string())
     });
+    let _ = writeln!(v, "    (* keep *) wire unit_keep;\n    {instance}");
+    if split {
+        v.push_str(&split::cull_wrapper_part(c));
+    }
     let _ = writeln!(
         v,
-        "    (* keep *) wire unit_keep;\n    {instance}\n    always @(*) begin\n        \
+        "    always @(*) begin\n        \
          assume ({});\n        // never a wrongful cull\n        assert (!exact_hit || unit_keep);\n    end\nendmodule",
         assumes.join("\n            && ")
     );
@@ -1434,13 +1444,15 @@ enum Kind {
 /// Proves `unit` (generated at stages=0; its Verilog from `verilog` when
 /// given, for the replay) sound against the exact reference in the job
 /// directory `work` (emptied first); the reference is checked in Icarus on
-/// `reference_cases` inputs before.
+/// `reference_cases` inputs before. `split`: prove the lemmas of the slab or the cull tester
+/// ([`split`]) instead of the whole property in one SAT call.
 pub fn sound(
     unit: &Generated,
     verilog: Option<&Path>,
     work: &Path,
     reference_cases: usize,
     solver: crate::prove::Solver,
+    split: bool,
 ) -> Result<crate::prove::Outcome, String> {
     use crate::prove::Outcome;
     let v = unit.params.values();
@@ -1457,6 +1469,18 @@ pub fn sound(
             "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared), slab \
              -p rounding=conservative, cull and node, with handshake=valid (the testers whose inputs the exact \
              references take); not for {} {}",
+            unit.unit,
+            unit.param_args()
+        ));
+    }
+    if split
+        && (!["slab", "cull", "silhouette"].contains(&unit.unit.as_str())
+            || is_bundle(unit)
+            || !matches!(solver, crate::prove::Solver::Sat))
+    {
+        return Err(format!(
+            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray and cull \
+             with --solver sat (its lemmas are their per-axis and per-plane bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1503,6 +1527,12 @@ pub fn sound(
     } else {
         Kind::RayBox
     };
+    // where a split proof cuts the unit
+    let cut = match kind {
+        _ if !split => None,
+        Kind::Cull(c) => Some(split::cull_cut(c.k)),
+        _ => Some(split::axis_unit(&unit.unit).cut()),
+    };
     if work.exists() {
         std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
     }
@@ -1535,7 +1565,11 @@ pub fn sound(
         Kind::RayBox => {
             let (reference, reference_text) = exact_reference(fmt);
             files.push(put(&format!("{reference}.v"), &reference_text)?);
-            files.push(put("prove_sound.v", &wrapper(unit, fmt)?)?);
+            if split {
+                let (lemmas, lemmas_text) = split::lemma_module(fmt, split::axis_unit(&unit.unit));
+                files.push(put(&format!("{lemmas}.v"), &lemmas_text)?);
+            }
+            files.push(put("prove_sound.v", &wrapper(unit, fmt, split)?)?);
             "# reachable: a ray that meets the box, one the unit rejects, an AllHit (bundles)\n\
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_hit 0 -set unit_hit 0\n\
@@ -1553,7 +1587,7 @@ pub fn sound(
              sat -set-assumes -set child0_valid 1 -set unit_hit_0 0\n"
         }
         Kind::Cull(c) => {
-            files.push(put("prove_sound.v", &cull_wrapper(unit, c))?);
+            files.push(put("prove_sound.v", &cull_wrapper(unit, c, split))?);
             "# reachable: a segment that meets the region, and a cull of one that meets the box\n\
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_box_hit 1 -set unit_keep 0\n"
@@ -1567,13 +1601,20 @@ pub fn sound(
                design -save proof\nchformal -assert -remove\n";
     script += covers;
     let cover_script = script.clone();
-    script += "design -load proof\n\
-               sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
+    if let Some(cut) = &cut {
+        script += &split::script(cut);
+    } else {
+        script += "design -load proof\n\
+                   sat -prove-asserts -set-assumes -show-inputs -dump_vcd counterexample.vcd\n";
+    }
     put("prove.ys", &script)?;
     // Yosys sat answers the covers and reads counterexamples; Boolector (SBY,
     // word-level) only proves, from the same files
     use crate::prove::{Solver, Verdict};
     let yosys_verdict = |log: &str| {
+        if let Some(cut) = &cut {
+            return split::verdict(log, cut);
+        }
         if log.contains("SAT proof finished - model found: FAIL!") {
             Verdict::Failed
         } else if log.contains("SAT proof finished - no model found: SUCCESS!") {
@@ -1627,8 +1668,12 @@ pub fn sound(
                     ""
                 }
             ),
-            2,
-            "a hit and a rejected ray",
+            if split { 3 } else { 2 },
+            if split {
+                "a hit, a rejected ray and a hit where the unit's per-axis results meet"
+            } else {
+                "a hit and a rejected ray"
+            },
         ),
         Kind::Node { q, .. } => (
             format!(
@@ -1652,8 +1697,13 @@ pub fn sound(
             "geometry finite, no NaN; [t_lo, t_hi] ⊇ the exact segment ∩ box; no_lo ≤ n·(o − r), \
              b_lo ≤ n·d, dir its sign, rcp_lo ≤ 1/|b_lo| ≤ rcp_hi by cross-multiplication"
                 .to_string(),
-            2,
-            "a segment that meets the region and a cull of one that meets the box",
+            if split { 3 } else { 2 },
+            if split {
+                "a segment that meets the region, a cull of one that meets the box and a region hit \
+                 where the unit's per-plane results meet"
+            } else {
+                "a segment that meets the region and a cull of one that meets the box"
+            },
         ),
     };
     let what = format!(
@@ -1718,9 +1768,16 @@ pub fn sound(
             work.join("replay.txt").display()
         )));
     }
+    // the lemmas' results, when split
+    let lemmas = if let Some(cut) = &cut {
+        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+        format!(" (split: {})", split::summary(&log, cut))
+    } else {
+        String::new()
+    };
     if !matches!(verdict, Verdict::Proved) {
         return Ok(Outcome::Unknown(format!(
-            "{what}: no verdict in {}",
+            "{what}: no verdict{lemmas} in {}",
             log_path.display()
         )));
     }
@@ -1732,7 +1789,7 @@ pub fn sound(
     }
     Ok(Outcome::Proved(format!(
         "{what}: the reference agreed with the Rust exact test on {reference_cases} simulated inputs ({checked}); \
-         {reachable} are reachable; {}, {:.1} s; {}",
+         {reachable} are reachable; {}{lemmas}, {:.1} s; {}",
         match solver {
             Solver::Sat => "Yosys sat",
             Solver::Boolector => "Boolector",

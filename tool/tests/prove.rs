@@ -245,6 +245,14 @@ fn bad_requests_are_errors() {
             vec!["prove", "slab", "--plant", "lt-for-le"],
             "no plant `lt-for-le` for slab",
         ),
+        (
+            vec!["prove", "node", "--property", "sound", "--split"],
+            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray and cull",
+        ),
+        (
+            vec!["prove", "slab", "--split"],
+            "--split splits --property sound",
+        ),
     ] {
         let o = rtl_gen(&args);
         let t = text(&o);
@@ -505,5 +513,139 @@ fn a_planted_node_miss_is_found_and_replays() {
     assert!(
         row.contains("golden 0x1") && row.contains("rtl 0x0"),
         "{row}"
+    );
+}
+
+/// `--split`: the conservative slab's, the cull tester's and the silhouette
+/// ray tester's soundness as lemmas (bounds on the unit's own per-axis or
+/// per-plane results, then their combination over free results) proved
+/// (e2m2; the silhouette e2m1), and each kind of lemma refuted when the
+/// unit breaks what it states (at e2m1, quicker): the slab's and the
+/// silhouette's y instance fed the x origin and plane 0's `rcp_hi` fed
+/// `rcp_lo` (a bound), the slab's final comparison without its `=` case and the cull
+/// plant `lt-for-le` (the combination). So the lemmas read the unit's real
+/// wires and are not vacuous.
+#[test]
+fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
+    let w = scratch("split");
+    let slab = |e: &'static str| ["-p", "rounding=conservative", "-p", "exp_bits=2", "-p", e];
+    let silhouette = |e: &'static str| ["-p", "mode=ray", "-p", "exp_bits=2", "-p", e];
+    let cull = |e: &'static str| {
+        [
+            "-p",
+            "exp_bits=2",
+            "-p",
+            e,
+            "-p",
+            "plane_exp_bits=2",
+            "-p",
+            "plane_frac_bits=1",
+            "-p",
+            "k=1",
+        ]
+    };
+    let run = |unit: &str, params: &[&str], extra: &[&str], job: &str| {
+        let job = w.join(job).display().to_string();
+        let mut args = vec!["prove", unit];
+        args.extend(params);
+        args.extend(["--property", "sound", "--split", "--work", &job]);
+        args.extend(extra);
+        let o = rtl_gen(&args);
+        (o.status.code(), text(&o))
+    };
+    for (unit, params, lemmas) in [
+        (
+            "slab",
+            slab("frac_bits=2").to_vec(),
+            "lemma_bounded_x proved, lemma_bounded_y proved, lemma_bounded_z proved, lemma_combine proved",
+        ),
+        (
+            "cull",
+            cull("frac_bits=2").to_vec(),
+            "lemma_plane0 proved, lemma_combine proved",
+        ),
+        (
+            "silhouette",
+            silhouette("frac_bits=1").to_vec(),
+            "lemma_bounded_z proved, lemma_test_edge_xy proved, lemma_test_edge_xz proved, \
+             lemma_test_edge_yx proved, lemma_test_edge_yz proved, lemma_test_edge_zx proved, \
+             lemma_test_edge_zy proved, lemma_test_dist_x proved, lemma_test_dist_y proved, \
+             lemma_test_dist_z proved, lemma_test_dir_x proved, lemma_test_dir_y proved, \
+             lemma_test_dir_z proved, lemma_combine proved",
+        ),
+    ] {
+        let (code, t) = run(unit, &params, &[], unit);
+        assert!(
+            code == Some(0) && t.contains("proved: ") && t.contains(lemmas),
+            "{unit}: {t}"
+        );
+    }
+    // the lemmas bite: a hand-edited top (--verilog) or a plant
+    let edits = [
+        (
+            "slab",
+            "slab_e2m1_cons_s0.v",
+            ".o(o_y)",
+            ".o(o_x)",
+            "lemma_bounded_y refuted",
+        ),
+        (
+            "slab",
+            "slab_e2m1_cons_s0.v",
+            "assign hit = order_lt | order_eq;",
+            "assign hit = order_lt;",
+            "lemma_combine refuted",
+        ),
+        (
+            "silhouette",
+            "silhouette_e2m1_ray_cons_s0.v",
+            ".o(o_y)",
+            ".o(o_x)",
+            "lemma_bounded_y refuted",
+        ),
+        (
+            "cull",
+            "cull_e2m1_pe2m1_k1_s0.v",
+            ".rcp_hi(rcp_hi0)",
+            ".rcp_hi(rcp_lo0)",
+            "lemma_plane0 refuted",
+        ),
+    ];
+    for (i, (unit, top, from, to, refuted)) in edits.into_iter().enumerate() {
+        let params = match unit {
+            "slab" => slab("frac_bits=1").to_vec(),
+            "silhouette" => silhouette("frac_bits=1").to_vec(),
+            _ => cull("frac_bits=1").to_vec(),
+        };
+        let src = w.join(format!("edit{i}"));
+        let src_s = src.display().to_string();
+        let mut e = vec!["emit", unit];
+        e.extend(&params);
+        e.extend(["-p", "stages=0", "--out", &src_s]);
+        assert!(rtl_gen(&e).status.success());
+        let file = src.join(top);
+        let v = std::fs::read_to_string(&file).unwrap();
+        assert!(v.contains(from), "{from} not in {top}");
+        std::fs::write(&file, v.replacen(from, to, 1)).unwrap();
+        let (code, t) = run(
+            unit,
+            &params,
+            &["--verilog", &src_s],
+            &format!("edit{i}-proof"),
+        );
+        assert!(
+            code == Some(1) && t.contains("not proved: ") && t.contains(refuted),
+            "{from} -> {to}: {t}"
+        );
+    }
+    let (code, t) = run(
+        "cull",
+        &cull("frac_bits=1"),
+        &["--plant", "lt-for-le"],
+        "plant",
+    );
+    assert!(
+        code == Some(1) && t.contains("lemma_combine refuted"),
+        "cull --plant lt-for-le: {t}"
     );
 }
