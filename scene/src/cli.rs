@@ -13,7 +13,7 @@ use crate::scene::Scene;
 use crate::stats::{bundle_savings, plane_savings, table, wide_table};
 use crate::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use crate::trace::{BundleOpts, TraceOpts, Tracer, TriTest};
-use crate::wide::{Boxes, WideAccel};
+use crate::wide::{Boxes, DopSelect, WideAccel};
 use clap::{Subcommand, ValueEnum};
 use golden_model::float::FloatFormat;
 use golden_model::raycull::{Compare, DepthFormat};
@@ -79,11 +79,29 @@ pub struct WideOpts {
     /// (docs/node.md §1-9, no RTL) instead of the node unit
     #[arg(long, requires = "wide", conflicts_with = "exact_boxes")]
     anchors: bool,
-    /// with --wide: BLAS nodes also carry each slot's extent along the four diagonals
-    /// (a 14-DOP with the box), tested in the same cells (the cull-plane study, docs/node.md §11;
-    /// the model only)
-    #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors"])]
-    dop: bool,
+    /// with --wide: BLAS nodes also carry each slot's extent along diagonal directions,
+    /// tested in the same cells (the cull-plane study, docs/node.md §11; the model only):
+    /// `all` (the default) the four body diagonals at every node, a 14-DOP with the box;
+    /// `one` one direction per node of the ten body and face diagonals, chosen by the builder
+    #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors"],
+          num_args = 0..=1, default_missing_value = "all", value_name = "all|one")]
+    dop: Option<DopArg>,
+}
+
+/// `--dop`'s directions ([`DopSelect`]).
+#[derive(Clone, Copy, ValueEnum)]
+enum DopArg {
+    All,
+    One,
+}
+
+impl DopArg {
+    fn select(self) -> DopSelect {
+        match self {
+            DopArg::All => DopSelect::All,
+            DopArg::One => DopSelect::One,
+        }
+    }
 }
 
 impl WideOpts {
@@ -334,7 +352,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             wide,
         } => {
             let (s, w, h, mut opts) = setup(&c)?;
-            let dop = wide.dop;
+            let dop = wide.dop.map(DopArg::select);
             let wide = wide.shape()?;
             if wide.is_some() && (box_format.is_some() || !matches!(box_kind, BoxKind::Golden)) {
                 return Err(
@@ -376,11 +394,12 @@ fn run(command: Command) -> Result<ExitCode, String> {
             let wide_accel = match wide {
                 Some((format, tlas_q, _)) => {
                     let w = WideAccel::build(&acc, format, tlas_q)?;
-                    Some(if dop {
-                        let meshes: Vec<_> = s.meshes.iter().map(|(_, m)| m).collect();
-                        w.with_dop(&meshes)
-                    } else {
-                        w
+                    Some(match dop {
+                        Some(select) => {
+                            let meshes: Vec<_> = s.meshes.iter().map(|(_, m)| m).collect();
+                            w.with_dop(&meshes, select)
+                        }
+                        None => w,
                     })
                 }
                 None => None,
@@ -621,7 +640,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     )
                 }
             };
-            if wide.exact_boxes || wide.anchors || wide.dop {
+            if wide.exact_boxes || wide.anchors || wide.dop.is_some() {
                 return Err(
                     "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors or --dop"
                         .into(),

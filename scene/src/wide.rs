@@ -249,13 +249,14 @@ impl WideAccel {
         })
     }
 
-    /// Adds the k-DOP extents of every BLAS slot (the study of docs/node.md §11).
-    pub fn with_dop(mut self, meshes: &[&Mesh]) -> WideAccel {
+    /// Adds the k-DOP extents of every BLAS slot along the directions `select`
+    /// gives each node (the study of docs/node.md §11).
+    pub fn with_dop(mut self, meshes: &[&Mesh], select: DopSelect) -> WideAccel {
         self.dop = self
             .blas
             .iter()
             .zip(meshes)
-            .map(|(b, m)| dop_tree(b, m))
+            .map(|(b, m)| dop_tree(b, m, select))
             .collect();
         self
     }
@@ -661,21 +662,45 @@ fn box_test(b: Box32, o: [u64; 3], inv_d: [u64; 3], t_max: u64) -> golden_model:
 }
 
 /// The k-DOP directions of the cull-plane study (docs/node.md §11): the four
-/// diagonals, with the three box axes a 14-DOP.
-pub const DOP_DIRS: [[i32; 3]; 4] = [[1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]];
+/// body diagonals, then the six face diagonals (with the box axes a 26-DOP).
+/// [`DopSelect::All`] gives every BLAS node the first four (a 14-DOP).
+pub const DOP_DIRS: [[i32; 3]; 10] = [
+    [1, 1, 1],
+    [1, 1, -1],
+    [1, -1, 1],
+    [-1, 1, 1],
+    [1, 1, 0],
+    [1, -1, 0],
+    [1, 0, 1],
+    [1, 0, -1],
+    [0, 1, 1],
+    [0, 1, -1],
+];
 
-/// One BLAS node's extra axes: per direction a frame `U + [0, Q]·2^e` and per
-/// slot the q-bit extent of its triangles along the direction, outward.
+/// Which of [`DOP_DIRS`] a BLAS node carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DopSelect {
+    /// the four body diagonals at every node
+    All,
+    /// one direction per node, of all ten, chosen by the builder: the one that
+    /// shrinks its slots most where rays and triangles are ([`direction_score`])
+    One,
+}
+
+/// One BLAS node's extra axes: per carried direction a frame `U + [0, Q]·2^e`
+/// and per slot the q-bit extent of its triangles along it, outward.
 #[derive(Debug, Clone)]
 pub struct DopNode {
-    /// frame origin per direction
-    pub origin: [Dyadic; 4],
-    /// frame step exponent per direction
-    pub exp: [i64; 4],
-    /// per slot and direction the lower integer
-    pub lo: [[u16; 4]; MAX_CHILDREN],
-    /// per slot and direction the upper integer
-    pub hi: [[u16; 4]; MAX_CHILDREN],
+    /// the directions carried, indexes into [`DOP_DIRS`]
+    pub dirs: Vec<usize>,
+    /// frame origin per carried direction
+    pub origin: Vec<Dyadic>,
+    /// frame step exponent per carried direction
+    pub exp: Vec<i64>,
+    /// per carried direction and slot the lower integer
+    pub lo: Vec<[u16; MAX_CHILDREN]>,
+    /// per carried direction and slot the upper integer
+    pub hi: Vec<[u16; MAX_CHILDREN]>,
 }
 
 /// A finite binary64 value, exactly.
@@ -692,44 +717,127 @@ fn along(n: [i32; 3], v: [f32; 3]) -> (f64, f64) {
     (x.next_down().next_down(), x.next_up().next_up())
 }
 
+/// Extents of a slot's triangles: along [`DOP_DIRS`], along the axes, and how
+/// many triangles.
+#[derive(Debug, Clone, Copy)]
+struct SlotExtent {
+    lo: [f64; 10],
+    hi: [f64; 10],
+    box_lo: [f64; 3],
+    box_hi: [f64; 3],
+    triangles: u64,
+}
+
+impl SlotExtent {
+    const NONE: SlotExtent = SlotExtent {
+        lo: [f64::INFINITY; 10],
+        hi: [f64::NEG_INFINITY; 10],
+        box_lo: [f64::INFINITY; 3],
+        box_hi: [f64::NEG_INFINITY; 3],
+        triangles: 0,
+    };
+
+    fn add_point(&mut self, v: [f32; 3]) {
+        for (j, n) in DOP_DIRS.iter().enumerate() {
+            let (lo, hi) = along(*n, v);
+            self.lo[j] = self.lo[j].min(lo);
+            self.hi[j] = self.hi[j].max(hi);
+        }
+        for a in 0..3 {
+            self.box_lo[a] = self.box_lo[a].min(v[a] as f64);
+            self.box_hi[a] = self.box_hi[a].max(v[a] as f64);
+        }
+    }
+
+    fn merge(&mut self, o: &SlotExtent) {
+        for j in 0..10 {
+            self.lo[j] = self.lo[j].min(o.lo[j]);
+            self.hi[j] = self.hi[j].max(o.hi[j]);
+        }
+        for a in 0..3 {
+            self.box_lo[a] = self.box_lo[a].min(o.box_lo[a]);
+            self.box_hi[a] = self.box_hi[a].max(o.box_hi[a]);
+        }
+        self.triangles += o.triangles;
+    }
+}
+
+/// What direction `j` is worth at a node: over its slots, the slot's surface
+/// area (how often a ray visits it) times its triangles (the work below it)
+/// times how much the extent along `j` shrinks the slot's box projected on
+/// `j` (`1 − extent / projection`): a SAH-like proxy of the tests it cuts.
+fn direction_score(slots: &[SlotExtent], j: usize) -> f64 {
+    let n = DOP_DIRS[j];
+    slots
+        .iter()
+        .filter(|s| s.triangles > 0)
+        .map(|s| {
+            let e: Vec<f64> = (0..3).map(|a| s.box_hi[a] - s.box_lo[a]).collect();
+            let area = 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+            let projection: f64 = (0..3).map(|a| n[a].abs() as f64 * e[a]).sum();
+            let shrink = if projection > 0.0 {
+                (1.0 - (s.hi[j] - s.lo[j]) / projection).max(0.0)
+            } else {
+                0.0
+            };
+            area * s.triangles as f64 * shrink
+        })
+        .sum()
+}
+
 /// The k-DOP extents of every node of `bvh` (a BLAS of `mesh`), bottom-up.
-fn dop_tree(bvh: &WideBvh, mesh: &Mesh) -> Vec<DopNode> {
+fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
     let q_max = bvh.format.q_max() as i64;
-    let none = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
-    let mut node_extent = vec![none; bvh.nodes.len()];
+    let mut node_extent = vec![SlotExtent::NONE; bvh.nodes.len()];
     let mut out: Vec<Option<DopNode>> = vec![None; bvh.nodes.len()];
     for id in (0..bvh.nodes.len()).rev() {
         let node = &bvh.nodes[id];
-        let mut slots = [none; MAX_CHILDREN];
+        let mut slots = [SlotExtent::NONE; MAX_CHILDREN];
         for (i, slot) in slots.iter_mut().enumerate() {
             match node.child(i) {
                 ChildRef::Leaf { first, count } => {
                     for &t in &bvh.prims[first as usize..(first + count) as usize] {
                         for v in mesh.corners(t) {
-                            for (j, n) in DOP_DIRS.iter().enumerate() {
-                                let (lo, hi) = along(*n, v);
-                                slot.0[j] = slot.0[j].min(lo);
-                                slot.1[j] = slot.1[j].max(hi);
-                            }
+                            slot.add_point(v);
                         }
                     }
+                    slot.triangles = u64::from(count);
                 }
                 ChildRef::Inner(c) => *slot = node_extent[c as usize],
                 ChildRef::Empty => {}
             }
         }
-        let mut ext = none;
+        let mut ext = SlotExtent::NONE;
         for sl in &slots {
-            for j in 0..4 {
-                ext.0[j] = ext.0[j].min(sl.0[j]);
-                ext.1[j] = ext.1[j].max(sl.1[j]);
-            }
+            ext.merge(sl);
         }
         node_extent[id] = ext;
-        let origin = ext.0.map(|v| dyadic(if v.is_finite() { v } else { 0.0 }));
-        let exp = [0, 1, 2, 3].map(|j| {
-            let range = ext.1[j] - ext.0[j];
-            if range.is_finite() && range > 0.0 {
+        let dirs: Vec<usize> = match select {
+            DopSelect::All => (0..4).collect(),
+            DopSelect::One => {
+                let best = (0..DOP_DIRS.len())
+                    .max_by(|&a, &b| {
+                        direction_score(&slots, a).total_cmp(&direction_score(&slots, b))
+                    })
+                    .expect("ten directions");
+                vec![best]
+            }
+        };
+        let mut dop = DopNode {
+            dirs: dirs.clone(),
+            origin: Vec::new(),
+            exp: Vec::new(),
+            lo: Vec::new(),
+            hi: Vec::new(),
+        };
+        for &j in &dirs {
+            let origin = dyadic(if ext.lo[j].is_finite() {
+                ext.lo[j]
+            } else {
+                0.0
+            });
+            let range = ext.hi[j] - ext.lo[j];
+            let exp = if range.is_finite() && range > 0.0 {
                 // the least e with Q·2^e ≥ range (rounded up in f64 once more)
                 let mut e = (range / q_max as f64).log2().ceil() as i64 - 1;
                 while (q_max as f64) * (e as f64).exp2() < range.next_up() {
@@ -738,29 +846,26 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh) -> Vec<DopNode> {
                 e
             } else {
                 -60
-            }
-        });
-        let mut lo = [[0u16; 4]; MAX_CHILDREN];
-        let mut hi = [[0u16; 4]; MAX_CHILDREN];
-        for (i, sl) in slots.iter().enumerate() {
-            for j in 0..4 {
-                if !sl.0[j].is_finite() {
+            };
+            let mut lo = [0u16; MAX_CHILDREN];
+            let mut hi = [0u16; MAX_CHILDREN];
+            for (i, sl) in slots.iter().enumerate() {
+                if !sl.lo[j].is_finite() {
                     continue;
                 }
                 let rel = |v: f64, up: bool| {
-                    let k = dyadic(v).sub(&origin[j]).div_pow2_round(exp[j], up);
+                    let k = dyadic(v).sub(&origin).div_pow2_round(exp, up);
                     i64::try_from(k).unwrap_or(q_max).clamp(0, q_max) as u16
                 };
-                lo[i][j] = rel(sl.0[j], false);
-                hi[i][j] = rel(sl.1[j], true);
+                lo[i] = rel(sl.lo[j], false);
+                hi[i] = rel(sl.hi[j], true);
             }
+            dop.origin.push(origin);
+            dop.exp.push(exp);
+            dop.lo.push(lo);
+            dop.hi.push(hi);
         }
-        out[id] = Some(DopNode {
-            origin,
-            exp,
-            lo,
-            hi,
-        });
+        out[id] = Some(dop);
     }
     out.into_iter().map(|n| n.expect("every node")).collect()
 }
@@ -769,32 +874,26 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh) -> Vec<DopNode> {
 fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
     let val = |b: u64| dyadic(f32::from_bits(b as u32) as f64);
     let (o, d) = (o.map(val), d.map(val));
-    DOP_DIRS
+    dop.dirs
         .iter()
         .enumerate()
-        .map(|(j, n)| {
+        .map(|(k, &j)| {
+            let n = DOP_DIRS[j];
+            // n·v exactly: the components are 0 or ±1
             let dot = |v: &[Dyadic; 3]| {
-                (0..3).fold(dyadic(0.0), |acc, a| {
-                    if n[a] > 0 {
-                        acc.add(&v[a])
-                    } else {
-                        acc.sub(&v[a])
-                    }
+                (0..3).fold(dyadic(0.0), |acc, a| match n[a].signum() {
+                    1 => acc.add(&v[a]),
+                    -1 => acc.sub(&v[a]),
+                    _ => acc,
                 })
             };
-            let mut lo = [0u16; MAX_CHILDREN];
-            let mut hi = [0u16; MAX_CHILDREN];
-            for i in 0..MAX_CHILDREN {
-                lo[i] = dop.lo[i][j];
-                hi[i] = dop.hi[i][j];
-            }
             ExtraAxis {
                 o: dot(&o),
                 d: dot(&d),
-                origin: dop.origin[j].clone(),
-                exp: dop.exp[j],
-                lo,
-                hi,
+                origin: dop.origin[k].clone(),
+                exp: dop.exp[k],
+                lo: dop.lo[k],
+                hi: dop.hi[k],
             }
         })
         .collect()
