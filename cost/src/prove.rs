@@ -275,10 +275,17 @@ fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
     let venv_bin = yosys.parent().map(Path::to_path_buf).unwrap_or_default();
     let bin = dir.join("bin");
     std::fs::create_dir_all(&bin).map_err(|e| format!("{}: {e}", bin.display()))?;
+    // the solver's standard error kept out of smtbmc's stream: yowasp prints a line there
+    // the first time it compiles the solver, which smtbmc would take for an answer
     let wrapper = bin.join("boolector");
+    let stderr = dir.join("boolector.stderr");
     std::fs::write(
         &wrapper,
-        format!("#!/bin/sh\nexec '{}' \"$@\"\n", boolector.display()),
+        format!(
+            "#!/bin/sh\nexec '{}' \"$@\" 2>>'{}'\n",
+            boolector.display(),
+            stderr.display()
+        ),
     )
     .map_err(|e| format!("{}: {e}", wrapper.display()))?;
     {
