@@ -41,10 +41,17 @@ use super::*;
 /// cut design (`lemma_combine` last), where the wrapper also watches the
 /// unit's wires `watched_after_cut`.
 pub(super) struct Cut {
-    wires: Vec<(String, String)>,
-    lemmas: Vec<String>,
-    combination: usize,
-    watched_after_cut: Vec<(String, String)>,
+    pub(super) wires: Vec<(String, String)>,
+    pub(super) lemmas: Vec<String>,
+    pub(super) combination: usize,
+    pub(super) watched_after_cut: Vec<(String, String)>,
+    /// the unit's wires the lemmas read on both designs, uncut (the node's flags)
+    pub(super) watched: Vec<(String, String)>,
+    /// the `-set` arguments of the cover that shows the combination's hypothesis reachable
+    pub(super) cover: String,
+    /// cut the design as read (saved as `raw` after `flatten`), then optimise: the unit's
+    /// wires keep their widths and drivers (the node's; the others cut the optimised design)
+    pub(super) raw: bool,
 }
 
 /// A ray/box unit whose soundness splits per axis: its per-axis instances
@@ -128,6 +135,9 @@ impl AxisUnit {
                     )
                 })
                 .collect(),
+            watched: Vec::new(),
+            cover: "-set exact_hit 1 -set lemma_meet 1".into(),
+            raw: false,
         }
     }
 }
@@ -153,6 +163,9 @@ pub(super) fn cull_cut(k: usize) -> Cut {
             .collect(),
         combination: 1,
         watched_after_cut: Vec::new(),
+        watched: Vec::new(),
+        cover: "-set exact_hit 1 -set lemma_meet 1".into(),
+        raw: false,
     }
 }
 
@@ -268,7 +281,7 @@ pub(super) fn cull_wrapper_part(c: CullFormats) -> String {
 /// value of the float `x` of `fmt` as an extended real (decoded by the
 /// wrapper's `value`, [`decode_functions`]; `±∞` beyond every finite value,
 /// symmetric so that `−key` is the key of `−x`), compared signed.
-fn extended_real(fmt: FloatFormat, x: &str) -> String {
+pub(super) fn extended_real(fmt: FloatFormat, x: &str) -> String {
     let kw = magnitude_bits(fmt) + 2;
     format!(
         "    wire {x}_nan = {};\n    wire {x}_up = {};\n    wire {x}_down = {};\n    \
@@ -497,27 +510,46 @@ pub(super) fn wrapper_part(fmt: FloatFormat, u: &AxisUnit) -> String {
 /// then the combination with the unit's wires driven by them instead
 /// (free: nothing else drives them), each lemma its own `sat` call.
 pub(super) fn script(cut: &Cut) -> String {
-    let mut s = String::from(
-        "# the lemmas (prove_sound/split.rs): bounds on the unit's own results\ndesign -load proof\n",
-    );
-    for (monitor, unit) in &cut.wires {
-        let _ = writeln!(s, "connect -set {monitor} {unit}");
+    let load = if cut.raw {
+        "design -load raw\n"
+    } else {
+        "design -load proof\n"
+    };
+    // after the connections: the raw design optimised as the proof's was
+    let optimise = if cut.raw {
+        "prep -top prove_sound\nasync2sync\nopt -fast\nchformal -cover -remove\n"
+    } else {
+        ""
+    };
+    // on the raw design, connections name the wires themselves (-nomap): a reader of a wire is
+    // an alias of it there, and `connect -set` would unset the alias with the driver
+    let connect = if cut.raw {
+        "connect -nomap -set"
+    } else {
+        "connect -set"
+    };
+    let mut s =
+        format!("# the lemmas (prove_sound/split.rs): bounds on the unit's own results\n{load}");
+    for (monitor, unit) in cut.wires.iter().chain(&cut.watched) {
+        let _ = writeln!(s, "{connect} {monitor} {unit}");
     }
+    s += optimise;
     // reachable: an exact hit where the unit's own results meet (the
     // combination's hypothesis, not vacuous)
-    s += "sat -set-assumes -set exact_hit 1 -set lemma_meet 1\n";
+    let _ = writeln!(s, "sat -set-assumes {}", cut.cover);
     let (bounds, combination) = cut.lemmas.split_at(cut.lemmas.len() - cut.combination);
     for lemma in bounds {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
     }
-    s += "# the combination over free (cut) results\ndesign -load proof\n";
+    s += "# the combination over free (cut) results\n";
+    s += load;
     for (monitor, unit) in &cut.wires {
-        let _ = writeln!(s, "connect -set {unit} {monitor}");
+        let _ = writeln!(s, "{connect} {unit} {monitor}");
     }
-    for (monitor, unit) in &cut.watched_after_cut {
-        let _ = writeln!(s, "connect -set {monitor} {unit}");
+    for (monitor, unit) in cut.watched_after_cut.iter().chain(&cut.watched) {
+        let _ = writeln!(s, "{connect} {monitor} {unit}");
     }
-    s += "opt_clean\n";
+    s += if cut.raw { optimise } else { "opt_clean\n" };
     for lemma in combination {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
     }
