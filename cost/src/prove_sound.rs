@@ -1460,6 +1460,7 @@ pub fn sound(
     reference_cases: usize,
     solver: crate::prove::Solver,
     split: bool,
+    only: &[String],
 ) -> Result<crate::prove::Outcome, String> {
     use crate::prove::Outcome;
     let v = unit.params.values();
@@ -1536,12 +1537,24 @@ pub fn sound(
         Kind::RayBox
     };
     // where a split proof cuts the unit
-    let cut = match kind {
+    let mut cut = match kind {
         _ if !split => None,
         Kind::Cull(c) => Some(split::cull_cut(c.k)),
         Kind::Node { children, .. } => Some(node_split::node_cut(children)),
         _ => Some(split::axis_unit(&unit.unit).cut()),
     };
+    if !only.is_empty() {
+        let Some(c) = cut.as_mut().filter(|c| !c.stages.is_empty()) else {
+            return Err("--lemma picks lemmas of node --property sound --split".into());
+        };
+        if let Some(unknown) = only.iter().find(|l| !c.lemmas.contains(l)) {
+            return Err(format!(
+                "--lemma {unknown}: no such lemma; the lemmas are {}",
+                c.lemmas.join(", ")
+            ));
+        }
+        split::keep_only(c, only);
+    }
     if work.exists() {
         std::fs::remove_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
     }
@@ -1583,6 +1596,7 @@ pub fn sound(
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_hit 0 -set unit_hit 0\n\
              sat -set-assumes -set unit_all_hit 1\n"
+                .to_string()
         }
         Kind::Node {
             q,
@@ -1602,29 +1616,36 @@ pub fn sound(
                 "prove_sound.v",
                 &node_wrapper(unit, fmt, q, children, out, shape),
             )?);
-            "# reachable: a valid child the segment meets, a valid child the unit rejects\n\
-             sat -set-assumes -set child0_exact_hit 1\n\
-             sat -set-assumes -set child0_valid 1 -set unit_hit_0 0\n"
+            // each on its cone of influence (the whole wrapper is 700,000 variables at e3m2)
+            let hit = "-set child0_exact_hit 1";
+            let rejected = "-set child0_valid 1 -set unit_hit_0 0";
+            format!(
+                "# reachable: a valid child the segment meets, a valid child the unit rejects\n\
+                 sat -set-assumes {hit} {}\nsat -set-assumes {rejected} {}\n",
+                split::cone(hit),
+                split::cone(rejected)
+            )
         }
         Kind::Cull(c) => {
             files.push(put("prove_sound.v", &cull_wrapper(unit, c, split))?);
             "# reachable: a segment that meets the region, and a cull of one that meets the box\n\
              sat -set-assumes -set exact_hit 1\n\
              sat -set-assumes -set exact_box_hit 1 -set unit_keep 0\n"
+                .to_string()
         }
     };
     let mut script: String = files
         .iter()
         .map(|f| format!("read_verilog -formal -sv {f}\n"))
         .collect();
-    if cut.as_ref().is_some_and(|c| c.raw) {
+    if cut.as_ref().is_some_and(|c| !c.stages.is_empty()) {
         // the cut on the design as read (prep's wreduce and opt would narrow or merge the
         // unit's wires the split watches and drives)
         script += "hierarchy -top prove_sound\nproc\nflatten\ndesign -save raw\n";
     }
     script += "prep -top prove_sound\nflatten\nasync2sync\nopt -fast\nchformal -cover -remove\n\
                design -save proof\nchformal -assert -remove\n";
-    script += covers;
+    script += &covers;
     let cover_script = script.clone();
     if let Some(cut) = &cut {
         script += &split::script(cut);
@@ -1808,6 +1829,12 @@ pub fn sound(
     if !matches!(verdict, Verdict::Proved) {
         return Ok(Outcome::Unknown(format!(
             "{what}: no verdict{lemmas} in {}",
+            log_path.display()
+        )));
+    }
+    if !only.is_empty() {
+        return Ok(Outcome::Unknown(format!(
+            "{what}: only some of the split's lemmas were run{lemmas}, so the property is not proved ({})",
             log_path.display()
         )));
     }

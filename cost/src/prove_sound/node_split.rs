@@ -1,80 +1,89 @@
 //! `--split` for the node tester (docs/proofs.md, "Splitting the proof";
-//! docs/node.md §12): the unit cut at its per-node terms, the ones every
-//! child reads. Per axis the position bounds `from_lo`, `from_hi` (the
-//! ray's position at the start `T` in `2^−g` frame steps, floored and ceiled
-//! onto the grid, clamped, mirrored `Q·2^g − x` for a negative direction),
-//! the slopes (cells per `2^−g` step rounded down and up: `sig_down`,
-//! `sig_up_used`, each shifted by `shift` and flagged `over_cap` above the
-//! cap) and, once per node, the window end `far_top`. With `g` the position
-//! bits, `h` the cell bits, `m` the slope bits, `kmin = h − m + 1 − g`, a
-//! slope is `S = sig·2^(shift + kmin)` cells per `2^−g` step; `u = 2^G` the
-//! cell (`G` the output `grid_exp`), `T_r` the output `t_base`, `C = 2^K`
-//! the cap, `L = 2^(q+3+g)` the clamp, `live` = neither every valid slot
-//! reported (`every_valid_slot`: bad input, no start) nor the segment
-//! empty (`empty_segment_empty`).
+//! docs/node.md §12): the unit cut at its per-node terms, in three stages
+//! on the design as read (the cut wires keep their drivers and readers
+//! there: prep's wreduce and opt would narrow and merge them).
 //!
-//! Lemmas on the unit as instantiated (the per-node terms watched), each
-//! its own `sat` call under the wrapper's contract:
+//! Notation: `g` position bits, `h` cell bits, `m` slope bits, `kmin = h −
+//! m + 1 − g`; `T_r` the output `t_base`, `u = 2^G` the cell (`G` the output
+//! `grid_exp`), `C = 2^K` the cap, `L = 2^(q+3+g)` the clamp, `Q = 2^q − 1`;
+//! `live` = neither every valid slot reported (`every_valid_slot`: bad
+//! input, no start) nor the segment empty (`empty_segment_empty`). Per axis
+//! the exact position at `T_r` in `2^−g` frame steps is `P = (o − O +
+//! T_r·d)·2^(g − e)`, `P' = P` or `Q·2^g − P` when mirrored; the window sum
+//! adds the terms `t0 = o`, `t1 = −O`, `t2 = T_r·d` (exact) in `2^B` units
+//! (`B = sum_exp`), each term truncated to `kept` with `lost` set when it
+//! lost bits; `from_lo`, `from_hi` are the position bounds on the grid
+//! (mirrored); a slope is `S = sig·2^(shift + kmin)` cells per `2^−g` step
+//! (`sig_down` rounded down, `sig_up_used` up, each flagged `over_cap`).
 //!
-//! * **start**: when live, `t_base` is finite and `T_r ≤ max(t_min, t_start)`;
-//! * **empty**: the unit's `empty` (unless every slot is reported) only for
-//!   `t_min = +∞`, `t_start = +∞`, `t_max = −∞` or `t_max < max(t_min, t_start)`;
-//! * **window_end**: when live, `0 ≤ far_top ≤ C` and `far_top = C` or
-//!   `t_max` finite with `far_top·u ≥ t_max − T_r`;
-//! * **position_a** (a = x, y, z): when live, with `P = (o − O + T_r·d)·2^(g − e)`
-//!   the exact position in `2^−g` steps (`T_r·d` exact) and `P' = P`, or
-//!   `Q·2^g − P` when mirrored: a slab axis has `d ≠ 0`, `mirror` the sign of
-//!   `d`, `from_lo ≤ P'` or `from_lo ≤ Q·2^g − L` (clamped), `from_hi ≥ P'`
-//!   or `from_hi ≥ Q·2^g`; a parallel axis `d = 0`, no mirror, `from_hi ≥
-//!   Q·2^g` or `from_hi > P − 1`, `from_lo ≤ 0` or `from_lo < P + 1`;
-//! * **slope_a**: when live, on a slab axis, with `A = |inv_d|·2^(e − g − G)`
-//!   and `B = next(|inv_d|)·2^(e − g − G)` (`next` the successor; at the
-//!   largest finite `inv_d`, `2^(bias + F − 1)`, the reciprocal of the
-//!   smallest subnormal): `S_lo ≤ A` and `shift_lo ≤ zmax` unless
-//!   `over_lo`, then `A > C`; unless `over_hi`, `S_hi ≥ B`, `S_hi ≥ 2^(h−g)`,
-//!   `shift_hi ≤ zmax` and `sig_hi ≥ 2^(m−1)`;
-//! * **child_i** (per slot, on the cut design: the per-node terms driven by
-//!   free values): if slot i is valid and every valid slot is reported, or
-//!   the segment is not empty, the per-node terms satisfy the lemmas'
-//!   internal parts (`0 ≤ far_top ≤ C`, the shifts and `sig_hi` above) and
-//!   `meet_i` holds, the slot is reported hit, and its entry is 0 or, live,
-//!   for some slab axis with `dn > 0`, at most `C` (`over_lo`) or at most
-//!   `dn·S_lo`. With `dn_a = entry_a·2^g − from_hi_a`, `df_a = exit_a·2^g −
-//!   from_lo_a` (the child's entry and exit planes in the mirrored frame),
-//!   `meet_i` is: `df_a ≥ 0` on every axis and `dn_a ≤ 0` on a parallel
-//!   one; for slab axes a, b: `dn_a ≤ 0`, or `df_b > 0` with `over_hi_b` or
-//!   `df_b·S_hi_b ≥ C`, or neither flag with `dn_a·S_lo_a ≤ df_b·S_hi_b`;
-//!   and `dn_a ≤ 0`, `far_top = C` or `dn_a·S_lo_a ≤ far_top` without `over_lo_a`.
+//! **Stage 0** (nothing cut):
+//! * **start**: live ⇒ `t_base` finite, `T_r ≤ max(t_min, t_start)`;
+//! * **empty**: `empty` (not every slot reported) only for `t_min = +∞`,
+//!   `t_start = +∞`, `t_max = −∞` or `t_max < max(t_min, t_start)`;
+//! * **window_end**: live ⇒ `0 ≤ far_top ≤ C`, and `far_top = C` or `t_max`
+//!   finite with `far_top·u ≥ t_max − T_r`;
+//! * **flags_a**: live ⇒ `parallel` iff `d = 0`; a parallel axis is not
+//!   mirrored, a slab axis mirrored iff `d < 0`;
+//! * **term<i>_a**: live ⇒ a nonzero term has `B` in the window's range and
+//!   `kept·2^B ≤ |t_i| ≤ (kept + lost)·2^B`; a zero term loses nothing and
+//!   keeps nothing, except a zero start's significand times a nonzero `d`
+//!   when `B` is the floor (every term zero);
+//! * **slope_a**: live, slab axis, `A = |inv_d|·2^(e−g−G)`, `B' =
+//!   next(|inv_d|)·2^(e−g−G)` (`2^(bias+F−1)·2^(e−g−G)` at the largest
+//!   finite `inv_d`): unless `over_lo`, `S_lo ≤ A` and `shift_lo ≤ zmax`;
+//!   with `over_lo`, `A > C`; unless `over_hi`, `S_hi ≥ B'`, `S_hi ≥
+//!   2^(h−g)`, `shift_hi ≤ zmax`, `sig_hi ≥ 2^(m−1)`.
 //!
-//! Why they imply the property. Take a valid slot the segment meets
-//! (exactly): some real `t*` with `max(t_min, t_start) ≤ t* ≤ t_max` puts
-//! the ray in the child's box. If every valid slot is reported, child_i
-//! gives the hit at entry 0. Else, by empty, the segment is not empty, so
-//! live, and by start `T_r ≤ t*`; let `τ = (t* − T_r)/u ≥ 0`, and per slab
-//! axis `R = 2^(e−g)/(|d|·u)` (cells per `2^−g` step): the contract `|inv_d|
-//! ≤ 1/|d| < next(|inv_d|)` (`1/|d| ≤ 2^(bias+F−1)` at the largest `inv_d`)
-//! gives `A ≤ R < B`. Along the axis the mirrored position at `t` is `P' +
-//! (t − T_r)·u/R`, so the box gives `entry·2^g − P' ≤ τ/R` where... (with
-//! `t_enter`, `t_exit` the axis's exact entry and exit parameters)
-//! `(t_enter − T_r)/u = (entry·2^g − P')·R ≤ τ ≤ (exit·2^g − P')·R =
-//! (t_exit − T_r)/u`. Now `dn_a > 0` puts `from_hi_a` below `Q·2^g`, so
-//! `from_hi_a ≥ P'_a` (position) and `dn_a ≤ entry·2^g − P'_a`: `τ ≥
-//! dn_a·R_a > 0`, above `dn_a·S_lo_a` (`S_lo ≤ A ≤ R`) or above `C` (`over_lo`:
-//! `R ≥ A > C`, `dn_a ≥ 1`). On axis b, `from_lo_b ≤ P'_b` gives `df_b ≥
-//! (exit·2^g − P'_b) ≥ τ/R_b ≥ 0` and, unless `over_hi_b`, `df_b·S_hi_b ≥
-//! df_b·R_b ≥ τ`; a clamped `from_lo_b ≤ Q·2^g − L` gives `df_b ≥ L − Q·2^g`
-//! and `df_b·S_hi_b ≥ (L − Q·2^g)·2^(h−g) > C`. So each pair holds (and `df ≥
-//! 0`); the window end holds by window_end (`τ ≤ (t_max − T_r)/u`; with
-//! `over_lo_a`, `τ > C`, so `far_top = C`). A parallel axis: `d = 0` and the
-//! box gives `lo·2^g ≤ P ≤ hi·2^g`, integers, so `from_hi ≥ lo·2^g` and
-//! `from_lo ≤ hi·2^g` by position. So `meet_i` and the internal parts hold,
-//! child_i gives the hit, and its entry: 0, or for a slab axis with `dn > 0`
-//! at most `dn·S_lo ≤ dn·R ≤ (t_enter − T_r)/u` (or at most `C < R ≤
-//! (t_enter − T_r)/u`), so `T_r + entry·u ≤ t_enter`, the reference's
-//! `entry_ok`. The extra cover: a hit of slot 0 where `meet_0` holds on the
-//! unit's own terms.
+//! **Stage 1** (`kept`, `lost` of every term cut): **grid_a**: live, with
+//! the zero terms' parts as term<i> says and `B` in range or the floor:
+//! `−L ≤ from_lo, from_hi ≤ Q·2^g + L`, and with `lo = Σ ±kept − Σ_neg
+//! lost`, `hi = Σ ±kept + Σ_pos lost` (signs of the exact terms; both 0
+//! when `B` is the floor): a slab axis has `from_lo ≤ lo·2^B` scaled (`Q·2^g
+//! − hi` mirrored) or `from_lo ≤ Q·2^g − L`, `from_hi ≥ hi` (`Q·2^g − lo`)
+//! or `from_hi ≥ Q·2^g`; a parallel axis `from_hi ≥ Q·2^g` or `from_hi >
+//! hi − 1`, `from_lo ≤ 0` or `from_lo < lo + 1` (in steps).
+//!
+//! **Stage 2** (`from_lo`, `from_hi`, the slopes and `far_top` cut):
+//! **child_i**: if slot i is valid and every valid slot is reported, or the
+//! segment is not empty, the per-node terms satisfy the stage-0/1 lemmas'
+//! internal parts (the ranges of `from_*` and `far_top`, the shifts,
+//! `sig_hi`) and `meet_i` holds, the slot is reported hit, and its entry is
+//! 0 or, live, for some slab axis with `dn > 0`, at most `C` (`over_lo`) or
+//! at most `dn·S_lo`. With `dn_a = entry_a·2^g − from_hi_a`, `df_a =
+//! exit_a·2^g − from_lo_a` (the child's planes in the mirrored frame),
+//! `meet_i`: `df_a ≥ 0` on every axis and `dn_a ≤ 0` on a parallel one; for
+//! slab axes a, b: `dn_a ≤ 0`, or `df_b > 0` with `over_hi_b` or
+//! `df_b·S_hi_b ≥ C`, or neither flag and `dn_a·S_lo_a ≤ df_b·S_hi_b`; and
+//! `dn_a ≤ 0`, `far_top = C`, or `dn_a·S_lo_a ≤ far_top` without `over_lo_a`.
+//!
+//! **Why they imply the property.** Take a valid slot whose box the segment
+//! meets: some real `t*`, `max(t_min, t_start) ≤ t* ≤ t_max`, in the box. If
+//! every valid slot is reported, child_i gives the hit at entry 0. Else by
+//! empty the segment is not empty, so live; by start `T_r ≤ t*`. Position:
+//! by term<i> the exact sum `o − O + T_r·d` lies in `[lo, hi]·2^B` (zero
+//! terms add nothing; `B` the floor only when every term is zero, sum 0),
+//! so by grid `from_lo ≤ P'` or `from_lo ≤ Q·2^g − L`, `from_hi ≥ P'` or
+//! `from_hi ≥ Q·2^g` (a parallel axis: `from_hi > P − 1`, `from_lo < P + 1`
+//! or beyond the planes). Let `τ = (t* − T_r)/u ≥ 0` and per slab axis `R =
+//! 2^(e−g)/(|d|·u)`; the contract `|inv_d| ≤ 1/|d| < next(|inv_d|)` (`1/|d|
+//! ≤ 2^(bias+F−1)`) gives `A ≤ R < B'`. The mirrored position at `t` is `P' +
+//! (t − T_r)/(u·R)`, so `(t_enter − T_r)/u = (entry·2^g − P')·R ≤ τ ≤
+//! (exit·2^g − P')·R = (t_exit − T_r)/u`. `dn_a > 0` puts `from_hi_a` below
+//! `Q·2^g`, so `dn_a ≤ entry·2^g − P'_a` and `τ ≥ dn_a·R_a > 0`, which is at
+//! least `dn_a·S_lo_a` (`S_lo ≤ A ≤ R`), or above `C` with `over_lo`. On
+//! axis b, `from_lo_b ≤ P'_b` gives `df_b ≥ τ/R_b > 0` and `df_b·S_hi_b ≥
+//! τ` unless `over_hi_b`; a clamped `from_lo_b` gives `df_b ≥ L − Q·2^g` and
+//! `df_b·S_hi_b ≥ (L − Q·2^g)·2^(h−g) > C`. So every pair holds and `df ≥
+//! 0`; window_end gives `τ ≤ far_top` or `far_top = C` (with `over_lo`, `τ >
+//! C ≥ far_top` forces `far_top = C`). A parallel axis: flags give `d = 0`,
+//! the box `lo·2^g ≤ P ≤ hi·2^g` (integers), so `from_hi ≥ lo·2^g` and
+//! `from_lo ≤ hi·2^g`. So `meet_i` and the internal parts hold; child_i
+//! gives the hit, and its entry is 0 or at most `dn·S_lo ≤ dn·R ≤ (t_enter −
+//! T_r)/u` (or `C < R ≤ (t_enter − T_r)/u`) for a slab axis: `T_r +
+//! entry·u ≤ t_enter`, the reference's `entry_ok`. The extra cover: a hit of
+//! slot 0 where `meet_0` holds on the unit's own terms.
 
-use super::split::{extended_real, Cut};
+use super::split::{extended_real, Cut, Stage};
 use super::{magnitude_bits, AXES};
 use golden_model::float::FloatFormat;
 use rtl_gen::units::node::{CELL_BITS, POS_FRAC};
@@ -118,8 +127,17 @@ impl NodeShape {
 pub(super) fn node_cut(children: usize) -> Cut {
     let mut wires = Vec::new();
     let mut watched = Vec::new();
+    let (mut parts, mut terms) = (Vec::new(), Vec::new());
     for a in AXES {
+        for i in 0..3 {
+            for part in ["kept", "lost"] {
+                let name = format!("node_{part}{i}_{a}");
+                wires.push((name.clone(), format!("u_unit.axis_{a}_term{i}_{part}")));
+                parts.push(name);
+            }
+        }
         for (monitor, unit) in [
+            ("sum_exp", format!("axis_{a}_sum_exp")),
             ("from_lo", format!("axis_{a}_plane_frame_from_lo")),
             ("from_hi", format!("axis_{a}_plane_frame_from_hi")),
             ("sig_down", format!("axis_{a}_slope_sig_down")),
@@ -129,7 +147,11 @@ pub(super) fn node_cut(children: usize) -> Cut {
             ("shift_up", format!("slope_{a}_up_shift")),
             ("over_up", format!("slope_{a}_up_over_cap")),
         ] {
-            wires.push((format!("node_{monitor}_{a}"), format!("u_unit.{unit}")));
+            let name = format!("node_{monitor}_{a}");
+            if monitor != "sum_exp" {
+                terms.push(name.clone());
+            }
+            wires.push((name, format!("u_unit.{unit}")));
         }
         watched.push((
             format!("node_parallel_{a}"),
@@ -141,23 +163,43 @@ pub(super) fn node_cut(children: usize) -> Cut {
         ));
     }
     wires.push(("node_far_top".into(), "u_unit.window_end_far_top".into()));
+    terms.push("node_far_top".into());
     watched.push(("node_all_in".into(), "u_unit.every_valid_slot".into()));
     watched.push(("node_empty".into(), "u_unit.empty_segment_empty".into()));
-    let lemmas: Vec<String> = ["lemma_start", "lemma_empty", "lemma_window_end"]
-        .iter()
-        .map(|s| s.to_string())
-        .chain(AXES.iter().map(|a| format!("lemma_position_{a}")))
-        .chain(AXES.iter().map(|a| format!("lemma_slope_{a}")))
-        .chain((0..children).map(|i| format!("lemma_child{i}")))
-        .collect();
+    let stages = vec![
+        Stage {
+            cut: Vec::new(),
+            lemmas: ["lemma_start", "lemma_empty", "lemma_window_end"]
+                .iter()
+                .map(|s| s.to_string())
+                .chain(AXES.iter().map(|a| format!("lemma_flags_{a}")))
+                .chain(AXES.iter().flat_map(|a| (0..3).map(move |i| format!("lemma_term{i}_{a}"))))
+                .chain(AXES.iter().map(|a| format!("lemma_slope_{a}")))
+                .collect(),
+            cover: Some("-set child0_exact_hit 1 -set lemma_meet0 1".into()),
+        },
+        Stage {
+            cut: parts,
+            lemmas: AXES
+                .iter()
+                .flat_map(|a| [format!("lemma_grid_lo_{a}"), format!("lemma_grid_hi_{a}")])
+                .collect(),
+            cover: None,
+        },
+        Stage {
+            cut: terms,
+            lemmas: (0..children).map(|i| format!("lemma_child{i}")).collect(),
+            cover: None,
+        },
+    ];
     Cut {
         wires,
-        lemmas,
+        lemmas: stages.iter().flat_map(|s| s.lemmas.clone()).collect(),
         combination: children,
         watched_after_cut: Vec::new(),
         watched,
-        cover: "-set child0_exact_hit 1 -set lemma_meet0 1".into(),
-        raw: true,
+        cover: String::new(),
+        stages,
     }
 }
 
@@ -231,45 +273,134 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
         e1 = ew - 1,
         f2 = k + 2,
     );
-    // positions, in units of 2^−U (U = 2·s1): x·2^(e − g + U) against o − O + T_r·d
-    let sh_max = emax - g as i32 + u2;
-    let pw = [
-        xw as i32 + sh_max + 2,
-        2 * nw as i32 + 2,
-        q as i32 + emax + u2 + g as i32 + 2,
-        nw as i32 + s1 + 2,
-    ]
-    .into_iter()
-    .max()
-    .unwrap() as u32
-        + 2;
+    // the window sums: [sum_lo, sum_hi]·2^B ∋ o − O + T_r·d, in units of 2^−(U + k2), U = 2·s1
+    let ww = q + g + rtl_gen::units::node::WINDOW_EXTRA;
+    let bias = fmt.bias();
+    let (b_min, b_max) = (4 - 2 * bias - ww as i32 - 2, 2 * emax + 3 - ww as i32 + 2);
+    let k2 = (-(b_min + u2)).max(0);
+    // B when every term is zero: the unit's smallest top (a zero term's) minus W, in bw bits
+    let tw = rtl_gen::arith::float::sint_width(2 * (emin as i64 - 1), 2 * (emax as i64 + 1)) + 1;
+    let bw = tw + 1;
+    let wrap = |x: i64| ((x + (1 << (bw - 1))).rem_euclid(1 << bw)) - (1 << (bw - 1));
+    let b_zero = wrap(-(1i64 << (tw - 1)) - ww as i64);
+    let sum_w = ww + 3;
+    let vw = ((sum_w as i32 + b_max + u2 + k2).max(2 * nw as i32 + 2 + k2) + 3) as u32;
+    // the grid: from·2^(−s) against sum·2^s's positive part, s = B − e + g
+    let (s_min, s_max) = (b_min - emax + g as i32, b_max - emin + g as i32);
+    let gw2 = ((xw as i32 + 2 + (-s_min).max(0)).max(sum_w as i32 + 1 + s_max.max(0)) + 2) as u32;
     for a in AXES {
+        for i in 0..3 {
+            let _ = writeln!(
+                v,
+                "    (* keep *) wire [{k1}:0] node_kept{i}_{a};\n    (* keep *) wire node_lost{i}_{a};",
+                k1 = ww - 1
+            );
+        }
         let _ = writeln!(
             v,
-            "    // position {a}: x·2^(e − g + {u2}) against (o − O + T_r·d)·2^{u2}\n    \
-             wire signed [7:0] pos_shift_{a} = $signed(frame_exp_{a}) + 8'sd{psh};\n    \
-             wire signed [{p1}:0] pos_o_{a} = value(o_{a});\n    \
-             wire signed [{p1}:0] pos_origin_{a} = value(frame_origin_{a});\n    \
-             wire signed [{p1}:0] pos_d_{a} = value(d_{a});\n    \
-             wire signed [{p1}:0] pos_t_{a} = value(unit_t_base);\n    \
-             wire signed [{p1}:0] pos_v_{a} = ((pos_o_{a} - pos_origin_{a}) <<< {s1}) + pos_t_{a} * pos_d_{a};\n    \
-             wire signed [{p1}:0] pos_q_{a} = {pw}'sd{qg} <<< pos_shift_{a};\n    \
-             wire signed [{p1}:0] pos_m_{a} = node_mirror_{a} ? pos_q_{a} - pos_v_{a} : pos_v_{a};\n    \
-             wire signed [{p1}:0] pos_lo_{a} = node_from_lo_{a};\n    \
-             wire signed [{p1}:0] pos_hi_{a} = node_from_hi_{a};\n    \
-             wire slab_ok_{a} = pos_d_{a} != 0 && node_mirror_{a} == d_{a}[{w1}]\n        \
-             && ((pos_lo_{a} <<< pos_shift_{a}) <= pos_m_{a} || node_from_lo_{a} <= {lo_clamp})\n        \
-             && ((pos_hi_{a} <<< pos_shift_{a}) >= pos_m_{a} || node_from_hi_{a} >= {x}'sd{qg});\n    \
-             wire parallel_ok_{a} = pos_d_{a} == 0 && !node_mirror_{a}\n        \
-             && (node_from_hi_{a} >= {x}'sd{qg} || ((pos_hi_{a} + 1) <<< pos_shift_{a}) > pos_v_{a})\n        \
-             && (node_from_lo_{a} <= 0 || ((pos_lo_{a} - 1) <<< pos_shift_{a}) < pos_v_{a});\n    \
-             (* keep *) wire lemma_position_{a} = !node_live || (node_parallel_{a} ? parallel_ok_{a} : slab_ok_{a});",
-            psh = u2 - g as i32,
-            p1 = pw - 1,
+            "    // window {a}: the unit's sum bounds against o − O + T_r·d (exact), and its flags
+                 (* keep *) wire signed [{b1}:0] node_sum_exp_{a};
+                 wire node_parts_zero_{a} = node_kept0_{a} == 0 && node_kept1_{a} == 0 && node_kept2_{a} == 0
+                     && !node_lost0_{a} && !node_lost1_{a} && !node_lost2_{a};
+                 wire node_sum_exp_ok_{a} = node_sum_exp_{a} >= {bmin} && node_sum_exp_{a} <= {bmax};
+                 // every term zero (B the unit's floor): zero terms' significands may still be summed, far below
+                 wire node_terms_zero_{a} = node_sum_exp_{a} == {bzero} && (!node_parallel_{a} || node_parts_zero_{a});
+                 wire signed [{v1}:0] win_o_{a} = value(o_{a});
+                 wire signed [{v1}:0] win_origin_{a} = value(frame_origin_{a});
+                 wire signed [{v1}:0] win_d_{a} = value(d_{a});
+                 wire signed [{v1}:0] win_t_{a} = value(unit_t_base);
+                 wire signed [{v1}:0] win_v_{a} = ((win_o_{a} - win_origin_{a}) <<< {s1}) + win_t_{a} * win_d_{a};
+                 wire signed [9:0] win_shift_{a} = node_sum_exp_{a} + 10'sd{bsh};
+                 wire flags_ok_{a} = node_parallel_{a} ? (win_d_{a} == 0 && !node_mirror_{a})
+                     : (win_d_{a} != 0 && node_mirror_{a} == d_{a}[{w1}]);
+                 (* keep *) wire lemma_flags_{a} = !node_live || flags_ok_{a};
+                 // the three terms o, −O, T_r·d (exact, in units of 2^−U): zero, sign, magnitude
+                 wire signed [{v1}:0] ex_t0_{a} = win_o_{a} <<< {s1};
+                 wire signed [{v1}:0] ex_t1_{a} = -(win_origin_{a} <<< {s1});
+                 wire signed [{v1}:0] ex_t2_{a} = win_t_{a} * win_d_{a};
+                 wire ex_zero0_{a} = o_{a}[{w2}:0] == 0;
+                 wire ex_zero1_{a} = frame_origin_{a}[{w2}:0] == 0;
+                 wire ex_zero2_{a} = unit_t_base[{w2}:0] == 0 || d_{a}[{w2}:0] == 0;
+                 wire ex_neg0_{a} = o_{a}[{w1}];
+                 wire ex_neg1_{a} = !frame_origin_{a}[{w1}];
+                 wire ex_neg2_{a} = unit_t_base[{w1}] ^ d_{a}[{w1}];
+                 // sum {a}: the unit's sum of the kept terms (cut), each with its sign, its lost bits outward
+                 wire signed [{sw1}:0] sum_kept_lo_{a} = (ex_neg0_{a} ? -$signed({{1'b0, node_kept0_{a}}}) - node_lost0_{a} : $signed({{1'b0, node_kept0_{a}}}))
+                     + (ex_neg1_{a} ? -$signed({{1'b0, node_kept1_{a}}}) - node_lost1_{a} : $signed({{1'b0, node_kept1_{a}}}))
+                     + (ex_neg2_{a} ? -$signed({{1'b0, node_kept2_{a}}}) - node_lost2_{a} : $signed({{1'b0, node_kept2_{a}}}));
+                 wire signed [{sw1}:0] sum_kept_hi_{a} = (ex_neg0_{a} ? -$signed({{1'b0, node_kept0_{a}}}) : $signed({{1'b0, node_kept0_{a}}}) + node_lost0_{a})
+                     + (ex_neg1_{a} ? -$signed({{1'b0, node_kept1_{a}}}) : $signed({{1'b0, node_kept1_{a}}}) + node_lost1_{a})
+                     + (ex_neg2_{a} ? -$signed({{1'b0, node_kept2_{a}}}) : $signed({{1'b0, node_kept2_{a}}}) + node_lost2_{a});
+                 // the zero terms keep and lose nothing (but in the floor case, above)
+                 wire parts_ok_{a} = (!ex_zero0_{a} || (!node_lost0_{a} && node_kept0_{a} == 0))
+                     && (!ex_zero1_{a} || (!node_lost1_{a} && node_kept1_{a} == 0))
+                     && (!ex_zero2_{a} || (!node_lost2_{a} && (node_kept2_{a} == 0 || (node_sum_exp_{a} == {bzero} && win_d_{a} != 0))));
+                 // grid {a}: the position bounds on the grid against the sum bounds (cut), in the
+                 // unit's own alignment: from·2^(e − g) against sum·2^B as from·2^(−s) against sum,
+                 // s = B − e + g (each side shifted by the other's share of s)
+                 wire signed [9:0] grid_s_{a} = node_sum_exp_{a} - $signed(frame_exp_{a}) + 10'sd{g};
+                 wire [9:0] grid_from_shift_{a} = grid_s_{a} < 0 ? -grid_s_{a} : 10'd0;
+                 wire [9:0] grid_sum_shift_{a} = grid_s_{a} < 0 ? 10'd0 : grid_s_{a};
+                 wire signed [{g1}:0] grid_lo_{a} = sum_kept_lo_{a};
+                 wire signed [{g1}:0] grid_hi_{a} = sum_kept_hi_{a};
+                 wire signed [{g1}:0] grid_lo_s_{a} = node_terms_zero_{a} ? 0 : grid_lo_{a} <<< grid_sum_shift_{a};
+                 wire signed [{g1}:0] grid_hi_s_{a} = node_terms_zero_{a} ? 0 : grid_hi_{a} <<< grid_sum_shift_{a};
+                 wire [9:0] grid_x_shift_{a} = node_terms_zero_{a} ? 10'd0 : grid_from_shift_{a};
+                 wire signed [{g1}:0] grid_from_lo_{a} = node_mirror_{a} ? {gw2}'sd{qg} - node_from_lo_{a} : node_from_lo_{a};
+                 wire signed [{g1}:0] grid_from_hi_{a} = node_mirror_{a} ? {gw2}'sd{qg} - node_from_hi_{a} : node_from_hi_{a};
+                 wire range_lo_{a} = node_from_lo_{a} >= {neg_l} && node_from_lo_{a} <= {x}'sd{top};
+                 wire range_hi_{a} = node_from_hi_{a} >= {neg_l} && node_from_hi_{a} <= {x}'sd{top};
+                 wire range_ok_{a} = range_lo_{a} && range_hi_{a};
+                 // mirrored: from_lo = Q·2^g − x_hi ≤ Q·2^g − hi, from_hi = Q·2^g − x_lo ≥ Q·2^g − lo
+                 wire slab_lo_{a} = node_from_lo_{a} <= {lo_clamp} || (node_mirror_{a}
+                         ? (grid_from_lo_{a} <<< grid_x_shift_{a}) >= grid_hi_s_{a}
+                         : (grid_from_lo_{a} <<< grid_x_shift_{a}) <= grid_lo_s_{a});
+                 wire slab_hi_{a} = node_from_hi_{a} >= {x}'sd{qg} || (node_mirror_{a}
+                         ? (grid_from_hi_{a} <<< grid_x_shift_{a}) <= grid_lo_s_{a}
+                         : (grid_from_hi_{a} <<< grid_x_shift_{a}) >= grid_hi_s_{a});
+                 wire signed [{g1}:0] grid_hi_plus_{a} = node_from_hi_{a} + 1;
+                 wire signed [{g1}:0] grid_lo_minus_{a} = node_from_lo_{a} - 1;
+                 wire parallel_hi_{a} = node_from_hi_{a} >= {x}'sd{qg} || (grid_hi_plus_{a} <<< grid_x_shift_{a}) > grid_hi_s_{a};
+                 wire parallel_lo_{a} = node_from_lo_{a} <= 0 || (grid_lo_minus_{a} <<< grid_x_shift_{a}) < grid_lo_s_{a};
+                 wire grid_hyp_{a} = node_live && parts_ok_{a} && (node_terms_zero_{a} || node_sum_exp_ok_{a});
+                 (* keep *) wire lemma_grid_lo_{a} = !grid_hyp_{a} || (range_lo_{a} && (node_parallel_{a} ? parallel_lo_{a} : slab_lo_{a}));
+                 (* keep *) wire lemma_grid_hi_{a} = !grid_hyp_{a} || (range_hi_{a} && (node_parallel_{a} ? parallel_hi_{a} : slab_hi_{a}));",
+            sw1 = sum_w - 1,
+            w2 = w - 2,
+            v1 = vw - 1,
+            g1 = gw2 - 1,
+            bmin = signed_literal(bw, b_min as i64),
+            bmax = signed_literal(bw, b_max as i64),
+            bzero = signed_literal(bw, b_zero),
+            b1 = bw - 1,
+            bsh = u2 + k2,
             w1 = w - 1,
             x = xw,
+            top = qg + clamp,
+            neg_l = signed_literal(xw, -clamp),
             lo_clamp = signed_literal(xw, qg - clamp),
         );
+        for i in 0..3 {
+            // a term's kept bits (and one more when it lost any) bound its magnitude in 2^B
+            // units; a zero term keeps nothing and loses nothing, except a zero start's
+            // significand times a nonzero d when every term is zero (B the floor)
+            let _ = writeln!(
+                v,
+                "    wire signed [{v1}:0] ex_mag{i}_{a} = ex_neg{i}_{a} ? -ex_t{i}_{a} : ex_t{i}_{a};\n    \
+                 wire signed [{v1}:0] ex_kept{i}_{a} = {{1'b0, node_kept{i}_{a}}};\n    \
+                 (* keep *) wire lemma_term{i}_{a} = !node_live || (ex_zero{i}_{a}\n        \
+                 ? (!node_lost{i}_{a} && (node_kept{i}_{a} == 0{zero_case}))\n        \
+                 : (node_sum_exp_ok_{a} && (ex_t{i}_{a} < 0) == ex_neg{i}_{a}\n            \
+                 && (ex_kept{i}_{a} <<< win_shift_{a}) <= (ex_mag{i}_{a} <<< {k2})\n            \
+                 && (ex_mag{i}_{a} <<< {k2}) <= ((ex_kept{i}_{a} + node_lost{i}_{a}) <<< win_shift_{a})));",
+                v1 = vw - 1,
+                zero_case = if i == 2 {
+                    format!(" || (node_sum_exp_{a} == {} && win_d_{a} != 0)", signed_literal(bw, b_zero))
+                } else {
+                    String::new()
+                },
+            );
+        }
     }
     // slopes, scaled by 2^k1: S = sig << (shift + kmin + k1), A = mag << (e − G − g − s1 + k1)
     let kmin = s.kmin();
@@ -350,7 +481,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
             ));
             if i == 0 {
                 internal.push(format!(
-                    "(node_parallel_{a} || ((node_over_down_{a} || node_shift_down_{a} <= {zmax})\n            \
+                    "range_ok_{a} && (node_parallel_{a} || ((node_over_down_{a} || node_shift_down_{a} <= {zmax})\n            \
                      && (node_over_up_{a} || (node_shift_up_{a} <= {zmax} && node_sig_up_{a} >= {m1}'d{half}))))",
                     m1 = m + 1,
                     half = 1u32 << (m - 1)

@@ -45,13 +45,75 @@ pub(super) struct Cut {
     pub(super) lemmas: Vec<String>,
     pub(super) combination: usize,
     pub(super) watched_after_cut: Vec<(String, String)>,
-    /// the unit's wires the lemmas read on both designs, uncut (the node's flags)
+    /// the unit's wires the staged lemmas read, never cut (the node's flags)
     pub(super) watched: Vec<(String, String)>,
     /// the `-set` arguments of the cover that shows the combination's hypothesis reachable
     pub(super) cover: String,
-    /// cut the design as read (saved as `raw` after `flatten`), then optimise: the unit's
-    /// wires keep their widths and drivers (the node's; the others cut the optimised design)
-    pub(super) raw: bool,
+    /// the stages of a cut on the design as read (saved as `raw` after `flatten`; the
+    /// node's: there the unit's wires keep their widths and drivers, where prep's wreduce and
+    /// opt narrow and merge them), `wires` and `watched` then every monitor, `lemmas` the
+    /// stages' lemmas in order; empty: one cut of the optimised design (the other units)
+    pub(super) stages: Vec<Stage>,
+}
+
+/// One stage of a cut on the raw design: the unit's wires in `cut` driven by
+/// their monitors (free values), every other monitor driven by the unit's
+/// wire; each lemma then proved on its own cone of influence (with the
+/// assumptions'), the cover (a `-set` list) answered first.
+pub(super) struct Stage {
+    pub(super) cut: Vec<String>,
+    pub(super) lemmas: Vec<String>,
+    pub(super) cover: Option<String>,
+}
+
+/// Keeps only the lemmas `only` of a staged cut (`--lemma`); a stage left
+/// without lemmas is not run.
+pub(super) fn keep_only(cut: &mut Cut, only: &[String]) {
+    for stage in &mut cut.stages {
+        stage.lemmas.retain(|l| only.contains(l));
+    }
+    cut.stages.retain(|s| !s.lemmas.is_empty());
+    cut.lemmas = cut.stages.iter().flat_map(|s| s.lemmas.clone()).collect();
+}
+
+/// The Yosys selection of the cone of influence of the signals a `sat`
+/// command's `-set` arguments name, and of the assumptions': the same
+/// problem, without the design's unrelated logic.
+pub(super) fn cone(sets: &str) -> String {
+    let words: Vec<&str> = sets.split_whitespace().collect();
+    let wires: Vec<String> = words
+        .windows(2)
+        .filter(|w| w[0] == "-set")
+        .map(|w| format!("w:{}", w[1]))
+        .collect();
+    format!("{} t:$assume{} %ci*", wires.join(" "), " %u".repeat(wires.len()))
+}
+
+/// The script of a staged cut ([`Cut::stages`]).
+fn staged_script(cut: &Cut) -> String {
+    let mut s = String::from("# the lemmas (prove_sound/split.rs), each stage on the raw design\n");
+    for (k, stage) in cut.stages.iter().enumerate() {
+        let _ = writeln!(s, "# stage {k}: cut {}\ndesign -load raw", stage.cut.join(" "));
+        for (monitor, unit) in cut.wires.iter().chain(&cut.watched) {
+            if stage.cut.contains(monitor) {
+                let _ = writeln!(s, "connect -nomap -set {unit} {monitor}");
+            } else {
+                let _ = writeln!(s, "connect -nomap -set {monitor} {unit}");
+            }
+        }
+        s += "prep -top prove_sound\nasync2sync\nopt -fast\nchformal -cover -remove\n";
+        if let Some(cover) = &stage.cover {
+            let _ = writeln!(s, "sat -set-assumes {cover} {}", cone(cover));
+        }
+        for lemma in &stage.lemmas {
+            let _ = writeln!(
+                s,
+                "sat -set-assumes -prove {lemma} 1 -show-inputs {}",
+                cone(&format!("-set {lemma} 1"))
+            );
+        }
+    }
+    s
 }
 
 /// A ray/box unit whose soundness splits per axis: its per-axis instances
@@ -137,7 +199,7 @@ impl AxisUnit {
                 .collect(),
             watched: Vec::new(),
             cover: "-set exact_hit 1 -set lemma_meet 1".into(),
-            raw: false,
+            stages: Vec::new(),
         }
     }
 }
@@ -165,7 +227,7 @@ pub(super) fn cull_cut(k: usize) -> Cut {
         watched_after_cut: Vec::new(),
         watched: Vec::new(),
         cover: "-set exact_hit 1 -set lemma_meet 1".into(),
-        raw: false,
+        stages: Vec::new(),
     }
 }
 
@@ -510,30 +572,15 @@ pub(super) fn wrapper_part(fmt: FloatFormat, u: &AxisUnit) -> String {
 /// then the combination with the unit's wires driven by them instead
 /// (free: nothing else drives them), each lemma its own `sat` call.
 pub(super) fn script(cut: &Cut) -> String {
-    let load = if cut.raw {
-        "design -load raw\n"
-    } else {
-        "design -load proof\n"
-    };
-    // after the connections: the raw design optimised as the proof's was
-    let optimise = if cut.raw {
-        "prep -top prove_sound\nasync2sync\nopt -fast\nchformal -cover -remove\n"
-    } else {
-        ""
-    };
-    // on the raw design, connections name the wires themselves (-nomap): a reader of a wire is
-    // an alias of it there, and `connect -set` would unset the alias with the driver
-    let connect = if cut.raw {
-        "connect -nomap -set"
-    } else {
-        "connect -set"
-    };
-    let mut s =
-        format!("# the lemmas (prove_sound/split.rs): bounds on the unit's own results\n{load}");
-    for (monitor, unit) in cut.wires.iter().chain(&cut.watched) {
-        let _ = writeln!(s, "{connect} {monitor} {unit}");
+    if !cut.stages.is_empty() {
+        return staged_script(cut);
     }
-    s += optimise;
+    let mut s = String::from(
+        "# the lemmas (prove_sound/split.rs): bounds on the unit's own results\ndesign -load proof\n",
+    );
+    for (monitor, unit) in &cut.wires {
+        let _ = writeln!(s, "connect -set {monitor} {unit}");
+    }
     // reachable: an exact hit where the unit's own results meet (the
     // combination's hypothesis, not vacuous)
     let _ = writeln!(s, "sat -set-assumes {}", cut.cover);
@@ -541,15 +588,14 @@ pub(super) fn script(cut: &Cut) -> String {
     for lemma in bounds {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
     }
-    s += "# the combination over free (cut) results\n";
-    s += load;
+    s += "# the combination over free (cut) results\ndesign -load proof\n";
     for (monitor, unit) in &cut.wires {
-        let _ = writeln!(s, "{connect} {unit} {monitor}");
+        let _ = writeln!(s, "connect -set {unit} {monitor}");
     }
-    for (monitor, unit) in cut.watched_after_cut.iter().chain(&cut.watched) {
-        let _ = writeln!(s, "{connect} {monitor} {unit}");
+    for (monitor, unit) in &cut.watched_after_cut {
+        let _ = writeln!(s, "connect -set {monitor} {unit}");
     }
-    s += if cut.raw { optimise } else { "opt_clean\n" };
+    s += "opt_clean\n";
     for lemma in combination {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
     }
