@@ -1540,7 +1540,12 @@ pub fn sound(
     let mut cut = match kind {
         _ if !split => None,
         Kind::Cull(c) => Some(split::cull_cut(c.k)),
-        Kind::Node { children, .. } => Some(node_split::node_cut(children)),
+        Kind::Node { q, children, m, .. } => Some(node_split::node_cut(node_split::NodeShape {
+            fmt,
+            q,
+            m,
+            children,
+        })),
         _ => Some(split::axis_unit(&unit.unit).cut()),
     };
     if !only.is_empty() {

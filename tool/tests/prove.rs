@@ -687,75 +687,69 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
 }
 
 /// `--split` for the node tester at its smallest format (e3m2, N = 2, q = 4,
-/// m = 4), one lemma a run (`--lemma`; the whole split proof, every lemma,
+/// m = 4), some lemmas a run (`--lemma`; the whole split proof, every lemma,
 /// takes minutes and is a documented command, docs/proofs.md): the
-/// combination over the cut per-node terms (`lemma_child0`) proved on the
-/// unit and refuted on the planted `<` for `<=` (`--plant lt-for-le`), and
-/// per-node lemmas refuted when the unit breaks what they state: the x
-/// slope rounded up fed the rounded-down significand (`lemma_slope_x`), the
-/// window sum's term 0 on x aligned by term 1's gap (`lemma_term0_x`). So
-/// the lemmas read the unit's real wires, and a run of some lemmas never
-/// claims the property.
+/// combination over the cut per-node terms (`lemma_child0`) and two per-node
+/// lemmas proved on the unit, then each refuted on one hand-edited copy
+/// that breaks what it states: the planted `<` for `<=` (`--plant
+/// lt-for-le`, the combination), the x slope rounded up fed the rounded-down
+/// significand (`lemma_slope_x`), the window sum's term 0 on x aligned by
+/// term 1's gap (`lemma_term0_x`). So the lemmas read the unit's real wires,
+/// and a run of some lemmas never claims the property.
 #[test]
 fn the_node_split_lemmas_prove_and_bite() {
     let w = scratch("node-split");
+    let lemmas = ["lemma_child0", "lemma_slope_x", "lemma_term0_x"];
     let run = |extra: &[&str], job: &str| {
         let job = w.join(job).display().to_string();
         let mut args = vec!["prove", "node"];
         args.extend(NODE_SMALL);
         args.extend(["--property", "sound", "--split", "--work", &job]);
+        for l in lemmas {
+            args.extend(["--lemma", l]);
+        }
         args.extend(extra);
         let o = rtl_gen(&args);
         (o.status.code(), text(&o))
     };
-    let (code, t) = run(&["--lemma", "lemma_child0"], "child0");
+    let (code, t) = run(&[], "unit");
     assert!(
         code == Some(1)
-            && t.contains("split: lemma_child0 proved)")
+            && t.contains(
+                "split: lemma_term0_x proved, lemma_slope_x proved, lemma_child0 proved)"
+            )
             && t.contains("only some of the split's lemmas were run"),
         "{t}"
     );
-    let (code, t) = run(
-        &["--lemma", "lemma_child0", "--plant", "lt-for-le"],
-        "plant",
-    );
-    assert!(
-        code == Some(1) && t.contains("split: lemma_child0 refuted"),
-        "--plant lt-for-le: {t}"
-    );
     let top = "node_n2_q4_m4_e3m2_s0.v";
-    for (i, (from, to, lemma)) in [
+    let src = w.join("edited");
+    let src_s = src.display().to_string();
+    let mut e = vec!["emit", "node"];
+    e.extend(NODE_SMALL);
+    e.extend(["-p", "stages=0", "--out", &src_s]);
+    assert!(rtl_gen(&e).status.success());
+    let file = src.join(top);
+    let mut v = std::fs::read_to_string(&file).unwrap();
+    for (from, to) in [
         (
             "assign slope_x_sig_up_used = slope_x_inv_d_at_max ? 5'd8 : axis_x_slope_sig_up;",
             "assign slope_x_sig_up_used = slope_x_inv_d_at_max ? 5'd8 : {1'b0, axis_x_slope_sig_down};",
-            "lemma_slope_x",
         ),
         (
             "assign axis_x_term0_kept = axis_x_term0_aligned_to_top >> axis_x_term0_gap;",
             "assign axis_x_term0_kept = axis_x_term0_aligned_to_top >> axis_x_term1_gap;",
-            "lemma_term0_x",
         ),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let src = w.join(format!("edit{i}"));
-        let src_s = src.display().to_string();
-        let mut e = vec!["emit", "node"];
-        e.extend(NODE_SMALL);
-        e.extend(["-p", "stages=0", "--out", &src_s]);
-        assert!(rtl_gen(&e).status.success());
-        let file = src.join(top);
-        let v = std::fs::read_to_string(&file).unwrap();
+    ] {
         assert!(v.contains(from), "{from} not in {top}");
-        std::fs::write(&file, v.replacen(from, to, 1)).unwrap();
-        let (code, t) = run(
-            &["--lemma", lemma, "--verilog", &src_s],
-            &format!("edit{i}-proof"),
-        );
-        assert!(
-            code == Some(1) && t.contains(&format!("split: {lemma} refuted")),
-            "{from} -> {to}: {t}"
-        );
+        v = v.replacen(from, to, 1);
     }
+    std::fs::write(&file, v).unwrap();
+    let (code, t) = run(&["--verilog", &src_s, "--plant", "lt-for-le"], "edited");
+    assert!(
+        code == Some(1)
+            && ["lemma_term0_x", "lemma_slope_x", "lemma_child0"]
+                .iter()
+                .all(|l| t.contains(&format!("{l} refuted"))),
+        "{t}"
+    );
 }

@@ -1,7 +1,9 @@
 //! `--split` for the node tester (docs/proofs.md, "Splitting the proof";
-//! docs/node.md §12): the unit cut at its per-node terms, in three stages
+//! docs/node.md §12): the unit cut at its per-node terms, in five stages
 //! on the design as read (the cut wires keep their drivers and readers
-//! there: prep's wreduce and opt would narrow and merge them).
+//! there: prep's wreduce and opt would narrow and merge them), each lemma
+//! its own `sat` call on its cone of influence, under the wrapper's
+//! contract.
 //!
 //! Notation: `g` position bits, `h` cell bits, `m` slope bits, `kmin = h −
 //! m + 1 − g`; `T_r` the output `t_base`, `u = 2^G` the cell (`G` the output
@@ -34,22 +36,35 @@
 //!   with `over_lo`, `A > C`; unless `over_hi`, `S_hi ≥ B'`, `S_hi ≥
 //!   2^(h−g)`, `shift_hi ≤ zmax`, `sig_hi ≥ 2^(m−1)`.
 //!
-//! **Stage 1** (`kept`, `lost` of every term cut): **grid_a**: live, with
-//! the zero terms' parts as term<i> says and `B` in range or the floor:
-//! `−L ≤ from_lo, from_hi ≤ Q·2^g + L`, and with `lo = Σ ±kept − Σ_neg
-//! lost`, `hi = Σ ±kept + Σ_pos lost` (signs of the exact terms; both 0
-//! when `B` is the floor): a slab axis has `from_lo ≤ lo·2^B` scaled (`Q·2^g
+//! **Stage 1** (`kept`, `lost` of every term cut): **sum_lo_a**,
+//! **sum_hi_a**: live, the zero terms keeping and losing nothing, the
+//! unit's sums are `lo = Σ ±kept − Σ_neg lost`, `hi = Σ ±kept + Σ_pos lost`
+//! (signs of the exact terms).
+//!
+//! **Stage 2** (the sums cut, at the adders the unit's readers take their
+//! bits from): **grid_lo_a**, **grid_hi_a** (one bound each, each proved
+//! as one `sat` call per grid shift `s = B − e + g` and one for every `s`
+//! out of range: a partition): live, `B` in range or the floor (then, on a
+//! parallel axis, the sums zero): `−L ≤ from_lo, from_hi ≤ Q·2^g + L`, and
+//! with the sums `lo`, `hi` (both read as 0 when `B` is the floor): a slab
+//! axis has `from_lo ≤ lo·2^B` scaled (`Q·2^g
 //! − hi` mirrored) or `from_lo ≤ Q·2^g − L`, `from_hi ≥ hi` (`Q·2^g − lo`)
 //! or `from_hi ≥ Q·2^g`; a parallel axis `from_hi ≥ Q·2^g` or `from_hi >
 //! hi − 1`, `from_lo ≤ 0` or `from_lo < lo + 1` (in steps).
 //!
-//! **Stage 2** (`from_lo`, `from_hi`, the slopes and `far_top` cut):
-//! **child_i**: if slot i is valid and every valid slot is reported, or the
-//! segment is not empty, the per-node terms satisfy the stage-0/1 lemmas'
-//! internal parts (the ranges of `from_*` and `far_top`, the shifts,
-//! `sig_hi`) and `meet_i` holds, the slot is reported hit, and its entry is
-//! 0 or, live, for some slab axis with `dn > 0`, at most `C` (`over_lo`) or
-//! at most `dn·S_lo`. With `dn_a = entry_a·2^g − from_hi_a`, `df_a =
+//! **Stage 3** (`from_lo`, `from_hi`, the slopes and `far_top` cut):
+//! **cells<i>_a**: given the stage-0/1 lemmas' internal parts (the ranges
+//! of `from_*` and `far_top`, the shifts, `sig_hi`), slot i's cells on axis
+//! a: `near = 0` for `dn ≤ 0`, else `0 ≤ near ≤ C`, `near = C` with
+//! `over_lo`, else `near ≤ dn·S_lo`; `far ≥ 0`, `far = C` on a parallel
+//! axis or for `df > 0` with `over_hi`, else `far = C` or `far ≥ df·S_hi`;
+//! `misses` iff `df < 0` or a parallel axis with `dn > 0`.
+//!
+//! **Stage 4** (also every slot's cells cut): **child_i**: if slot i is
+//! valid and every valid slot is reported, or the segment is not empty, the
+//! internal parts, `meet_i` and slot i's cells lemmas hold, the slot is
+//! reported hit, and its entry is 0 or, live, for some slab axis with `dn
+//! > 0`, at most `C` (`over_lo`) or at most `dn·S_lo`. With `dn_a = entry_a·2^g − from_hi_a`, `df_a =
 //! exit_a·2^g − from_lo_a` (the child's planes in the mirrored frame),
 //! `meet_i`: `df_a ≥ 0` on every axis and `dn_a ≤ 0` on a parallel one; for
 //! slab axes a, b: `dn_a ≤ 0`, or `df_b > 0` with `over_hi_b` or
@@ -60,9 +75,10 @@
 //! meets: some real `t*`, `max(t_min, t_start) ≤ t* ≤ t_max`, in the box. If
 //! every valid slot is reported, child_i gives the hit at entry 0. Else by
 //! empty the segment is not empty, so live; by start `T_r ≤ t*`. Position:
-//! by term<i> the exact sum `o − O + T_r·d` lies in `[lo, hi]·2^B` (zero
-//! terms add nothing; `B` the floor only when every term is zero, sum 0),
-//! so by grid `from_lo ≤ P'` or `from_lo ≤ Q·2^g − L`, `from_hi ≥ P'` or
+//! by term<i> the exact sum `o − O + T_r·d` lies in `[lo, hi]·2^B` with
+//! the sums of sum_lo, sum_hi (zero terms add nothing; `B` the floor only
+//! when every term is zero, sum 0, and then on a parallel axis, `d = 0`,
+//! every part is zero and so are the sums), so by grid `from_lo ≤ P'` or `from_lo ≤ Q·2^g − L`, `from_hi ≥ P'` or
 //! `from_hi ≥ Q·2^g` (a parallel axis: `from_hi > P − 1`, `from_lo < P + 1`
 //! or beyond the planes). Let `τ = (t* − T_r)/u ≥ 0` and per slab axis `R =
 //! 2^(e−g)/(|d|·u)`; the contract `|inv_d| ≤ 1/|d| < next(|inv_d|)` (`1/|d|
@@ -77,8 +93,9 @@
 //! 0`; window_end gives `τ ≤ far_top` or `far_top = C` (with `over_lo`, `τ >
 //! C ≥ far_top` forces `far_top = C`). A parallel axis: flags give `d = 0`,
 //! the box `lo·2^g ≤ P ≤ hi·2^g` (integers), so `from_hi ≥ lo·2^g` and
-//! `from_lo ≤ hi·2^g`. So `meet_i` and the internal parts hold; child_i
-//! gives the hit, and its entry is 0 or at most `dn·S_lo ≤ dn·R ≤ (t_enter −
+//! `from_lo ≤ hi·2^g`. So `meet_i` and the internal parts hold, and the
+//! cells lemmas hold of the unit's cells whatever they are; child_i gives
+//! the hit, and its entry is 0 or at most `dn·S_lo ≤ dn·R ≤ (t_enter −
 //! T_r)/u` (or `C < R ≤ (t_enter − T_r)/u`) for a slab axis: `T_r +
 //! entry·u ≤ t_enter`, the reference's `entry_ok`. The extra cover: a hit of
 //! slot 0 where `meet_0` holds on the unit's own terms.
@@ -115,6 +132,19 @@ impl NodeShape {
     fn kmin(&self) -> i32 {
         CELL_BITS as i32 - self.m as i32 + 1 - POS_FRAC as i32
     }
+    /// the window sum's exponent B of nonzero terms, `4 − 2·bias − W ..= 2·emax + 3 − W`,
+    /// widened by 2 each way
+    fn sum_exp_range(&self) -> (i32, i32) {
+        let ww = (self.q + POS_FRAC + rtl_gen::units::node::WINDOW_EXTRA) as i32;
+        let (bias, emax) = (self.fmt.bias(), self.fmt.emax());
+        (4 - 2 * bias - ww - 2, 2 * emax + 3 - ww + 2)
+    }
+    /// the grid shift `s = B − e + g` over that range and `emin ..= emax`
+    fn grid_shift_range(&self) -> (i32, i32) {
+        let (b_min, b_max) = self.sum_exp_range();
+        let g = POS_FRAC as i32;
+        (b_min - self.fmt.emax() + g, b_max - self.fmt.emin() + g)
+    }
     /// the grid exponent's range `2·emin − F − h ..= 2·emax − h`
     fn grid_range(&self) -> (i32, i32) {
         let (f, h) = (self.fmt.frac_bits() as i32, CELL_BITS as i32);
@@ -124,10 +154,11 @@ impl NodeShape {
 
 /// The node's cut: the per-node terms (flattened names in `u_unit`), the
 /// flags the lemmas read on both designs, the lemmas (module doc).
-pub(super) fn node_cut(children: usize) -> Cut {
+pub(super) fn node_cut(shape: NodeShape) -> Cut {
+    let children = shape.children;
     let mut wires = Vec::new();
     let mut watched = Vec::new();
-    let (mut parts, mut terms) = (Vec::new(), Vec::new());
+    let (mut parts, mut sums, mut terms) = (Vec::new(), Vec::new(), Vec::new());
     for a in AXES {
         for i in 0..3 {
             for part in ["kept", "lost"] {
@@ -135,6 +166,15 @@ pub(super) fn node_cut(children: usize) -> Cut {
                 wires.push((name.clone(), format!("u_unit.axis_{a}_term{i}_{part}")));
                 parts.push(name);
             }
+        }
+        for part in ["lo", "hi"] {
+            let end = if part == "lo" { "low" } else { "high" };
+            let name = format!("node_sum_{part}_{a}");
+            wires.push((
+                name.clone(),
+                format!("u_unit.add_axis_{a}_term2_partial_sum_{end}_adjust"),
+            ));
+            sums.push(name);
         }
         for (monitor, unit) in [
             ("sum_exp", format!("axis_{a}_sum_exp")),
@@ -164,6 +204,20 @@ pub(super) fn node_cut(children: usize) -> Cut {
     }
     wires.push(("node_far_top".into(), "u_unit.window_end_far_top".into()));
     terms.push("node_far_top".into());
+    let mut cells = Vec::new();
+    for i in 0..children {
+        for a in AXES {
+            for (monitor, unit) in [
+                ("near", format!("slot{i}_axis_{a}_near_cells")),
+                ("far", format!("slot{i}_axis_{a}_far_cells")),
+                ("misses", format!("slot{i}_axis_{a}_misses")),
+            ] {
+                let name = format!("node_{monitor}_{i}_{a}");
+                wires.push((name.clone(), format!("u_unit.{unit}")));
+                cells.push(name);
+            }
+        }
+    }
     watched.push(("node_all_in".into(), "u_unit.every_valid_slot".into()));
     watched.push(("node_empty".into(), "u_unit.empty_segment_empty".into()));
     let stages = vec![
@@ -173,23 +227,61 @@ pub(super) fn node_cut(children: usize) -> Cut {
                 .iter()
                 .map(|s| s.to_string())
                 .chain(AXES.iter().map(|a| format!("lemma_flags_{a}")))
-                .chain(AXES.iter().flat_map(|a| (0..3).map(move |i| format!("lemma_term{i}_{a}"))))
+                .chain(
+                    AXES.iter()
+                        .flat_map(|a| (0..3).map(move |i| format!("lemma_term{i}_{a}"))),
+                )
                 .chain(AXES.iter().map(|a| format!("lemma_slope_{a}")))
                 .collect(),
             cover: Some("-set child0_exact_hit 1 -set lemma_meet0 1".into()),
+            cases: Vec::new(),
         },
         Stage {
             cut: parts,
             lemmas: AXES
                 .iter()
+                .flat_map(|a| [format!("lemma_sum_lo_{a}"), format!("lemma_sum_hi_{a}")])
+                .collect(),
+            cover: None,
+            cases: Vec::new(),
+        },
+        Stage {
+            cut: sums,
+            lemmas: AXES
+                .iter()
                 .flat_map(|a| [format!("lemma_grid_lo_{a}"), format!("lemma_grid_hi_{a}")])
                 .collect(),
             cover: None,
+            // one case per grid shift s (then every shifter's amount is a constant), and one
+            // for every s outside the range (where the sums are zero or the lemma vacuous)
+            cases: AXES
+                .iter()
+                .flat_map(|a| {
+                    let (lo, hi) = shape.grid_shift_range();
+                    let cases: Vec<String> = (lo..=hi)
+                        .map(|v| format!("-set grid_s_{a} 10'b{:010b}", (v as i64) & 0x3ff))
+                        .chain([format!("-set grid_s_out_{a} 1")])
+                        .collect();
+                    [
+                        (format!("lemma_grid_lo_{a}"), cases.clone()),
+                        (format!("lemma_grid_hi_{a}"), cases),
+                    ]
+                })
+                .collect(),
         },
         Stage {
-            cut: terms,
+            cut: terms.clone(),
+            lemmas: (0..children)
+                .flat_map(|i| AXES.iter().map(move |a| format!("lemma_cells{i}_{a}")))
+                .collect(),
+            cover: None,
+            cases: Vec::new(),
+        },
+        Stage {
+            cut: terms.into_iter().chain(cells).collect(),
             lemmas: (0..children).map(|i| format!("lemma_child{i}")).collect(),
             cover: None,
+            cases: Vec::new(),
         },
     ];
     Cut {
@@ -275,8 +367,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
     );
     // the window sums: [sum_lo, sum_hi]·2^B ∋ o − O + T_r·d, in units of 2^−(U + k2), U = 2·s1
     let ww = q + g + rtl_gen::units::node::WINDOW_EXTRA;
-    let bias = fmt.bias();
-    let (b_min, b_max) = (4 - 2 * bias - ww as i32 - 2, 2 * emax + 3 - ww as i32 + 2);
+    let (b_min, b_max) = s.sum_exp_range();
     let k2 = (-(b_min + u2)).max(0);
     // B when every term is zero: the unit's smallest top (a zero term's) minus W, in bw bits
     let tw = rtl_gen::arith::float::sint_width(2 * (emin as i64 - 1), 2 * (emax as i64 + 1)) + 1;
@@ -286,7 +377,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
     let sum_w = ww + 3;
     let vw = ((sum_w as i32 + b_max + u2 + k2).max(2 * nw as i32 + 2 + k2) + 3) as u32;
     // the grid: from·2^(−s) against sum·2^s's positive part, s = B − e + g
-    let (s_min, s_max) = (b_min - emax + g as i32, b_max - emin + g as i32);
+    let (s_min, s_max) = s.grid_shift_range();
     let gw2 = ((xw as i32 + 2 + (-s_min).max(0)).max(sum_w as i32 + 1 + s_max.max(0)) + 2) as u32;
     for a in AXES {
         for i in 0..3 {
@@ -300,11 +391,13 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
             v,
             "    // window {a}: the unit's sum bounds against o − O + T_r·d (exact), and its flags
                  (* keep *) wire signed [{b1}:0] node_sum_exp_{a};
-                 wire node_parts_zero_{a} = node_kept0_{a} == 0 && node_kept1_{a} == 0 && node_kept2_{a} == 0
-                     && !node_lost0_{a} && !node_lost1_{a} && !node_lost2_{a};
+                 (* keep *) wire signed [{sw}:0] node_sum_lo_{a}, node_sum_hi_{a};
+                 wire signed [{sw1}:0] unit_sum_lo_{a} = node_sum_lo_{a}[{sw1}:0];
+                 wire signed [{sw1}:0] unit_sum_hi_{a} = node_sum_hi_{a}[{sw1}:0];
+                 wire node_sums_zero_{a} = unit_sum_lo_{a} == 0 && unit_sum_hi_{a} == 0;
                  wire node_sum_exp_ok_{a} = node_sum_exp_{a} >= {bmin} && node_sum_exp_{a} <= {bmax};
                  // every term zero (B the unit's floor): zero terms' significands may still be summed, far below
-                 wire node_terms_zero_{a} = node_sum_exp_{a} == {bzero} && (!node_parallel_{a} || node_parts_zero_{a});
+                 wire node_terms_zero_{a} = node_sum_exp_{a} == {bzero} && (!node_parallel_{a} || node_sums_zero_{a});
                  wire signed [{v1}:0] win_o_{a} = value(o_{a});
                  wire signed [{v1}:0] win_origin_{a} = value(frame_origin_{a});
                  wire signed [{v1}:0] win_d_{a} = value(d_{a});
@@ -331,18 +424,21 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  wire signed [{sw1}:0] sum_kept_hi_{a} = (ex_neg0_{a} ? -$signed({{1'b0, node_kept0_{a}}}) : $signed({{1'b0, node_kept0_{a}}}) + node_lost0_{a})
                      + (ex_neg1_{a} ? -$signed({{1'b0, node_kept1_{a}}}) : $signed({{1'b0, node_kept1_{a}}}) + node_lost1_{a})
                      + (ex_neg2_{a} ? -$signed({{1'b0, node_kept2_{a}}}) : $signed({{1'b0, node_kept2_{a}}}) + node_lost2_{a});
-                 // the zero terms keep and lose nothing (but in the floor case, above)
-                 wire parts_ok_{a} = (!ex_zero0_{a} || (!node_lost0_{a} && node_kept0_{a} == 0))
+                 // the zero terms keep and lose nothing: the unit's sums are the kept terms'
+                 wire parts_exact_{a} = (!ex_zero0_{a} || (!node_lost0_{a} && node_kept0_{a} == 0))
                      && (!ex_zero1_{a} || (!node_lost1_{a} && node_kept1_{a} == 0))
-                     && (!ex_zero2_{a} || (!node_lost2_{a} && (node_kept2_{a} == 0 || (node_sum_exp_{a} == {bzero} && win_d_{a} != 0))));
+                     && (!ex_zero2_{a} || (!node_lost2_{a} && node_kept2_{a} == 0));
+                 (* keep *) wire lemma_sum_lo_{a} = !node_live || !parts_exact_{a} || unit_sum_lo_{a} == sum_kept_lo_{a};
+                 (* keep *) wire lemma_sum_hi_{a} = !node_live || !parts_exact_{a} || unit_sum_hi_{a} == sum_kept_hi_{a};
                  // grid {a}: the position bounds on the grid against the sum bounds (cut), in the
                  // unit's own alignment: from·2^(e − g) against sum·2^B as from·2^(−s) against sum,
                  // s = B − e + g (each side shifted by the other's share of s)
                  wire signed [9:0] grid_s_{a} = node_sum_exp_{a} - $signed(frame_exp_{a}) + 10'sd{g};
+                 wire grid_s_out_{a} = grid_s_{a} < {smin} || grid_s_{a} > {smax};
                  wire [9:0] grid_from_shift_{a} = grid_s_{a} < 0 ? -grid_s_{a} : 10'd0;
                  wire [9:0] grid_sum_shift_{a} = grid_s_{a} < 0 ? 10'd0 : grid_s_{a};
-                 wire signed [{g1}:0] grid_lo_{a} = sum_kept_lo_{a};
-                 wire signed [{g1}:0] grid_hi_{a} = sum_kept_hi_{a};
+                 wire signed [{g1}:0] grid_lo_{a} = unit_sum_lo_{a};
+                 wire signed [{g1}:0] grid_hi_{a} = unit_sum_hi_{a};
                  wire signed [{g1}:0] grid_lo_s_{a} = node_terms_zero_{a} ? 0 : grid_lo_{a} <<< grid_sum_shift_{a};
                  wire signed [{g1}:0] grid_hi_s_{a} = node_terms_zero_{a} ? 0 : grid_hi_{a} <<< grid_sum_shift_{a};
                  wire [9:0] grid_x_shift_{a} = node_terms_zero_{a} ? 10'd0 : grid_from_shift_{a};
@@ -362,16 +458,19 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  wire signed [{g1}:0] grid_lo_minus_{a} = node_from_lo_{a} - 1;
                  wire parallel_hi_{a} = node_from_hi_{a} >= {x}'sd{qg} || (grid_hi_plus_{a} <<< grid_x_shift_{a}) > grid_hi_s_{a};
                  wire parallel_lo_{a} = node_from_lo_{a} <= 0 || (grid_lo_minus_{a} <<< grid_x_shift_{a}) < grid_lo_s_{a};
-                 wire grid_hyp_{a} = node_live && parts_ok_{a} && (node_terms_zero_{a} || node_sum_exp_ok_{a});
+                 wire grid_hyp_{a} = node_live && (node_terms_zero_{a} || node_sum_exp_ok_{a});
                  (* keep *) wire lemma_grid_lo_{a} = !grid_hyp_{a} || (range_lo_{a} && (node_parallel_{a} ? parallel_lo_{a} : slab_lo_{a}));
                  (* keep *) wire lemma_grid_hi_{a} = !grid_hyp_{a} || (range_hi_{a} && (node_parallel_{a} ? parallel_hi_{a} : slab_hi_{a}));",
             sw1 = sum_w - 1,
+            sw = sum_w,
             w2 = w - 2,
             v1 = vw - 1,
             g1 = gw2 - 1,
             bmin = signed_literal(bw, b_min as i64),
             bmax = signed_literal(bw, b_max as i64),
             bzero = signed_literal(bw, b_zero),
+            smin = signed_literal(10, s_min as i64),
+            smax = signed_literal(10, s_max as i64),
             b1 = bw - 1,
             bsh = u2 + k2,
             w1 = w - 1,
@@ -518,16 +617,41 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                 f2 = k + 2
             );
         }
+        let mut cells_ok = Vec::new();
+        for a in AXES {
+            let _ = writeln!(
+                v,
+                "    // slot {i}, axis {a}: the unit's cells (watched, then cut) against the products\n    \
+                 (* keep *) wire signed [{f1}:0] node_near_{i}_{a}, node_far_{i}_{a};\n    \
+                 (* keep *) wire node_misses_{i}_{a};\n    \
+                 wire signed [{n1}:0] near_wide_{i}_{a} = node_near_{i}_{a};\n    \
+                 wire signed [{n1}:0] far_wide_{i}_{a} = node_far_{i}_{a};\n    \
+                 wire near_ok_{i}_{a} = dn_{i}_{a} <= 0 ? node_near_{i}_{a} == 0\n        \
+                 : (node_near_{i}_{a} >= 0 && node_near_{i}_{a} <= {f2}'sd{cap}\n           \
+                 && (node_over_down_{a} ? node_near_{i}_{a} == {f2}'sd{cap} : (near_wide_{i}_{a} <<< {rs}) <= (na_{i}_{a} <<< {ls})));\n    \
+                 wire far_ok_{i}_{a} = node_far_{i}_{a} >= 0 && (node_parallel_{a} ? node_far_{i}_{a} == {f2}'sd{cap}\n        \
+                 : (df_{i}_{a} > 0 && node_over_up_{a}) ? node_far_{i}_{a} == {f2}'sd{cap}\n        \
+                 : (node_far_{i}_{a} == {f2}'sd{cap} || (far_wide_{i}_{a} <<< {rs}) >= (fb_{i}_{a} <<< {ls})));\n    \
+                 wire misses_ok_{i}_{a} = node_misses_{i}_{a} == (df_{i}_{a} < 0 || (node_parallel_{a} && dn_{i}_{a} > 0));\n    \
+                 wire cells_ok_{i}_{a} = near_ok_{i}_{a} && far_ok_{i}_{a} && misses_ok_{i}_{a};\n    \
+                 (* keep *) wire lemma_cells{i}_{a} = !node_internal || cells_ok_{i}_{a};",
+                f1 = k + 1,
+                f2 = k + 2,
+                n1 = nwp - 1,
+            );
+            cells_ok.push(format!("cells_ok_{i}_{a}"));
+        }
         let _ = writeln!(
             v,
             "    wire signed [{n1}:0] unit_entry_wide_{i} = $signed({{1'b0, unit_entry_{i}}});\n    \
              // what an exact hit of slot {i} implies for the per-node terms (module doc)\n    \
              (* keep *) wire lemma_meet{i} = !node_empty && node_internal\n        && {}\n        && {};\n    \
              wire entry_bound_{i} = unit_entry_{i} == 0 || (node_live && ({}));\n    \
-             (* keep *) wire lemma_child{i} = !(child{i}_valid && (node_all_in || lemma_meet{i})) || (unit_hit_{i} && entry_bound_{i});",
+             (* keep *) wire lemma_child{i} = !(child{i}_valid && (node_all_in || (lemma_meet{i} && {}))) || (unit_hit_{i} && entry_bound_{i});",
             axis_ok.join("\n        && "),
             pairs.join("\n        && "),
             entry_axes.join("\n            || "),
+            cells_ok.join(" && "),
             n1 = nwp - 1,
         );
     }

@@ -64,6 +64,9 @@ pub(super) struct Stage {
     pub(super) cut: Vec<String>,
     pub(super) lemmas: Vec<String>,
     pub(super) cover: Option<String>,
+    /// per lemma (by name) its cases, each the `-set` arguments of one `sat`
+    /// call; together a partition of the inputs (a lemma not named: one call)
+    pub(super) cases: Vec<(String, Vec<String>)>,
 }
 
 /// Keeps only the lemmas `only` of a staged cut (`--lemma`); a stage left
@@ -86,14 +89,22 @@ pub(super) fn cone(sets: &str) -> String {
         .filter(|w| w[0] == "-set")
         .map(|w| format!("w:{}", w[1]))
         .collect();
-    format!("{} t:$assume{} %ci*", wires.join(" "), " %u".repeat(wires.len()))
+    format!(
+        "{} t:$assume{} %ci*",
+        wires.join(" "),
+        " %u".repeat(wires.len())
+    )
 }
 
 /// The script of a staged cut ([`Cut::stages`]).
 fn staged_script(cut: &Cut) -> String {
     let mut s = String::from("# the lemmas (prove_sound/split.rs), each stage on the raw design\n");
     for (k, stage) in cut.stages.iter().enumerate() {
-        let _ = writeln!(s, "# stage {k}: cut {}\ndesign -load raw", stage.cut.join(" "));
+        let _ = writeln!(
+            s,
+            "# stage {k}: cut {}\ndesign -load raw",
+            stage.cut.join(" ")
+        );
         for (monitor, unit) in cut.wires.iter().chain(&cut.watched) {
             if stage.cut.contains(monitor) {
                 let _ = writeln!(s, "connect -nomap -set {unit} {monitor}");
@@ -106,11 +117,21 @@ fn staged_script(cut: &Cut) -> String {
             let _ = writeln!(s, "sat -set-assumes {cover} {}", cone(cover));
         }
         for lemma in &stage.lemmas {
-            let _ = writeln!(
-                s,
-                "sat -set-assumes -prove {lemma} 1 -show-inputs {}",
-                cone(&format!("-set {lemma} 1"))
-            );
+            let cases = stage
+                .cases
+                .iter()
+                .find(|(l, _)| l == lemma)
+                .map(|(_, c)| c.clone())
+                .unwrap_or_else(|| vec![String::new()]);
+            // a marker the log keeps: the lemma and how many calls prove it
+            let _ = writeln!(s, "log @lemma {lemma} {}", cases.len());
+            for case in cases {
+                let _ = writeln!(
+                    s,
+                    "sat -set-assumes {case} -prove {lemma} 1 -show-inputs {}",
+                    cone(&format!("{case} -set {lemma} 1"))
+                );
+            }
         }
     }
     s
@@ -606,6 +627,9 @@ pub(super) fn script(cut: &Cut) -> String {
 /// the cut's order): `Some(true)` proved, `Some(false)` refuted, `None`
 /// not reached.
 fn results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
+    if !cut.stages.is_empty() {
+        return staged_results(log, cut);
+    }
     let mut found = log.lines().filter_map(|l| {
         if l.contains("SAT proof finished - no model found: SUCCESS!") {
             Some(true)
@@ -616,6 +640,41 @@ fn results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
         }
     });
     cut.lemmas.iter().map(|_| found.next()).collect()
+}
+
+/// [`results`] of a staged cut: each lemma's calls follow its marker
+/// (`@lemma NAME CALLS`); proved when all its calls are, refuted when one is.
+fn staged_results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
+    let mut by_lemma: Vec<(String, usize, usize, bool)> = Vec::new();
+    for l in log.lines() {
+        if let Some(rest) = l.strip_prefix("@lemma ") {
+            let mut w = rest.split_whitespace();
+            let (Some(name), Some(calls)) = (w.next(), w.next().and_then(|c| c.parse().ok()))
+            else {
+                continue;
+            };
+            by_lemma.push((name.to_string(), calls, 0, false));
+        } else if let Some(last) = by_lemma.last_mut() {
+            if l.contains("SAT proof finished - no model found: SUCCESS!") {
+                last.2 += 1;
+            } else if l.contains("SAT proof finished - model found: FAIL!") {
+                last.3 = true;
+            }
+        }
+    }
+    cut.lemmas
+        .iter()
+        .map(|name| {
+            let (_, calls, proved, failed) = by_lemma.iter().find(|(n, ..)| n == name)?;
+            if *failed {
+                Some(false)
+            } else if proved == calls {
+                Some(true)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// Proved when every lemma is; a refuted lemma is no counterexample of the
