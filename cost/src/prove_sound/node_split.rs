@@ -433,8 +433,8 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  // grid {a}: the position bounds on the grid against the sum bounds (cut), in the
                  // unit's own alignment: from·2^(e − g) against sum·2^B as from·2^(−s) against sum,
                  // s = B − e + g (each side shifted by the other's share of s)
-                 wire signed [9:0] grid_s_{a} = node_sum_exp_{a} - $signed(frame_exp_{a}) + 10'sd{g};
-                 wire grid_s_out_{a} = grid_s_{a} < {smin} || grid_s_{a} > {smax};
+                 (* keep *) wire signed [9:0] grid_s_{a} = node_sum_exp_{a} - $signed(frame_exp_{a}) + 10'sd{g};
+                 (* keep *) wire grid_s_out_{a} = grid_s_{a} < {smin} || grid_s_{a} > {smax};
                  wire [9:0] grid_from_shift_{a} = grid_s_{a} < 0 ? -grid_s_{a} : 10'd0;
                  wire [9:0] grid_sum_shift_{a} = grid_s_{a} < 0 ? 10'd0 : grid_s_{a};
                  wire signed [{g1}:0] grid_lo_{a} = unit_sum_lo_{a};
