@@ -324,6 +324,10 @@ pub struct ProveArgs {
     /// call: what proves at e3m2 (docs/proofs.md)
     #[arg(long)]
     split: bool,
+    /// with `--split`, run only this lemma (repeatable; the node's lemmas, e.g.
+    /// `--lemma lemma_child0`): a check of those lemmas, never a proof of the property
+    #[arg(long = "lemma", value_name = "NAME")]
+    lemmas: Vec<String>,
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
@@ -867,9 +871,10 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
                 20_000,
                 solver,
                 a.split,
+                &a.lemmas,
             );
         }
-        if a.split {
+        if a.split || !a.lemmas.is_empty() {
             return Err("--split splits --property sound (its lemmas)".into());
         }
         let mut dut = rtl_flow::generate(&a.unit, &a.params).map_err(|e| e.to_string())?;

@@ -246,8 +246,44 @@ fn bad_requests_are_errors() {
             "no plant `lt-for-le` for slab",
         ),
         (
-            vec!["prove", "node", "--property", "sound", "--split"],
-            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray and cull",
+            vec![
+                "prove",
+                "silhouette",
+                "-p",
+                "exp_bits=2",
+                "-p",
+                "frac_bits=1",
+                "--property",
+                "sound",
+                "--split",
+            ],
+            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray, cull and node",
+        ),
+        (
+            vec![
+                "prove",
+                "slab",
+                "-p",
+                "rounding=conservative",
+                "--property",
+                "sound",
+                "--split",
+                "--lemma",
+                "lemma_combine",
+            ],
+            "--lemma picks lemmas of node --property sound --split",
+        ),
+        (
+            vec![
+                "prove",
+                "node",
+                "--property",
+                "sound",
+                "--split",
+                "--lemma",
+                "lemma_nothing",
+            ],
+            "--lemma lemma_nothing: no such lemma",
         ),
         (
             vec!["prove", "slab", "--split"],
@@ -647,5 +683,73 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
     assert!(
         code == Some(1) && t.contains("lemma_combine refuted"),
         "cull --plant lt-for-le: {t}"
+    );
+}
+
+/// `--split` for the node tester at its smallest format (e3m2, N = 2, q = 4,
+/// m = 4), some lemmas a run (`--lemma`; the whole split proof, every lemma,
+/// takes minutes and is a documented command, docs/proofs.md): the
+/// combination over the cut per-node terms (`lemma_child0`) and two per-node
+/// lemmas proved on the unit, then each refuted on one hand-edited copy
+/// that breaks what it states: the planted `<` for `<=` (`--plant
+/// lt-for-le`, the combination), the x slope rounded up fed the rounded-down
+/// significand (`lemma_slope_x`), the window sum's term 0 on x aligned by
+/// term 1's gap (`lemma_term0_x`). So the lemmas read the unit's real wires,
+/// and a run of some lemmas never claims the property.
+#[test]
+fn the_node_split_lemmas_prove_and_bite() {
+    let w = scratch("node-split");
+    let lemmas = ["lemma_child0", "lemma_slope_x", "lemma_term0_x"];
+    let run = |extra: &[&str], job: &str| {
+        let job = w.join(job).display().to_string();
+        let mut args = vec!["prove", "node"];
+        args.extend(NODE_SMALL);
+        args.extend(["--property", "sound", "--split", "--work", &job]);
+        for l in lemmas {
+            args.extend(["--lemma", l]);
+        }
+        args.extend(extra);
+        let o = rtl_gen(&args);
+        (o.status.code(), text(&o))
+    };
+    let (code, t) = run(&[], "unit");
+    assert!(
+        code == Some(1)
+            && t.contains(
+                "split: lemma_term0_x proved, lemma_slope_x proved, lemma_child0 proved)"
+            )
+            && t.contains("only some of the split's lemmas were run"),
+        "{t}"
+    );
+    let top = "node_n2_q4_m4_e3m2_s0.v";
+    let src = w.join("edited");
+    let src_s = src.display().to_string();
+    let mut e = vec!["emit", "node"];
+    e.extend(NODE_SMALL);
+    e.extend(["-p", "stages=0", "--out", &src_s]);
+    assert!(rtl_gen(&e).status.success());
+    let file = src.join(top);
+    let mut v = std::fs::read_to_string(&file).unwrap();
+    for (from, to) in [
+        (
+            "assign slope_x_sig_up_used = slope_x_inv_d_at_max ? 5'd8 : axis_x_slope_sig_up;",
+            "assign slope_x_sig_up_used = slope_x_inv_d_at_max ? 5'd8 : {1'b0, axis_x_slope_sig_down};",
+        ),
+        (
+            "assign axis_x_term0_kept = axis_x_term0_aligned_to_top >> axis_x_term0_gap;",
+            "assign axis_x_term0_kept = axis_x_term0_aligned_to_top >> axis_x_term1_gap;",
+        ),
+    ] {
+        assert!(v.contains(from), "{from} not in {top}");
+        v = v.replacen(from, to, 1);
+    }
+    std::fs::write(&file, v).unwrap();
+    let (code, t) = run(&["--verilog", &src_s, "--plant", "lt-for-le"], "edited");
+    assert!(
+        code == Some(1)
+            && ["lemma_term0_x", "lemma_slope_x", "lemma_child0"]
+                .iter()
+                .all(|l| t.contains(&format!("{l} refuted"))),
+        "{t}"
     );
 }

@@ -41,10 +41,100 @@ use super::*;
 /// cut design (`lemma_combine` last), where the wrapper also watches the
 /// unit's wires `watched_after_cut`.
 pub(super) struct Cut {
-    wires: Vec<(String, String)>,
-    lemmas: Vec<String>,
-    combination: usize,
-    watched_after_cut: Vec<(String, String)>,
+    pub(super) wires: Vec<(String, String)>,
+    pub(super) lemmas: Vec<String>,
+    pub(super) combination: usize,
+    pub(super) watched_after_cut: Vec<(String, String)>,
+    /// the unit's wires the staged lemmas read, never cut (the node's flags)
+    pub(super) watched: Vec<(String, String)>,
+    /// the `-set` arguments of the cover that shows the combination's hypothesis reachable
+    pub(super) cover: String,
+    /// the stages of a cut on the design as read (saved as `raw` after `flatten`; the
+    /// node's: there the unit's wires keep their widths and drivers, where prep's wreduce and
+    /// opt narrow and merge them), `wires` and `watched` then every monitor, `lemmas` the
+    /// stages' lemmas in order; empty: one cut of the optimised design (the other units)
+    pub(super) stages: Vec<Stage>,
+}
+
+/// One stage of a cut on the raw design: the unit's wires in `cut` driven by
+/// their monitors (free values), every other monitor driven by the unit's
+/// wire; each lemma then proved on its own cone of influence (with the
+/// assumptions'), the cover (a `-set` list) answered first.
+pub(super) struct Stage {
+    pub(super) cut: Vec<String>,
+    pub(super) lemmas: Vec<String>,
+    pub(super) cover: Option<String>,
+    /// per lemma (by name) its cases, each the `-set` arguments of one `sat`
+    /// call; together a partition of the inputs (a lemma not named: one call)
+    pub(super) cases: Vec<(String, Vec<String>)>,
+}
+
+/// Keeps only the lemmas `only` of a staged cut (`--lemma`); a stage left
+/// without lemmas is not run.
+pub(super) fn keep_only(cut: &mut Cut, only: &[String]) {
+    for stage in &mut cut.stages {
+        stage.lemmas.retain(|l| only.contains(l));
+    }
+    cut.stages.retain(|s| !s.lemmas.is_empty());
+    cut.lemmas = cut.stages.iter().flat_map(|s| s.lemmas.clone()).collect();
+}
+
+/// The Yosys selection of the cone of influence of the signals a `sat`
+/// command's `-set` arguments name, and of the assumptions': the same
+/// problem, without the design's unrelated logic.
+pub(super) fn cone(sets: &str) -> String {
+    let words: Vec<&str> = sets.split_whitespace().collect();
+    let wires: Vec<String> = words
+        .windows(2)
+        .filter(|w| w[0] == "-set")
+        .map(|w| format!("w:{}", w[1]))
+        .collect();
+    format!(
+        "{} t:$assume{} %ci*",
+        wires.join(" "),
+        " %u".repeat(wires.len())
+    )
+}
+
+/// The script of a staged cut ([`Cut::stages`]).
+fn staged_script(cut: &Cut) -> String {
+    let mut s = String::from("# the lemmas (prove_sound/split.rs), each stage on the raw design\n");
+    for (k, stage) in cut.stages.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "# stage {k}: cut {}\ndesign -load raw",
+            stage.cut.join(" ")
+        );
+        for (monitor, unit) in cut.wires.iter().chain(&cut.watched) {
+            if stage.cut.contains(monitor) {
+                let _ = writeln!(s, "connect -nomap -set {unit} {monitor}");
+            } else {
+                let _ = writeln!(s, "connect -nomap -set {monitor} {unit}");
+            }
+        }
+        s += "prep -top prove_sound\nasync2sync\nopt -fast\nchformal -cover -remove\n";
+        if let Some(cover) = &stage.cover {
+            let _ = writeln!(s, "sat -set-assumes {cover} {}", cone(cover));
+        }
+        for lemma in &stage.lemmas {
+            let cases = stage
+                .cases
+                .iter()
+                .find(|(l, _)| l == lemma)
+                .map(|(_, c)| c.clone())
+                .unwrap_or_else(|| vec![String::new()]);
+            // a marker the log keeps: the lemma and how many calls prove it
+            let _ = writeln!(s, "log @lemma {lemma} {}", cases.len());
+            for case in cases {
+                let _ = writeln!(
+                    s,
+                    "sat -set-assumes {case} -prove {lemma} 1 -show-inputs {}",
+                    cone(&format!("{case} -set {lemma} 1"))
+                );
+            }
+        }
+    }
+    s
 }
 
 /// A ray/box unit whose soundness splits per axis: its per-axis instances
@@ -128,6 +218,9 @@ impl AxisUnit {
                     )
                 })
                 .collect(),
+            watched: Vec::new(),
+            cover: "-set exact_hit 1 -set lemma_meet 1".into(),
+            stages: Vec::new(),
         }
     }
 }
@@ -153,6 +246,9 @@ pub(super) fn cull_cut(k: usize) -> Cut {
             .collect(),
         combination: 1,
         watched_after_cut: Vec::new(),
+        watched: Vec::new(),
+        cover: "-set exact_hit 1 -set lemma_meet 1".into(),
+        stages: Vec::new(),
     }
 }
 
@@ -268,7 +364,7 @@ pub(super) fn cull_wrapper_part(c: CullFormats) -> String {
 /// value of the float `x` of `fmt` as an extended real (decoded by the
 /// wrapper's `value`, [`decode_functions`]; `±∞` beyond every finite value,
 /// symmetric so that `−key` is the key of `−x`), compared signed.
-fn extended_real(fmt: FloatFormat, x: &str) -> String {
+pub(super) fn extended_real(fmt: FloatFormat, x: &str) -> String {
     let kw = magnitude_bits(fmt) + 2;
     format!(
         "    wire {x}_nan = {};\n    wire {x}_up = {};\n    wire {x}_down = {};\n    \
@@ -497,6 +593,9 @@ pub(super) fn wrapper_part(fmt: FloatFormat, u: &AxisUnit) -> String {
 /// then the combination with the unit's wires driven by them instead
 /// (free: nothing else drives them), each lemma its own `sat` call.
 pub(super) fn script(cut: &Cut) -> String {
+    if !cut.stages.is_empty() {
+        return staged_script(cut);
+    }
     let mut s = String::from(
         "# the lemmas (prove_sound/split.rs): bounds on the unit's own results\ndesign -load proof\n",
     );
@@ -505,7 +604,7 @@ pub(super) fn script(cut: &Cut) -> String {
     }
     // reachable: an exact hit where the unit's own results meet (the
     // combination's hypothesis, not vacuous)
-    s += "sat -set-assumes -set exact_hit 1 -set lemma_meet 1\n";
+    let _ = writeln!(s, "sat -set-assumes {}", cut.cover);
     let (bounds, combination) = cut.lemmas.split_at(cut.lemmas.len() - cut.combination);
     for lemma in bounds {
         let _ = writeln!(s, "sat -set-assumes -prove {lemma} 1 -show-inputs");
@@ -528,6 +627,9 @@ pub(super) fn script(cut: &Cut) -> String {
 /// the cut's order): `Some(true)` proved, `Some(false)` refuted, `None`
 /// not reached.
 fn results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
+    if !cut.stages.is_empty() {
+        return staged_results(log, cut);
+    }
     let mut found = log.lines().filter_map(|l| {
         if l.contains("SAT proof finished - no model found: SUCCESS!") {
             Some(true)
@@ -538,6 +640,41 @@ fn results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
         }
     });
     cut.lemmas.iter().map(|_| found.next()).collect()
+}
+
+/// [`results`] of a staged cut: each lemma's calls follow its marker
+/// (`@lemma NAME CALLS`); proved when all its calls are, refuted when one is.
+fn staged_results(log: &str, cut: &Cut) -> Vec<Option<bool>> {
+    let mut by_lemma: Vec<(String, usize, usize, bool)> = Vec::new();
+    for l in log.lines() {
+        if let Some(rest) = l.strip_prefix("@lemma ") {
+            let mut w = rest.split_whitespace();
+            let (Some(name), Some(calls)) = (w.next(), w.next().and_then(|c| c.parse().ok()))
+            else {
+                continue;
+            };
+            by_lemma.push((name.to_string(), calls, 0, false));
+        } else if let Some(last) = by_lemma.last_mut() {
+            if l.contains("SAT proof finished - no model found: SUCCESS!") {
+                last.2 += 1;
+            } else if l.contains("SAT proof finished - model found: FAIL!") {
+                last.3 = true;
+            }
+        }
+    }
+    cut.lemmas
+        .iter()
+        .map(|name| {
+            let (_, calls, proved, failed) = by_lemma.iter().find(|(n, ..)| n == name)?;
+            if *failed {
+                Some(false)
+            } else if proved == calls {
+                Some(true)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// Proved when every lemma is; a refuted lemma is no counterexample of the

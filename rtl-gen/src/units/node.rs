@@ -964,6 +964,7 @@ pub fn build(cfg: &Config) -> Module {
                 let z_hi = m.mux(at_max, z_max, z);
                 let half = m.uint(mb + 1, 1u128 << (mb - 1));
                 let sig_hi = m.mux(at_max, half, ax.sig_hi);
+                let sig_hi = m.name(sig_hi, "sig_up_used");
                 let lo_w = zext(m, ax.sig_lo, mb + 1);
                 let zmax_c = m.sint(zw, i128::from(zmax));
                 let over = |m: &mut ModuleBuilder, z: Sig, sig: Sig| {
