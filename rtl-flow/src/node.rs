@@ -143,7 +143,7 @@ impl NodeBench {
             }
         }
         let ew = u.frame_exp_bits();
-        NodeIn {
+        let mut r = NodeIn {
             o: o_bits,
             d: d_bits,
             inv_d,
@@ -155,7 +155,19 @@ impl NodeBench {
             valid,
             lo,
             hi,
+        };
+        if rng.below(16) == 0 {
+            // an axis whose origin and frame origin are zeros and a start below the normal
+            // range (rounded to +0): every window term of that axis zero
+            let a = rng.below(3) as usize;
+            let sign = 1u64 << (fmt.width() - 1);
+            r.o[a] = if rng.below(2) == 0 { 0 } else { sign };
+            r.origin[a] = if rng.below(2) == 0 { 0 } else { sign };
+            let subnormal = 1 + rng.below(mask(fmt.frac_bits()));
+            r.t_min = subnormal;
+            r.t_start = subnormal;
         }
+        r
     }
 
     fn random(&self, rng: &mut VectorRng) -> NodeIn<u64> {

@@ -29,7 +29,8 @@
 //! * **term<i>_a**: live ⇒ a nonzero term has `B` in the window's range and
 //!   `kept·2^B ≤ |t_i| ≤ (kept + lost)·2^B`; a zero term loses nothing and
 //!   keeps nothing, except a zero start's significand times a nonzero `d`
-//!   when `B` is the floor (every term zero);
+//!   when `B` is the floor (every term zero; the unit summed it before the
+//!   eighth session's fix, and the lemma still allows it);
 //! * **slope_a**: live, slab axis, `A = |inv_d|·2^(e−g−G)`, `B' =
 //!   next(|inv_d|)·2^(e−g−G)` (`2^(bias+F−1)·2^(e−g−G)` at the largest
 //!   finite `inv_d`): unless `over_lo`, `S_lo ≤ A` and `shift_lo ≤ zmax`;

@@ -481,7 +481,10 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
             let gap = m.slice(gap, tw - 1, 0);
             let cap = bits_for(u64::from(wt));
             let limit = m.uint(tw, u128::from(wt));
+            // a zero term is shifted out whole (its significand need not be zero: a start
+            // rounded to +0 keeps its bits, and when every term is zero the gap is 0)
             let far = m.lt(limit, gap);
+            let far = m.or(far, t.zero);
             let gap = m.slice(gap, cap - 1, 0);
             let limit = m.slice(limit, cap - 1, 0);
             let gap = m.mux(far, limit, gap);
