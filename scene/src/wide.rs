@@ -815,10 +815,11 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
         let dirs: Vec<usize> = match select {
             DopSelect::All => (0..4).collect(),
             DopSelect::One => {
+                let scores: Vec<f64> = (0..DOP_DIRS.len())
+                    .map(|j| direction_score(&slots, j))
+                    .collect();
                 let best = (0..DOP_DIRS.len())
-                    .max_by(|&a, &b| {
-                        direction_score(&slots, a).total_cmp(&direction_score(&slots, b))
-                    })
+                    .max_by(|&a, &b| scores[a].total_cmp(&scores[b]))
                     .expect("ten directions");
                 vec![best]
             }
