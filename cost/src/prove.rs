@@ -779,10 +779,10 @@ pub const PLANTS: &[Plant] = &[
     Plant {
         unit: "node",
         name: "lt-for-le",
-        what: "slot 0's entry compared with its z exit by `<` where `<=` is due: a child whose \
-               entry and z exit fall in the same cell is missed",
-        from: "assign slot0_overlap = slot0_and_cells & ($signed(slot0_near_max) <=",
-        to: "assign slot0_overlap = slot0_and_cells & ($signed(slot0_near_max) <",
+        what: "slot 0's entry compared with the window end by `<` where `<=` is due: a child \
+               whose entry falls in the window end's cell is missed",
+        from: "assign slot0_window_admits = $signed(slot0_near_max) <=",
+        to: "assign slot0_window_admits = $signed(slot0_near_max) <",
     },
 ];
 

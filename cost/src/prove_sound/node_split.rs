@@ -53,15 +53,18 @@
 //! or `from_hi ≥ Q·2^g`; a parallel axis `from_hi ≥ Q·2^g` or `from_hi >
 //! hi − 1`, `from_lo ≤ 0` or `from_lo < lo + 1` (in steps).
 //!
-//! **Stage 3** (`from_lo`, `from_hi`, the slopes and `far_top` cut):
-//! **cells<i>_a**: given the stage-0/1 lemmas' internal parts (the ranges
-//! of `from_*` and `far_top`, the shifts, `sig_hi`), slot i's cells on axis
-//! a: `near = 0` for `dn ≤ 0`, else `0 ≤ near ≤ C`, `near = C` with
-//! `over_lo`, else `near ≤ dn·S_lo`; `far ≥ 0`, `far = C` on a parallel
-//! axis or for `df > 0` with `over_hi`, else `far = C` or `far ≥ df·S_hi`;
-//! `misses` iff `df < 0` or a parallel axis with `dn > 0`.
+//! **Stage 3** (`from_lo`, `from_hi`, the slopes, `far_top` and every
+//! slot's `near_max` cut): **cells<i>_a**: given the stage-0/1 lemmas'
+//! internal parts (the ranges of `from_*` and `far_top`, the shifts,
+//! `sig_hi`), slot i's cells on axis a: `near = 0` for `dn ≤ 0`, else `0 ≤
+//! near ≤ C`, `near = C` with `over_lo`, else `near ≤ dn·S_lo`; for any
+//! `0 ≤ near_max ≤ C`, the exit `admits` it, or `df < 0`, or the axis is a
+//! slab axis without `df > 0` and `over_hi` and `near_max > df·S_hi` (the
+//! unit forms no exit cells since 2026-12-07: only whether they reach
+//! `near_max`); `misses` iff `df < 0` or a parallel axis with `dn > 0`.
 //!
-//! **Stage 4** (also every slot's cells cut): **child_i**: if slot i is
+//! **Stage 4** (also every slot's cells cut; `near_max` is the unit's
+//! maximum of the cut entries): **child_i**: if slot i is
 //! valid and every valid slot is reported, or the segment is not empty, the
 //! internal parts, `meet_i` and slot i's cells lemmas hold, the slot is
 //! reported hit, and its entry is 0 or, live, for some slab axis with `dn
@@ -206,11 +209,15 @@ pub(super) fn node_cut(shape: NodeShape) -> Cut {
     wires.push(("node_far_top".into(), "u_unit.window_end_far_top".into()));
     terms.push("node_far_top".into());
     let mut cells = Vec::new();
+    let mut near_maxes = Vec::new();
     for i in 0..children {
+        let name = format!("node_near_max_{i}");
+        wires.push((name.clone(), format!("u_unit.slot{i}_near_max")));
+        near_maxes.push(name);
         for a in AXES {
             for (monitor, unit) in [
                 ("near", format!("slot{i}_axis_{a}_near_cells")),
-                ("far", format!("slot{i}_axis_{a}_far_cells")),
+                ("admits", format!("slot{i}_axis_{a}_exit_admits")),
                 ("misses", format!("slot{i}_axis_{a}_misses")),
             ] {
                 let name = format!("node_{monitor}_{i}_{a}");
@@ -271,7 +278,7 @@ pub(super) fn node_cut(shape: NodeShape) -> Cut {
                 .collect(),
         },
         Stage {
-            cut: terms.clone(),
+            cut: terms.iter().cloned().chain(near_maxes).collect(),
             lemmas: (0..children)
                 .flat_map(|i| AXES.iter().map(move |a| format!("lemma_cells{i}_{a}")))
                 .collect(),
@@ -619,22 +626,31 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
             );
         }
         let mut cells_ok = Vec::new();
+        let _ = writeln!(
+            v,
+            "    // slot {i}: the largest entry (watched; cut in stage 3, where only its range is known)\n    \
+             (* keep *) wire signed [{f1}:0] node_near_max_{i};\n    \
+             wire signed [{n1}:0] near_max_wide_{i} = node_near_max_{i};\n    \
+             wire near_max_in_range_{i} = node_near_max_{i} >= 0 && node_near_max_{i} <= {f2}'sd{cap};",
+            f1 = k + 1,
+            f2 = k + 2,
+            n1 = nwp - 1,
+        );
         for a in AXES {
             let _ = writeln!(
                 v,
                 "    // slot {i}, axis {a}: the unit's cells (watched, then cut) against the products\n    \
-                 (* keep *) wire signed [{f1}:0] node_near_{i}_{a}, node_far_{i}_{a};\n    \
-                 (* keep *) wire node_misses_{i}_{a};\n    \
+                 (* keep *) wire signed [{f1}:0] node_near_{i}_{a};\n    \
+                 (* keep *) wire node_admits_{i}_{a}, node_misses_{i}_{a};\n    \
                  wire signed [{n1}:0] near_wide_{i}_{a} = node_near_{i}_{a};\n    \
-                 wire signed [{n1}:0] far_wide_{i}_{a} = node_far_{i}_{a};\n    \
                  wire near_ok_{i}_{a} = dn_{i}_{a} <= 0 ? node_near_{i}_{a} == 0\n        \
                  : (node_near_{i}_{a} >= 0 && node_near_{i}_{a} <= {f2}'sd{cap}\n           \
                  && (node_over_down_{a} ? node_near_{i}_{a} == {f2}'sd{cap} : (near_wide_{i}_{a} <<< {rs}) <= (na_{i}_{a} <<< {ls})));\n    \
-                 wire far_ok_{i}_{a} = node_far_{i}_{a} >= 0 && (node_parallel_{a} ? node_far_{i}_{a} == {f2}'sd{cap}\n        \
-                 : (df_{i}_{a} > 0 && node_over_up_{a}) ? node_far_{i}_{a} == {f2}'sd{cap}\n        \
-                 : (node_far_{i}_{a} == {f2}'sd{cap} || (far_wide_{i}_{a} <<< {rs}) >= (fb_{i}_{a} <<< {ls})));\n    \
+                 wire admits_ok_{i}_{a} = !near_max_in_range_{i} || df_{i}_{a} < 0 || node_admits_{i}_{a}\n        \
+                 || (!node_parallel_{a} && !(df_{i}_{a} > 0 && node_over_up_{a})\n           \
+                 && (near_max_wide_{i} <<< {rs}) > (fb_{i}_{a} <<< {ls}));\n    \
                  wire misses_ok_{i}_{a} = node_misses_{i}_{a} == (df_{i}_{a} < 0 || (node_parallel_{a} && dn_{i}_{a} > 0));\n    \
-                 wire cells_ok_{i}_{a} = near_ok_{i}_{a} && far_ok_{i}_{a} && misses_ok_{i}_{a};\n    \
+                 wire cells_ok_{i}_{a} = near_ok_{i}_{a} && admits_ok_{i}_{a} && misses_ok_{i}_{a};\n    \
                  (* keep *) wire lemma_cells{i}_{a} = !node_internal || cells_ok_{i}_{a};",
                 f1 = k + 1,
                 f2 = k + 2,

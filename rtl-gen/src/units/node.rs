@@ -16,10 +16,12 @@
 //!
 //! **Per child**: per axis the distances from the position to the entry and
 //! exit planes (a q-bit integer against a fixed-point value), times the
-//! slopes (a narrow product and a shift by `z`), floored and ceiled to cells,
-//! capped at `C`; an exit plane behind `T` or a parallel axis outside the
-//! slab misses; `hit = max near ≤ min(min far, window end)`, `entry = max
-//! near` (`T + entry·2^G` is a lower bound of the entry). Then Batcher's
+//! slopes (a narrow product and a shift by `z`), the entry's floored to cells
+//! and capped at `C`; an exit plane behind `T` or a parallel axis outside
+//! the slab misses; `hit = max near ≤ min(min far, window end)`, `entry = max
+//! near` (`T + entry·2^G` is a lower bound of the entry). The exit's cells
+//! `far = min(C, ⌈p·2^kmin⌉)` are never formed: `max near ≤ far` is `p ≥
+//! (max near − 1)·2^−kmin + 1`, the sign of one subtraction. Then Batcher's
 //! network sorts the slots: hits first, nearer first, ties by slot index
 //! ([`super::node_sort::sort_slots`]). Special inputs: `bad` (NaN, a
 //! non-finite origin or frame, a frame exponent out of range, a zero
@@ -1031,7 +1033,6 @@ pub fn build(cfg: &Config) -> Module {
         m.name(v, "far_top")
     });
     // per child
-    let cap = m.sint(cap_w, 1i128 << k_cap);
     let zero_c = m.sint(cap_w, 0);
     let dist_bits = q + g + 5;
     let mut hits = Vec::new();
@@ -1039,12 +1040,12 @@ pub fn build(cfg: &Config) -> Module {
     for i in 0..n {
         let (hit, near) = m.scope(&format!("slot{i}"), |m| {
             let mut near_max = zero_c;
-            let mut fars = vec![far_top];
+            let mut exits = Vec::new();
             let mut missed = m.bool(false);
             for a in 0..3 {
                 let ax = &axes[a];
                 let sl = &slopes[a];
-                let (axis_miss, near, far) = m.scope(&format!("axis_{}", AXES[a]), |m| {
+                let (axis_miss, near, exit) = m.scope(&format!("axis_{}", AXES[a]), |m| {
                     // the entry and exit planes (mirrored: Q − hi, Q − lo)
                     let (not_hi, not_lo) = (m.not(r.hi[i][a]), m.not(r.lo[i][a]));
                     let entry = m.mux(ax.mirror, not_hi, r.lo[i][a]);
@@ -1071,26 +1072,50 @@ pub fn build(cfg: &Config) -> Module {
                     let par_miss = m.and(ax.parallel, outside);
                     let axis_miss = m.or(par_miss, behind);
                     // a parallel axis's entry distance is at most 0 when it does not miss
-                    let near = m.scope("entry_cells", |m| cells(m, cfg, dn, sl.down, false));
-                    let far = m.scope("exit_cells", |m| cells(m, cfg, df, sl.up, true));
-                    let far = m.mux(ax.parallel, cap, far);
+                    let near = m.scope("entry_cells", |m| {
+                        let product = slope_product(m, dn, sl.down);
+                        near_cells(m, cfg, dn, product, sl.down.over)
+                    });
+                    // the exit's cells are never formed: only whether they admit the entry
+                    let exit_product = m.scope("exit_cells", |m| slope_product(m, df, sl.up));
+                    // over the cap only past T: an exit at T has 0 cells at any slope (a
+                    // negative distance misses beside this, so `df ≠ 0` says `df > 0`)
+                    let past = m.any_set(df);
+                    let over = m.and(sl.up.over, past);
+                    let always = m.or(ax.parallel, over);
                     (
                         m.name(axis_miss, "misses"),
                         m.name(near, "near_cells"),
-                        m.name(far, "far_cells"),
+                        (exit_product, always),
                     )
                 });
                 missed = m.or(missed, axis_miss);
                 let larger = m.lt(near_max, near);
                 near_max = m.mux(larger, near, near_max);
-                fars.push(far);
+                exits.push(exit);
             }
             let near_max = m.name(near_max, "near_max");
-            // near_max ≤ min far as four comparisons (no multiplexers for the minimum)
-            let mut overlap = m.bool(true);
-            for far in fars {
-                let before = m.le(near_max, far);
-                overlap = m.and(overlap, before);
+            // near_max ≤ min far as four comparisons (no multiplexers for the minimum); an
+            // exit's `min(C, ⌈p·2^kmin⌉) ≥ near_max` (near_max is at most C) is `p ≥
+            // (near_max − 1)·2^−kmin + 1`: the sign of one subtraction per exit, with no
+            // rounding, cap or minimum of the exit's cells
+            let before = m.le(near_max, far_top);
+            let mut overlap = m.name(before, "window_admits");
+            let least = least_exit_product(m, cfg, near_max);
+            for (a, (product, always)) in exits.into_iter().enumerate() {
+                let admits = m.scope(&format!("axis_{}", AXES[a]), |m| {
+                    let pw = product.width().max(least.width()) + 1;
+                    let p = zext(m, product, pw);
+                    let p = to_sint(m, p, pw);
+                    let least = sext(m, least, pw);
+                    let margin = m.sub(p, least);
+                    let margin = m.name(margin, "exit_margin");
+                    let short = m.msb(margin);
+                    let enough = m.not(short);
+                    let admits = m.or(always, enough);
+                    m.name(admits, "exit_admits")
+                });
+                overlap = m.and(overlap, admits);
             }
             let overlap = m.name(overlap, "overlap");
             let not_missed = m.not(missed);
@@ -1162,24 +1187,30 @@ pub fn build(cfg: &Config) -> Module {
     module
 }
 
-/// Cells from `T` to a plane `dist` frame steps (`2^−g` units, SInt) away:
-/// 0 for a distance at most 0, else `⌊dist·sig·2^(z + kmin)⌋` (`⌈⌉` when
-/// `up`), `kmin = h − m + 1 − g`, capped at `C`; `C` when the slope is over
-/// the cap. SInt of `K + 2`.
-fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool) -> Sig {
+/// The exponent of a product's unit in cells, `kmin = h − m + 1 − g`: a
+/// product `p` of a distance (`2^−g` steps) and a slope significand is
+/// `p·2^kmin` cells. Negative for every `m` the parameters allow (`m ≥ 4`).
+fn product_exp(cfg: &Config) -> u32 {
     let (g, h, mb) = (POS_FRAC, CELL_BITS, cfg.slope_bits);
-    let k_cap = cfg.cap_bits();
-    let cap_w = k_cap + 2;
-    let cap = m.sint(cap_w, 1i128 << k_cap);
-    let zero = m.sint(cap_w, 0);
+    let kmin = h as i64 - mb as i64 + 1 - g as i64;
+    assert!(
+        kmin < 0,
+        "slope_bits {mb} leaves the product's cells unrounded"
+    );
+    (-kmin) as u32
+}
+
+/// The product of a distance `dist` (frame steps in `2^−g` units, SInt) and a
+/// slope, in units of `2^kmin` cells: the distance's magnitude bits times the
+/// slope's factor (meaningful for a positive distance only; the callers
+/// decide the others). With `split` the distance is first clamped at
+/// `2^(sat − z)`, beyond which the product reaches the cap at this slope.
+fn slope_product(m: &mut ModuleBuilder, dist: Sig, slope: Scaled) -> Sig {
     let dw = dist.width();
-    let zero_d = m.sint(dw, 0);
-    let positive = m.lt(zero_d, dist);
     let mag = m.slice(dist, dw - 2, 0);
     let mag = match slope.distance_shift {
         None => mag,
         Some((shift, limit)) => {
-            // at most 2^(sat − z): beyond it the product reaches the cap at this slope
             let lw = limit.width();
             let mag = zext(m, mag, (dw - 1).max(lw));
             let limit = zext(m, limit, (dw - 1).max(lw));
@@ -1192,45 +1223,53 @@ fn cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, slope: Scaled, up: bool
     };
     let mag = m.name(mag, "distance");
     let product = m.mul(mag, slope.sig);
-    let product = m.name(product, "product");
+    m.name(product, "product")
+}
+
+/// An entry's cells from `T`: 0 for a distance at most 0 (an entry already
+/// crossed), else `⌊product·2^kmin⌋` capped at `C`; `C` when the slope is over
+/// the cap. SInt of `K + 2`.
+fn near_cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, product: Sig, over: Sig) -> Sig {
+    let k_cap = cfg.cap_bits();
+    let cap_w = k_cap + 2;
+    let cap = m.sint(cap_w, 1i128 << k_cap);
+    let zero = m.sint(cap_w, 0);
+    let dw = dist.width();
+    let zero_d = m.sint(dw, 0);
+    let positive = m.lt(zero_d, dist);
     let pw = product.width();
-    let kmin = h as i64 - mb as i64 + 1 - g as i64;
-    let (value, vw) = if kmin >= 0 {
-        let z = m.uint(kmin as u32, 0);
-        (
-            if kmin > 0 {
-                m.cat(&[product, z])
-            } else {
-                product
-            },
-            pw + kmin as u32,
-        )
-    } else {
-        let drop = (-kmin) as u32;
-        let kept = m.slice(product, pw - 1, drop);
-        if up {
-            let below = m.slice(product, drop - 1, 0);
-            let lost = m.any_set(below);
-            let l = m.as_uint(lost);
-            let l = zext(m, l, pw - drop);
-            let v = m.add(kept, l);
-            (v, pw - drop + 1)
-        } else {
-            (kept, pw - drop)
-        }
-    };
+    let value = m.slice(product, pw - 1, product_exp(cfg));
     let value = m.name(value, "cells");
-    let cap_u = m.uint(vw.max(k_cap + 1), 1u128 << k_cap);
-    let value = zext(m, value, vw.max(k_cap + 1));
+    let vw = value.width().max(k_cap + 1);
+    let cap_u = m.uint(vw, 1u128 << k_cap);
+    let value = zext(m, value, vw);
     let capped = m.lt(cap_u, value);
     let v = m.slice(value, k_cap, 0);
     let v = to_sint(m, v, cap_w);
-    let at_cap = m.or(capped, slope.over);
+    let at_cap = m.or(capped, over);
     let v = m.mux(at_cap, cap, v);
-    // 0 at a distance of 0 or less: an entry already crossed, an exit at T (a negative exit
-    // distance misses, decided beside this)
     let not_pos = m.not(positive);
     m.mux(not_pos, zero, v)
+}
+
+/// `(near_max − 1)·2^−kmin + 1`, SInt: the least exit product whose cells
+/// `⌈product·2^kmin⌉` reach `near_max`. An exit at a distance of 0 has
+/// product 0, which reaches it only for `near_max = 0` (its cells are 0); a
+/// negative exit distance misses beside this.
+fn least_exit_product(m: &mut ModuleBuilder, cfg: &Config, near_max: Sig) -> Sig {
+    let w = near_max.width() + 1;
+    let n = sext(m, near_max, w);
+    let one = m.sint(w, 1);
+    let below = m.sub(n, one);
+    let below = sext(m, below, w);
+    let below = m.name(below, "near_max_less_one");
+    let below = m.as_uint(below);
+    // the low bits of `(near_max − 1)·2^−kmin` are zeros, so `+ 1` is a final one bit
+    let k = product_exp(cfg);
+    let low = m.uint(k, 1);
+    let least = m.cat(&[below, low]);
+    let least = to_sint(m, least, w + k);
+    m.name(least, "least_exit_product")
 }
 
 impl Description for Node {
