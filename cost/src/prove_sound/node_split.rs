@@ -107,7 +107,9 @@
 use super::split::{extended_real, Cut, Stage};
 use super::{magnitude_bits, AXES};
 use golden_model::float::FloatFormat;
-use rtl_gen::units::node::{CELL_BITS, POS_FRAC};
+use rtl_gen::units::node::{
+    position_sum_exp_bits, CELL_BITS, POS_FRAC, WINDOW_EXTRA, WINDOW_FLOOR,
+};
 use std::fmt::Write as _;
 
 /// The node's shape, as the split reads it.
@@ -136,18 +138,20 @@ impl NodeShape {
     fn kmin(&self) -> i32 {
         CELL_BITS as i32 - self.m as i32 + 1 - POS_FRAC as i32
     }
-    /// the window sum's exponent B of nonzero terms, `4 − 2·bias − W ..= 2·emax + 3 − W`,
-    /// widened by 2 each way
+    /// the window sum's exponent `B = max(top − W, e − g − f)` (`top ≤ 2·emax + 3`, the
+    /// frame's `e` in `emin ..= emax`, `f` the window floor), widened by 2 each way
     fn sum_exp_range(&self) -> (i32, i32) {
-        let ww = (self.q + POS_FRAC + rtl_gen::units::node::WINDOW_EXTRA) as i32;
-        let (bias, emax) = (self.fmt.bias(), self.fmt.emax());
-        (4 - 2 * bias - ww - 2, 2 * emax + 3 - ww + 2)
+        let ww = (self.q + POS_FRAC + WINDOW_EXTRA) as i32;
+        let (emin, emax) = (self.fmt.emin(), self.fmt.emax());
+        let below = (POS_FRAC + WINDOW_FLOOR) as i32;
+        (emin - below - 2, (2 * emax + 3 - ww).max(emax - below) + 2)
     }
-    /// the grid shift `s = B − e + g` over that range and `emin ..= emax`
+    /// the grid shift `s = B − e + g`: at least `−f` (the window floor), at most over
+    /// `B`'s range and `emin ..= emax`
     fn grid_shift_range(&self) -> (i32, i32) {
-        let (b_min, b_max) = self.sum_exp_range();
+        let (_, b_max) = self.sum_exp_range();
         let g = POS_FRAC as i32;
-        (b_min - self.fmt.emax() + g, b_max - self.fmt.emin() + g)
+        (-(WINDOW_FLOOR as i32), b_max - self.fmt.emin() + g)
     }
     /// the grid exponent's range `2·emin − F − h ..= 2·emax − h`
     fn grid_range(&self) -> (i32, i32) {
@@ -374,14 +378,10 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
         f2 = k + 2,
     );
     // the window sums: [sum_lo, sum_hi]·2^B ∋ o − O + T_r·d, in units of 2^−(U + k2), U = 2·s1
-    let ww = q + g + rtl_gen::units::node::WINDOW_EXTRA;
+    let ww = q + g + WINDOW_EXTRA;
     let (b_min, b_max) = s.sum_exp_range();
     let k2 = (-(b_min + u2)).max(0);
-    // B when every term is zero: the unit's smallest top (a zero term's) minus W, in bw bits
-    let tw = rtl_gen::arith::float::sint_width(2 * (emin as i64 - 1), 2 * (emax as i64 + 1)) + 1;
-    let bw = tw + 1;
-    let wrap = |x: i64| ((x + (1 << (bw - 1))).rem_euclid(1 << bw)) - (1 << (bw - 1));
-    let b_zero = wrap(-(1i64 << (tw - 1)) - ww as i64);
+    let bw = position_sum_exp_bits(emin.into(), emax.into());
     let sum_w = ww + 3;
     let vw = ((sum_w as i32 + b_max + u2 + k2).max(2 * nw as i32 + 2 + k2) + 3) as u32;
     // the grid: from·2^(−s) against sum·2^s's positive part, s = B − e + g
@@ -402,10 +402,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  (* keep *) wire signed [{sw}:0] node_sum_lo_{a}, node_sum_hi_{a};
                  wire signed [{sw1}:0] unit_sum_lo_{a} = node_sum_lo_{a}[{sw1}:0];
                  wire signed [{sw1}:0] unit_sum_hi_{a} = node_sum_hi_{a}[{sw1}:0];
-                 wire node_sums_zero_{a} = unit_sum_lo_{a} == 0 && unit_sum_hi_{a} == 0;
                  wire node_sum_exp_ok_{a} = node_sum_exp_{a} >= {bmin} && node_sum_exp_{a} <= {bmax};
-                 // every term zero (B the unit's floor): zero terms' significands may still be summed, far below
-                 wire node_terms_zero_{a} = node_sum_exp_{a} == {bzero} && (!node_parallel_{a} || node_sums_zero_{a});
                  wire signed [{v1}:0] win_o_{a} = value(o_{a});
                  wire signed [{v1}:0] win_origin_{a} = value(frame_origin_{a});
                  wire signed [{v1}:0] win_d_{a} = value(d_{a});
@@ -447,9 +444,9 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  wire [9:0] grid_sum_shift_{a} = grid_s_{a} < 0 ? 10'd0 : grid_s_{a};
                  wire signed [{g1}:0] grid_lo_{a} = unit_sum_lo_{a};
                  wire signed [{g1}:0] grid_hi_{a} = unit_sum_hi_{a};
-                 wire signed [{g1}:0] grid_lo_s_{a} = node_terms_zero_{a} ? 0 : grid_lo_{a} <<< grid_sum_shift_{a};
-                 wire signed [{g1}:0] grid_hi_s_{a} = node_terms_zero_{a} ? 0 : grid_hi_{a} <<< grid_sum_shift_{a};
-                 wire [9:0] grid_x_shift_{a} = node_terms_zero_{a} ? 10'd0 : grid_from_shift_{a};
+                 wire signed [{g1}:0] grid_lo_s_{a} = grid_lo_{a} <<< grid_sum_shift_{a};
+                 wire signed [{g1}:0] grid_hi_s_{a} = grid_hi_{a} <<< grid_sum_shift_{a};
+                 wire [9:0] grid_x_shift_{a} = grid_from_shift_{a};
                  wire signed [{g1}:0] grid_from_lo_{a} = node_mirror_{a} ? {gw2}'sd{qg} - node_from_lo_{a} : node_from_lo_{a};
                  wire signed [{g1}:0] grid_from_hi_{a} = node_mirror_{a} ? {gw2}'sd{qg} - node_from_hi_{a} : node_from_hi_{a};
                  wire range_lo_{a} = node_from_lo_{a} >= {neg_l} && node_from_lo_{a} <= {x}'sd{top};
@@ -466,7 +463,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
                  wire signed [{g1}:0] grid_lo_minus_{a} = node_from_lo_{a} - 1;
                  wire parallel_hi_{a} = node_from_hi_{a} >= {x}'sd{qg} || (grid_hi_plus_{a} <<< grid_x_shift_{a}) > grid_hi_s_{a};
                  wire parallel_lo_{a} = node_from_lo_{a} <= 0 || (grid_lo_minus_{a} <<< grid_x_shift_{a}) < grid_lo_s_{a};
-                 wire grid_hyp_{a} = node_live && (node_terms_zero_{a} || node_sum_exp_ok_{a});
+                 wire grid_hyp_{a} = node_live && node_sum_exp_ok_{a};
                  (* keep *) wire lemma_grid_lo_{a} = !grid_hyp_{a} || (range_lo_{a} && (node_parallel_{a} ? parallel_lo_{a} : slab_lo_{a}));
                  (* keep *) wire lemma_grid_hi_{a} = !grid_hyp_{a} || (range_hi_{a} && (node_parallel_{a} ? parallel_hi_{a} : slab_hi_{a}));",
             sw1 = sum_w - 1,
@@ -476,7 +473,6 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
             g1 = gw2 - 1,
             bmin = signed_literal(bw, b_min as i64),
             bmax = signed_literal(bw, b_max as i64),
-            bzero = signed_literal(bw, b_zero),
             smin = signed_literal(10, s_min as i64),
             smax = signed_literal(10, s_max as i64),
             b1 = bw - 1,
@@ -489,23 +485,17 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
         );
         for i in 0..3 {
             // a term's kept bits (and one more when it lost any) bound its magnitude in 2^B
-            // units; a zero term keeps nothing and loses nothing, except a zero start's
-            // significand times a nonzero d when every term is zero (B the floor)
+            // units; a zero term keeps nothing and loses nothing
             let _ = writeln!(
                 v,
                 "    wire signed [{v1}:0] ex_mag{i}_{a} = ex_neg{i}_{a} ? -ex_t{i}_{a} : ex_t{i}_{a};\n    \
                  wire signed [{v1}:0] ex_kept{i}_{a} = {{1'b0, node_kept{i}_{a}}};\n    \
                  (* keep *) wire lemma_term{i}_{a} = !node_live || (ex_zero{i}_{a}\n        \
-                 ? (!node_lost{i}_{a} && (node_kept{i}_{a} == 0{zero_case}))\n        \
+                 ? (!node_lost{i}_{a} && node_kept{i}_{a} == 0)\n        \
                  : (node_sum_exp_ok_{a} && (ex_t{i}_{a} < 0) == ex_neg{i}_{a}\n            \
                  && (ex_kept{i}_{a} <<< win_shift_{a}) <= (ex_mag{i}_{a} <<< {k2})\n            \
                  && (ex_mag{i}_{a} <<< {k2}) <= ((ex_kept{i}_{a} + node_lost{i}_{a}) <<< win_shift_{a})));",
                 v1 = vw - 1,
-                zero_case = if i == 2 {
-                    format!(" || (node_sum_exp_{a} == {} && win_d_{a} != 0)", signed_literal(bw, b_zero))
-                } else {
-                    String::new()
-                },
             );
         }
     }

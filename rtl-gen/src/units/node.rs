@@ -5,9 +5,10 @@
 //! **Per node, once**: the segment's start `T = max(t_min, t_start)`
 //! (`t_start`: a lower bound of every hit in the node, the parent's entry);
 //! per axis the ray's position at `T` in `2^−g` frame steps, `o − O + T·d`
-//! summed in a window of `W = q + g + 20` bits under the largest term (each
-//! term truncated, the bits it lost moving the sum's lower or upper bound by
-//! one step), floored and ceiled to the frame's grid, clamped to
+//! summed in a window of `W = q + g + 20` bits under the largest term but
+//! with its lowest bit no lower than `2^(e − g − f)` (the window floor `f =
+//! 8`; each term truncated, the bits it lost moving the sum's lower or upper
+//! bound by one step), floored and ceiled to the frame's grid, clamped to
 //! `±2^(q+3+g)`; the cell `2^G` from exponents (`G = min E − h`, `E = e +
 //! ⌊log2 |inv_d|⌋` over the axes the ray is not parallel to); per axis the
 //! time per frame step in cells as an `m`-bit significand rounded down and
@@ -51,6 +52,10 @@ pub struct Node;
 pub const POS_FRAC: u32 = 4;
 /// Cells per frame step of the fastest axis: `2^h` to `2^(h+1)`.
 pub const CELL_BITS: u32 = 4;
+/// The window floor f: a window sum's lowest bit is at most this many bits
+/// below its grid (`2^(e − g − f)` for a position, `2^(G − f)` for the window
+/// end), so each grid conversion shifts by at most `f` bits beyond its width.
+pub const WINDOW_FLOOR: u32 = 8;
 /// Bits of the window sums beyond `q + g`.
 pub const WINDOW_EXTRA: u32 = 20;
 
@@ -288,7 +293,21 @@ pub fn node_name(cfg: &Config) -> String {
 
 /// Width of the `top` exponents of window terms: a product's is the sum of two.
 fn top_bits(fmt: Format) -> u32 {
-    sint_width(2 * (fmt.emin() - 1), 2 * (fmt.emax() + 1)) + 1
+    position_top_bits(fmt.emin(), fmt.emax())
+}
+
+fn position_top_bits(emin: i64, emax: i64) -> u32 {
+    sint_width(2 * (emin - 1), 2 * (emax + 1)) + 1
+}
+
+/// Width of a position's window exponent `B` (`axis_*_sum_exp`, SInt) for a
+/// format's `emin ..= emax`: the terms' tops or the floor's window top (a
+/// frame exponent plus a constant), whichever is wider, one bit for their
+/// maximum and one for `B = top − W`. The split proof declares its copy of
+/// the wire with it.
+pub fn position_sum_exp_bits(emin: i64, emax: i64) -> u32 {
+    let floor_top = sint_width(emin, emax) + 3;
+    position_top_bits(emin, emax).max(floor_top) + 2
 }
 
 /// One term of a window sum: sign, magnitude, zero, and `top`: `|v| <
@@ -440,18 +459,21 @@ impl Term {
     }
 }
 
-/// `[lo, hi]·2^B ∋ Σ terms` in a window of `w` bits (`B = max top − w` over
-/// the nonzero terms): returns `(lo, hi, B)`, `lo` and `hi` SInt of `w + 3`
-/// bits, `B` an SInt. The golden model's `window_sum`.
-fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) {
-    let tw = terms[0].top.width();
+/// `[lo, hi]·2^B ∋ Σ terms` in a window of `w` bits whose top is the largest
+/// `top` of the nonzero terms or `lowest`, whichever is larger (`B = max(max
+/// top, lowest) − w`): returns `(lo, hi, B)`, `lo` and `hi` SInt of `w + 3`
+/// bits, `B` an SInt. The golden model's `window_sum` (its floor is `lowest −
+/// w`).
+fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32, lowest: Sig) -> (Sig, Sig, Sig) {
+    let tw = terms[0].top.width().max(lowest.width()) + 1;
     // the largest top of the nonzero terms (a zero term: the smallest value)
     let floor_top = m.sint(tw, -(1i128 << (tw - 1)));
     let tops: Vec<Sig> = terms
         .iter()
         .enumerate()
         .map(|(i, t)| {
-            let v = m.mux(t.zero, floor_top, t.top);
+            let top = sext(m, t.top, tw);
+            let v = m.mux(t.zero, floor_top, top);
             m.name(v, &format!("term{i}_live_top"))
         })
         .collect();
@@ -461,6 +483,11 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32) -> (Sig, Sig, Sig) 
         let v = m.mux(above, t, top);
         top = m.name(v, &format!("top_through_term{i}"));
     }
+    // no lower than the floor's window (every term zero: the floor's)
+    let lowest = sext(m, lowest, tw);
+    let lowest = m.name(lowest, "lowest_top");
+    let below = m.lt(top, lowest);
+    let top = m.mux(below, lowest, top);
     let top = m.name(top, "window_top");
     let sw = w + 3;
     // Σ ±kept as Σ (kept ^ negative) + #negative: one adder a term, the count of
@@ -575,18 +602,21 @@ fn add_bit(m: &mut ModuleBuilder, count: Sig, bit: Sig, what: &str) -> Sig {
     m.name(s, what)
 }
 
-/// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`, a Bool), `v` and `s` SInt, clamped
-/// to `±2^bits`: SInt of `bits + 2`. One right shifter: `v` with `bits + 2`
-/// zeros below it, shifted right by `bits + 2 − s` (a larger `s` saturates
-/// any nonzero `v`).
-fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
+/// `⌊v·2^s⌋` (or `⌈v·2^s⌉` when `up`, a Bool), `v` and `s` SInt, `s ≥ −f`
+/// (the window floor: the sum's lowest bit is at most `f` bits below the
+/// grid), clamped to `±2^bits`: SInt of `bits + 2`. One right shifter: `v`
+/// with `bits + 2` zeros below it, shifted right by `bits + 2 − s`, at most
+/// `bits + 2 + f` (a larger `s` saturates any nonzero `v`); only `v`'s low
+/// `f` bits can be shifted out.
+fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32, f: u32) -> Sig {
     let ow = bits + 2;
     let vw = v.width();
-    let ew = vw + ow;
+    assert!(f <= vw, "a window floor of {f} bits below a {vw}-bit sum");
     let lim = m.sint(ow, 1i128 << bits);
     let neg_lim = m.sint(ow, -(1i128 << bits));
-    // the shift right: ow − s, from 0 (s = ow) to ew (everything out)
-    let sw = s.width().max(bits_for(u64::from(ew)) + 1) + 1;
+    // the shift right: ow − s, from 0 (s = ow) to ow + f (s = −f)
+    let rcap = bits_for(u64::from(ow + f));
+    let sw = s.width().max(rcap + 1) + 1;
     let s = sext(m, s, sw);
     let s = m.name(s, "scale_wide");
     let headroom = m.sint(sw, i128::from(ow));
@@ -594,13 +624,7 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
     let right = m.name(right, "right");
     let huge = m.msb(right);
     let huge = m.name(huge, "saturates");
-    let rcap = bits_for(u64::from(ew));
-    let limit = m.sint(sw, i128::from(ew));
-    let all_out = m.lt(limit, right);
-    let all_out = m.name(all_out, "all_out");
     let amount = m.slice(right, rcap - 1, 0);
-    let limit_u = m.uint(rcap, u128::from(ew));
-    let amount = m.mux(all_out, limit_u, amount);
     let amount = m.name(amount, "shift");
     let zeros = m.uint(ow, 0);
     let ext = m.cat(&[v, zeros]);
@@ -630,19 +654,16 @@ fn to_grid(m: &mut ModuleBuilder, v: Sig, s: Sig, up: Sig, bits: u32) -> Sig {
         let o = m.lt(sum, len);
         m.name(o, "overflow")
     });
-    // a one below the shift's reach was lost: trailing zeros of v + ow below it
-    let tz = trailing_zeros(m, v);
-    let tw = tz.width().max(rcap) + 1;
-    let tz = zext(m, tz, tw);
-    let tz = m.name(tz, "trailing_wide");
-    let headroom_u = m.uint(tw, u128::from(ow));
-    let reach = m.add(tz, headroom_u);
-    let reach = m.name(reach, "reach");
-    let amount_w = zext(m, amount, tw + 1);
-    let amount_w = m.name(amount_w, "shift_wide");
-    let reach = zext(m, reach, tw + 1);
-    let reach = m.name(reach, "reach_wide");
-    let lost = m.lt(reach, amount_w);
+    // a one shifted out: v's bit j (j < f) when the shift passes it, amount > ow + j
+    let mut lost = m.bool(false);
+    for j in 0..f {
+        let bit = m.bit_at(v, j);
+        let at = m.uint(rcap, u128::from(ow + j));
+        let past = m.lt(at, amount);
+        let out = m.and(bit, past);
+        lost = m.or(lost, out);
+    }
+    let lost = m.name(lost, "shifted_out");
     let lost = m.and(lost, up);
     let lost = m.name(lost, "round_up");
     let l = m.as_uint(lost);
@@ -842,7 +863,14 @@ pub fn build(cfg: &Config) -> Module {
                     top,
                     tz,
                 };
-                let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w);
+                // the window's top at least e − g − f + W: its lowest bit at most f below the grid
+                let lw = r.exp[a].width() + 3;
+                let e = sext(m, r.exp[a], lw);
+                let above = i128::from(w) - i128::from(g) - i128::from(WINDOW_FLOOR);
+                let above = m.sint(lw, above);
+                let lowest = sadd(m, e, above, lw);
+                let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w, lowest);
+                assert_eq!(b.width(), position_sum_exp_bits(fmt.emin(), fmt.emax()));
                 // s = B − (e − g); the frame exponent widened once for this and E
                 let nz = m.scope("inv_d_normalised", |m| normalize(m, fmt, &inv[a]));
                 let sw = b.width().max(r.exp[a].width()).max(nz.exp.width()) + 2;
@@ -856,8 +884,12 @@ pub fn build(cfg: &Config) -> Module {
                 let s = sadd(m, s, gc, sw);
                 let s = m.name(s, "grid_shift");
                 // outward for a slab axis; inward for a parallel one (golden model)
-                let x_lo = m.scope("x_lo", |m| to_grid(m, lo, s, parallel, pos_bits));
-                let x_hi = m.scope("x_hi", |m| to_grid(m, hi, s, not_parallel, pos_bits));
+                let x_lo = m.scope("x_lo", |m| {
+                    to_grid(m, lo, s, parallel, pos_bits, WINDOW_FLOOR)
+                });
+                let x_hi = m.scope("x_hi", |m| {
+                    to_grid(m, hi, s, not_parallel, pos_bits, WINDOW_FLOOR)
+                });
                 // in the frame of the child's entry and exit planes, once per node: mirrored
                 // (Q·2^g − x) for a negative direction, so each child forms entry − x_hi and
                 // exit − x_lo (for a parallel axis lo − x_hi > 0 or hi − x_lo < 0: outside)
@@ -1019,13 +1051,19 @@ pub fn build(cfg: &Config) -> Module {
     let far_top = m.scope("window_end", |m| {
         let end = float_term(m, fmt, &t_max, false, "end_term");
         let start = t_term.negated(m);
-        let (_, hi, b) = window_sum(m, &[end, start], cfg.end_window_bits());
+        // the window's lowest bit at most f below the cell
+        let lw = grid_exp.width() + 3;
+        let ge = sext(m, grid_exp, lw);
+        let above = i128::from(cfg.end_window_bits()) - i128::from(WINDOW_FLOOR);
+        let above = m.sint(lw, above);
+        let lowest = sadd(m, ge, above, lw);
+        let (_, hi, b) = window_sum(m, &[end, start], cfg.end_window_bits(), lowest);
         let sw = b.width().max(gw) + 2;
         let bs = sext(m, b, sw);
         let gs = sext(m, grid_exp, sw);
         let s = ssub(m, bs, gs, sw);
         let round_up = m.bool(true);
-        let v = to_grid(m, hi, s, round_up, k_cap);
+        let v = to_grid(m, hi, s, round_up, k_cap, WINDOW_FLOOR);
         let v = sext(m, v, cap_w);
         let cap = m.sint(cap_w, 1i128 << k_cap);
         let open = m.or(t_max.inf, t_neg_inf);
