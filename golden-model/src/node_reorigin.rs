@@ -92,10 +92,10 @@ impl ReoriginParams {
         self.box_bits + self.cell_bits + 2
     }
 
-    /// Bits of the window the positions and the window end are summed in:
-    /// `q + g + 20` (docs/node.md §10).
+    /// Bits of the window the positions are summed in:
+    /// `q + g + 16` (docs/node.md §10, §12; 20 until 2026-12-07).
     pub fn window_bits(&self) -> u32 {
-        self.box_bits + self.pos_frac + 20
+        self.box_bits + self.pos_frac + 16
     }
 
     /// Bits of the window the window end `t_max − T` is summed in: `K + 6`

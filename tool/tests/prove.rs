@@ -484,7 +484,7 @@ fn a_planted_wrongful_cull_is_found_and_replays() {
 }
 
 /// `--property sound` for the node tester: the planted `<` for `<=`
-/// (`--plant lt-for-le`, slot 0's entry against its z exit) refuted at e3m2
+/// (`--plant lt-for-le`, slot 0's entry against the window end) refuted at e3m2
 /// (N = 2, q = 4): the counterexample's ray meets slot 0's decoded box from
 /// `max(t_min, t_start)` for the exact Rust test (binary64, exact at these
 /// sizes), and its replay in Verilator (the planted Verilog) misses where

@@ -5,7 +5,7 @@
 //! **Per node, once**: the segment's start `T = max(t_min, t_start)`
 //! (`t_start`: a lower bound of every hit in the node, the parent's entry);
 //! per axis the ray's position at `T` in `2^−g` frame steps, `o − O + T·d`
-//! summed in a window of `W = q + g + 20` bits under the largest term but
+//! summed in a window of `W = q + g + 16` bits under the largest term but
 //! with its lowest bit no lower than `2^(e − g − f)` (the window floor `f =
 //! 8`; each term truncated, the bits it lost moving the sum's lower or upper
 //! bound by one step), floored and ceiled to the frame's grid, clamped to
@@ -57,7 +57,7 @@ pub const CELL_BITS: u32 = 4;
 /// end), so each grid conversion shifts by at most `f` bits beyond its width.
 pub const WINDOW_FLOOR: u32 = 8;
 /// Bits of the window sums beyond `q + g`.
-pub const WINDOW_EXTRA: u32 = 20;
+pub const WINDOW_EXTRA: u32 = 16;
 
 crate::params! {
     /// The node tester's parameters.
@@ -119,7 +119,7 @@ impl Config {
     pub fn index_bits(&self) -> u32 {
         self.children.trailing_zeros()
     }
-    /// The window of the position sums: `W = q + g + 20`.
+    /// The window of the position sums: `W = q + g + 16`.
     pub fn window_bits(&self) -> u32 {
         self.box_bits + POS_FRAC + WINDOW_EXTRA
     }
