@@ -98,10 +98,13 @@ impl ReoriginParams {
         self.box_bits + self.pos_frac + 16
     }
 
-    /// Bits of the window the window end `t_max − T` is summed in: `K + 6`
-    /// (a count capped at `2^K` cells needs no more to be within a cell).
+    /// Bits of the window the window end `t_max − T` is summed in: `K + 2`
+    /// (6 until 2026-12-07). A count capped at `2^K` cells needs no more while
+    /// the terms are within a few times the cap, where the window sits at its
+    /// floor; larger terms that cancel leave the end looser, never wrong (whole
+    /// renders and the CI pairs did not change from `K + 6`).
     pub fn end_window_bits(&self) -> u32 {
-        self.cell_cap_bits() + 6
+        self.cell_cap_bits() + 2
     }
 
     /// The sentinel entry of a miss: `2^(K+1) − 1`.

@@ -47,6 +47,11 @@ impl NodeBench {
             u.window_bits(),
             "the window is the model's"
         );
+        assert_eq!(
+            params.end_window_bits(),
+            u.end_window_bits(),
+            "the window end's window is the model's"
+        );
         NodeBench {
             unit: *u,
             params,

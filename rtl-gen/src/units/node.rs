@@ -123,9 +123,9 @@ impl Config {
     pub fn window_bits(&self) -> u32 {
         self.box_bits + POS_FRAC + WINDOW_EXTRA
     }
-    /// The window of `t_max − T`: `K + 6`.
+    /// The window of `t_max − T`: `K + 2`.
     pub fn end_window_bits(&self) -> u32 {
-        self.cap_bits() + 6
+        self.cap_bits() + 2
     }
     /// Bits of a frame exponent port: `emin ..= emax` (other values are bad input).
     pub fn frame_exp_bits(&self) -> u32 {
