@@ -466,28 +466,25 @@ impl Term {
 /// w`).
 fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32, lowest: Sig) -> (Sig, Sig, Sig) {
     let tw = terms[0].top.width().max(lowest.width()) + 1;
-    // the largest top of the nonzero terms (a zero term: the smallest value)
-    let floor_top = m.sint(tw, -(1i128 << (tw - 1)));
+    // the largest of the floor's window top and the nonzero terms' tops: from the floor's
+    // (known first), each term's raw top compared while its zero flag is formed
     let tops: Vec<Sig> = terms
         .iter()
         .enumerate()
         .map(|(i, t)| {
             let top = sext(m, t.top, tw);
-            let v = m.mux(t.zero, floor_top, top);
-            m.name(v, &format!("term{i}_live_top"))
+            m.name(top, &format!("term{i}_top"))
         })
         .collect();
-    let mut top = tops[0];
-    for (i, &t) in tops.iter().enumerate().skip(1) {
-        let above = m.lt(top, t);
-        let v = m.mux(above, t, top);
+    let lowest = sext(m, lowest, tw);
+    let mut top = m.name(lowest, "lowest_top");
+    for (i, (t, &t_top)) in terms.iter().zip(&tops).enumerate() {
+        let below = m.lt(top, t_top);
+        let live = m.not(t.zero);
+        let above = m.and(below, live);
+        let v = m.mux(above, t_top, top);
         top = m.name(v, &format!("top_through_term{i}"));
     }
-    // no lower than the floor's window (every term zero: the floor's)
-    let lowest = sext(m, lowest, tw);
-    let lowest = m.name(lowest, "lowest_top");
-    let below = m.lt(top, lowest);
-    let top = m.mux(below, lowest, top);
     let top = m.name(top, "window_top");
     let sw = w + 3;
     // Σ ±kept as Σ (kept ^ negative) + #negative: one adder a term, the count of
@@ -511,7 +508,7 @@ fn window_sum(m: &mut ModuleBuilder, terms: &[Term], w: u32, lowest: Sig) -> (Si
             let cap = bits_for(u64::from(wt));
             let limit = m.uint(tw, u128::from(wt));
             // a zero term is shifted out whole (its significand need not be zero: a start
-            // rounded to +0 keeps its bits, and when every term is zero the gap is 0)
+            // rounded to +0 keeps its bits; its top is not one of the window's)
             let far = m.lt(limit, gap);
             let far = m.or(far, t.zero);
             let gap = m.slice(gap, cap - 1, 0);
