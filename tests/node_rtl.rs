@@ -166,10 +166,11 @@ fn node_evaluator_matches_golden_model() {
 
 /// The `node` stimulus reaches every kind of answer: bad input, nodes where
 /// every slot misses, hits with entries past `T` and on the cap, misses
-/// beside hits in one node, and frames at both ends of the format.
+/// beside hits in one node, frames at both ends of the format, and position
+/// windows both at their floor and above it (under their largest term).
 #[test]
 fn node_stimulus_reaches_every_kind_of_answer() {
-    use rtl_gen::units::node::{Config as NodeConfig, NodeIn, NodeOut};
+    use rtl_gen::units::node::{Config as NodeConfig, NodeIn, NodeOut, POS_FRAC, WINDOW_FLOOR};
     let (g, _) = generate::<&str>("node_cover", "node", &[]);
     let cfg = NodeConfig {
         fmt: rtl_gen::arith::float::Format::new(8, 23).unwrap(),
@@ -182,6 +183,12 @@ fn node_stimulus_reaches_every_kind_of_answer() {
     };
     let cap = 1u64 << cfg.cap_bits();
     let (mut bad, mut empty, mut hits, mut inner, mut capped, mut mixed) = (0, 0, 0, 0, 0, 0);
+    // position windows surely above their floor: a term beyond 2^(e − g − f + W + 1), where
+    // the window rides under its largest term (the path the e3m2 split proof never reaches);
+    // surely at the floor: every term below 2^(e − g − f + W − 2)
+    let above_floor = (cfg.window_bits() - POS_FRAC - WINDOW_FLOOR + 1) as i32;
+    let exp_bits = cfg.frame_exp_bits();
+    let (mut riding, mut grounded) = (0, 0);
     let total = 20_000;
     for (v, out) in golden_vectors(&g, 3, total) {
         let o: NodeOut<u64> = ports::unpack(&cfg, &out);
@@ -189,6 +196,15 @@ fn node_stimulus_reaches_every_kind_of_answer() {
         if o.bad == 1 {
             bad += 1;
             continue;
+        }
+        let f = |bits: u64| f64::from(f32::from_bits(bits as u32));
+        let t = f(r.t_min).max(f(r.t_start));
+        for a in 0..3 {
+            let e = ((r.exp[a] << (64 - exp_bits)) as i64 >> (64 - exp_bits)) as i32;
+            let td = if t.is_finite() { t * f(r.d[a]) } else { 0.0 };
+            let largest = f(r.o[a]).abs().max(f(r.origin[a]).abs()).max(td.abs());
+            riding += (largest > 2f64.powi(e + above_floor)) as u64;
+            grounded += (largest < 2f64.powi(e + above_floor - 3)) as u64;
         }
         let n_hits = o.hit.iter().filter(|&&h| h == 1).count();
         hits += n_hits;
@@ -207,6 +223,9 @@ fn node_stimulus_reaches_every_kind_of_answer() {
     assert!(inner > total / 10, "{inner} hits inside the window");
     assert!(capped > 0, "no hit at the cap");
     assert!(mixed > total / 10, "{mixed} nodes with hits and misses");
+    eprintln!("position windows: {riding} above their floor, {grounded} at it");
+    assert!(riding > total / 50, "{riding} position windows above their floor");
+    assert!(grounded > total, "{grounded} position windows at their floor");
 }
 
 #[test]
