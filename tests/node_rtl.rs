@@ -224,8 +224,14 @@ fn node_stimulus_reaches_every_kind_of_answer() {
     assert!(capped > 0, "no hit at the cap");
     assert!(mixed > total / 10, "{mixed} nodes with hits and misses");
     eprintln!("position windows: {riding} above their floor, {grounded} at it");
-    assert!(riding > total / 50, "{riding} position windows above their floor");
-    assert!(grounded > total, "{grounded} position windows at their floor");
+    assert!(
+        riding > total / 50,
+        "{riding} position windows above their floor"
+    );
+    assert!(
+        grounded > total,
+        "{grounded} position windows at their floor"
+    );
 }
 
 #[test]
