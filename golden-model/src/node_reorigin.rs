@@ -208,7 +208,7 @@ fn start_term(fmt: FloatFormat, p: u32, bits: u64) -> Option<Term> {
 /// max(max top − w, floor)`): each term's
 /// magnitude truncated at `2^B`, summed with its sign; a term that lost
 /// bits moves `lo` down one step if negative, `hi` up one if positive. Zero
-/// terms take no part; all zero gives `(0, 0, 0)`. One aligned adder in the
+/// terms take no part; all zero gives `(0, 0, floor)`. One aligned adder in the
 /// hardware, exact whenever no term reaches below `2^B`.
 fn window_sum(terms: &[Term], w: u32, floor: i64) -> (IBig, IBig, i64) {
     let live: Vec<&Term> = terms.iter().filter(|t| t.v.signum() != 0).collect();

@@ -721,8 +721,8 @@ fn along(n: [i32; 3], v: [f32; 3]) -> (f64, f64) {
 /// many triangles.
 #[derive(Debug, Clone, Copy)]
 struct SlotExtent {
-    lo: [f64; 10],
-    hi: [f64; 10],
+    lo: [f64; DOP_DIRS.len()],
+    hi: [f64; DOP_DIRS.len()],
     box_lo: [f64; 3],
     box_hi: [f64; 3],
     triangles: u64,
@@ -730,8 +730,8 @@ struct SlotExtent {
 
 impl SlotExtent {
     const NONE: SlotExtent = SlotExtent {
-        lo: [f64::INFINITY; 10],
-        hi: [f64::NEG_INFINITY; 10],
+        lo: [f64::INFINITY; DOP_DIRS.len()],
+        hi: [f64::NEG_INFINITY; DOP_DIRS.len()],
         box_lo: [f64::INFINITY; 3],
         box_hi: [f64::NEG_INFINITY; 3],
         triangles: 0,
@@ -750,7 +750,7 @@ impl SlotExtent {
     }
 
     fn merge(&mut self, o: &SlotExtent) {
-        for j in 0..10 {
+        for j in 0..DOP_DIRS.len() {
             self.lo[j] = self.lo[j].min(o.lo[j]);
             self.hi[j] = self.hi[j].max(o.hi[j]);
         }

@@ -141,10 +141,14 @@ impl NodeShape {
     /// the window sum's exponent `B = max(top − W, e − g − f)` (`top ≤ 2·emax + 3`, the
     /// frame's `e` in `emin ..= emax`, `f` the window floor), widened by 2 each way
     fn sum_exp_range(&self) -> (i32, i32) {
-        let ww = (self.q + POS_FRAC + WINDOW_EXTRA) as i32;
+        let ww = self.window_bits() as i32;
         let (emin, emax) = (self.fmt.emin(), self.fmt.emax());
         let below = (POS_FRAC + WINDOW_FLOOR) as i32;
         (emin - below - 2, (2 * emax + 3 - ww).max(emax - below) + 2)
+    }
+    /// the position windows' width `W = q + g + WINDOW_EXTRA`
+    fn window_bits(&self) -> u32 {
+        self.q + POS_FRAC + WINDOW_EXTRA
     }
     /// the grid shift `s = B − e + g`: at least `−f` (the window floor), at most over
     /// `B`'s range and `emin ..= emax`
@@ -378,7 +382,7 @@ pub(super) fn node_wrapper_part(s: NodeShape) -> String {
         f2 = k + 2,
     );
     // the window sums: [sum_lo, sum_hi]·2^B ∋ o − O + T_r·d, in units of 2^−(U + k2), U = 2·s1
-    let ww = q + g + WINDOW_EXTRA;
+    let ww = s.window_bits();
     let (b_min, b_max) = s.sum_exp_range();
     let k2 = (-(b_min + u2)).max(0);
     let bw = position_sum_exp_bits(emin.into(), emax.into());

@@ -306,8 +306,23 @@ fn position_top_bits(emin: i64, emax: i64) -> u32 {
 /// maximum and one for `B = top − W`. The split proof declares its copy of
 /// the wire with it.
 pub fn position_sum_exp_bits(emin: i64, emax: i64) -> u32 {
-    let floor_top = sint_width(emin, emax) + 3;
+    let floor_top = sint_width(emin, emax) + LOWEST_TOP_HEADROOM;
     position_top_bits(emin, emax).max(floor_top) + 2
+}
+
+/// Bits a window's lowest top has beyond the exponent it is formed from.
+const LOWEST_TOP_HEADROOM: u32 = 3;
+
+/// The lowest top of a window of `w` bits whose lowest bit is at most `f`
+/// (the window floor) below its grid `2^(exp − frac)`: `exp − frac − f + w`,
+/// SInt (`exp` the frame exponent and `frac = g` for a position, the cell
+/// exponent `G` and `frac = 0` for the window end).
+fn lowest_window_top(m: &mut ModuleBuilder, exp: Sig, frac: u32, w: u32) -> Sig {
+    let lw = exp.width() + LOWEST_TOP_HEADROOM;
+    let e = sext(m, exp, lw);
+    let above = i128::from(w) - i128::from(frac) - i128::from(WINDOW_FLOOR);
+    let above = m.sint(lw, above);
+    sadd(m, e, above, lw)
 }
 
 /// One term of a window sum: sign, magnitude, zero, and `top`: `|v| <
@@ -860,12 +875,7 @@ pub fn build(cfg: &Config) -> Module {
                     top,
                     tz,
                 };
-                // the window's top at least e − g − f + W: its lowest bit at most f below the grid
-                let lw = r.exp[a].width() + 3;
-                let e = sext(m, r.exp[a], lw);
-                let above = i128::from(w) - i128::from(g) - i128::from(WINDOW_FLOOR);
-                let above = m.sint(lw, above);
-                let lowest = sadd(m, e, above, lw);
+                let lowest = lowest_window_top(m, r.exp[a], g, w);
                 let (lo, hi, b) = window_sum(m, &[ot, frame, pt], w, lowest);
                 assert_eq!(b.width(), position_sum_exp_bits(fmt.emin(), fmt.emax()));
                 // s = B − (e − g); the frame exponent widened once for this and E
@@ -1048,12 +1058,7 @@ pub fn build(cfg: &Config) -> Module {
     let far_top = m.scope("window_end", |m| {
         let end = float_term(m, fmt, &t_max, false, "end_term");
         let start = t_term.negated(m);
-        // the window's lowest bit at most f below the cell
-        let lw = grid_exp.width() + 3;
-        let ge = sext(m, grid_exp, lw);
-        let above = i128::from(cfg.end_window_bits()) - i128::from(WINDOW_FLOOR);
-        let above = m.sint(lw, above);
-        let lowest = sadd(m, ge, above, lw);
+        let lowest = lowest_window_top(m, grid_exp, 0, cfg.end_window_bits());
         let (_, hi, b) = window_sum(m, &[end, start], cfg.end_window_bits(), lowest);
         let sw = b.width().max(gw) + 2;
         let bs = sext(m, b, sw);
