@@ -1136,22 +1136,16 @@ pub fn build(cfg: &Config) -> Module {
             }
             let near_max = m.name(near_max, "near_max");
             // near_max ≤ min far as four comparisons (no multiplexers for the minimum); an
-            // exit's `min(C, ⌈p·2^kmin⌉) ≥ near_max` (near_max is at most C) is `p ≥
-            // (near_max − 1)·2^−kmin + 1`: the sign of one subtraction per exit, with no
-            // rounding, cap or minimum of the exit's cells
+            // exit's `min(C, ⌈p·2^kmin⌉) ≥ near_max` (near_max is at most C) is `p >
+            // (near_max − 1)·2^−kmin`: one comparison per exit of the product's bits at and
+            // above the cells' unit (and whether any below it is set) with `near_max − 1`,
+            // with no rounding, cap or minimum of the exit's cells
             let before = m.le(near_max, far_top);
             let mut overlap = m.name(before, "window_admits");
-            let least = least_exit_product(m, cfg, near_max);
+            let least = least_exit_cells(m, near_max);
             for (a, (product, always)) in exits.into_iter().enumerate() {
                 let admits = m.scope(&format!("axis_{}", AXES[a]), |m| {
-                    let pw = product.width().max(least.width()) + 1;
-                    let p = zext(m, product, pw);
-                    let p = to_sint(m, p, pw);
-                    let least = sext(m, least, pw);
-                    let margin = m.sub(p, least);
-                    let margin = m.name(margin, "exit_margin");
-                    let short = m.msb(margin);
-                    let enough = m.not(short);
+                    let enough = exit_reaches(m, cfg, product, least);
                     let admits = m.or(always, enough);
                     m.name(admits, "exit_admits")
                 });
@@ -1292,24 +1286,52 @@ fn near_cells(m: &mut ModuleBuilder, cfg: &Config, dist: Sig, product: Sig, over
     m.mux(not_pos, zero, v)
 }
 
-/// `(near_max − 1)·2^−kmin + 1`, SInt: the least exit product whose cells
-/// `⌈product·2^kmin⌉` reach `near_max`. An exit at a distance of 0 has
-/// product 0, which reaches it only for `near_max = 0` (its cells are 0); a
-/// negative exit distance misses beside this.
-fn least_exit_product(m: &mut ModuleBuilder, cfg: &Config, near_max: Sig) -> Sig {
+/// `2·(near_max − 1) + 1`, SInt of `K + 3` bits (`near_max` is `0 ..= C =
+/// 2^K`): the key an exit's product reaches when its cells reach `near_max`
+/// ([`exit_reaches`]). Formed once per child.
+fn least_exit_cells(m: &mut ModuleBuilder, near_max: Sig) -> Sig {
     let w = near_max.width() + 1;
     let n = sext(m, near_max, w);
     let one = m.sint(w, 1);
     let below = m.sub(n, one);
     let below = sext(m, below, w);
     let below = m.name(below, "near_max_less_one");
-    let below = m.as_uint(below);
-    // the low bits of `(near_max − 1)·2^−kmin` are zeros, so `+ 1` is a final one bit
+    // `2·(C − 1) + 1 < 2^(K+1)`: one sign bit above it
+    let below = m.slice(below, w - 2, 0);
+    let odd = m.bool(true);
+    let key = m.cat(&[below, odd]);
+    let key = m.as_sint(key);
+    m.name(key, "least_exit_cells")
+}
+
+/// Whether an exit product `p` (UInt, units of `2^kmin` cells) has
+/// `⌈p·2^kmin⌉ ≥ near_max`, that is `p > (near_max − 1)·2^−kmin`: with `p =
+/// hi·2^−kmin + lo` (`lo` the bits below the cells' unit), `2·hi + [lo ≠ 0] ≥
+/// 2·(near_max − 1) + 1` (`least`, [`least_exit_cells`]). Only `hi`'s low `K`
+/// bits are compared: `near_max − 1 < 2^K`, so a larger `hi` reaches it.
+fn exit_reaches(m: &mut ModuleBuilder, cfg: &Config, product: Sig, least: Sig) -> Sig {
     let k = product_exp(cfg);
-    let low = m.uint(k, 1);
-    let least = m.cat(&[below, low]);
-    let least = to_sint(m, least, w + k);
-    m.name(least, "least_exit_product")
+    let k_cap = cfg.cap_bits();
+    let pw = product.width();
+    assert!(pw > k, "a product has bits at the cells' unit");
+    let low = m.slice(product, k - 1, 0);
+    let below_unit = m.any_set(low);
+    let (cells, beyond) = if pw > k + k_cap {
+        let cells = m.slice(product, k + k_cap - 1, k);
+        let high = m.slice(product, pw - 1, k + k_cap);
+        (cells, m.any_set(high))
+    } else {
+        let cells = m.slice(product, pw - 1, k);
+        (zext(m, cells, k_cap), m.bool(false))
+    };
+    let key = m.cat(&[cells, below_unit]);
+    let lw = least.width();
+    let key = zext(m, key, lw);
+    let key = m.as_sint(key);
+    let key = m.name(key, "exit_key");
+    let short = m.lt(key, least);
+    let enough = m.not(short);
+    m.or(beyond, enough)
 }
 
 impl Description for Node {
