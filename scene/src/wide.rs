@@ -687,20 +687,27 @@ pub enum DopSelect {
     One,
 }
 
-/// One BLAS node's extra axes: per carried direction a frame `U + [0, Q]·2^e`
-/// and per slot the q-bit extent of its triangles along it, outward.
+/// One BLAS node's extra axes, one per carried direction.
 #[derive(Debug, Clone)]
 pub struct DopNode {
-    /// the directions carried, indexes into [`DOP_DIRS`]
-    pub dirs: Vec<usize>,
-    /// frame origin per carried direction
-    pub origin: Vec<Dyadic>,
-    /// frame step exponent per carried direction
-    pub exp: Vec<i64>,
-    /// per carried direction and slot the lower integer
-    pub lo: Vec<[u16; MAX_CHILDREN]>,
-    /// per carried direction and slot the upper integer
-    pub hi: Vec<[u16; MAX_CHILDREN]>,
+    /// the carried directions
+    pub axes: Vec<DopAxis>,
+}
+
+/// One carried direction of a node: a frame `U + [0, Q]·2^e` along it and
+/// per slot the q-bit extent of its triangles, outward.
+#[derive(Debug, Clone)]
+pub struct DopAxis {
+    /// the direction, an index into [`DOP_DIRS`]
+    pub dir: usize,
+    /// frame origin `U`
+    pub origin: Dyadic,
+    /// frame step exponent `e`
+    pub exp: i64,
+    /// per slot the lower integer
+    pub lo: [u16; MAX_CHILDREN],
+    /// per slot the upper integer
+    pub hi: [u16; MAX_CHILDREN],
 }
 
 /// A finite binary64 value, exactly.
@@ -824,14 +831,8 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
                 vec![best]
             }
         };
-        let mut dop = DopNode {
-            dirs: dirs.clone(),
-            origin: Vec::new(),
-            exp: Vec::new(),
-            lo: Vec::new(),
-            hi: Vec::new(),
-        };
-        for &j in &dirs {
+        let mut dop = DopNode { axes: Vec::new() };
+        for j in dirs {
             let origin = dyadic(if ext.lo[j].is_finite() {
                 ext.lo[j]
             } else {
@@ -861,10 +862,13 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
                 lo[i] = rel(sl.lo[j], false);
                 hi[i] = rel(sl.hi[j], true);
             }
-            dop.origin.push(origin);
-            dop.exp.push(exp);
-            dop.lo.push(lo);
-            dop.hi.push(hi);
+            dop.axes.push(DopAxis {
+                dir: j,
+                origin,
+                exp,
+                lo,
+                hi,
+            });
         }
         out[id] = Some(dop);
     }
@@ -875,11 +879,10 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
 fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
     let val = |b: u64| dyadic(f32::from_bits(b as u32) as f64);
     let (o, d) = (o.map(val), d.map(val));
-    dop.dirs
+    dop.axes
         .iter()
-        .enumerate()
-        .map(|(k, &j)| {
-            let n = DOP_DIRS[j];
+        .map(|axis| {
+            let n = DOP_DIRS[axis.dir];
             // n·v exactly: the components are 0 or ±1
             let dot = |v: &[Dyadic; 3]| {
                 (0..3).fold(dyadic(0.0), |acc, a| match n[a].signum() {
@@ -891,10 +894,10 @@ fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
             ExtraAxis {
                 o: dot(&o),
                 d: dot(&d),
-                origin: dop.origin[k].clone(),
-                exp: dop.exp[k],
-                lo: dop.lo[k],
-                hi: dop.hi[k],
+                origin: axis.origin.clone(),
+                exp: axis.exp,
+                lo: axis.lo,
+                hi: axis.hi,
             }
         })
         .collect()

@@ -486,7 +486,7 @@ fn diagonal_extents_cut_triangle_tests() {
         let all = plain.clone().with_dop(&meshes, DopSelect::All);
         let one = plain.clone().with_dop(&meshes, DopSelect::One);
         assert!(
-            one.dop.iter().flatten().all(|n| n.dirs.len() == 1),
+            one.dop.iter().flatten().all(|n| n.axes.len() == 1),
             "{name}: one direction per node"
         );
         let mut tri_tests = Vec::new();
