@@ -22,6 +22,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 
+mod bundle_split;
 mod node_split;
 mod split;
 
@@ -1164,7 +1165,9 @@ pub fn wrapper(unit: &Generated, fmt: FloatFormat, split: bool) -> Result<String
             ));
         }
     }
-    if split {
+    if split && bundle {
+        v.push_str(&bundle_split::bundle_wrapper_part(fmt));
+    } else if split {
         v.push_str(&split::wrapper_part(fmt, split::axis_unit(&unit.unit)));
     }
     let _ = writeln!(
@@ -1483,12 +1486,12 @@ pub fn sound(
     }
     if split
         && (!["slab", "cull", "silhouette", "node"].contains(&unit.unit.as_str())
-            || is_bundle(unit)
             || !matches!(solver, crate::prove::Solver::Sat))
     {
         return Err(format!(
-            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray, cull and node \
-             with --solver sat (its lemmas are their per-axis, per-plane and per-node bounds); not for {} {}",
+            "--split is built for slab -p rounding=conservative, silhouette (mode=ray, or mode=bundle \
+             with origin=shared), cull and node with --solver sat (its lemmas are their per-axis, \
+             per-plane and per-node bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1546,11 +1549,15 @@ pub fn sound(
             m,
             children,
         })),
+        _ if is_bundle(unit) => Some(bundle_split::bundle_cut(fmt)),
         _ => Some(split::axis_unit(&unit.unit).cut()),
     };
     if !only.is_empty() {
         let Some(c) = cut.as_mut().filter(|c| !c.stages.is_empty()) else {
-            return Err("--lemma picks lemmas of node --property sound --split".into());
+            return Err(
+                "--lemma picks lemmas of node and silhouette mode=bundle --property sound --split"
+                    .into(),
+            );
         };
         if let Some(unknown) = only.iter().find(|l| !c.lemmas.contains(l)) {
             return Err(format!(
@@ -1593,7 +1600,11 @@ pub fn sound(
             let (reference, reference_text) = exact_reference(fmt);
             files.push(put(&format!("{reference}.v"), &reference_text)?);
             if split {
-                let (lemmas, lemmas_text) = split::lemma_module(fmt, split::axis_unit(&unit.unit));
+                let (lemmas, lemmas_text) = if is_bundle(unit) {
+                    bundle_split::bundle_lemma_module(fmt)
+                } else {
+                    split::lemma_module(fmt, split::axis_unit(&unit.unit))
+                };
                 files.push(put(&format!("{lemmas}.v"), &lemmas_text)?);
             }
             files.push(put("prove_sound.v", &wrapper(unit, fmt, split)?)?);
@@ -1706,8 +1717,13 @@ pub fn sound(
              while one misses it"
                 .to_string(),
             "box, origin, direction finite, no NaN".to_string(),
-            3,
-            "a hit, a rejected ray and an AllHit",
+            if split { 4 } else { 3 },
+            if split {
+                "a hit, a rejected ray, an AllHit and an AllHit where the axes' facts the lemmas \
+                 assume hold"
+            } else {
+                "a hit, a rejected ray and an AllHit"
+            },
         ),
         Kind::RayBox => (
             "never misses a ray that meets the box".to_string(),

@@ -248,16 +248,16 @@ fn bad_requests_are_errors() {
         (
             vec![
                 "prove",
-                "silhouette",
+                "slab",
                 "-p",
-                "exp_bits=2",
-                "-p",
-                "frac_bits=1",
+                "rounding=conservative",
                 "--property",
                 "sound",
                 "--split",
+                "--solver",
+                "boolector",
             ],
-            "--split is built for slab -p rounding=conservative, silhouette -p mode=ray, cull and node",
+            "--split is built for slab -p rounding=conservative, silhouette (mode=ray, or mode=bundle",
         ),
         (
             vec![
@@ -271,7 +271,7 @@ fn bad_requests_are_errors() {
                 "--lemma",
                 "lemma_combine",
             ],
-            "--lemma picks lemmas of node --property sound --split",
+            "--lemma picks lemmas of node and silhouette mode=bundle --property sound --split",
         ),
         (
             vec![
@@ -553,19 +553,21 @@ fn a_planted_node_miss_is_found_and_replays() {
 }
 
 /// `--split`: the conservative slab's, the cull tester's and the silhouette
-/// ray tester's soundness as lemmas (bounds on the unit's own per-axis or
-/// per-plane results, then their combination over free results) proved
-/// (e2m2; the silhouette e2m1), and each kind of lemma refuted when the
+/// ray and bundle testers' soundness as lemmas (bounds on the unit's own
+/// per-axis or per-plane results, then their combination over free results)
+/// proved (e2m2; the silhouette e2m1), and each kind of lemma refuted when the
 /// unit breaks what it states (at e2m1, quicker): the slab's and the
-/// silhouette's y instance fed the x origin and plane 0's `rcp_hi` fed
+/// silhouettes' y instance fed the x origin and plane 0's `rcp_hi` fed
 /// `rcp_lo` (a bound), the slab's final comparison without its `=` case and the cull
-/// plant `lt-for-le` (the combination). So the lemmas read the unit's real
-/// wires and are not vacuous.
+/// plant `lt-for-le` (the combination), and the bundle's tests and AllHit
+/// broken one at a time (its test and combination lemmas). So the lemmas
+/// read the unit's real wires and are not vacuous.
 #[test]
 fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
     let w = scratch("split");
     let slab = |e: &'static str| ["-p", "rounding=conservative", "-p", "exp_bits=2", "-p", e];
     let silhouette = |e: &'static str| ["-p", "mode=ray", "-p", "exp_bits=2", "-p", e];
+    let bundle = |e: &'static str| ["-p", "mode=bundle", "-p", "exp_bits=2", "-p", e];
     let cull = |e: &'static str| {
         [
             "-p",
@@ -609,8 +611,23 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
              lemma_test_dist_z proved, lemma_test_dir_x proved, lemma_test_dir_y proved, \
              lemma_test_dir_z proved, lemma_combine proved",
         ),
+        (
+            "silhouette",
+            bundle("frac_bits=1").to_vec(),
+            "lemma_bounded_z proved, lemma_test_any_edge_xy proved, lemma_test_any_edge_xz proved, \
+             lemma_test_any_edge_yx proved, lemma_test_any_edge_yz proved, lemma_test_any_edge_zx proved, \
+             lemma_test_any_edge_zy proved, lemma_test_any_dist_x proved, lemma_test_any_dist_y proved, \
+             lemma_test_any_dist_z proved, lemma_test_any_dir_x proved, lemma_test_any_dir_y proved, \
+             lemma_test_any_dir_z proved, lemma_test_all_edge_xy proved, lemma_test_all_edge_xz proved, \
+             lemma_test_all_edge_yx proved, lemma_test_all_edge_yz proved, lemma_test_all_edge_zx proved, \
+             lemma_test_all_edge_zy proved, lemma_test_all_dist_x proved, lemma_test_all_dist_y proved, \
+             lemma_test_all_dist_z proved, lemma_test_all_dir_x proved, lemma_test_all_dir_y proved, \
+             lemma_test_all_dir_z proved, lemma_box_order proved, lemma_combine_any proved, \
+             lemma_all_basic proved, lemma_combine_all proved",
+        ),
     ] {
-        let (code, t) = run(unit, &params, &[], unit);
+        let job = format!("{unit}{}", if params.contains(&"mode=bundle") { "-bundle" } else { "" });
+        let (code, t) = run(unit, &params, &[], &job);
         assert!(
             code == Some(0) && t.contains("proved: ") && t.contains(lemmas),
             "{unit}: {t}"
@@ -646,13 +663,46 @@ fn the_split_soundness_proofs_prove_and_their_lemmas_bite() {
             ".rcp_hi(rcp_lo0)",
             "lemma_plane0 refuted",
         ),
+        // the bundle tester: an axis fed another's origin (a bound), one AnyHit test that
+        // never passes and one AllHit test that always does (a test lemma each), AllHit
+        // from the AnyHit tests (the combination)
+        (
+            "bundle",
+            "silhouette_e2m1_shared_cons_s0.v",
+            ".o_lo(o_lo_y)",
+            ".o_lo(o_lo_x)",
+            "lemma_bounded_y refuted",
+        ),
+        (
+            "bundle",
+            "silhouette_tests_bundle_e2m1_n0_p0_c0.v",
+            "assign dist_any_y_ok = ",
+            "assign dist_any_y_ok = 1'b0 & ",
+            "lemma_test_any_dist_y refuted",
+        ),
+        (
+            "bundle",
+            "silhouette_tests_bundle_e2m1_n0_p0_c0.v",
+            "assign edge_all_xy_ok = ",
+            "assign edge_all_xy_ok = 1'b1 | ",
+            "lemma_test_all_edge_xy refuted",
+        ),
+        (
+            "bundle",
+            "silhouette_e2m1_shared_cons_s0.v",
+            "& u_tests_pass_all;",
+            "& u_tests_pass_any;",
+            "lemma_all_basic refuted",
+        ),
     ];
     for (i, (unit, top, from, to, refuted)) in edits.into_iter().enumerate() {
         let params = match unit {
             "slab" => slab("frac_bits=1").to_vec(),
             "silhouette" => silhouette("frac_bits=1").to_vec(),
+            "bundle" => bundle("frac_bits=1").to_vec(),
             _ => cull("frac_bits=1").to_vec(),
         };
+        let unit = if unit == "bundle" { "silhouette" } else { unit };
         let src = w.join(format!("edit{i}"));
         let src_s = src.display().to_string();
         let mut e = vec!["emit", unit];
