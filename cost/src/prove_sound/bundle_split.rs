@@ -94,7 +94,7 @@ pub(super) fn bundle_cut(fmt: FloatFormat) -> Cut {
     let mut stage1 = Vec::new();
     for side in ["any", "all"] {
         for (kind, axes) in tests() {
-            let (unit, here) = test_names(side, &kind, &axes);
+            let (unit, here) = test_names(side, kind, &axes);
             watched.push((format!("test_{here}_ok"), format!("u_unit.u_tests.{unit}")));
             stage1.push(format!("lemma_test_{here}"));
         }
