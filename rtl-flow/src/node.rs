@@ -165,6 +165,27 @@ impl NodeBench {
             lo,
             hi,
         };
+        if rng.below(8) == 0 {
+            // on the grid: directions ±2^j (or zero), an origin a whole number of half or
+            // quarter frame steps from the frame origin, the segment from 0: every slope a power
+            // of two, so entries and exits fall exactly on cell boundaries and rays meet the
+            // boxes' planes, edges and corners exactly
+            for a in 0..3 {
+                let d = match rng.below(6) {
+                    0 => 0.0,
+                    k => 2f64.powi(k as i32 - 3),
+                };
+                let d = if rng.below(2) == 0 { -d } else { d };
+                r.d[a] = from_f64(fmt, d);
+                r.inv_d[a] = recip_rtz(fmt, r.d[a]);
+                let frame = golden_model::float::to_f64(fmt, r.origin[a]);
+                let step = size(exp[a]) / f64::from(1u32 << rng.below(3));
+                let k = rng.below(3 * (q_max + 1)) as f64 - (q_max + 1) as f64;
+                r.o[a] = from_f64(fmt, frame + k * step);
+            }
+            r.t_min = 0;
+            r.t_start = if rng.below(2) == 0 { 0 } else { r.t_start };
+        }
         if rng.below(16) == 0 {
             // an axis whose origin and frame origin are zeros and a start below the normal
             // range (rounded to +0): every window term of that axis zero

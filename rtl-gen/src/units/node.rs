@@ -1361,3 +1361,58 @@ impl Description for Node {
         build(cfg)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Evaluator;
+
+    /// An exit admits `near_max` exactly when its product `p` is above
+    /// `(near_max − 1)·2^−kmin` ([`exit_reaches`]): for every `near_max` of `0
+    /// ..= C`, products at the boundary and one step either side (at the
+    /// cells' unit and below it) and beyond the compared bits, for products
+    /// narrower than, as wide as and wider than the compared bits. The node
+    /// tests' random rays rarely land an exit exactly on a cell boundary.
+    #[test]
+    fn an_exit_admits_exactly_the_entries_its_product_passes() {
+        let p = NodeParams {
+            box_bits: 4,
+            slope_bits: 4,
+            ..NodeParams::defaults()
+        };
+        let cfg = Node.config(&p).expect("a valid node");
+        let (k, k_cap) = (product_exp(&cfg), cfg.cap_bits());
+        let mut checked = 0;
+        // products narrower than, as wide as and wider than the compared bits
+        for pw in [k + k_cap - 1, k + k_cap, k + k_cap + 3] {
+            let mut m = ModuleBuilder::new(format!("exit_test_{pw}"));
+            let product = m.input("product", Ty::UInt(pw));
+            let near_max = m.input("near_max", Ty::SInt(k_cap + 2));
+            let least = least_exit_cells(&mut m, near_max);
+            let admits = exit_reaches(&mut m, &cfg, product, least);
+            m.output("admits", admits);
+            let module = m.finish().expect("a well-formed test module");
+            let mut ev = Evaluator::new(&module);
+            for n in 0..=1u128 << k_cap {
+                let boundary = n.saturating_sub(1) << k;
+                let products = [
+                    0,
+                    1,
+                    boundary.wrapping_sub(1),
+                    boundary,
+                    boundary + 1,
+                    boundary + (1 << k),
+                    1 << (k + k_cap),
+                    (1u128 << pw) - 1,
+                ];
+                for p in products.into_iter().filter(|&p| p < 1 << pw) {
+                    let want = n == 0 || p > (n - 1) << k;
+                    let got = ev.eval(&[p, n])[0] == 1;
+                    assert_eq!(got, want, "{pw}-bit product {p:#x}, near_max {n}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 18 << k_cap, "{checked} cases");
+    }
+}
