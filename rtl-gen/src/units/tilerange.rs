@@ -192,3 +192,28 @@ impl Description for TileRange {
         build(cfg)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::ParamSet;
+
+    /// Each level of the reduction tree names its pairs by its own number
+    /// (`level1_pair0` ... `level3_pair0` for 8 samples), so the Verilog says
+    /// where in the tree a wire is.
+    #[test]
+    fn every_level_of_the_tree_has_its_own_name() {
+        let p = TileRangeParams {
+            samples: 8,
+            stages: 0,
+            ..TileRangeParams::defaults()
+        };
+        let cfg = TileRange.config(&p).expect("a valid tilerange");
+        let files = crate::emit::emit(&build(&cfg), "test");
+        let text: String = files.iter().map(|f| f.text.as_str()).collect();
+        for name in ["level1_pair3", "level2_pair1", "level3_pair0"] {
+            assert!(text.contains(name), "no {name} in the emitted Verilog");
+        }
+        assert!(!text.contains("level0_"), "a level numbered 0");
+    }
+}
