@@ -38,7 +38,7 @@
 //! test passed; by stage 0 `axes_all`, so by test_all every `ref_t`, and by
 //! box_order and combine_all the exact hit.
 
-use super::split::{extended_real, Cut, Stage};
+use super::split::{extended_real, Cut, Stage, SILHOUETTE_TESTS};
 use super::*;
 
 /// The axis instance's results: `(name, width)`; `neg`, `pos` one bit.
@@ -56,19 +56,16 @@ fn results(fmt: FloatFormat) -> Vec<(&'static str, u32)> {
     ]
 }
 
-/// The unit's twelve tests as `(kind, axes)`: `edge_xy` ... `dir_z`.
+/// The unit's twelve tests ([`SILHOUETTE_TESTS`]) as `(kind, axes)`:
+/// `("edge", "xy")` ... `("dir", "z")`.
 fn tests() -> Vec<(&'static str, String)> {
-    let mut t: Vec<(&'static str, String)> = Vec::new();
-    for (i, j) in [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)] {
-        t.push(("edge", format!("{}{}", AXES[i], AXES[j])));
-    }
-    for a in AXES {
-        t.push(("dist", a.to_string()));
-    }
-    for a in AXES {
-        t.push(("dir", a.to_string()));
-    }
-    t
+    SILHOUETTE_TESTS
+        .iter()
+        .map(|t| {
+            let (kind, axes) = t.split_once('_').expect("a test is kind_axes");
+            (kind, axes.to_string())
+        })
+        .collect()
 }
 
 /// A test's `ok` in the tests instance (`edge_any_xy_ok`), and its name here

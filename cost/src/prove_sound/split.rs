@@ -166,11 +166,15 @@ const SILHOUETTE: AxisUnit = AxisUnit {
     instance: "u_unit.u_axis_",
     results: &["n", "x", "a"],
     tests_instance: "u_unit.u_tests",
-    tests: &[
-        "edge_xy", "edge_xz", "edge_yx", "edge_yz", "edge_zx", "edge_zy", "dist_x", "dist_y",
-        "dist_z", "dir_x", "dir_y", "dir_z",
-    ],
+    tests: SILHOUETTE_TESTS,
 };
+
+/// The silhouette tester's twelve tests (its `u_tests` instance, per AnyHit and
+/// AllHit in bundle mode): six silhouette edges, three distances, three directions.
+pub(super) const SILHOUETTE_TESTS: &[&str] = &[
+    "edge_xy", "edge_xz", "edge_yx", "edge_yz", "edge_zx", "edge_zy", "dist_x", "dist_y", "dist_z",
+    "dir_x", "dir_y", "dir_z",
+];
 
 /// The per-axis split of `unit` (`slab` or `silhouette`).
 pub(super) fn axis_unit(unit: &str) -> &'static AxisUnit {
