@@ -70,6 +70,8 @@ fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
         let bench = TriangleBench::new(&Triangle.config(&p).expect("valid parameters"));
         let fmt = FloatFormat::new(e, f).expect("format");
         let (mut hits, mut invalid, mut misses, mut repeated) = (0u32, 0u32, 0u32, 0u32);
+        // invalid with finite input: three zero edge functions
+        let mut flagged = 0u32;
         let n = 20_000;
         for i in 0..n {
             let x = bench.case(7, i);
@@ -79,6 +81,14 @@ fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
                 (false, true) => invalid += 1,
                 (false, false) => misses += 1,
             }
+            let finite = [x.o, x.s, x.a, x.b, x.c]
+                .iter()
+                .flatten()
+                .all(|&v| fmt.is_finite(v));
+            let bounds = !fmt.is_nan(x.t_min) && !fmt.is_nan(x.t_max);
+            if out.invalid && finite && bounds && x.kz < 3 {
+                flagged += 1;
+            }
             if x.a == x.b || x.b == x.c {
                 repeated += 1;
                 assert!(
@@ -87,11 +97,15 @@ fn stimulus_covers_hits_misses_invalid_and_degenerate_triangles() {
                 );
             }
         }
-        eprintln!("e{e}m{f}: {hits} hits, {misses} misses, {invalid} invalid, {repeated} with a repeated vertex of {n}");
+        eprintln!("e{e}m{f}: {hits} hits, {misses} misses, {invalid} invalid ({flagged} with finite input), {repeated} with a repeated vertex of {n}");
         assert!(hits as u64 > n / 4, "hits {hits}");
         assert!(misses as u64 > n / 4, "misses {misses}");
         assert!(invalid as u64 > n / 50, "invalid {invalid}");
         assert!(repeated as u64 > n / 50, "repeated vertices {repeated}");
+        assert!(
+            flagged as u64 > n / 500,
+            "flagged with finite input {flagged}"
+        );
     }
 }
 

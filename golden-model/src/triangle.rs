@@ -22,8 +22,8 @@
 //!    `W = RN(B_X·A_Y) − RN(B_Y·A_X)`;
 //! 4. inside unless some of `U, V, W` is negative and some positive;
 //!    `det = (U + V) + W` and `T = s_z·((U·a_kz + V·b_kz) + W·c_kz)`, every
-//!    operation rounded; `det = 0` is a miss (a triangle seen edge-on, or
-//!    with a repeated vertex);
+//!    operation rounded; `det = 0` is a miss (mixed signs, or a repeated
+//!    vertex), or `invalid` when `U = V = W = 0` (below);
 //! 5. `r = 1/det`, `t = T·r`, barycentrics `u = V·r` (of B), `v = W·r` (of
 //!    C); hit iff inside, `det ≠ 0` and `t_min ≤ t ≤ t_max`; `t`, `u`, `v`
 //!    rounded into the unit's format.
@@ -41,12 +41,17 @@
 //! exact edge function: where the two products round to the same value
 //! (a ray within about an ulp of the edge's line in ray space) both
 //! triangles see a zero and both may hit. Woop et al. recompute such a zero
-//! in double precision; the unit does not (docs/triangle.md §2).
+//! in double precision; the unit does not, except where it would lose a hit:
+//! when all three edge functions are zero `det` is 0 and the triangle cannot
+//! be hit, though the ray may cross it (a sliver within rounding of the
+//! ray's plane; every face of a closed mesh that flat can be so, and the ray
+//! would escape it), so that case is flagged `invalid` for the caller to
+//! decide (docs/triangle.md §2).
 //!
 //! Outputs when there is no hit: `t = u = v = +0`. `invalid` (with a miss)
 //! for a NaN or infinite `o`, `s` or vertex coordinate, a NaN `t_min` or
-//! `t_max`, `kz = 3`, or a hit whose `t` lies beyond the format's finite
-//! range.
+//! `t_max`, `kz = 3`, all three edge functions zero, or a hit whose `t` lies
+//! beyond the format's finite range.
 
 use crate::float::{add, classify, convert, le, lt, mul, sub, Class, FloatFormat, RoundingMode};
 use crate::transform::recip;
@@ -175,6 +180,10 @@ struct Datapath {
     invalid: bool,
     /// the edge functions agree in sign (none NaN) and `det ≠ 0`
     inside: bool,
+    /// all three edge functions are zero (`det = 0` without mixed signs): the
+    /// ray lies in the triangle's plane as far as the rounded products tell,
+    /// a triangle seen edge-on or a sliver it crosses; flagged `invalid`
+    undecided: bool,
     /// `V` and `W`, the numerators of the barycentric weights of B and C
     e_v: u64,
     e_w: u64,
@@ -233,6 +242,7 @@ fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath>
         w,
         invalid,
         inside: !(negative && positive) && !det_zero,
+        undecided: !invalid && !(negative && positive) && det_zero,
         e_v: v,
         e_w,
         det,
@@ -265,7 +275,7 @@ pub fn eval_with(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriOut {
     let far = candidate && lt(w, wide(fmt.max_finite(false)), t & !w.sign_bit());
     if !candidate || far {
         return TriOut {
-            invalid: d.invalid || far,
+            invalid: d.invalid || d.undecided || far,
             ..TriOut::default()
         };
     }
@@ -313,7 +323,7 @@ pub fn eval_tnum(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriNum {
     let w = d.w;
     if d.invalid || !d.inside {
         return TriNum {
-            invalid: d.invalid,
+            invalid: d.invalid || d.undecided,
             ..TriNum::default()
         };
     }

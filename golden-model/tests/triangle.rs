@@ -476,3 +476,113 @@ fn collinear_triangles_rarely_hit() {
     eprintln!("{rays} rays at exactly collinear triangles, {hits} hits");
     assert!(hits <= rays / 5, "{hits} hits of {rays}");
 }
+
+/// The four faces of the tetrahedron `p`, each wound outward or inward
+/// alike (the unit accepts both windings).
+fn tetrahedron(p: [[f32; 3]; 4]) -> [[[f32; 3]; 3]; 4] {
+    [[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]].map(|f| f.map(|i| p[i]))
+}
+
+/// A tetrahedron within a few ulps of the plane `x = y`, which holds the
+/// ray: its four vertices lie so near one line through the ray in ray space
+/// that every edge function rounds to zero, though the exact ray crosses
+/// two faces (at t = 0.257 and 0.316). Until the `invalid` flag for three
+/// zero edge functions the unit missed all four faces in every output mode:
+/// a closed mesh the ray passed through (found 2026-12-07).
+#[test]
+fn a_closed_sliver_tetrahedron_never_lets_the_ray_through_silently() {
+    let p = [
+        [0x3f80_0029, 0x3f80_0027, 0x3f80_0000],
+        [0xbf80_000c, 0xbf80_000a, 0x4000_0000],
+        [0x3f80_003c, 0x3f80_003a, 0x4040_0000],
+        [0xbf80_002f, 0xbf80_002d, 0xbf80_0000],
+    ]
+    .map(|v: [u32; 3]| v.map(f32::from_bits));
+    let (o, d) = ([0.0f32; 3], [0.0f32, 0.0, 1.0]);
+    let mut crossed = 0;
+    for tri in tetrahedron(p) {
+        crossed += usize::from(exact_hit(o, d, tri).is_some());
+        let x = transaction(o, d, tri);
+        let full = eval(F32, &x);
+        let num = eval_tnum(F32, RoundingMode::NearestEven, &x);
+        assert!(!full.hit && full.invalid, "{tri:?}: {full:?}");
+        assert!(!num.hit && num.invalid, "{tri:?}: {num:?}");
+    }
+    assert_eq!(crossed, 2, "the exact ray crosses two faces");
+}
+
+/// Rays along an axis from the origin (ray space is then exact: `p = P`,
+/// `X = p_kx`, `Y = p_ky`) through random tetrahedra flattened to within a
+/// few ulps of a plane holding the ray, at scales `2^k` across binary32's
+/// normal range, in every rounding mode: whenever the exact ray meets a
+/// face, the unit hits a face or flags one `invalid` (never a silent leak).
+/// A floor on the meshes that only the flag catches keeps the family aimed
+/// where the rounded edge functions vanish, and a floor on the ones the
+/// unit hits keeps the flag from standing in for hits.
+#[test]
+fn flat_closed_tetrahedra_are_hit_or_flagged() {
+    let mut rng = Rng(42);
+    let ulp = f32::EPSILON;
+    let mut rows = Vec::new();
+    for mode in [
+        RoundingMode::NearestEven,
+        RoundingMode::TowardZero,
+        RoundingMode::Up,
+        RoundingMode::Down,
+    ] {
+        let (mut crossed, mut hit, mut flagged_only) = (0u32, 0u32, 0u32);
+        for _ in 0..10_000 {
+            let k = (rng.next() % 240) as i32 - 120;
+            let scale = 2f32.powi(k);
+            let flat = rng.next() % 4 != 0;
+            let p: [[f32; 3]; 4] = [1.0f32, -1.0, 1.0, -1.0].map(|side| {
+                let x = side * (1.0 + ulp * (rng.next() % 16) as f32);
+                let lean = if flat { 1 } else { 1 << 12 };
+                let y = x * (1.0 + ulp * ((rng.next() % (2 * lean + 1)) as f32 - lean as f32));
+                let z = rng.range(-4.0, 4.0) as f32;
+                [x * scale, y * scale, z * scale]
+            });
+            let o = [0.0f32; 3];
+            let d = [0.0f32, 0.0, if rng.next() % 2 == 0 { 1.0 } else { -1.0 }];
+            let faces = tetrahedron(p);
+            let exact = faces.iter().any(|&f| {
+                exact::intersect(
+                    F32,
+                    o.map(bits),
+                    d.map(bits),
+                    f.map(|v| v.map(bits)),
+                    bits(f32::NEG_INFINITY),
+                    bits(f32::INFINITY),
+                )
+                .is_some()
+            });
+            if !exact {
+                continue;
+            }
+            crossed += 1;
+            let outs = faces.map(|f| {
+                let x = TriIn {
+                    t_min: bits(f32::NEG_INFINITY),
+                    ..transaction(o, d, f)
+                };
+                eval_with(F32, mode, &x)
+            });
+            if outs.iter().any(|r| r.hit) {
+                hit += 1;
+            } else {
+                assert!(
+                    outs.iter().any(|r| r.invalid),
+                    "{mode:?}: the ray along {d:?} passes through {p:?} and no face hits or flags"
+                );
+                flagged_only += 1;
+            }
+        }
+        rows.push((mode, crossed, hit, flagged_only));
+    }
+    for &(mode, crossed, hit, flagged_only) in &rows {
+        eprintln!("{mode:?}: {crossed} crossed, {hit} hit, {flagged_only} flagged only");
+        assert!(crossed >= 5_000, "{mode:?}: {crossed} crossed");
+        assert!(flagged_only >= 50, "{mode:?}: {flagged_only} flagged only");
+        assert!(hit >= crossed / 4, "{mode:?}: {hit} hit");
+    }
+}

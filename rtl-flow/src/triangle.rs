@@ -16,7 +16,7 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_tnum, eval_with, shear, TriIn, TriNum, TriOut};
+use golden_model::triangle::{eval_tnum, eval_with, other_axes, shear, TriIn, TriNum, TriOut};
 use rtl_gen::units::ports;
 use rtl_gen::units::triangle::{Config, Outputs, TriangleIn, TriangleOut};
 
@@ -159,6 +159,30 @@ impl TriangleBench {
                     flat[slot] = value;
                 }
                 x = self.from_ports(&flat);
+            }
+            5 if r.below(2) == 0 => {
+                // a sliver within a rounding of a plane holding an axis ray from the
+                // origin (ray space exact: X = p_kx, Y = p_ky): its edge functions
+                // often all round to zero, which the unit flags
+                let kz = r.below(3) as u32;
+                let (kx, ky) = other_axes(kz);
+                let z = fmt.zero(false);
+                let along = if r.below(2) == 0 { 1.0 } else { -1.0 };
+                x.o = [z; 3];
+                x.kz = kz;
+                x.s = [z, z, q(along)];
+                x.t_min = fmt.inf(true);
+                let vertex = |r: &mut VectorRng, side: f64| {
+                    let px = nudge(fmt, q(side * scale), r.below(16) as i64);
+                    let mut p = [z; 3];
+                    p[kx] = px;
+                    p[ky] = nudge(fmt, px, r.below(3) as i64 - 1);
+                    p[kz as usize] = q(rnd(r, -4.0, 4.0) * scale);
+                    p
+                };
+                x.a = vertex(&mut r, 1.0);
+                x.b = vertex(&mut r, -1.0);
+                x.c = vertex(&mut r, 1.0);
             }
             4 if r.below(8) == 0 => {
                 let mut flat = [0u64; INPUTS];

@@ -449,6 +449,13 @@ fn run(command: Command) -> Result<ExitCode, String> {
             } else {
                 println!("\n{}", table(&f.stats));
             }
+            if matches!(opts.tri, TriTest::Golden | TriTest::GoldenTnum) {
+                let t = f.stats.total();
+                println!(
+                    "triangle tests the unit flagged invalid (decided by the exact test): {} of {}",
+                    t.tri_flagged, t.tri_tests
+                );
+            }
             if ps && opts.planes {
                 let g = render(
                     &s,

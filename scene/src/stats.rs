@@ -54,6 +54,10 @@ pub struct KindStats {
     pub leaf_visits: u64,
     /// triangle tests
     pub tri_tests: u64,
+    /// ... of which the unit flagged `invalid` (three zero edge functions:
+    /// the ray in the triangle's plane as the rounded products tell), decided
+    /// by the exact test as a shader would
+    pub tri_flagged: u64,
     /// cull-plane tests
     pub cull_tests: u64,
     /// per-ray terms of a node's shared normals computed (unit `cull_ray`,
@@ -96,6 +100,7 @@ impl KindStats {
         self.split_by_metric += o.split_by_metric;
         self.leaf_visits += o.leaf_visits;
         self.tri_tests += o.tri_tests;
+        self.tri_flagged += o.tri_flagged;
         self.cull_tests += o.cull_tests;
         self.cull_ray_terms += o.cull_ray_terms;
         self.culled_nodes += o.culled_nodes;

@@ -386,8 +386,14 @@ fn tri_t_max(r: &TRay) -> u64 {
 }
 
 /// The `triangle` unit on the model-space ray: `t` of a hit in `[0, best so
-/// far]`.
-fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3], tnum: bool) -> Option<f64> {
+/// far]`, or `Err` when the unit flags the test `invalid` (the caller decides
+/// it exactly, as a shader would).
+fn unit_triangle(
+    units: &dyn Units,
+    r: &TRay,
+    v: &[[f32; 3]; 3],
+    tnum: bool,
+) -> Result<Option<f64>, Flagged> {
     let x = golden_triangle::TriIn {
         o: r.o,
         kz: r.shear.0,
@@ -408,6 +414,9 @@ fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3], tnum: bool) -> 
             ..x
         };
         let out = units.triangle_tnum(&wide);
+        if out.invalid {
+            return Err(Flagged);
+        }
         out.hit
             .then(|| {
                 golden_triangle::finish_t(
@@ -420,10 +429,18 @@ fn unit_triangle(units: &dyn Units, r: &TRay, v: &[[f32; 3]; 3], tnum: bool) -> 
             .filter(|&t| f32::from_bits(t as u32) <= f32::from_bits(x.t_max as u32))
     } else {
         let out = units.triangle(&x);
+        if out.invalid {
+            return Err(Flagged);
+        }
         out.hit.then_some(out.t)
     };
-    t.map(|t| f32::from_bits(t as u32) as f64)
+    Ok(t.map(|t| f32::from_bits(t as u32) as f64))
 }
+
+/// A triangle test the unit flagged `invalid`: with finite scenes and rays,
+/// three zero edge functions (a triangle seen edge-on, or a sliver within
+/// rounding of the ray's plane that the ray may cross).
+struct Flagged;
 
 /// The exact rational test on the model-space ray: `t` (rounded to f64)
 /// of a hit in `[0, best so far]`.
@@ -500,10 +517,16 @@ impl<'a> Tracer<'a> {
         for &t in tris {
             st.tri_tests += 1;
             let v = m.corners(t);
+            let mut by_unit = |tnum| {
+                unit_triangle(self.units, r, &v, tnum).unwrap_or_else(|Flagged| {
+                    st.tri_flagged += 1;
+                    exact_triangle(r, &v)
+                })
+            };
             let found = match self.opts.tri {
                 TriTest::F64 => intersect(o, d, &v, r.hit.t),
-                TriTest::Golden => unit_triangle(self.units, r, &v, false),
-                TriTest::GoldenTnum => unit_triangle(self.units, r, &v, true),
+                TriTest::Golden => by_unit(false),
+                TriTest::GoldenTnum => by_unit(true),
                 TriTest::Exact => exact_triangle(r, &v),
             };
             if let Some(th) = found {

@@ -31,8 +31,10 @@
 //!    `t_min ≤ t ≤ t_max` (compared there) and `|t|` below `2^(emax+1)` of
 //!    the unit's format; `t`, `u`, `v` rounded into the unit's format (exact
 //!    in its normal range), +0 without a hit; `invalid` (and no hit) for a
-//!    non-finite `o`, `s` or vertex, a NaN bound, `kz = 3`, or a hit whose
-//!    `t` the format cannot hold.
+//!    non-finite `o`, `s` or vertex, a NaN bound, `kz = 3`, all three edge
+//!    functions zero (the ray in the triangle's plane as far as the rounded
+//!    products tell: `det = 0` cannot hit a sliver the ray may cross, so the
+//!    caller decides), or a hit whose `t` the format cannot hold.
 //!
 //! `outputs=full` outputs `t`, `u`, `v` (above); `outputs=tnum` outputs
 //! `t_num = T` and `t_den = det` (values of the internal format, +0 without
@@ -274,8 +276,9 @@ pub fn build(cfg: &Config) -> Module {
          products in opposite order: opposite signs), det and T as rounded sums of rounded \
          products, t = T * (1/det); hit iff \
          the edge functions agree in sign, det != 0 and t_min <= t <= t_max; t, u (weight of b), \
-         v (weight of c) are 0 without a hit; invalid for non-finite input, kz = 3 or a hit \
-         whose t the format cannot hold.",
+         v (weight of c) are 0 without a hit; invalid for non-finite input, kz = 3, all three \
+         edge functions zero (the caller decides: det = 0 cannot hit a sliver the ray may \
+         cross) or a hit whose t the format cannot hold.",
     );
     let TriangleIn {
         o,
@@ -467,6 +470,13 @@ pub fn build(cfg: &Config) -> Module {
     let candidate = m.name(candidate, "hit_candidate");
     // a hit whose t the format cannot hold is flagged, not reported
     let flagged = m.and(candidate, far);
+    // all three edge functions zero (det = 0 without mixed signs): the ray may
+    // cross a sliver within rounding of its plane, which det = 0 cannot hit;
+    // flagged for the caller, not missed (a closed mesh that flat would leak)
+    let undecided = m.and(valid, inside);
+    let undecided = m.and(undecided, det_zero);
+    let undecided = m.name(undecided, "edges_all_zero");
+    let flagged = m.or(flagged, undecided);
     let invalid = m.or(invalid, flagged);
     let invalid = m.name(invalid, "invalid_found");
     let near = m.not(far);
