@@ -283,9 +283,10 @@ impl From<SolverArg> for crate::prove::Solver {
 pub enum Property {
     /// the unit (any stages, either placement) against its combinational reference
     Equiv,
-    /// never a miss for a ray that meets the box, never a wrongful cull: the unit at stages=0
-    /// against an exact reference in Verilog, every input of its (small) format (silhouette,
-    /// slab rounding=conservative, cull, node)
+    /// never a miss for a ray that meets the box, never a wrongful cull, never a silent miss
+    /// of a crossed triangle: the unit at stages=0 against an exact reference in Verilog, every
+    /// input of its (small) format (silhouette, slab rounding=conservative, cull, node; triangle
+    /// on rays from the origin along an axis, where ray space is exact)
     Sound,
 }
 

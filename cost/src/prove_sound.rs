@@ -25,6 +25,7 @@ use std::process::Command;
 mod bundle_split;
 mod node_split;
 mod split;
+mod triangle;
 
 /// The reference's inputs, in port order (the box, the ray, the segment).
 const RAY_BOX_PORTS: [&str; 14] = [
@@ -1449,6 +1450,8 @@ enum Kind {
         /// slope bits m
         m: u32,
     },
+    /// the triangle unit: the exact axis-ray test ([`triangle`])
+    Triangle,
 }
 
 /// Proves `unit` (generated at stages=0; its Verilog from `verilog` when
@@ -1472,14 +1475,14 @@ pub fn sound(
         // rounding=nearest is allowed: it is known to miss hits (a bug to find)
         "silhouette" => word("mode") == "ray" || word("origin") == "shared",
         "slab" => word("rounding") == "conservative",
-        "cull" | "node" => true,
+        "cull" | "node" | "triangle" => true,
         _ => false,
     } && unit.ports.ready.is_none();
     if !supported {
         return Err(format!(
             "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared), slab \
-             -p rounding=conservative, cull and node, with handshake=valid (the testers whose inputs the exact \
-             references take); not for {} {}",
+             -p rounding=conservative, cull, node and triangle, with handshake=valid (the testers whose inputs \
+             the exact references take); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1536,12 +1539,15 @@ pub fn sound(
             },
             m: num("slope_bits")?,
         }
+    } else if unit.unit == "triangle" {
+        Kind::Triangle
     } else {
         Kind::RayBox
     };
     // where a split proof cuts the unit
     let mut cut = match kind {
         _ if !split => None,
+        Kind::Triangle => None,
         Kind::Cull(c) => Some(split::cull_cut(c.k)),
         Kind::Node { q, children, m, .. } => Some(node_split::node_cut(node_split::NodeShape {
             fmt,
@@ -1586,6 +1592,10 @@ pub fn sound(
                 check_node_reference(fmt, q, out, &reference_dir, reference_cases)?;
             format!("{hits} hits; entries {below} below the box's entry, {not_below} not")
         }
+        Kind::Triangle => format!(
+            "{} crossed",
+            triangle::check_axis_reference(fmt, &reference_dir, reference_cases)?
+        ),
     };
     let mut files = Vec::new();
     let put = |name: &str, text: &str| -> Result<String, String> {
@@ -1641,6 +1651,12 @@ pub fn sound(
                 split::cone(hit),
                 split::cone(rejected)
             )
+        }
+        Kind::Triangle => {
+            let (reference, reference_text) = triangle::exact_axis_reference(fmt);
+            files.push(put(&format!("{reference}.v"), &reference_text)?);
+            files.push(put("prove_sound.v", &triangle::wrapper(unit, fmt))?);
+            triangle::COVERS.to_string()
         }
         Kind::Cull(c) => {
             files.push(put("prove_sound.v", &cull_wrapper(unit, c, split))?);
@@ -1758,6 +1774,16 @@ pub fn sound(
                 "a child the segment meets and a child the unit rejects"
             },
         ),
+        Kind::Triangle => (
+            "never misses without flagging invalid a triangle that the line through the origin along \
+             axis kz crosses with a nonzero exact area across it (t unbounded)"
+                .to_string(),
+            "o = ±0, s_x = s_y = ±0 (ray space exact), s_z and the vertices finite, kz ≠ 3, \
+             t_min = −∞, t_max = +∞"
+                .to_string(),
+            3,
+            "a crossed triangle hit, a crossed triangle flagged and a miss",
+        ),
         Kind::Cull(c) => (
             format!(
                 "never culls (keep = 0) a segment that meets the box ∩ the non-empty side of each of its {} plane(s) \
@@ -1810,6 +1836,15 @@ pub fn sound(
                     .collect();
                 format!("the ray d = ({})", d.join(", "))
             }
+            Kind::Triangle => format!(
+                "the triangle {} along axis kz={}",
+                triangle::VERTEX_PORTS
+                    .iter()
+                    .map(|n| format!("{n}={}", at.get(*n).cloned().unwrap_or_default()))
+                    .collect::<Vec<_>>()
+                    .join(" "),
+                at.get("kz").cloned().unwrap_or_default()
+            ),
             Kind::Cull(c) => {
                 let mut g: Vec<String> = c.geometry().into_iter().map(|(n, _)| n).collect();
                 g.extend((0..c.k).map(|j| format!("b_lo{j}")));

@@ -813,3 +813,66 @@ fn the_node_split_lemmas_prove_and_bite() {
         "{t}"
     );
 }
+
+/// `--property sound` for the triangle unit (docs/proofs.md): on rays from
+/// the origin along an axis (ray space exact) the unit never misses a
+/// triangle the line crosses without flagging it, proved at e2m1 for every
+/// vertex, axis and `s_z`; with the flag for three zero edge functions cut
+/// (a hand edit of the generated Verilog, the unit before 2026-12-07) the
+/// proof is refuted, the counterexample's line crosses the triangle for the
+/// exact Rust test, and its replay in Verilator reports neither hit nor
+/// `invalid` where the golden model flags it.
+#[test]
+fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found() {
+    let w = scratch("triangle-sound");
+    let params = ["-p", "exp_bits=2", "-p", "frac_bits=1", "-p", "outputs=hit"];
+    let job = w.join("proof").display().to_string();
+    let mut args = vec!["prove", "triangle"];
+    args.extend(params);
+    args.extend(["--property", "sound", "--work", &job]);
+    let proved = assert_proved(&args);
+    assert!(
+        proved.contains("a crossed triangle flagged") && proved.contains("are reachable"),
+        "{proved}"
+    );
+    // the flag cut
+    let rtl = w.join("rtl");
+    let rtl_s = rtl.display().to_string();
+    let mut emit = vec!["emit", "triangle"];
+    emit.extend(params);
+    emit.extend(["-p", "stages=0", "--out", &rtl_s]);
+    assert!(rtl_gen(&emit).status.success());
+    let top = rtl.join("triangle_e2m1_hit_s0.v");
+    let v = std::fs::read_to_string(&top).unwrap();
+    let flag = "assign edges_all_zero = and_not_invalid_input_inside_edges & det_is_zero;";
+    assert!(v.contains(flag), "no `{flag}` in {}", top.display());
+    std::fs::write(&top, v.replace(flag, "assign edges_all_zero = 1'b0;")).unwrap();
+    let job = w.join("cut").display().to_string();
+    let mut args = vec!["prove", "triangle"];
+    args.extend(params);
+    args.extend(["--property", "sound", "--verilog", &rtl_s, "--work", &job]);
+    let line = refuted(&args);
+    let g = named_values(&line, "refuted: ");
+    let fmt = golden_model::float::FloatFormat::new(2, 1).unwrap();
+    let kz = g["kz"] as usize;
+    let mut d = [0u64; 3];
+    d[kz] = u64::from(fmt.bias() as u32) << fmt.frac_bits();
+    let vertex = |p: &str| ["x", "y", "z"].map(|a| g[&format!("{p}_{a}")]);
+    let crossed = golden_model::triangle::exact::intersect(
+        fmt,
+        [0; 3],
+        d,
+        [vertex("a"), vertex("b"), vertex("c")],
+        fmt.inf(true),
+        fmt.inf(false),
+    );
+    assert!(
+        crossed.is_some(),
+        "the counterexample's line crosses the triangle exactly: {line}"
+    );
+    let row = replayed_mismatch(&line, |port| port == "invalid");
+    assert!(
+        row.contains("golden 0x1") && row.contains("rtl 0x0"),
+        "{row}"
+    );
+}
