@@ -238,11 +238,13 @@ fn datapath(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> Option<Datapath>
     );
     let t_num = mul(w, s[2], weighted, mode);
     let det_zero = classify(w, det) == Class::Zero;
+    // no edge function of either sign against another (zero counts as inside)
+    let agree = !(negative && positive);
     Some(Datapath {
         w,
         invalid,
-        inside: !(negative && positive) && !det_zero,
-        undecided: !invalid && !(negative && positive) && det_zero,
+        inside: agree && !det_zero,
+        undecided: !invalid && agree && det_zero,
         e_v: v,
         e_w,
         det,
