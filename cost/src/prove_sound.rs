@@ -1488,13 +1488,13 @@ pub fn sound(
         ));
     }
     if split
-        && (!["slab", "cull", "silhouette", "node"].contains(&unit.unit.as_str())
+        && (!["slab", "cull", "silhouette", "node", "triangle"].contains(&unit.unit.as_str())
             || !matches!(solver, crate::prove::Solver::Sat))
     {
         return Err(format!(
             "--split is built for slab -p rounding=conservative, silhouette (mode=ray, or mode=bundle \
-             with origin=shared), cull and node with --solver sat (its lemmas are their per-axis, \
-             per-plane and per-node bounds); not for {} {}",
+             with origin=shared), cull, node and triangle with --solver sat (its lemmas are their \
+             per-axis, per-plane, per-node and per-edge bounds); not for {} {}",
             unit.unit,
             unit.param_args()
         ));
@@ -1547,7 +1547,7 @@ pub fn sound(
     // where a split proof cuts the unit
     let mut cut = match kind {
         _ if !split => None,
-        Kind::Triangle => None,
+        Kind::Triangle => Some(triangle::cut()),
         Kind::Cull(c) => Some(split::cull_cut(c.k)),
         Kind::Node { q, children, m, .. } => Some(node_split::node_cut(node_split::NodeShape {
             fmt,
@@ -1655,7 +1655,7 @@ pub fn sound(
         Kind::Triangle => {
             let (reference, reference_text) = triangle::exact_axis_reference(fmt);
             files.push(put(&format!("{reference}.v"), &reference_text)?);
-            files.push(put("prove_sound.v", &triangle::wrapper(unit, fmt))?);
+            files.push(put("prove_sound.v", &triangle::wrapper(unit, fmt, split))?);
             triangle::COVERS.to_string()
         }
         Kind::Cull(c) => {
@@ -1781,8 +1781,13 @@ pub fn sound(
             "o = ±0, s_x = s_y = ±0 (ray space exact), s_z and the vertices finite, kz ≠ 3, \
              t_min = −∞, t_max = +∞"
                 .to_string(),
-            3,
-            "a crossed triangle hit, a crossed triangle flagged and a miss",
+            if split { 4 } else { 3 },
+            if split {
+                "a crossed triangle hit, a crossed triangle flagged, a miss and a crossed triangle \
+                 whose edge functions as the unit rounds them agree"
+            } else {
+                "a crossed triangle hit, a crossed triangle flagged and a miss"
+            },
         ),
         Kind::Cull(c) => (
             format!(

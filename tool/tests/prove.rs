@@ -817,11 +817,13 @@ fn the_node_split_lemmas_prove_and_bite() {
 /// `--property sound` for the triangle unit (docs/proofs.md): on rays from
 /// the origin along an axis (ray space exact) the unit never misses a
 /// triangle the line crosses without flagging it, proved at e2m1 for every
-/// vertex, axis and `s_z`; with the flag for three zero edge functions cut
-/// (a hand edit of the generated Verilog, the unit before 2026-12-07) the
-/// proof is refuted, the counterexample's line crosses the triangle for the
-/// exact Rust test, and its replay in Verilator reports neither hit nor
-/// `invalid` where the golden model flags it.
+/// vertex, axis and `s_z`, whole and `--split`; with the flag for three zero
+/// edge functions cut (a hand edit of the generated Verilog, the unit before
+/// 2026-12-07) the proof is refuted, the counterexample's line crosses the
+/// triangle for the exact Rust test, and its replay in Verilator reports
+/// neither hit nor `invalid` where the golden model flags it; split, the cut
+/// flag breaks `lemma_combine` and an edge function with its products
+/// swapped (the wrong sign) `lemma_edge_u`, each alone.
 #[test]
 fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found() {
     let w = scratch("triangle-sound");
@@ -835,6 +837,14 @@ fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found(
         proved.contains("a crossed triangle flagged") && proved.contains("are reachable"),
         "{proved}"
     );
+    let job = w.join("split").display().to_string();
+    let mut args = vec!["prove", "triangle"];
+    args.extend(params);
+    args.extend(["--property", "sound", "--split", "--work", &job]);
+    let proved = assert_proved(&args);
+    for lemma in triangle_lemmas(None) {
+        assert!(proved.contains(&lemma), "{lemma}: {proved}");
+    }
     // the flag cut
     let rtl = w.join("rtl");
     let rtl_s = rtl.display().to_string();
@@ -875,4 +885,55 @@ fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found(
         row.contains("golden 0x1") && row.contains("rtl 0x0"),
         "{row}"
     );
+    // split: each edit breaks its own lemma
+    let swapped = (
+        ".a(u_edge_bc_qx_py_z),\n        .b(u_edge_bc_qy_px_z),",
+        ".a(u_edge_bc_qy_px_z),\n        .b(u_edge_bc_qx_py_z),",
+    );
+    for (edit, broken) in [(None, "lemma_combine"), (Some(swapped), "lemma_edge_u")] {
+        if let Some((from, to)) = edit {
+            std::fs::write(&top, v.replace(from, to)).unwrap();
+            assert_ne!(
+                std::fs::read_to_string(&top).unwrap(),
+                v,
+                "no `{from}` in the unit"
+            );
+        }
+        let job = w.join(format!("split-{broken}")).display().to_string();
+        let mut args = vec!["prove", "triangle"];
+        args.extend(params);
+        args.extend([
+            "--property",
+            "sound",
+            "--split",
+            "--verilog",
+            &rtl_s,
+            "--work",
+            &job,
+        ]);
+        let o = rtl_gen(&args);
+        let t = text(&o);
+        assert!(!o.status.success(), "{t}");
+        for lemma in triangle_lemmas(Some(broken)) {
+            assert!(t.contains(&lemma), "{lemma}: {t}");
+        }
+    }
+}
+
+/// The triangle split's four lemmas' results as its summary gives them: each
+/// proved, or `broken` refuted.
+fn triangle_lemmas(broken: Option<&str>) -> [String; 4] {
+    [
+        "lemma_edge_u",
+        "lemma_edge_v",
+        "lemma_edge_w",
+        "lemma_combine",
+    ]
+    .map(|l| {
+        if Some(l) == broken {
+            format!("{l} refuted")
+        } else {
+            format!("{l} proved")
+        }
+    })
 }
