@@ -924,3 +924,33 @@ fn bundle_bounds(
         world: false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::GoldenUnits;
+
+    /// A face of a tetrahedron within 2 ulps of the plane `x = y` that holds
+    /// the ray from the origin along `+z` (golden-model/tests/triangle.rs):
+    /// the unit flags the test in both output modes, and the exact test,
+    /// which the leaf loop then asks, finds the crossing at `t = 0.2571...`.
+    #[test]
+    fn a_flagged_triangle_test_is_decided_exactly() {
+        let p = |v: [u32; 3]| v.map(f32::from_bits);
+        let face = [
+            p([0x3f80_0029, 0x3f80_0027, 0x3f80_0000]),
+            p([0xbf80_002f, 0xbf80_002d, 0xbf80_0000]),
+            p([0xbf80_000c, 0xbf80_000a, 0x4000_0000]),
+        ];
+        let mut r = TRay::new(Vec3::ZERO, Vec3::Z, f64::INFINITY, false);
+        r.shear = golden_triangle::shear(FloatFormat::BINARY32, r.d);
+        for tnum in [false, true] {
+            assert!(
+                unit_triangle(GoldenUnits::get(), &r, &face, tnum).is_err(),
+                "tnum {tnum}: the unit flags the test"
+            );
+        }
+        let t = exact_triangle(&r, &face).expect("the exact ray crosses the face");
+        assert!((t - 0.257_142_857).abs() < 1e-6, "t = {t}");
+    }
+}
