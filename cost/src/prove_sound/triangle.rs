@@ -18,7 +18,7 @@
 //! range). Before the flag (2026-12-07) the proof refutes it with a sliver
 //! whose three edge functions round to zero.
 
-use super::{decode_functions, exp_ones, is_inf, simulate, unit_instance, Cases, AXES};
+use super::{exp_ones, is_inf, simulate, unit_instance, Cases, AXES};
 use golden_model::float::FloatFormat;
 use golden_model::triangle::exact::intersect;
 use rtl_flow::Generated;
@@ -31,15 +31,23 @@ pub const VERTEX_PORTS: [&str; 9] = [
 ];
 
 /// The exact reference `exact_axis_triangle_e<E>m<F>`: inputs `kz` and the
-/// vertices, output `crossed`: the line through the origin along axis `kz`
+/// vertices, outputs `crossed` (the line through the origin along axis `kz`
 /// meets the closed triangle and the triangle's projection across it has a
-/// nonzero area (the 2D edge functions of the decoded integers agree in sign,
-/// zero counting as either, and their sum is not zero). No rounding.
+/// nonzero area: the 2D edge functions agree in sign, zero counting as
+/// either, and are not all zero) and each edge function's sign (`u_pos`,
+/// `u_neg`, ...). No rounding: each product of two coordinates is exact, the
+/// product of their significands (hidden bit included) at the sum of their
+/// exponents, and an edge function's sign is the comparison of its two
+/// products, aligned to the smallest exponent a product can have (a
+/// multiplication of `F + 1`-bit significands, then a shift: the form a SAT
+/// solver takes more easily than a product of the decoded integers).
 pub fn exact_axis_reference(fmt: FloatFormat) -> (String, String) {
     let (e, f, w) = (fmt.exp_bits(), fmt.frac_bits(), fmt.width());
     let name = format!("exact_axis_triangle_e{e}m{f}");
-    let nw = super::magnitude_bits(fmt) + 1;
-    let pw = 2 * nw + 2;
+    // a product's significand (2F + 2 bits) shifted by its exponent sum less 2 (the least:
+    // both biased exponents 1), at most 2(2^E − 2) − 2 bits
+    let shift_max = 2 * ((1u32 << e) - 2) - 2;
+    let aw = 2 * f + 2 + shift_max;
     let mut v = String::new();
     let _ = writeln!(
         v,
@@ -50,15 +58,34 @@ pub fn exact_axis_reference(fmt: FloatFormat) -> (String, String) {
         w - 1,
         VERTEX_PORTS.join(", ")
     );
-    v.push_str(&decode_functions(fmt, "mag", "value", nw));
+    let _ = writeln!(
+        v,
+        "    // a finite value's significand (hidden bit included) and biased exponent (1 for a \
+         subnormal)\n    \
+         function [{f}:0] significand;\n        input [{w1}:0] x;\n        \
+         significand = {{x[{w2}:{f}] != 0, x[{f1}:0]}};\n    endfunction\n    \
+         function [{e1}:0] exponent;\n        input [{w1}:0] x;\n        \
+         exponent = x[{w2}:{f}] == 0 ? {e}'d1 : x[{w2}:{f}];\n    endfunction\n    \
+         // the exact product x·y as a signed integer in units of 2^(2(1 − bias − F))\n    \
+         function signed [{aw}:0] product;\n        input [{w1}:0] x, y;\n        \
+         reg [{aw1}:0] aligned;\n        begin\n            \
+         aligned = ({aw}'d0 + significand(x) * significand(y)) << (exponent(x) + exponent(y) - 2);\n            \
+         product = x[{w1}] ^ y[{w1}] ? -$signed({{1'b0, aligned}}) : $signed({{1'b0, aligned}});\n        \
+         end\n    endfunction",
+        w1 = w - 1,
+        w2 = w - 2,
+        f1 = f - 1,
+        e1 = e - 1,
+        aw1 = aw - 1,
+    );
     // the components across the line: kx = kz + 1, ky = kz + 2 (mod 3)
     for p in ["a", "b", "c"] {
         for (across, k) in [("across_x", 1), ("across_y", 2)] {
             let pick = |kz: usize| format!("{p}_{}", AXES[(kz + k) % 3]);
             let _ = writeln!(
                 v,
-                "    wire signed [{}:0] {p}_{across} = value(kz == 2'd1 ? {} : kz == 2'd2 ? {} : {});",
-                nw - 1,
+                "    wire [{}:0] {p}_{across} = kz == 2'd1 ? {} : kz == 2'd2 ? {} : {};",
+                w - 1,
                 pick(1),
                 pick(2),
                 pick(0)
@@ -69,30 +96,23 @@ pub fn exact_axis_reference(fmt: FloatFormat) -> (String, String) {
     for (name, p, q) in [("u", "b", "c"), ("v", "c", "a"), ("w", "a", "b")] {
         let _ = writeln!(
             v,
-            "    wire signed [{}:0] edge_{name} = {q}_across_x * {p}_across_y - {q}_across_y * {p}_across_x;",
-            pw - 1
+            "    wire signed [{aw}:0] {name}_first = product({q}_across_x, {p}_across_y);\n    \
+             wire signed [{aw}:0] {name}_second = product({q}_across_y, {p}_across_x);\n    \
+             assign {name}_pos = {name}_first > {name}_second;\n    \
+             assign {name}_neg = {name}_first < {name}_second;"
         );
     }
-    for e in ["u", "v", "w"] {
-        let _ = writeln!(
-            v,
-            "    assign {e}_pos = edge_{e} > 0;\n    assign {e}_neg = edge_{e} < 0;"
-        );
-    }
-    let _ = writeln!(
-        v,
-        "    wire negative = edge_u < 0 || edge_v < 0 || edge_w < 0;\n    \
-         wire positive = edge_u > 0 || edge_v > 0 || edge_w > 0;\n    \
-         wire signed [{}:0] area = edge_u + edge_v + edge_w;\n    \
-         assign crossed = !(negative && positive) && area != 0;\nendmodule",
-        pw + 1
+    v.push_str(
+        "    wire negative = u_neg || v_neg || w_neg;\n    \
+         wire positive = u_pos || v_pos || w_pos;\n    \
+         assign crossed = !(negative && positive) && (negative || positive);\nendmodule\n",
     );
     (name, v)
 }
 
 /// Simulates the reference in Icarus Verilog on `count` seeded random inputs
-/// (any `kz` of 0..=2, finite vertices, half of them with each coordinate's
-/// sign drawn so the triangle tends to surround the line) and compares
+/// (any `kz` of 0..=2, finite vertices of either sign, zero one time in 8)
+/// and compares
 /// `crossed` with `golden_model::triangle::exact::intersect` on the ray from
 /// the origin along the axis, `t` unbounded; the number crossed.
 pub fn check_axis_reference(fmt: FloatFormat, dir: &Path, count: usize) -> Result<usize, String> {
