@@ -784,10 +784,7 @@ fn the_node_split_lemmas_prove_and_bite() {
     let top = "node_n2_q4_m4_e3m2_s0.v";
     let src = w.join("edited");
     let src_s = src.display().to_string();
-    let mut e = vec!["emit", "node"];
-    e.extend(NODE_SMALL);
-    e.extend(["-p", "stages=0", "--out", &src_s]);
-    assert!(rtl_gen(&e).status.success());
+    emit_stage0("node", &NODE_SMALL, &src);
     let file = src.join(top);
     let mut v = std::fs::read_to_string(&file).unwrap();
     for (from, to) in [
@@ -848,10 +845,7 @@ fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found(
     // the flag cut
     let rtl = w.join("rtl");
     let rtl_s = rtl.display().to_string();
-    let mut emit = vec!["emit", "triangle"];
-    emit.extend(params);
-    emit.extend(["-p", "stages=0", "--out", &rtl_s]);
-    assert!(rtl_gen(&emit).status.success());
+    emit_stage0("triangle", &params, &rtl);
     let top = rtl.join("triangle_e2m1_hit_s0.v");
     let v = std::fs::read_to_string(&top).unwrap();
     let flag = "assign edges_all_zero = and_not_invalid_input_inside_edges & det_is_zero;";
@@ -918,6 +912,16 @@ fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found(
             assert!(t.contains(&lemma), "{lemma}: {t}");
         }
     }
+}
+
+/// Emits `unit` with `params` at stages=0 into `out` (a copy to edit by hand).
+fn emit_stage0(unit: &str, params: &[&str], out: &Path) {
+    let out_s = out.display().to_string();
+    let mut args = vec!["emit", unit];
+    args.extend(params);
+    args.extend(["-p", "stages=0", "--out", &out_s]);
+    let o = rtl_gen(&args);
+    assert!(o.status.success(), "rtl-gen {args:?}: {}", text(&o));
 }
 
 /// The triangle split's four lemmas' results as its summary gives them: each
