@@ -320,9 +320,10 @@ pub struct ProveArgs {
     /// the job directory, `<job>.planted/`)
     #[arg(long, value_name = "NAME")]
     plant: Option<String>,
-    /// `--property sound` of `slab -p rounding=conservative` and `cull` as lemmas (bounds on
-    /// the unit's per-axis or per-plane results, then their combination), each its own SAT
-    /// call: what proves at e3m2 (docs/proofs.md)
+    /// `--property sound` as lemmas (bounds on the unit's own per-axis, per-plane, per-node
+    /// or per-edge results, then their combination), each its own SAT call: what proves at
+    /// e3m2 and beyond (slab rounding=conservative, silhouette, cull, node, triangle;
+    /// docs/proofs.md)
     #[arg(long)]
     split: bool,
     /// with `--split`, run only this lemma (repeatable; the node's lemmas, e.g.
