@@ -586,3 +586,16 @@ fn flat_closed_tetrahedra_are_hit_or_flagged() {
         assert!(hit >= crossed / 4, "{mode:?}: {hit} hit");
     }
 }
+
+/// The shear constants of a direction with an infinite component are NaN
+/// (`quotient`: NaN unless both operands are finite and the divisor is not
+/// zero), not the 0 that `1/∞` would give: the unit then flags the ray
+/// `invalid` (cargo-mutants shard 3/150's missed mutant, `&&` made `||`).
+#[test]
+fn an_infinite_direction_gives_nan_shear_constants() {
+    let fmt = F32;
+    for d in [[f32::INFINITY, 1.0, 2.0], [1.0, f32::NEG_INFINITY, 2.0]] {
+        let (kz, s) = shear(fmt, d.map(bits));
+        assert!(s.iter().all(|&c| fmt.is_nan(c)), "{d:?}: kz {kz}, {s:x?}");
+    }
+}
