@@ -114,7 +114,10 @@ pub fn shear(fmt: FloatFormat, d: [u64; 3]) -> (u32, [u64; 3]) {
     }
     let (kx, ky) = other_axes(kz as u32);
     let ratio = |num: u64| quotient(fmt, num, d[kz]);
-    (kz as u32, [ratio(d[kx]), ratio(d[ky]), ratio(one(fmt))])
+    (
+        kz as u32,
+        [ratio(d[kx]), ratio(d[ky]), ratio(fmt.one(false))],
+    )
 }
 
 /// `n / d` correctly rounded to nearest even; NaN unless both are finite
@@ -135,11 +138,6 @@ fn quotient(fmt: FloatFormat, n: u64, d: u64) -> u64 {
         }
         _ => fmt.canonical_nan(),
     }
-}
-
-/// 1.0 in `fmt`.
-fn one(fmt: FloatFormat) -> u64 {
-    (fmt.bias() as u64) << fmt.frac_bits()
 }
 
 /// The unit's answer for `x`, bit for bit, every operation rounded to

@@ -28,10 +28,6 @@ fn same_value(x: &V, y: &V) -> bool {
     }
 }
 
-fn one(fmt: FloatFormat) -> u64 {
-    (fmt.bias() as u64) << fmt.frac_bits()
-}
-
 /// Three products whose sum often cancels: the third is (nearly) minus the
 /// sum of the first two, or products far apart, or random.
 fn dot3_operands(rng: &mut Rng, fmt: FloatFormat, sp: &[u64], i: usize) -> ([u64; 3], [u64; 3]) {
@@ -48,9 +44,9 @@ fn dot3_operands(rng: &mut Rng, fmt: FloatFormat, sp: &[u64], i: usize) -> ([u64
             );
             a[2] = operand_near(rng, fmt, s, 1) | (!s & fmt.sign_bit());
             b[2] = if rng.bool() {
-                one(fmt)
+                fmt.one(false)
             } else {
-                operand_near(rng, fmt, one(fmt), 1)
+                operand_near(rng, fmt, fmt.one(false), 1)
             };
         }
         1 => {

@@ -860,7 +860,7 @@ fn the_triangle_is_proved_silent_on_no_crossed_triangle_and_a_cut_flag_is_found(
     let fmt = golden_model::float::FloatFormat::new(2, 1).unwrap();
     let kz = g["kz"] as usize;
     let mut d = [0u64; 3];
-    d[kz] = u64::from(fmt.bias() as u32) << fmt.frac_bits();
+    d[kz] = fmt.one(false);
     let vertex = |p: &str| ["x", "y", "z"].map(|a| g[&format!("{p}_{a}")]);
     let crossed = golden_model::triangle::exact::intersect(
         fmt,

@@ -190,6 +190,11 @@ impl FloatFormat {
     pub const fn zero(self, negative: bool) -> u64 {
         self.with_sign(negative, 0)
     }
+    /// One with the given sign.
+    #[inline]
+    pub const fn one(self, negative: bool) -> u64 {
+        self.with_sign(negative, (self.bias() as u64) << self.frac_bits)
+    }
     /// Largest finite magnitude with the given sign.
     #[inline]
     pub const fn max_finite(self, negative: bool) -> u64 {

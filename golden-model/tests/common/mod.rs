@@ -37,7 +37,7 @@ impl Rng {
 /// subnormal and normal extremes, one and its neighbours, both signs.
 pub fn specials(fmt: FloatFormat) -> Vec<u64> {
     let f = fmt.frac_bits();
-    let one = (fmt.bias() as u64) << f;
+    let one = fmt.one(false);
     let mut mags = vec![
         0,
         1,
