@@ -267,6 +267,11 @@ pub enum SolverArg {
     Boolector,
     /// Yosys's own `sat -tempinduct` (MiniSat on the bit-blasted design)
     Sat,
+    /// `equiv` without pipeline state: both designs checked to be balanced pipelines (every
+    /// input-to-output path through the same number of plain registers), their register-free
+    /// circuits compared by a Yosys miter, out_valid by temporal induction (docs/proofs.md);
+    /// for the units whose k-induction does not finish (the triangle)
+    Structural,
 }
 
 impl From<SolverArg> for crate::prove::Solver {
@@ -274,6 +279,7 @@ impl From<SolverArg> for crate::prove::Solver {
         match s {
             SolverArg::Boolector => crate::prove::Solver::Boolector,
             SolverArg::Sat => crate::prove::Solver::Sat,
+            SolverArg::Structural => crate::prove::Solver::Structural,
         }
     }
 }
@@ -311,8 +317,9 @@ pub struct ProveArgs {
     /// job directory (default out/prove/<module>), emptied first
     #[arg(long, value_name = "DIR")]
     work: Option<PathBuf>,
-    /// the solver: boolector (SBY, word-level; the default for `equiv`) or sat (Yosys's own;
-    /// the default for `sound`, which answers its covers and counterexamples with sat either way)
+    /// the solver: boolector (SBY, word-level; the default for `equiv`), sat (Yosys's own;
+    /// the default for `sound`, which answers its covers and counterexamples with sat either
+    /// way) or structural (`equiv` only: balance + a register-free miter, no k-induction)
     #[arg(long, value_enum)]
     solver: Option<SolverArg>,
     /// build the unit with a planted bug (docs/proofs.md; e.g. `cull --plant lt-for-le`); the

@@ -30,6 +30,8 @@
 //! [--verilog DIR] --in counterexample.txt` replays it in Verilator against
 //! the golden model.
 
+mod structural;
+
 use crate::synth::{tool, Tool};
 use rtl_flow::Generated;
 use rtl_gen::emit::VerilogFile;
@@ -57,6 +59,9 @@ pub enum Solver {
     Boolector,
     /// Yosys `sat -tempinduct` (MiniSat)
     Sat,
+    /// balance, a combinational miter and `out_valid` by induction
+    /// ([`structural`])
+    Structural,
 }
 
 /// The two designs of an `equiv` proof and where the job goes.
@@ -74,8 +79,9 @@ pub struct EquivJob<'a> {
     pub solver: Solver,
 }
 
-/// The wrapper module `prove_equiv`.
-fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
+/// The wrapper module `prove_equiv`; without `data`, only `out_valid` is
+/// compared (the data outputs left unconnected, for `--solver structural`).
+fn wrapper(dut: &Generated, reference: &Generated, lag: u32, data: bool) -> String {
     let p = &dut.ports;
     let r = &reference.ports;
     let mut v = String::new();
@@ -121,7 +127,7 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
     );
     for (who, g) in [("ref", r), ("dut", p)] {
         line(&mut v, format!("    (* keep *) wire {who}_out_valid;"));
-        for x in &g.outputs {
+        for x in g.outputs.iter().filter(|_| data) {
             line(
                 &mut v,
                 format!("    (* keep *) wire {}{who}_{};", range(x.width), x.name),
@@ -134,7 +140,13 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
         ];
         conns.extend(g.inputs.iter().map(|x| format!(".{0}({0})", x.name)));
         conns.push(format!(".{}({who}_out_valid)", g.out_valid));
-        conns.extend(g.outputs.iter().map(|x| format!(".{0}({who}_{0})", x.name)));
+        conns.extend(g.outputs.iter().map(|x| {
+            if data {
+                format!(".{0}({who}_{0})", x.name)
+            } else {
+                format!(".{}()", x.name)
+            }
+        }));
         line(
             &mut v,
             format!(
@@ -177,7 +189,7 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
             line(&mut v, body);
         };
         chain("out_valid", 1, true);
-        for x in &r.outputs {
+        for x in r.outputs.iter().filter(|_| data) {
             chain(&x.name, x.width, false);
         }
     }
@@ -192,7 +204,7 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32) -> String {
             delayed("out_valid")
         ),
     );
-    for x in &p.outputs {
+    for x in p.outputs.iter().filter(|_| data) {
         line(
             &mut v,
             format!(
@@ -372,13 +384,18 @@ pub(crate) enum Verdict {
 /// Runs the Yosys script `script` in `dir` with the pinned Yosys, logging to
 /// `prove.log`; the log, or an error with its tail.
 pub(crate) fn run_yosys_script(dir: &Path, script: &str) -> Result<String, String> {
+    run_yosys_logged(dir, script, "prove.log")
+}
+
+/// [`run_yosys_script`] logging to `log`.
+fn run_yosys_logged(dir: &Path, script: &str, log: &str) -> Result<String, String> {
     let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;
     let out = Command::new(&yosys)
         .current_dir(dir)
-        .args(["-q", "-l", "prove.log", "-s", script])
+        .args(["-q", "-l", log, "-s", script])
         .output()
         .map_err(|e| format!("running {}: {e} (scripts/setup.sh)", yosys.display()))?;
-    let log = std::fs::read_to_string(dir.join("prove.log")).unwrap_or_default();
+    let log = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
     if !out.status.success() {
         return Err(format!(
             "{} -s {script} in {} failed:\n{}{}",
@@ -475,11 +492,14 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             }
         }
     }
-    let wrap = wrapper(dut, reference, lag);
+    let design_files = files.clone();
+    // the structural proof compares the data outputs by its miter, not here
+    let data = job.solver != Solver::Structural;
+    let wrap = wrapper(dut, reference, lag, data);
     std::fs::write(job.work.join("prove_equiv.v"), &wrap).map_err(|e| e.to_string())?;
     files.push("prove_equiv.v".into());
     let mut shown = vec!["dut_out_valid".to_string(), delayed_name("out_valid", lag)];
-    for x in &dut.ports.outputs {
+    for x in dut.ports.outputs.iter().filter(|_| data) {
         shown.push(format!("dut_{}", x.name));
         shown.push(delayed_name(&x.name, lag));
     }
@@ -534,6 +554,32 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
                 ("k-induction, Boolector", depth),
             )
         }
+        Solver::Structural => {
+            let (covered, verdict, _) = run_yosys(job.work, "prove.ys")?;
+            if !matches!(verdict, Verdict::Proved) || !covered {
+                // out_valid alone: its counterexample or open induction, as for `sat`
+                (
+                    covered,
+                    verdict,
+                    job.work.join("prove.log"),
+                    ("", format!("{} steps", lag + 6)),
+                )
+            } else {
+                match structural_data(job, &design_files, &what)? {
+                    Some(outcome) => return Ok(outcome),
+                    None => (
+                        covered,
+                        verdict,
+                        job.work.join("structure.log"),
+                        (
+                            "structural: both pipelines balanced, their register-free circuits \
+                             equal by a miter, out_valid by temporal induction",
+                            String::new(),
+                        ),
+                    ),
+                }
+            }
+        }
     };
     match verdict {
         Verdict::Failed => counterexample(job, lag, &what),
@@ -554,6 +600,117 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             log.display()
         ))),
     }
+}
+
+/// Steps 1 and 2 of the structural proof (`structural` module doc): `None`
+/// when both hold, else the outcome (not balanced, or the miter's
+/// counterexample as a one-transaction vector file).
+fn structural_data(
+    job: &EquivJob,
+    files: &[String],
+    what: &str,
+) -> Result<Option<Outcome>, String> {
+    let (dut, reference) = (&job.dut.ports, &job.reference.ports);
+    let put = |name: &str, text: &str| {
+        std::fs::write(job.work.join(name), text).map_err(|e| format!("{name}: {e}"))
+    };
+    put("registers_as_wires.v", structural::REGISTERS_AS_WIRES)?;
+    put(
+        "structure.ys",
+        &structural::miter_script(files, &reference.top, &dut.top, &dut.reset),
+    )?;
+    let log = run_yosys_logged(job.work, "structure.ys", "structure.log")?;
+    let path = job.work.join("netlist.json");
+    let netlist: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?,
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    for g in [dut, reference] {
+        if let Err(why) = structural::check_balance(&netlist, &g.top, &g.clock, &g.reset, g.latency)
+        {
+            return Ok(Some(structural::not_balanced(what, why)));
+        }
+    }
+    match structural::miter_verdict(&log) {
+        Verdict::Proved => Ok(None),
+        Verdict::Open => Err(format!(
+            "{what}: the miter's sat gave no verdict ({})",
+            job.work.join("structure.log").display()
+        )),
+        Verdict::Failed => {
+            let vcd_path = job.work.join("structure.vcd");
+            let vcd = std::fs::read_to_string(&vcd_path)
+                .map_err(|e| format!("{}: {e}", vcd_path.display()))?;
+            let steps = vcd_steps(&vcd)?;
+            let last = steps.last().ok_or("an empty trace")?;
+            let value = |name: String| {
+                last.get(&name)
+                    .cloned()
+                    .ok_or_else(|| format!("{}: no value of {name}", vcd_path.display()))
+            };
+            let mut detail = String::from("no output differs in the trace");
+            for x in &dut.outputs {
+                let (gate, gold) = (
+                    value(format!("gate_{}", x.name))?,
+                    value(format!("gold_{}", x.name))?,
+                );
+                if gate != gold {
+                    detail = format!(
+                        "output {} = {gate} where the reference gives {gold} (register-free circuits)",
+                        x.name
+                    );
+                    break;
+                }
+            }
+            let row: Vec<String> = dut
+                .inputs
+                .iter()
+                .map(|x| value(format!("in_{}", x.name)))
+                .collect::<Result<_, _>>()?;
+            let vectors = write_vectors(job, &[row])?;
+            Ok(Some(Outcome::Counterexample(format!(
+                "{what}: {detail} (transaction 1 of 1 in {}; trace {}; replay: {})",
+                vectors.display(),
+                vcd_path.display(),
+                replay_command(job, &vectors)
+            ))))
+        }
+    }
+}
+
+/// Writes `counterexample.txt`, the vector file of `rows` (values in the
+/// order of the unit's inputs); its path.
+fn write_vectors(job: &EquivJob, rows: &[Vec<String>]) -> Result<PathBuf, String> {
+    let p = &job.dut.ports;
+    let mut text = p
+        .inputs
+        .iter()
+        .map(|x| x.name.clone())
+        .collect::<Vec<_>>()
+        .join(" ");
+    text.push('\n');
+    for row in rows {
+        text += &row.join(" ");
+        text.push('\n');
+    }
+    let vectors = job.work.join("counterexample.txt");
+    std::fs::write(&vectors, text).map_err(|e| format!("{}: {e}", vectors.display()))?;
+    Ok(vectors)
+}
+
+/// The `rtl-gen sim` command that replays `vectors` in Verilator.
+fn replay_command(job: &EquivJob, vectors: &Path) -> String {
+    format!(
+        "rtl-gen sim {} {}{} --in {} --out {} --dir {}",
+        job.dut.unit,
+        job.dut.param_args(),
+        job.dut_verilog
+            .map(|d| format!(" --verilog {}", d.display()))
+            .unwrap_or_default(),
+        vectors.display(),
+        job.work.join("replay.txt").display(),
+        job.work.join("sim").display()
+    )
 }
 
 /// The failing step (the trace's last), the output that differs there and
@@ -591,32 +748,23 @@ fn counterexample(job: &EquivJob, lag: u32, what: &str) -> Result<Outcome, Strin
         .checked_sub(lag)
         .ok_or("failing step before the latency")?;
     let mut index = None;
-    let mut text = p
-        .inputs
-        .iter()
-        .map(|x| x.name.clone())
-        .collect::<Vec<_>>()
-        .join(" ");
-    text.push('\n');
-    let mut count = 0;
+    let mut rows = Vec::new();
     for s in 1..=step {
         if value(s, "in_valid")? != "0x1" {
             continue;
         }
         if s == failing {
-            index = Some(count + 1);
+            index = Some(rows.len() + 1);
         }
         let row: Vec<String> = p
             .inputs
             .iter()
             .map(|x| value(s, &x.name))
             .collect::<Result<_, _>>()?;
-        text += &row.join(" ");
-        text.push('\n');
-        count += 1;
+        rows.push(row);
     }
-    let vectors = job.work.join("counterexample.txt");
-    std::fs::write(&vectors, text).map_err(|e| format!("{}: {e}", vectors.display()))?;
+    let count = rows.len();
+    let vectors = write_vectors(job, &rows)?;
     let detail = if output == "out_valid" {
         format!(
             "out_valid {} where the reference's is {}",
@@ -630,17 +778,7 @@ fn counterexample(job: &EquivJob, lag: u32, what: &str) -> Result<Outcome, Strin
             value(step, &delayed_name(&output, lag))?
         )
     };
-    let replay = format!(
-        "rtl-gen sim {} {}{} --in {} --out {} --dir {}",
-        job.dut.unit,
-        job.dut.param_args(),
-        job.dut_verilog
-            .map(|d| format!(" --verilog {}", d.display()))
-            .unwrap_or_default(),
-        vectors.display(),
-        job.work.join("replay.txt").display(),
-        job.work.join("sim").display()
-    );
+    let replay = replay_command(job, &vectors);
     let which = match index {
         Some(i) if output != "out_valid" => format!("transaction {i} of {count} in"),
         _ => format!("{count} transactions in"),

@@ -1485,6 +1485,13 @@ pub fn sound(
         "cull" | "node" | "triangle" => true,
         _ => false,
     } && unit.ports.ready.is_none();
+    if solver == crate::prove::Solver::Structural {
+        return Err(
+            "--solver structural proves pipelines (--property equiv); a soundness proof \
+                    has no pipeline to take apart: --solver sat or boolector"
+                .into(),
+        );
+    }
     if !supported {
         return Err(format!(
             "--property sound is built for silhouette (mode=ray, or mode=bundle with origin=shared), slab \
@@ -1710,7 +1717,7 @@ pub fn sound(
     };
     let covered_in = |log: &str| log.matches("SAT solving finished - model found").count();
     let (covered, verdict, log_path) = match solver {
-        Solver::Sat => {
+        Solver::Sat | Solver::Structural => {
             let log = crate::prove::run_yosys_script(work, "prove.ys")?;
             (
                 covered_in(&log),
@@ -1916,7 +1923,7 @@ pub fn sound(
         "{what}: the reference agreed with the Rust exact test on {reference_cases} simulated inputs ({checked}); \
          {reachable} are reachable; {}{lemmas}, {:.1} s; {}",
         match solver {
-            Solver::Sat => "Yosys sat",
+            Solver::Sat | Solver::Structural => "Yosys sat",
             Solver::Boolector => "Boolector",
         },
         started.elapsed().as_secs_f64(),

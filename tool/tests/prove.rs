@@ -122,8 +122,9 @@ const NODE_SMALL: [&str; 10] = [
 ];
 
 /// Emits mulcmp (6x6, 2 stages) into a directory, applies `edit` to its top
-/// file, proves the edited copy and replays the counterexample.
-fn planted(name: &str, from: &str, to: &str, port: &str) {
+/// file, proves the edited copy (with `solver`'s arguments) and replays the
+/// counterexample.
+fn planted(name: &str, from: &str, to: &str, port: &str, solver: &[&str]) {
     let d = scratch(name);
     let rtl = d.join("rtl");
     let params = ["-p", "a_width=6", "-p", "b_width=6", "-p", "stages=2"];
@@ -145,6 +146,7 @@ fn planted(name: &str, from: &str, to: &str, port: &str) {
     let mut prove = vec!["prove", "mulcmp"];
     prove.extend(params);
     prove.extend(["--verilog", &rtl_s, "--work", &work]);
+    prove.extend(solver);
     let o = rtl_gen(&prove);
     let t = text(&o);
     let line = t
@@ -158,7 +160,16 @@ fn planted(name: &str, from: &str, to: &str, port: &str) {
         file.starts_with("a b c d\n") && file.lines().count() >= 2,
         "{file}"
     );
-    assert!(d.join("job/counterexample.vcd").is_file());
+    // the trace the line names
+    let trace = line
+        .split("; trace ")
+        .nth(1)
+        .and_then(|s| s.split(';').next())
+        .unwrap_or_else(|| panic!("{name}: no trace in {line}"));
+    assert!(
+        Path::new(trace).is_file() && trace.ends_with(".vcd"),
+        "{line}"
+    );
     if port == "out_valid" {
         // a valid bit out of step is a timing bug: the cycle-accurate trace shows it
         // (on out_valid, or on an output compared in a cycle it is not valid in);
@@ -205,6 +216,7 @@ fn a_wrong_comparison_is_found_and_replays() {
         "assign ab_lt_cd = u_mul_ab_p < u_mul_cd_p;",
         "assign ab_lt_cd = u_mul_ab_p <= u_mul_cd_p;",
         "lt",
+        &[],
     );
 }
 
@@ -215,6 +227,93 @@ fn a_valid_bit_one_stage_early_is_found() {
         "assign out_valid = valid_s2;",
         "assign out_valid = valid_s1;",
         "out_valid",
+        &[],
+    );
+}
+
+/// `--solver structural` (no k-induction): the triangle's pipelines, which
+/// k-induction does not finish, proved at e2m1 in both placements and two
+/// depths; the same two planted bugs found on mulcmp (the wrong comparison by
+/// the register-free miter, replayed in Verilator; the early valid bit by the
+/// induction on out_valid); and a pipeline with one path a register short
+/// refused, naming the cell where the stages meet.
+#[test]
+fn the_structural_proof_proves_the_triangle_pipelines_and_finds_planted_bugs() {
+    let w = scratch("structural");
+    for stages in ["stages=2", "stages=4"] {
+        for pipeline in ["pipeline=plan", "pipeline=balanced"] {
+            let work = w.join(format!("{stages}-{pipeline}")).display().to_string();
+            let line = assert_proved(&[
+                "prove",
+                "triangle",
+                "-p",
+                "exp_bits=2",
+                "-p",
+                "frac_bits=1",
+                "-p",
+                stages,
+                "-p",
+                pipeline,
+                "--solver",
+                "structural",
+                "--work",
+                &work,
+            ]);
+            assert!(line.contains("both pipelines balanced"), "{line}");
+        }
+    }
+    planted(
+        "structural-compare",
+        "assign ab_lt_cd = u_mul_ab_p < u_mul_cd_p;",
+        "assign ab_lt_cd = u_mul_ab_p <= u_mul_cd_p;",
+        "lt",
+        &["--solver", "structural"],
+    );
+    planted(
+        "structural-valid",
+        "assign out_valid = valid_s2;",
+        "assign out_valid = valid_s1;",
+        "out_valid",
+        &["--solver", "structural"],
+    );
+    // the sign of s_z read one register early
+    let rtl = w.join("short");
+    let rtl_s = rtl.display().to_string();
+    let params = ["-p", "exp_bits=2", "-p", "frac_bits=1", "-p", "stages=2"];
+    let mut emit = vec!["emit", "triangle"];
+    emit.extend(params);
+    emit.extend(["--out", &rtl_s]);
+    assert!(rtl_gen(&emit).status.success());
+    let top = rtl.join("triangle_e2m1_full_s2.v");
+    let v = std::fs::read_to_string(&top).unwrap();
+    let from = "assign u_widen_s_z_a_sign = s_z_s1[3];";
+    assert!(v.contains(from), "`{from}` is not in {}", top.display());
+    std::fs::write(
+        &top,
+        v.replacen(from, "assign u_widen_s_z_a_sign = s_z[3];", 1),
+    )
+    .unwrap();
+    let work = w.join("short-job").display().to_string();
+    let mut prove = vec!["prove", "triangle"];
+    prove.extend(params);
+    prove.extend([
+        "--verilog",
+        &rtl_s,
+        "--work",
+        &work,
+        "--solver",
+        "structural",
+    ]);
+    let o = rtl_gen(&prove);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    let last = t.lines().last().unwrap_or("");
+    assert!(
+        last.starts_with("not proved: ")
+            && last.contains("not a balanced pipeline")
+            && last.contains("stage 0")
+            && last.contains("stage 1"),
+        "{t}"
     );
 }
 
