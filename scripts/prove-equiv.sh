@@ -24,6 +24,7 @@ small() {
         node_child) echo "-p box_bits=4" ;;
         node_sort) echo "-p children=4 -p box_bits=4" ;;
         raycull) echo "" ;;
+        tilerange) echo "-p samples=16" ;;
         *) echo "-p exp_bits=2 -p frac_bits=1" ;;
     esac
 }

@@ -254,7 +254,8 @@ pub enum Command {
     /// Formal proof (pinned yowasp toolchain: SymbiYosys + Boolector, or Yosys sat): `--property
     /// equiv` proves the unit as generated (or an edited copy of its Verilog) equal to its
     /// reference, the same unit at stages=0, on every output of every valid cycle, by
-    /// k-induction. Ends with
+    /// k-induction (or `--solver structural`: both checked balanced pipelines, their
+    /// register-free circuits compared). Ends with
     /// `proved: ...` (exit 0) or `counterexample: ...` (exit 1, with a vector file that
     /// `rtl-gen sim` replays); exit 2 on an error
     Prove(ProveArgs),

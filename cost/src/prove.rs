@@ -24,6 +24,11 @@
 //! z3`) is not offered: the silhouette tester at e2m1 did not finish in 5
 //! minutes under it.
 //!
+//! A third, **`structural`** ([`structural`]), unrolls no state: both designs
+//! checked to be balanced pipelines, their register-free circuits compared by
+//! a Yosys miter, `out_valid` by induction on the wrapper without the data
+//! outputs; for the pipelines whose k-induction does not finish.
+//!
 //! A failure ends with `counterexample:` and writes `counterexample.txt`, the
 //! valid transactions of the trace up to the failing cycle in the
 //! vector-file format (`docs/vectors.md`): `rtl-gen sim UNIT -p ...

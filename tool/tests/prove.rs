@@ -4,7 +4,9 @@
 //! each with a vector file that `rtl-gen sim --verilog` replays in Verilator
 //! to the same wrong answer. Both solvers: Boolector (the default, through
 //! yowasp-sby; a planted bug's trace then comes from Yosys sat) and Yosys sat
-//! (`--solver sat`). Needs the pinned Yosys and Boolector (scripts/setup.sh);
+//! (`--solver sat`); and the structural proof (`--solver structural`) on the
+//! triangle's pipelines and the same planted bugs. Needs the pinned Yosys and
+//! Boolector (scripts/setup.sh);
 //! without them the test fails saying so.
 
 use std::path::{Path, PathBuf};
