@@ -308,7 +308,8 @@ pub struct ProveArgs {
     #[arg(long, value_enum, default_value = "equiv")]
     property: Property,
     /// the reference's parameters over the unit's (repeatable; default stages=0
-    /// pipeline=plan)
+    /// pipeline=plan handshake=valid; a handshake=ready unit is checked as its valid/ready
+    /// wrapper against it, docs/proofs.md)
     #[arg(long = "reference", value_name = "KEY=VALUE")]
     reference: Vec<String>,
     /// prove the Verilog in DIR (files named as the generated ones, e.g. a hand-edited copy)
@@ -863,7 +864,11 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
         };
         if let Property::Sound = a.property {
             let mut given = a.params.clone();
-            given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
+            given.extend([
+                "stages=0".to_string(),
+                "pipeline=plan".to_string(),
+                "handshake=valid".to_string(),
+            ]);
             let mut unit = rtl_flow::generate(&a.unit, &given).map_err(|e| e.to_string())?;
             if let Some(dir) = &a.verilog {
                 unit.use_verilog_from(dir).map_err(|e| e.to_string())?;
@@ -892,7 +897,11 @@ pub fn prove(a: &ProveArgs) -> ExitCode {
             dut.use_verilog_from(dir).map_err(|e| e.to_string())?;
         }
         let mut given = a.params.clone();
-        given.extend(["stages=0".to_string(), "pipeline=plan".to_string()]);
+        given.extend([
+            "stages=0".to_string(),
+            "pipeline=plan".to_string(),
+            "handshake=valid".to_string(),
+        ]);
         given.extend(a.reference.iter().cloned());
         // the last value of a key wins, as on the command line
         let mut by_key: Vec<(String, String)> = Vec::new();

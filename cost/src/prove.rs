@@ -35,6 +35,7 @@
 //! [--verilog DIR] --in counterexample.txt` replays it in Verilator against
 //! the golden model.
 
+mod handshake;
 mod structural;
 
 use crate::synth::{tool, Tool};
@@ -438,14 +439,27 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
                 g.ports.top
             ));
         }
-        if g.ports.ready.is_some() {
-            return Err(format!(
-                "{}: handshake=ready: the proof compares fixed-latency pipelines; prove the core \
-                 (handshake=valid): the valid/ready wrapper adds no datapath and the stall tests \
-                 check it (docs/handshake.md)",
-                g.ports.top
-            ));
-        }
+    }
+    let handshake = dut.ports.ready.is_some();
+    if reference.ports.ready.is_some() || (handshake && reference.ports.latency != 0) {
+        return Err(format!(
+            "the reference {} must be handshake=valid{}: the proof compares with its outputs",
+            reference.ports.top,
+            if handshake { " and stages=0" } else { "" }
+        ));
+    }
+    if handshake && dut.ports.latency == 0 {
+        return Err(format!(
+            "{}: handshake=ready at stages=0 wraps a core that has the reference's module name; \
+             prove the wrapper at stages >= 1",
+            dut.ports.top
+        ));
+    }
+    if handshake && job.solver != Solver::Boolector {
+        return Err(
+            "a handshake=ready unit is checked by Boolector's bounded model check (the default solver)"
+                .into(),
+        );
     }
     let same_ports = |a: &[sim::Port], b: &[sim::Port]| {
         a.len() == b.len()
@@ -497,6 +511,20 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             }
         }
     }
+    let what = format!(
+        "{} ({} {}) ≡ {} ({} {})",
+        dut.ports.top,
+        dut.unit,
+        job.dut_verilog
+            .map(|d| format!("Verilog from {}", d.display()))
+            .unwrap_or_else(|| dut.param_args()),
+        reference.ports.top,
+        reference.unit,
+        reference.param_args()
+    );
+    if handshake {
+        return handshake_equiv(job, files, &what);
+    }
     let design_files = files.clone();
     // the structural proof compares the data outputs by its miter, not here
     let data = job.solver != Solver::Structural;
@@ -514,17 +542,6 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
     )
     .map_err(|e| e.to_string())?;
 
-    let what = format!(
-        "{} ({} {}) ≡ {} ({} {})",
-        dut.ports.top,
-        dut.unit,
-        job.dut_verilog
-            .map(|d| format!("Verilog from {}", d.display()))
-            .unwrap_or_else(|| dut.param_args()),
-        reference.ports.top,
-        reference.unit,
-        reference.param_args()
-    );
     let started = Instant::now();
     let (covered, verdict, log, how) = match job.solver {
         Solver::Sat => {
@@ -605,6 +622,36 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             log.display()
         ))),
     }
+}
+
+/// `equiv` of a valid/ready unit ([`handshake`]).
+fn handshake_equiv(job: &EquivJob, mut files: Vec<String>, what: &str) -> Result<Outcome, String> {
+    let latency = job.dut.ports.latency;
+    let wrap = handshake::wrapper(job.dut, job.reference)?;
+    std::fs::write(job.work.join("prove_handshake.v"), wrap).map_err(|e| e.to_string())?;
+    files.push("prove_handshake.v".into());
+    std::fs::write(
+        job.work.join("cover.ys"),
+        handshake::cover_script(&files, latency),
+    )
+    .map_err(|e| e.to_string())?;
+    let started = Instant::now();
+    let log = run_yosys_script(job.work, "cover.ys")?;
+    let covered = log.contains("SAT solving finished - model found");
+    std::fs::write(
+        job.work.join("prove.sby"),
+        handshake::sby_file(&files, latency),
+    )
+    .map_err(|e| format!("{}: {e}", job.work.display()))?;
+    let (verdict, _) = run_sby(job.work)?;
+    Ok(handshake::outcome(
+        what,
+        &verdict,
+        covered,
+        latency,
+        started.elapsed().as_secs_f64(),
+        job.work,
+    ))
 }
 
 /// Steps 1 and 2 of the structural proof (`structural` module doc): `None`

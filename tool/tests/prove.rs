@@ -330,8 +330,16 @@ fn bad_requests_are_errors() {
         ),
         (vec!["prove", "mulcmp", "-p", "dsp=ecp5"], "dsp=ecp5"),
         (
-            vec!["prove", "mulcmp", "-p", "handshake=ready"],
-            "prove the core (handshake=valid)",
+            vec!["prove", "mulcmp", "-p", "handshake=ready", "-p", "stages=0"],
+            "prove the wrapper at stages >= 1",
+        ),
+        (
+            vec!["prove", "mulcmp", "-p", "handshake=ready", "--solver", "sat"],
+            "checked by Boolector's bounded model check",
+        ),
+        (
+            vec!["prove", "mulcmp", "--solver", "structural", "--property", "sound"],
+            "--solver structural proves pipelines",
         ),
         (vec!["prove", "nosuchunit"], "nosuchunit"),
         (
@@ -1041,4 +1049,78 @@ fn triangle_lemmas(broken: Option<&str>) -> [String; 4] {
             format!("{l} proved")
         }
     })
+}
+
+/// A `handshake=ready` unit (issue 39's wrapper property): mulcmp's valid/ready
+/// wrapper at 1 and 2 stages proved (no transaction lost, duplicated or
+/// reordered, results the reference's, credits and latency as documented,
+/// bounded model check), and three planted wrapper bugs found: the FIFO's
+/// read pointer wrapping one slot early, no credit limit, and a result both
+/// delivered and pushed into the FIFO.
+#[test]
+fn the_valid_ready_wrapper_is_checked_and_planted_wrapper_bugs_are_found() {
+    let w = scratch("handshake");
+    let params = [
+        "-p",
+        "a_width=4",
+        "-p",
+        "b_width=4",
+        "-p",
+        "handshake=ready",
+    ];
+    for stages in ["stages=1", "stages=2"] {
+        let work = w.join(stages).display().to_string();
+        let mut args = vec!["prove", "mulcmp", "-p", stages];
+        args.extend(params);
+        args.extend(["--work", &work]);
+        let line = assert_proved(&args);
+        assert!(
+            line.contains("no transaction lost, duplicated or reordered")
+                && line.contains("bounded model check"),
+            "{line}"
+        );
+    }
+    let plants = [
+        (
+            "read_at",
+            "assign read_at_at_end = read_at == 2'd2;",
+            "assign read_at_at_end = read_at == 2'd1;",
+        ),
+        (
+            "credit",
+            "assign has_credit = ~(occupancy == 2'd3);",
+            "assign has_credit = 1'b1;",
+        ),
+        (
+            "push",
+            "assign push = u_core_out_valid & (~(fifo_empty & out_ready));",
+            "assign push = u_core_out_valid;",
+        ),
+    ];
+    for (name, from, to) in plants {
+        let rtl = w.join(format!("{name}-rtl"));
+        let rtl_s = rtl.display().to_string();
+        let mut emit = vec!["emit", "mulcmp", "-p", "stages=2"];
+        emit.extend(params);
+        emit.extend(["--out", &rtl_s]);
+        assert!(rtl_gen(&emit).status.success());
+        let top = rtl.join("mulcmp_a4_b4_s2_rdy.v");
+        let v = std::fs::read_to_string(&top).unwrap();
+        assert!(v.contains(from), "`{from}` is not in {}", top.display());
+        std::fs::write(&top, v.replacen(from, to, 1)).unwrap();
+        let work = w.join(format!("{name}-job")).display().to_string();
+        let mut prove = vec!["prove", "mulcmp", "-p", "stages=2"];
+        prove.extend(params);
+        prove.extend(["--verilog", &rtl_s, "--work", &work]);
+        let o = rtl_gen(&prove);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{name}: {t}");
+        let last = t.lines().last().unwrap_or("");
+        assert!(
+            last.starts_with("counterexample: ") && last.contains(" fails at cycle "),
+            "{name}: {t}"
+        );
+        let trace = Path::new(&work).join("sby/engine_0/trace.vcd");
+        assert!(trace.is_file(), "{name}: no trace {}", trace.display());
+    }
 }
