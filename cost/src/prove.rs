@@ -227,19 +227,41 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32, data: bool) -> Stri
     v
 }
 
-/// The Yosys script: read both designs and the wrapper, flatten, then the
-/// cover (`sat -seq`, asserts removed) and, with `proof`, the proof (`sat
-/// -tempinduct`).
-fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> String {
+/// The start of a Yosys script on a formal wrapper: `files` read, `top`
+/// flattened, asynchronous logic made synchronous, covers removed (a cover is
+/// run as a `sat -seq` of its signal).
+pub(crate) fn formal_prelude(files: &[String], top: &str) -> String {
     let mut s = String::new();
     for f in files {
         let _ = writeln!(s, "read_verilog -formal -sv {f}");
     }
+    let _ = writeln!(
+        s,
+        "prep -top {top}\nflatten\nopt -fast\nasync2sync\ndffunmap\nchformal -cover -remove"
+    );
+    s
+}
+
+/// The verdict of a Yosys `sat -prove` from its log.
+pub(crate) fn sat_proof_verdict(log: &str) -> Verdict {
+    if log.contains("SAT proof finished - no model found: SUCCESS!") {
+        Verdict::Proved
+    } else if log.contains("SAT proof finished - model found: FAIL!") {
+        Verdict::Failed
+    } else {
+        Verdict::Open
+    }
+}
+
+/// The Yosys script: read both designs and the wrapper, flatten, then the
+/// cover (`sat -seq`, asserts removed) and, with `proof`, the proof (`sat
+/// -tempinduct`).
+fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> String {
+    let mut s = formal_prelude(files, "prove_equiv");
     let depth = lag + 2;
     let _ = write!(
         s,
-        "prep -top prove_equiv\nflatten\nopt -fast\nasync2sync\ndffunmap\nchformal -cover -remove\n\
-         design -save proof\n\
+        "design -save proof\n\
          # cover: the outputs become valid after the reset\n\
          chformal -assert -remove\n\
          sat -seq {depth} -set-init init 1 -set-at {depth} dut_out_valid 1\n"
@@ -257,16 +279,24 @@ fn yosys_script(files: &[String], lag: u32, shown: &[String], proof: bool) -> St
     s
 }
 
-/// The SBY job on `files` with the top `top`, `smtbmc boolector`: with
-/// `Some(depth)` k-induction at that depth (`equiv`: `lag + 2`, since after
-/// `lag + 1` cycles every register of a feedback-free pipeline is a function
-/// of the inputs); with `None` one step of bounded model checking, which is
-/// a proof for a wrapper without state (`sound`'s) and runs one solver where
-/// induction would run two.
-fn sby_file(files: &[String], induction: Option<u32>, top: &str) -> String {
-    let (mode, depth) = match induction {
-        Some(depth) => ("prove", depth),
-        None => ("bmc", 1),
+/// What an SBY job checks.
+#[derive(Clone, Copy)]
+pub(crate) enum SbyCheck {
+    /// k-induction at this depth (`equiv`: `lag + 2`, since after `lag + 1`
+    /// cycles every register of a feedback-free pipeline is a function of the
+    /// inputs)
+    Induction(u32),
+    /// a bounded model check of this many steps from the reset (one step is
+    /// a proof for a wrapper without state, `sound`'s, and runs one solver
+    /// where induction would run two)
+    Bounded(u32),
+}
+
+/// The SBY job on `files` with the top `top`, `smtbmc boolector`.
+fn sby_file(files: &[String], check: SbyCheck, top: &str) -> String {
+    let (mode, depth) = match check {
+        SbyCheck::Induction(depth) => ("prove", depth),
+        SbyCheck::Bounded(depth) => ("bmc", depth),
     };
     let mut s = format!(
         "[options]\nmode {mode}\ndepth {depth}\n\n[engines]\nsmtbmc boolector\n\n[script]\n"
@@ -353,11 +383,11 @@ fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
 pub(crate) fn boolector_verdict(
     dir: &Path,
     files: &[String],
-    induction: Option<u32>,
+    check: SbyCheck,
     top: &str,
     sat_refutes: impl FnOnce() -> Result<bool, String>,
 ) -> Result<Verdict, String> {
-    std::fs::write(dir.join("prove.sby"), sby_file(files, induction, top))
+    std::fs::write(dir.join("prove.sby"), sby_file(files, check, top))
         .map_err(|e| format!("{}: {e}", dir.display()))?;
     let (verdict, _) = run_sby(dir)?;
     if let Verdict::Failed = verdict {
@@ -561,12 +591,18 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             )
             .map_err(|e| e.to_string())?;
             let (covered, _, _) = run_yosys(job.work, "cover.ys")?;
-            let verdict = boolector_verdict(job.work, &files, Some(lag + 2), "prove_equiv", || {
-                Ok(matches!(
-                    run_yosys(job.work, "prove.ys")?.1,
-                    Verdict::Failed
-                ))
-            })
+            let verdict = boolector_verdict(
+                job.work,
+                &files,
+                SbyCheck::Induction(lag + 2),
+                "prove_equiv",
+                || {
+                    Ok(matches!(
+                        run_yosys(job.work, "prove.ys")?.1,
+                        Verdict::Failed
+                    ))
+                },
+            )
             .map_err(|e| format!("{what}: {e}"))?;
             let depth = format!("depth {}", lag + 2);
             (
@@ -640,7 +676,11 @@ fn handshake_equiv(job: &EquivJob, mut files: Vec<String>, what: &str) -> Result
     let covered = log.contains("SAT solving finished - model found");
     std::fs::write(
         job.work.join("prove.sby"),
-        handshake::sby_file(&files, latency),
+        sby_file(
+            &files,
+            SbyCheck::Bounded(handshake::depth(latency)),
+            "prove_handshake",
+        ),
     )
     .map_err(|e| format!("{}: {e}", job.work.display()))?;
     let (verdict, _) = run_sby(job.work)?;
@@ -683,7 +723,7 @@ fn structural_data(
             return Ok(Some(structural::not_balanced(what, why)));
         }
     }
-    match structural::miter_verdict(&log) {
+    match sat_proof_verdict(&log) {
         Verdict::Proved => Ok(None),
         Verdict::Open => Err(format!(
             "{what}: the miter's sat gave no verdict ({})",

@@ -1707,13 +1707,7 @@ pub fn sound(
         if let Some(cut) = &cut {
             return split::verdict(log, cut);
         }
-        if log.contains("SAT proof finished - model found: FAIL!") {
-            Verdict::Failed
-        } else if log.contains("SAT proof finished - no model found: SUCCESS!") {
-            Verdict::Proved
-        } else {
-            Verdict::Open
-        }
+        crate::prove::sat_proof_verdict(log)
     };
     let covered_in = |log: &str| log.matches("SAT solving finished - model found").count();
     let (covered, verdict, log_path) = match solver {
@@ -1728,11 +1722,16 @@ pub fn sound(
         Solver::Boolector => {
             put("cover.ys", &cover_script)?;
             let covered = covered_in(&crate::prove::run_yosys_script(work, "cover.ys")?);
-            let verdict =
-                crate::prove::boolector_verdict(work, &files, None, "prove_sound", || {
+            let verdict = crate::prove::boolector_verdict(
+                work,
+                &files,
+                crate::prove::SbyCheck::Bounded(1),
+                "prove_sound",
+                || {
                     let log = crate::prove::run_yosys_script(work, "prove.ys")?;
                     Ok(matches!(yosys_verdict(&log), Verdict::Failed))
-                })?;
+                },
+            )?;
             let log = match verdict {
                 Verdict::Failed => "prove.log",
                 _ => "sby.log",

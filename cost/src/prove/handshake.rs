@@ -220,18 +220,12 @@ pub(super) fn wrapper(dut: &Generated, reference: &Generated) -> Result<String, 
 /// The Yosys script of the cover: the tracked delivery reached `latency + 3`
 /// cycles after the reset, assertions removed.
 pub(super) fn cover_script(files: &[String], latency: u32) -> String {
-    let mut s = String::new();
-    for f in files {
-        let _ = writeln!(s, "read_verilog -formal -sv {f}");
-    }
     let at = latency + 3;
-    let _ = write!(
-        s,
-        "prep -top prove_handshake\nflatten\nopt -fast\nasync2sync\ndffunmap\nchformal -cover -remove\n\
-         chformal -assert -remove\n\
-         sat -seq {at} -set-init init 1 -set-at {at} tracked_delivered 1\n"
-    );
-    s
+    super::formal_prelude(files, "prove_handshake")
+        + &format!(
+            "chformal -assert -remove\n\
+             sat -seq {at} -set-init init 1 -set-at {at} tracked_delivered 1\n"
+        )
 }
 
 /// The outcome of a proof whose SBY verdict is in.
@@ -268,22 +262,6 @@ pub(super) fn outcome(
             log.display()
         )),
     }
-}
-
-/// The SBY job: a bounded model check of `prove_handshake` to [`depth`].
-pub(super) fn sby_file(files: &[String], latency: u32) -> String {
-    let mut s = format!(
-        "[options]\nmode bmc\ndepth {}\n\n[engines]\nsmtbmc boolector\n\n[script]\n",
-        depth(latency)
-    );
-    for f in files {
-        let _ = writeln!(s, "read_verilog -formal -sv {f}");
-    }
-    s += "prep -top prove_handshake\n\n[files]\n";
-    for f in files {
-        let _ = writeln!(s, "{f} {f}");
-    }
-    s
 }
 
 /// The failing assertion's text and cycle, from SBY's summary line

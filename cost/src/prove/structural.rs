@@ -29,7 +29,7 @@
 //! pipeline that is not balanced gets no verdict from here (`not proved`,
 //! naming the cell where two stages meet): k-induction may still prove it.
 
-use super::{Outcome, Verdict};
+use super::Outcome;
 use serde_json::Value;
 use std::collections::BTreeMap;
 
@@ -390,17 +390,6 @@ module _register_as_wire (CLK, D, Q);
     assign Q = D;
 endmodule
 ";
-
-/// The miter's verdict from Yosys's log.
-pub(super) fn miter_verdict(log: &str) -> Verdict {
-    if log.contains("SAT proof finished - no model found: SUCCESS!") {
-        Verdict::Proved
-    } else if log.contains("SAT proof finished - model found: FAIL!") {
-        Verdict::Failed
-    } else {
-        Verdict::Open
-    }
-}
 
 /// `Outcome::Unknown` for a design the structural proof does not apply to.
 pub(super) fn not_balanced(what: &str, why: String) -> Outcome {
