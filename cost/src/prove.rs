@@ -292,8 +292,10 @@ pub(crate) enum SbyCheck {
     Bounded(u32),
 }
 
-/// The SBY job on `files` with the top `top`, `smtbmc boolector`.
-fn sby_file(files: &[String], check: SbyCheck, top: &str) -> String {
+/// The SBY job on `files` with the top `top`, `smtbmc boolector`; with
+/// `flatten`, flattened (which joins a wrapper's `hierconn` wires to the
+/// registers of the same names inside its instances).
+fn sby_file(files: &[String], check: SbyCheck, top: &str, flatten: bool) -> String {
     let (mode, depth) = match check {
         SbyCheck::Induction(depth) => ("prove", depth),
         SbyCheck::Bounded(depth) => ("bmc", depth),
@@ -304,7 +306,11 @@ fn sby_file(files: &[String], check: SbyCheck, top: &str) -> String {
     for f in files {
         let _ = writeln!(s, "read_verilog -formal -sv {f}");
     }
-    let _ = write!(s, "prep -top {top}\n\n[files]\n");
+    let _ = write!(
+        s,
+        "prep -top {top}{}\n\n[files]\n",
+        if flatten { "\nflatten" } else { "" }
+    );
     for f in files {
         // `dest source`: the job's sub-directories kept in SBY's copy
         let _ = writeln!(s, "{f} {f}");
@@ -387,7 +393,7 @@ pub(crate) fn boolector_verdict(
     top: &str,
     sat_refutes: impl FnOnce() -> Result<bool, String>,
 ) -> Result<Verdict, String> {
-    std::fs::write(dir.join("prove.sby"), sby_file(files, check, top))
+    std::fs::write(dir.join("prove.sby"), sby_file(files, check, top, false))
         .map_err(|e| format!("{}: {e}", dir.display()))?;
     let (verdict, _) = run_sby(dir)?;
     if let Verdict::Failed = verdict {
@@ -487,7 +493,7 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
     }
     if handshake && job.solver != Solver::Boolector {
         return Err(
-            "a handshake=ready unit is checked by Boolector's bounded model check (the default solver)"
+            "a handshake=ready unit is proved by k-induction with Boolector (the default solver)"
                 .into(),
         );
     }
@@ -660,30 +666,54 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
     }
 }
 
-/// `equiv` of a valid/ready unit ([`handshake`]).
-fn handshake_equiv(job: &EquivJob, mut files: Vec<String>, what: &str) -> Result<Outcome, String> {
+/// `equiv` of a valid/ready unit ([`handshake`]): k-induction on the
+/// wrapper with the invariants; when it does not close, a bounded search on
+/// the wrapper without them, which alone can report a counterexample.
+fn handshake_equiv(job: &EquivJob, files: Vec<String>, what: &str) -> Result<Outcome, String> {
     let latency = job.dut.ports.latency;
-    let wrap = handshake::wrapper(job.dut, job.reference)?;
-    std::fs::write(job.work.join("prove_handshake.v"), wrap).map_err(|e| e.to_string())?;
-    files.push("prove_handshake.v".into());
-    std::fs::write(
-        job.work.join("cover.ys"),
-        handshake::cover_script(&files, latency),
-    )
-    .map_err(|e| e.to_string())?;
+    let put = |name: &str, text: &str| {
+        std::fs::write(job.work.join(name), text).map_err(|e| format!("{name}: {e}"))
+    };
+    let with = |name: &str| {
+        let mut f = files.clone();
+        f.push(name.to_string());
+        f
+    };
+    let (inductive, plain) = (
+        with("prove_handshake_inductive.v"),
+        with("prove_handshake.v"),
+    );
+    put(
+        "prove_handshake_inductive.v",
+        &handshake::wrapper(job.dut, job.reference, true)?,
+    )?;
+    put(
+        "prove_handshake.v",
+        &handshake::wrapper(job.dut, job.reference, false)?,
+    )?;
+    put("cover.ys", &handshake::cover_script(&plain, latency))?;
     let started = Instant::now();
     let log = run_yosys_script(job.work, "cover.ys")?;
     let covered = log.contains("SAT solving finished - model found");
-    std::fs::write(
-        job.work.join("prove.sby"),
-        sby_file(
-            &files,
-            SbyCheck::Bounded(handshake::depth(latency)),
-            "prove_handshake",
-        ),
-    )
-    .map_err(|e| format!("{}: {e}", job.work.display()))?;
-    let (verdict, _) = run_sby(job.work)?;
+    let sby = |files: &[String], check: SbyCheck| {
+        put(
+            "prove.sby",
+            &sby_file(files, check, "prove_handshake", true),
+        )?;
+        run_sby(job.work).map(|(v, _)| v)
+    };
+    let mut verdict = sby(&inductive, SbyCheck::Induction(handshake::depth(latency)))?;
+    if !matches!(verdict, Verdict::Proved) {
+        // the induction failed or did not close: look for a counterexample to
+        // the properties alone, to a bound above the wrapper's reachable diameter
+        let kept = job.work.join("induction.log");
+        std::fs::rename(job.work.join("sby.log"), &kept)
+            .map_err(|e| format!("{}: {e}", kept.display()))?;
+        verdict = match sby(&plain, SbyCheck::Bounded(handshake::search_depth(latency)))? {
+            Verdict::Failed => Verdict::Failed,
+            _ => Verdict::Open,
+        };
+    }
     Ok(handshake::outcome(
         what,
         &verdict,

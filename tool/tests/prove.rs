@@ -335,7 +335,7 @@ fn bad_requests_are_errors() {
         ),
         (
             vec!["prove", "mulcmp", "-p", "handshake=ready", "--solver", "sat"],
-            "checked by Boolector's bounded model check",
+            "proved by k-induction with Boolector",
         ),
         (
             vec!["prove", "mulcmp", "--solver", "structural", "--property", "sound"],
@@ -1054,7 +1054,7 @@ fn triangle_lemmas(broken: Option<&str>) -> [String; 4] {
 /// A `handshake=ready` unit (issue 39's wrapper property): mulcmp's valid/ready
 /// wrapper at 1 and 2 stages proved (no transaction lost, duplicated or
 /// reordered, results the reference's, credits and latency as documented,
-/// bounded model check), and three planted wrapper bugs found: the FIFO's
+/// k-induction), and three planted wrapper bugs found: the FIFO's
 /// read pointer wrapping one slot early, no credit limit, and a result both
 /// delivered and pushed into the FIFO.
 #[test]
@@ -1076,7 +1076,7 @@ fn the_valid_ready_wrapper_is_checked_and_planted_wrapper_bugs_are_found() {
         let line = assert_proved(&args);
         assert!(
             line.contains("no transaction lost, duplicated or reordered")
-                && line.contains("bounded model check"),
+                && line.contains("k-induction"),
             "{line}"
         );
     }

@@ -1,7 +1,6 @@
 //! `equiv` of a `handshake=ready` unit (docs/handshake.md): the valid/ready
 //! wrapper loses, duplicates and reorders no transaction under any stall
-//! pattern within the bound below, and its data are the combinational
-//! reference's.
+//! pattern, and its data are the combinational reference's.
 //!
 //! The wrapper module `prove_handshake` drives the unit with free inputs,
 //! `in_valid` and `out_ready` on every cycle after a reset in the first, and
@@ -22,29 +21,43 @@
 //!   cycles after it entered, and waits in the FIFO with `out_valid` high
 //!   after that): a transaction that never comes out fails here.
 //!
-//! A cover shows the tracked delivery is reached. The check is **bounded**:
-//! SymbiYosys's bounded model check with Boolector from the reset, every
-//! input, valid and stall pattern of the first `D` cycles ([`depth`]).
-//! k-induction does not close here without invariants on the wrapper's
-//! internals (a state in which the unit's credit count and `outstanding`
-//! differ survives any number of steps while the producer keeps it busy), so
-//! the bound is chosen above the wrapper's reachable diameter instead (an
-//! argument, not a proof): its control state (credits, FIFO count, both
-//! pointers, the core's valid bits) takes every value it can within
-//! `4·(latency + 1) + latency` cycles of the reset (fill the credits, stall,
-//! drain, with the pointers turned to any slot), and a transaction tracked in
-//! any of those states is delivered within `latency + 1` more cycles while
-//! the consumer keeps up. Longer runs revisit those states with other data.
+//! A cover shows the tracked delivery is reached. The proof is
+//! SymbiYosys's k-induction with Boolector ([`depth`]). The properties above
+//! alone are not inductive: a state in which the unit's credit count and
+//! `outstanding` differ breaks none of them for as long as the producer
+//! keeps the unit busy, and a wrong value waiting in the FIFO breaks none
+//! until the consumer takes it. So the wrapper also asserts **invariants on
+//! the unit's own registers**, which it reads by name (`hierconn` wires that
+//! Yosys joins to `u_dut.occupancy` and the rest when it flattens; a name
+//! that does not exist stays a free value, and the base case then fails):
+//! the credits equal `outstanding`; `outstanding` = the FIFO's count + the
+//! core's valid bits; the write pointer is the read pointer plus the count;
+//! a pointer names a slot; the tracked transaction is outstanding, and while
+//! it waits in the FIFO its slot (read pointer + older ones) holds the
+//! reference's outputs. With them the induction closes once the core's
+//! pipeline has flushed. When it fails or does not close, the invariants are
+//! not the specification: a bounded model check of the wrapper without them,
+//! to [`search_depth`], looks for a counterexample to the properties, and
+//! only that is reported as one.
 
 use super::Outcome;
 use rtl_flow::Generated;
 use std::fmt::Write as _;
 
-/// The bound `D` of the check (module doc): the wrapper's control state
-/// reaches each of its values within `4·(latency + 1) + latency` cycles of
-/// the reset, and a transaction tracked there is delivered within `latency +
-/// 1` more cycles while the consumer keeps up; one more for the reset.
+/// The k-induction depth (module doc): the invariants tie every register of
+/// the wrapper to the counts, so only the core's pipeline is left to flush,
+/// `latency` cycles; two more for margin (the proof closes at `latency + 1`
+/// on mulcmp at 2 stages).
 pub(super) fn depth(latency: u32) -> u32 {
+    latency + 3
+}
+
+/// How deep a bug is looked for when the induction does not close: above
+/// the wrapper's reachable diameter (its control state takes each of its
+/// values within `4·(latency + 1) + latency` cycles of the reset: fill the
+/// credits, stall, drain, the pointers turned to any slot), then `latency +
+/// 1` cycles to deliver a transaction tracked there, and one for the reset.
+pub(super) fn search_depth(latency: u32) -> u32 {
     5 * (latency + 1) + latency + 2
 }
 
@@ -54,7 +67,13 @@ fn bits_for(n: u32) -> u32 {
 }
 
 /// The wrapper module `prove_handshake` (module doc).
-pub(super) fn wrapper(dut: &Generated, reference: &Generated) -> Result<String, String> {
+/// With `invariants`, also the invariants on the unit's registers (module
+/// doc), for the induction; without, only the properties, for the search.
+pub(super) fn wrapper(
+    dut: &Generated,
+    reference: &Generated,
+    invariants: bool,
+) -> Result<String, String> {
     let p = &dut.ports;
     let r = &reference.ports;
     let ready = p
@@ -105,6 +124,42 @@ pub(super) fn wrapper(dut: &Generated, reference: &Generated) -> Result<String, 
         let _ = writeln!(v, "    (* keep *) wire {}dut_{};", range(x.width), x.name);
         let _ = writeln!(v, "    wire {}ref_{};", range(x.width), x.name);
     }
+    // the wrapper's own registers, joined by name when Yosys flattens it
+    // (`hierconn`): the invariants that let k-induction close (module doc)
+    let depth_fifo = rtl_gen::handshake::fifo_depth(latency);
+    let count_w = rtl_gen::arith::int::bits_for(u64::from(depth_fifo));
+    let at_w = rtl_gen::arith::int::bits_for(u64::from(depth_fifo - 1));
+    for (name, w) in [
+        ("occupancy", count_w),
+        ("fifo_count", count_w),
+        ("read_at", at_w),
+        ("write_at", at_w),
+    ]
+    .into_iter()
+    .filter(|_| invariants)
+    {
+        let _ = writeln!(
+            v,
+            "    (* hierconn, keep *) wire {}\\u_dut.{name} ;",
+            range(w)
+        );
+    }
+    for j in (1..=latency).filter(|_| invariants) {
+        let _ = writeln!(
+            v,
+            "    (* hierconn, keep *) wire \\u_dut.u_core.valid_s{j} ;"
+        );
+    }
+    for i in (0..depth_fifo).filter(|_| invariants) {
+        for x in &p.outputs {
+            let _ = writeln!(
+                v,
+                "    (* hierconn, keep *) wire {}\\u_dut.fifo{i}_{} ;",
+                range(x.width),
+                x.name
+            );
+        }
+    }
     let mut conns = vec![
         format!(".{}(clk)", p.clock),
         format!(".{}(rst)", p.reset),
@@ -154,6 +209,17 @@ pub(super) fn wrapper(dut: &Generated, reference: &Generated) -> Result<String, 
         c = range(cw),
         s = range(sw),
     );
+    if invariants {
+        let sum_w = cw.max(at_w) + 1;
+        let _ = writeln!(
+            v,
+            "    // the FIFO slot of the tracked transaction while it waits there
+    wire [{}:0] tracked_slot = ({{{}'d0, \\u_dut.read_at }} + {{{}'d0, ahead}}) % {sum_w}'d{depth_fifo};",
+            at_w - 1,
+            sum_w - at_w,
+            sum_w - cw
+        );
+    }
     for x in &p.outputs {
         let _ = writeln!(v, "    reg {}expect_{};", range(x.width), x.name);
     }
@@ -206,6 +272,41 @@ pub(super) fn wrapper(dut: &Generated, reference: &Generated) -> Result<String, 
 ",
         quiet = latency.saturating_sub(1),
     );
+    // invariants: the wrapper's registers agree with the counts (module doc),
+    // compared at count_w + 1 bits
+    let iw = count_w + 1;
+    if invariants {
+        let widen = |e: &str, w: u32| format!("{{{}'d0, {e}}}", iw - w);
+        let in_core: Vec<String> = (1..=latency)
+            .map(|j| widen(&format!("\\u_dut.u_core.valid_s{j} "), 1))
+            .collect();
+        let _ = write!(
+        v,
+        "            assert (\\u_dut.occupancy  == outstanding);  // invariant: the credits count what is outstanding
+            assert ({occupancy} == {stored} + {in_core});  // invariant: outstanding = in the FIFO + in the core
+            assert ({write_at} == ({read_at} + {stored}) % {iw}'d{depth_fifo});  // invariant: the FIFO's pointers differ by its count
+            assert ({read_at} < {iw}'d{depth_fifo});  // invariant: a pointer names a slot
+            if (tracking) assert (ahead < outstanding);  // invariant: the tracked transaction is outstanding
+",
+        occupancy = widen("\\u_dut.occupancy ", count_w),
+        stored = widen("\\u_dut.fifo_count ", count_w),
+        in_core = in_core.join(" + "),
+        write_at = widen("\\u_dut.write_at ", at_w),
+        read_at = widen("\\u_dut.read_at ", at_w),
+    );
+        for x in &p.outputs {
+            let slot = |i: u32| format!("\\u_dut.fifo{i}_{} ", x.name);
+            let mut pick_slot = slot(depth_fifo - 1);
+            for i in (0..depth_fifo - 1).rev() {
+                pick_slot = format!("(tracked_slot == {at_w}'d{i}) ? {} : {pick_slot}", slot(i));
+            }
+            let _ = writeln!(
+            v,
+            "            if (tracking & (ahead < \\u_dut.fifo_count )) assert (({pick_slot}) == expect_{});  // invariant: a tracked result in the FIFO is the reference's",
+            x.name
+        );
+        }
+    }
     for x in &p.outputs {
         let _ = writeln!(
             v,
@@ -247,7 +348,11 @@ pub(super) fn outcome(
             log.display()
         )),
         super::Verdict::Open => Outcome::Unknown(format!(
-            "{what}: no verdict at depth {depth} ({})",
+            "{what}: the induction with the wrapper's invariants did not close at depth {depth} \
+             ({}: a wrapper unlike the generated one breaks them), and no property fails in \
+             the first {} cycles after the reset ({})",
+            dir.join("induction.log").display(),
+            search_depth(latency),
             log.display()
         )),
         super::Verdict::Proved if !covered => Outcome::Unknown(format!(
@@ -255,10 +360,9 @@ pub(super) fn outcome(
             dir.join("prove.log").display()
         )),
         super::Verdict::Proved => Outcome::Proved(format!(
-            "{what}: no transaction lost, duplicated or reordered, every output the reference's, \
-             credits and latency as documented, for every input, valid and stall pattern of the \
-             first {depth} cycles after the reset (bounded model check, Boolector; \
-             {seconds:.1} s; {})",
+            "{what}: no transaction lost, duplicated or reordered under any stall pattern, every \
+             output the reference's, credits and latency as documented (k-induction, Boolector, \
+             depth {depth}; {seconds:.1} s; {})",
             log.display()
         )),
     }
