@@ -235,7 +235,8 @@ fn a_valid_bit_one_stage_early_is_found() {
 
 /// `--solver structural` (no k-induction): the triangle's pipelines, which
 /// k-induction does not finish, proved at e2m1 in both placements and two
-/// depths; the same two planted bugs found on mulcmp (the wrong comparison by
+/// depths, and the shipped binary32 node tester at 4 stages; the same two
+/// planted bugs found on mulcmp (the wrong comparison by
 /// the register-free miter, replayed in Verilator; the early valid bit by the
 /// induction on out_valid); and a pipeline with one path a register short
 /// refused, naming the cell where the stages meet.
@@ -264,6 +265,21 @@ fn the_structural_proof_proves_the_triangle_pipelines_and_finds_planted_bugs() {
             assert!(line.contains("both pipelines balanced"), "{line}");
         }
     }
+    // the shipped binary32 node tester (N = 4, q = 8) at 4 stages, whole products
+    let work = w.join("node-binary32").display().to_string();
+    let line = assert_proved(&[
+        "prove",
+        "node",
+        "-p",
+        "stages=4",
+        "-p",
+        "products=whole",
+        "--solver",
+        "structural",
+        "--work",
+        &work,
+    ]);
+    assert!(line.contains("node_n4_q8_m9_e8m23_whole_s4"), "{line}");
     planted(
         "structural-compare",
         "assign ab_lt_cd = u_mul_ab_p < u_mul_cd_p;",
