@@ -4,7 +4,8 @@
 # stages=0. Prints a markdown table (unit, parameters, depth, placement, result, seconds) and
 # exits 1 if any proof fails. Usage: bash scripts/prove-equiv.sh [rtl-gen binary] > table.md
 # (docs/proofs.md has the last run's table and its time). PROVE_TIMEOUT: seconds per proof;
-# PROVE_SOLVER: boolector (default) or sat (rtl-gen prove --solver).
+# PROVE_SOLVER: boolector (default), sat or structural (rtl-gen prove --solver); PROVE_HANDSHAKE=1
+# adds each unit's valid/ready wrapper at 2 stages (-p handshake=ready), =only runs just those.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bin="${1:-target/release/rtl-gen}"
@@ -33,26 +34,44 @@ units=$("$bin" list | grep -E '^[a-z0-9_]+:' | cut -d: -f1)
 echo "| unit | parameters | stages | pipeline | result | seconds |"
 echo "|---|---|---|---|---|---|"
 failed=0
-for u in $units; do
-    for s in 2 4; do
-        for p in plan balanced; do
-            t0=$(date +%s.%N)
-            # shellcheck disable=SC2046
-            out=$(timeout "$limit" "$bin" prove "$u" $(small "$u") -p stages=$s -p pipeline=$p \
-                --solver "$solver" --work "out/prove-equiv/$u-s$s-$p" 2>&1)
-            rc=$?
-            line=$(tail -1 <<< "$out")
-            t1=$(date +%s.%N)
-            [ $rc -eq 124 ] && line="timeout"
-            case "$line" in
-                proved:*) result="proved" ;;
-                timeout) result="not finished in $limit s"; failed=1 ;;
-                counterexample:*) result="**counterexample**"; failed=1 ;;
-                *) result="error: ${line//|/\\|}"; failed=1 ;;
-            esac
-            printf '| %s | %s | %s | %s | %s | %.1f |\n' "$u" "$(small "$u" | sed 's/-p //g')" \
-                "$s" "$p" "$result" "$(awk "BEGIN { print $t1 - $t0 }")"
+# one proof, one row: unit, stages, placement, the placement column's text, the job
+# directory, then the proof's own arguments
+row() {
+    local u=$1 s=$2 p=$3 shown=$4 job=$5
+    shift 5
+    local t0 t1 out rc line result
+    t0=$(date +%s.%N)
+    # shellcheck disable=SC2046
+    out=$(timeout "$limit" "$bin" prove "$u" $(small "$u") -p stages="$s" -p pipeline="$p" \
+        "$@" --work "out/prove-equiv/$job" 2>&1)
+    rc=$?
+    line=$(tail -1 <<< "$out")
+    t1=$(date +%s.%N)
+    [ $rc -eq 124 ] && line="timeout"
+    case "$line" in
+        proved:*) result="proved" ;;
+        timeout) result="not finished in $limit s"; failed=1 ;;
+        counterexample:*) result="**counterexample**"; failed=1 ;;
+        *) result="error: ${line//|/\\|}"; failed=1 ;;
+    esac
+    printf '| %s | %s | %s | %s | %s | %.1f |\n' "$u" "$(small "$u" | sed 's/-p //g')" \
+        "$s" "$shown" "$result" "$(awk "BEGIN { print $t1 - $t0 }")"
+}
+handshake="${PROVE_HANDSHAKE:-0}"
+if [ "$handshake" != only ]; then
+    for u in $units; do
+        for s in 2 4; do
+            for p in plan balanced; do
+                row "$u" "$s" "$p" "$p" "$u-s$s-$p" --solver "$solver"
+            done
         done
     done
-done
+fi
+# PROVE_HANDSHAKE=1 (or only): each unit's valid/ready wrapper at 2 stages (k-induction,
+# Boolector)
+if [ "$handshake" != 0 ]; then
+    for u in $units; do
+        row "$u" 2 plan "plan, handshake=ready" "$u-s2-ready" -p handshake=ready
+    done
+fi
 exit $failed
