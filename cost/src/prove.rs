@@ -85,6 +85,36 @@ pub struct EquivJob<'a> {
     pub solver: Solver,
 }
 
+/// A Verilog bit range for a `w`-bit wire, with its trailing space (none
+/// for one bit).
+pub(crate) fn verilog_range(w: u32) -> String {
+    if w == 1 {
+        String::new()
+    } else {
+        format!("[{}:0] ", w - 1)
+    }
+}
+
+/// A module instance `top name (conns...);` in a formal wrapper.
+pub(crate) fn instance(top: &str, name: &str, conns: &[String]) -> String {
+    format!(
+        "    {top} {name} (\n        {}\n    );",
+        conns.join(",\n        ")
+    )
+}
+
+/// Whether a Yosys `sat -seq` (a cover) found its trace.
+fn cover_reached(log: &str) -> bool {
+    log.contains("SAT solving finished - model found")
+}
+
+impl EquivJob<'_> {
+    /// Writes `text` to the file `name` of the job directory.
+    fn put(&self, name: &str, text: &str) -> Result<(), String> {
+        std::fs::write(self.work.join(name), text).map_err(|e| format!("{name}: {e}"))
+    }
+}
+
 /// The wrapper module `prove_equiv`; without `data`, only `out_valid` is
 /// compared (the data outputs left unconnected, for `--solver structural`).
 fn wrapper(dut: &Generated, reference: &Generated, lag: u32, data: bool) -> String {
@@ -96,13 +126,7 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32, data: bool) -> Stri
         v.push('\n');
         v.matches('\n').count()
     };
-    let range = |w: u32| {
-        if w == 1 {
-            String::new()
-        } else {
-            format!("[{}:0] ", w - 1)
-        }
-    };
+    let range = verilog_range;
     line(
         &mut v,
         format!(
@@ -153,14 +177,7 @@ fn wrapper(dut: &Generated, reference: &Generated, lag: u32, data: bool) -> Stri
                 format!(".{}()", x.name)
             }
         }));
-        line(
-            &mut v,
-            format!(
-                "    {} u_{who} (\n        {}\n    );",
-                g.top,
-                conns.join(",\n        ")
-            ),
-        );
+        line(&mut v, instance(&g.top, &format!("u_{who}"), &conns));
     }
     // the reference delayed by `lag` cycles: `<name>_d{lag}`
     let delayed = |name: &str| {
@@ -457,7 +474,7 @@ fn run_yosys_logged(dir: &Path, script: &str, log: &str) -> Result<String, Strin
 fn run_yosys(dir: &Path, script: &str) -> Result<(bool, Verdict, String), String> {
     let log = run_yosys_script(dir, script)?;
     // the cover's `sat -seq` comes first in the log, the induction after it
-    let covered = log.contains("SAT solving finished - model found");
+    let covered = cover_reached(&log);
     let verdict = if log.contains("Induction step proven: SUCCESS!") {
         Verdict::Proved
     } else if log.contains("model found for base case: FAIL!") {
@@ -674,9 +691,6 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
 /// the wrapper without them, which alone can report a counterexample.
 fn handshake_equiv(job: &EquivJob, files: Vec<String>, what: &str) -> Result<Outcome, String> {
     let latency = job.dut.ports.latency;
-    let put = |name: &str, text: &str| {
-        std::fs::write(job.work.join(name), text).map_err(|e| format!("{name}: {e}"))
-    };
     let with = |name: &str| {
         let mut f = files.clone();
         f.push(name.to_string());
@@ -686,20 +700,20 @@ fn handshake_equiv(job: &EquivJob, files: Vec<String>, what: &str) -> Result<Out
         with("prove_handshake_inductive.v"),
         with("prove_handshake.v"),
     );
-    put(
+    job.put(
         "prove_handshake_inductive.v",
         &handshake::wrapper(job.dut, job.reference, true)?,
     )?;
-    put(
+    job.put(
         "prove_handshake.v",
         &handshake::wrapper(job.dut, job.reference, false)?,
     )?;
-    put("cover.ys", &handshake::cover_script(&plain, latency))?;
+    job.put("cover.ys", &handshake::cover_script(&plain, latency))?;
     let started = Instant::now();
     let log = run_yosys_script(job.work, "cover.ys")?;
-    let covered = log.contains("SAT solving finished - model found");
+    let covered = cover_reached(&log);
     let sby = |files: &[String], check: SbyCheck| {
-        put(
+        job.put(
             "prove.sby",
             &sby_file(files, check, "prove_handshake", true),
         )?;
@@ -736,11 +750,8 @@ fn structural_data(
     what: &str,
 ) -> Result<Option<Outcome>, String> {
     let (dut, reference) = (&job.dut.ports, &job.reference.ports);
-    let put = |name: &str, text: &str| {
-        std::fs::write(job.work.join(name), text).map_err(|e| format!("{name}: {e}"))
-    };
-    put("registers_as_wires.v", structural::REGISTERS_AS_WIRES)?;
-    put(
+    job.put("registers_as_wires.v", structural::REGISTERS_AS_WIRES)?;
+    job.put(
         "structure.ys",
         &structural::miter_script(files, &reference.top, &dut.top, &dut.reset),
     )?;

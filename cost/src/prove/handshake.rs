@@ -42,6 +42,7 @@
 
 use super::Outcome;
 use rtl_flow::Generated;
+use rtl_gen::arith::int::bits_for;
 use std::fmt::Write as _;
 
 /// The k-induction depth (module doc): the invariants tie every register of
@@ -61,11 +62,6 @@ pub(super) fn search_depth(latency: u32) -> u32 {
     5 * (latency + 1) + latency + 2
 }
 
-/// Bits for a count up to `n`.
-fn bits_for(n: u32) -> u32 {
-    32 - n.leading_zeros().min(31)
-}
-
 /// The wrapper module `prove_handshake` (module doc).
 /// With `invariants`, also the invariants on the unit's registers (module
 /// doc), for the induction; without, only the properties, for the search.
@@ -82,15 +78,9 @@ pub(super) fn wrapper(
         .ok_or("the unit has no valid/ready ports")?;
     let latency = p.latency;
     let cap = latency + 1;
-    let cw = bits_for(cap + 1);
-    let sw = bits_for(latency + 1);
-    let range = |w: u32| {
-        if w == 1 {
-            String::new()
-        } else {
-            format!("[{}:0] ", w - 1)
-        }
-    };
+    let cw = bits_for(u64::from(cap + 1));
+    let sw = bits_for(u64::from(latency + 1));
+    let range = super::verilog_range;
     let mut v = String::new();
     let _ = writeln!(
         v,
@@ -127,8 +117,8 @@ pub(super) fn wrapper(
     // the wrapper's own registers, joined by name when Yosys flattens it
     // (`hierconn`): the invariants that let k-induction close (module doc)
     let depth_fifo = rtl_gen::handshake::fifo_depth(latency);
-    let count_w = rtl_gen::arith::int::bits_for(u64::from(depth_fifo));
-    let at_w = rtl_gen::arith::int::bits_for(u64::from(depth_fifo - 1));
+    let count_w = bits_for(u64::from(depth_fifo));
+    let at_w = bits_for(u64::from(depth_fifo - 1));
     for (name, w) in [
         ("occupancy", count_w),
         ("fifo_count", count_w),
@@ -170,12 +160,7 @@ pub(super) fn wrapper(
     ];
     conns.extend(p.inputs.iter().map(|x| format!(".{0}({0})", x.name)));
     conns.extend(p.outputs.iter().map(|x| format!(".{0}(dut_{0})", x.name)));
-    let _ = writeln!(
-        v,
-        "    {} u_dut (\n        {}\n    );",
-        p.top,
-        conns.join(",\n        ")
-    );
+    let _ = writeln!(v, "{}", super::instance(&p.top, "u_dut", &conns));
     let mut conns = vec![
         format!(".{}(clk)", r.clock),
         format!(".{}(rst)", r.reset),
@@ -184,12 +169,7 @@ pub(super) fn wrapper(
     ];
     conns.extend(r.inputs.iter().map(|x| format!(".{0}({0})", x.name)));
     conns.extend(r.outputs.iter().map(|x| format!(".{0}(ref_{0})", x.name)));
-    let _ = writeln!(
-        v,
-        "    {} u_ref (\n        {}\n    );",
-        r.top,
-        conns.join(",\n        ")
-    );
+    let _ = writeln!(v, "{}", super::instance(&r.top, "u_ref", &conns));
     let _ = write!(
         v,
         "    wire accept = in_valid & dut_in_ready;
