@@ -169,15 +169,6 @@ impl Out {
             Verdict::Mixed
         }
     }
-    /// The output port packed: bit 0 all_hit, 1 any_hit, 2 nan, 3 invalid,
-    /// 4 mixed_sign.
-    pub fn to_bits(&self) -> u8 {
-        self.all_hit as u8
-            | (self.any_hit as u8) << 1
-            | (self.nan as u8) << 2
-            | (self.invalid as u8) << 3
-            | (self.mixed_sign as u8) << 4
-    }
 }
 
 /// The six silhouette edges: `(i, j)` pairs the entry (near) plane of axis

@@ -771,6 +771,67 @@ fn bad_input_reports_every_valid_slot() {
     assert!(out.slots.iter().any(|s| s.child == 0 && !s.hit));
 }
 
+/// The `node` unit's model flags every bad ray with `bad` and every valid slot
+/// a hit at entry 0; each condition alone, on a ray that is good without it
+/// (docs/node.md §12, "Bad input").
+#[test]
+fn reorigin_bad_input_reports_every_valid_slot() {
+    use golden_model::node_reorigin::{eval as eval_reorigin, ReoriginParams};
+    let fmt = FloatFormat::BINARY32;
+    let rp = ReoriginParams::new(fmt, 4, 8);
+    let f = |v: f32| v.to_bits() as u64;
+    let node = NodeIn {
+        origin: [0; 3],
+        exp: [0; 3],
+        valid: 0b0111,
+        lo: [[0; 3]; 8],
+        hi: [[1; 3]; 8],
+    };
+    // d = (1, 2, 4), inv_d exact: a good ray through the unit cube
+    let ray = Ray {
+        o: [f(-1.0), f(-0.5), f(-0.25)],
+        inv_d: [f(1.0), f(0.5), f(0.25)],
+        t_min: f(0.0),
+        t_max: f(f32::INFINITY),
+    };
+    let d = [f(1.0), f(2.0), f(4.0)];
+    let start = f(0.0);
+    let good = eval_reorigin(&rp, &ray, d, start, &node);
+    assert!(!good.bad);
+    let nan = fmt.canonical_nan();
+    let mut cases = vec![];
+    for a in 0..3 {
+        let (mut r, mut dd) = (ray, d);
+        r.inv_d[a] = fmt.zero(false); // a zero reciprocal of a nonzero d
+        cases.push((r, dd, start, "inv_d = +0"));
+        r = ray;
+        r.inv_d[a] = fmt.zero(true);
+        cases.push((r, dd, start, "inv_d = -0"));
+        r = ray;
+        r.inv_d[a] = fmt.inf(false); // an infinite reciprocal of a nonzero d
+        cases.push((r, dd, start, "inv_d = inf, d != 0"));
+        r = ray;
+        r.inv_d[a] = nan;
+        cases.push((r, dd, start, "inv_d NaN"));
+        dd[a] = fmt.zero(false); // a zero d whose reciprocal is finite
+        cases.push((ray, dd, start, "d = 0, inv_d finite"));
+        dd = d;
+        dd[a] = fmt.inf(false);
+        cases.push((ray, dd, start, "d infinite"));
+        r = ray;
+        r.o[a] = fmt.inf(true);
+        cases.push((r, d, start, "o infinite"));
+    }
+    cases.push((ray, d, nan, "t_start NaN"));
+    for (r, dd, s, what) in cases {
+        let out = eval_reorigin(&rp, &r, dd, s, &node);
+        assert!(out.bad, "{what}: {r:?} d {dd:?}");
+        for slot in &out.slots {
+            assert_eq!(slot.hit, node.valid >> slot.child & 1 == 1, "{what}");
+        }
+    }
+}
+
 #[test]
 fn fixed_cases() {
     let fmt = FloatFormat::BINARY32;
