@@ -36,6 +36,7 @@
 //! the golden model.
 
 mod handshake;
+mod stand_in;
 mod structural;
 
 use crate::synth::{tool, Tool};
@@ -511,9 +512,10 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
             dut.ports.top
         ));
     }
-    if handshake && job.solver != Solver::Boolector {
+    if handshake && job.solver == Solver::Sat {
         return Err(
-            "a handshake=ready unit is proved by k-induction with Boolector (the default solver)"
+            "a handshake=ready unit is proved by k-induction with Boolector (the default solver), \
+             or with a stand-in core (--solver structural)"
                 .into(),
         );
     }
@@ -578,6 +580,9 @@ pub fn equiv(job: &EquivJob) -> Result<Outcome, String> {
         reference.unit,
         reference.param_args()
     );
+    if handshake && job.solver == Solver::Structural {
+        return handshake_stand_in(job, &files, &what);
+    }
     if handshake {
         return handshake_equiv(job, files, &what);
     }
@@ -739,6 +744,118 @@ fn handshake_equiv(job: &EquivJob, files: Vec<String>, what: &str) -> Result<Out
         started.elapsed().as_secs_f64(),
         job.work,
     ))
+}
+
+/// `equiv` of a valid/ready unit in three proofs ([`stand_in`]): its core
+/// by the structural proof, its data inputs read by the core alone, and the
+/// wrapper around a stand-in core by [`handshake_equiv`].
+fn handshake_stand_in(job: &EquivJob, files: &[String], what: &str) -> Result<Outcome, String> {
+    let started = Instant::now();
+    let dut = job.dut;
+    let core_module = dut
+        .module
+        .instances
+        .iter()
+        .find(|i| i.name == "u_core")
+        .map(|i| (*i.module).clone())
+        .ok_or_else(|| format!("{}: the wrapper has no instance u_core", dut.ports.top))?;
+    let name = core_module.name.clone();
+    // the stand-ins first: a unit with too few input bits is refused at once
+    let stand_in_files = [
+        ("stand_in/core.v", stand_in::core(&dut.ports, &name)?),
+        (
+            "stand_in/reference.v",
+            stand_in::reference(&job.reference.ports, &job.reference.ports.top)?,
+        ),
+    ];
+    // 1. the core, from the design's own files
+    let mut ports = dut.ports.clone();
+    ports.top = name.clone();
+    ports.ready = None;
+    // the core's parameters are the design's with handshake=valid
+    let mut given: Vec<String> = dut
+        .params
+        .values()
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    given.push("handshake=valid".into());
+    let entry = rtl_flow::find(&dut.unit).map_err(|e| e.to_string())?;
+    let params = rtl_flow::params::resolve(&dut.unit, &rtl_flow::param_specs(&entry), &given)
+        .map_err(|e| e.to_string())?;
+    let core = Generated {
+        unit: dut.unit.clone(),
+        params,
+        module: core_module,
+        files: dut
+            .files
+            .iter()
+            .filter(|f| f.module != dut.ports.top)
+            .cloned()
+            .collect(),
+        ports,
+        balance: None,
+    };
+    let core_work = job.work.join("core");
+    let core_proof = match equiv(&EquivJob {
+        dut: &core,
+        dut_verilog: job.dut_verilog,
+        reference: job.reference,
+        work: &core_work,
+        solver: Solver::Structural,
+    })? {
+        Outcome::Proved(m) => m,
+        Outcome::Counterexample(m) => {
+            return Ok(Outcome::Counterexample(format!("{what}: its core: {m}")))
+        }
+        Outcome::Unknown(m) => return Ok(Outcome::Unknown(format!("{what}: its core: {m}"))),
+    };
+    // 2. the wrapper's data inputs reach its core alone
+    let rdy = dut
+        .files
+        .iter()
+        .find(|f| f.module == dut.ports.top)
+        .ok_or_else(|| format!("{}: no file of the wrapper module", dut.ports.top))?;
+    std::fs::create_dir_all(job.work.join("stand_in")).map_err(|e| e.to_string())?;
+    for (f, text) in &stand_in_files {
+        job.put(f, text)?;
+    }
+    let wrapper_file = files
+        .iter()
+        .find(|f| f.ends_with(&format!("/{}", rdy.file_name)))
+        .ok_or_else(|| format!("{}: not among the job's files", rdy.file_name))?
+        .clone();
+    job.put(
+        "wrapper_inputs.ys",
+        &format!(
+            "read_verilog -sv {wrapper_file}\nread_verilog -sv stand_in/core.v\n\
+             hierarchy -top {top}\nproc\nopt_clean\nwrite_json wrapper.json\n",
+            top = dut.ports.top
+        ),
+    )?;
+    run_yosys_logged(job.work, "wrapper_inputs.ys", "wrapper_inputs.log")?;
+    let path = job.work.join("wrapper.json");
+    let netlist: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?,
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(why) = stand_in::inputs_read_only_by_core(&netlist, &dut.ports.top, dut)? {
+        return Ok(Outcome::Unknown(format!(
+            "{what}: the wrapper reads a data input outside its core ({why}), so a stand-in \
+             core does not stand for it; prove it with its own core (--solver boolector)"
+        )));
+    }
+    // 3. the wrapper around the stand-ins
+    let mut files = vec![wrapper_file];
+    files.extend(stand_in_files.iter().map(|(f, _)| f.to_string()));
+    let with_stand_in = format!("{what}, the wrapper around a stand-in core");
+    Ok(match handshake_equiv(job, files, &with_stand_in)? {
+        Outcome::Proved(m) => Outcome::Proved(format!(
+            "{m}; its data inputs read by the core alone; the core {core_proof}; {:.1} s in all",
+            started.elapsed().as_secs_f64()
+        )),
+        other => other,
+    })
 }
 
 /// Steps 1 and 2 of the structural proof (`structural` module doc): `None`
