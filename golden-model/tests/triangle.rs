@@ -599,3 +599,30 @@ fn an_infinite_direction_gives_nan_shear_constants() {
         assert!(s.iter().all(|&c| fmt.is_nan(c)), "{d:?}: kz {kz}, {s:x?}");
     }
 }
+
+/// The internal format is the narrowest whose normal range holds every
+/// nonzero value of the datapath (its doc): exponent bias at least
+/// `max(6·emax + 16, 1 − 6g)` with `g = emin − F`. Worked by hand:
+/// - binary32: `6·127 + 16 = 778`, `1 + 6·149 = 895`: bias 1023, 11 bits (10 give 511);
+/// - binary16 (e5m10): `106`, `1 + 6·24 = 145`: bias 255, 9 bits;
+/// - e3m1: `6·3 + 16 = 34` (the products' top binds), `1 + 6·3 = 19`: bias 63, 7 bits;
+/// - e2m1: `6·1 + 16 = 22`, `1 + 6·1 = 7`: bias 31, 6 bits;
+/// - e8m45: `778`, `1 + 6·171 = 1027`: beyond 11 bits, none.
+#[test]
+fn the_internal_format_is_the_narrowest_that_holds_the_datapath() {
+    use golden_model::triangle::internal_format;
+    let f = |e, m| FloatFormat::new(e, m).expect("format");
+    for (fmt, exp_bits) in [
+        (FloatFormat::BINARY32, Some(11)),
+        (FloatFormat::BINARY16, Some(9)),
+        (f(3, 1), Some(7)),
+        (f(2, 1), Some(6)),
+        (f(8, 45), None),
+    ] {
+        let got = internal_format(fmt);
+        assert_eq!(got.map(|w| w.exp_bits()), exp_bits, "{fmt:?}");
+        if let Some(w) = got {
+            assert_eq!(w.frac_bits(), fmt.frac_bits(), "{fmt:?}");
+        }
+    }
+}

@@ -103,16 +103,6 @@ pub enum InverseSource {
     Hardware,
 }
 
-impl InverseSource {
-    /// The parameter word: `pre` or `hw`.
-    pub fn word(self) -> &'static str {
-        match self {
-            InverseSource::PreInverted => "pre",
-            InverseSource::Hardware => "hw",
-        }
-    }
-}
-
 /// Numeric configuration of the unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Config {

@@ -25,6 +25,15 @@ use std::sync::Arc;
 /// Logical steps of the exact sum: compare and swap; align; add.
 pub const ADD_RAW_STEPS: u32 = 3;
 
+/// The registers of a rounded adder of `stages`, spread evenly over the
+/// exact sum's [`ADD_RAW_STEPS`] and the rounding's [`ROUND_STEPS`]: after
+/// each step of the sum, and in all inside the rounding.
+pub fn rounded_add_plan(stages: u32) -> (Vec<u32>, u32) {
+    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
+    let (raw, round) = plan.split_at(ADD_RAW_STEPS as usize);
+    (raw.to_vec(), round.iter().sum())
+}
+
 /// The exact sum as a raw value, before the mode-dependent sign of an exact zero.
 #[derive(Debug, Clone, Copy)]
 pub struct SumRaw {
@@ -301,11 +310,9 @@ fn add_range_module(
     m.param("round", mode);
     let Pair { a, b, rm } = declare_inputs(&mut m, &PairPorts::rounded(fmt.ty(), mode));
     let rm = Rm::new(mode, rm);
-    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
-    let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = add_raw_with(&mut m, fmt, a, b, sub, raw_cuts, shape);
+    let (raw_cuts, rs) = rounded_add_plan(stages);
+    let s = add_raw_with(&mut m, fmt, a, b, sub, &raw_cuts, shape);
     let raw = s.for_rm(&mut m, &rm);
-    let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(m, fmt, &rm, &raw, range, rs, "adder")
 }
 
@@ -374,12 +381,10 @@ fn sub_widening_range_module(
         .param("round", mode)
         .param("stages", stages);
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
-    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
-    let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
+    let (raw_cuts, rs) = rounded_add_plan(stages);
     let shape = if normal { Shape::Lean } else { Shape::General };
-    let s = add_raw_with(&mut m, fmt, a, b, true, raw_cuts, shape);
+    let s = add_raw_with(&mut m, fmt, a, b, true, &raw_cuts, shape);
     let raw = s.for_mode(&mut m, mode);
-    let rs: u32 = round_cuts.iter().sum();
     finish_rounded_range(
         m,
         to,
@@ -407,6 +412,19 @@ mod tests {
         assert_eq!(add_exp_width(f(8, 23)), 9);
         assert_eq!(add_exp_width(f(5, 10)), 6);
         assert_eq!(add_exp_width(f(2, 1)), 3);
+    }
+
+    /// A rounded adder's registers are spread evenly over its six steps
+    /// (three of the exact sum, three of the rounding): one after every
+    /// second step at 3 stages, one after each at 6, the last step's
+    /// boundary taking what is left beyond six.
+    #[test]
+    fn a_rounded_adder_spreads_its_registers_over_sum_and_rounding() {
+        assert_eq!(rounded_add_plan(0), (vec![0, 0, 0], 0));
+        assert_eq!(rounded_add_plan(1), (vec![0, 0, 0], 1));
+        assert_eq!(rounded_add_plan(3), (vec![0, 1, 0], 2));
+        assert_eq!(rounded_add_plan(6), (vec![1, 1, 1], 3));
+        assert_eq!(rounded_add_plan(8), (vec![1, 1, 1], 5));
     }
 
     /// The widening difference against the golden difference of both

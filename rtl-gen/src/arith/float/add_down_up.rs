@@ -2,9 +2,9 @@
 //! adder's exact part once, the shared rounder's normalisation once
 //! ([`round_down_up`]).
 
-use super::add::{add_raw, ADD_RAW_STEPS};
-use super::round::{round_down_up, ROUND_STEPS};
-use super::{finish_operator, spread, Format, Rounding};
+use super::add::{add_raw, rounded_add_plan};
+use super::round::round_down_up;
+use super::{finish_operator, Format, Rounding};
 use crate::arith::ports::DownUp;
 use crate::arith::ports::{Pair, PairPorts};
 use crate::ir::Module;
@@ -29,10 +29,8 @@ pub fn add_down_up_module(fmt: Format, stages: u32) -> Arc<Module> {
         stages,
     );
     let Pair { a, b, .. } = declare_inputs(&mut m, &PairPorts::same(fmt.ty()));
-    let plan = spread(stages, ADD_RAW_STEPS + ROUND_STEPS);
-    let (raw_cuts, round_cuts) = plan.split_at(ADD_RAW_STEPS as usize);
-    let s = add_raw(&mut m, fmt, a, b, false, raw_cuts);
-    let rs: u32 = round_cuts.iter().sum();
+    let (raw_cuts, rs) = rounded_add_plan(stages);
+    let s = add_raw(&mut m, fmt, a, b, false, &raw_cuts);
     let raw_down = s.for_mode(&mut m, Rounding::Rdn);
     let raw_up = s.for_mode(&mut m, Rounding::Rup);
     let (down, up) = round_down_up(
