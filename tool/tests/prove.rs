@@ -1120,6 +1120,41 @@ fn triangle_lemmas(broken: Option<&str>) -> [String; 4] {
 /// k-induction), and three planted wrapper bugs found: the FIFO's
 /// read pointer wrapping one slot early, no credit limit, and a result both
 /// delivered and pushed into the FIFO.
+/// `rtl-gen prove` of a valid/ready unit (`unit`: its name and parameters)
+/// whose wrapper file `wrapper` was emitted into `dir/rtl` and edited
+/// (`edit`: the text and its replacement), with `extra` arguments: the exit
+/// code and the output.
+fn prove_edited_wrapper(
+    dir: &Path,
+    unit: &[&str],
+    wrapper: &str,
+    edit: (&str, &str),
+    extra: &[&str],
+) -> (Option<i32>, String) {
+    let rtl = dir.join("rtl");
+    let rtl_s = rtl.display().to_string();
+    let mut emit = vec!["emit"];
+    emit.extend(unit);
+    emit.extend(["--out", &rtl_s]);
+    assert!(rtl_gen(&emit).status.success());
+    let top = rtl.join(wrapper);
+    let v = std::fs::read_to_string(&top).unwrap();
+    assert!(
+        v.contains(edit.0),
+        "`{}` is not in {}",
+        edit.0,
+        top.display()
+    );
+    std::fs::write(&top, v.replacen(edit.0, edit.1, 1)).unwrap();
+    let work = dir.join("job").display().to_string();
+    let mut prove = vec!["prove"];
+    prove.extend(unit);
+    prove.extend(["--verilog", &rtl_s, "--work", &work]);
+    prove.extend(extra);
+    let o = rtl_gen(&prove);
+    (o.status.code(), text(&o))
+}
+
 /// The wrapper around a stand-in core (`--solver structural`, docs/proofs.md):
 /// planted wrapper bugs are still found, a wrapper that reads a data input
 /// outside its core is not proved this way, and a unit with too few input
@@ -1154,30 +1189,16 @@ fn the_wrapper_around_a_stand_in_core_finds_planted_bugs() {
         ),
     ];
     for (name, from, to, verdict) in plants {
-        let rtl = w.join(format!("{name}-rtl"));
-        let rtl_s = rtl.display().to_string();
-        let mut emit = vec!["emit", "silhouette"];
-        emit.extend(params);
-        emit.extend(["--out", &rtl_s]);
-        assert!(rtl_gen(&emit).status.success());
-        let top = rtl.join("silhouette_e2m1_ray_cons_s2_rdy.v");
-        let v = std::fs::read_to_string(&top).unwrap();
-        assert!(v.contains(from), "`{from}` is not in {}", top.display());
-        std::fs::write(&top, v.replacen(from, to, 1)).unwrap();
-        let work = w.join(format!("{name}-job")).display().to_string();
-        let mut prove = vec!["prove", "silhouette"];
-        prove.extend(params);
-        prove.extend([
-            "--verilog",
-            &rtl_s,
-            "--solver",
-            "structural",
-            "--work",
-            &work,
-        ]);
-        let o = rtl_gen(&prove);
-        let t = text(&o);
-        assert_eq!(o.status.code(), Some(1), "{name}: {t}");
+        let mut unit = vec!["silhouette"];
+        unit.extend(params);
+        let (code, t) = prove_edited_wrapper(
+            &w.join(name),
+            &unit,
+            "silhouette_e2m1_ray_cons_s2_rdy.v",
+            (from, to),
+            &["--solver", "structural"],
+        );
+        assert_eq!(code, Some(1), "{name}: {t}");
         let last = t.lines().last().unwrap_or("");
         assert!(last.starts_with(verdict), "{name}: {t}");
         if name == "data-read" {
@@ -1251,29 +1272,22 @@ fn the_valid_ready_wrapper_is_checked_and_planted_wrapper_bugs_are_found() {
         ),
     ];
     for (name, from, to) in plants {
-        let rtl = w.join(format!("{name}-rtl"));
-        let rtl_s = rtl.display().to_string();
-        let mut emit = vec!["emit", "mulcmp", "-p", "stages=2"];
-        emit.extend(params);
-        emit.extend(["--out", &rtl_s]);
-        assert!(rtl_gen(&emit).status.success());
-        let top = rtl.join("mulcmp_a4_b4_s2_rdy.v");
-        let v = std::fs::read_to_string(&top).unwrap();
-        assert!(v.contains(from), "`{from}` is not in {}", top.display());
-        std::fs::write(&top, v.replacen(from, to, 1)).unwrap();
-        let work = w.join(format!("{name}-job")).display().to_string();
-        let mut prove = vec!["prove", "mulcmp", "-p", "stages=2"];
-        prove.extend(params);
-        prove.extend(["--verilog", &rtl_s, "--work", &work]);
-        let o = rtl_gen(&prove);
-        let t = text(&o);
-        assert_eq!(o.status.code(), Some(1), "{name}: {t}");
+        let mut unit = vec!["mulcmp", "-p", "stages=2"];
+        unit.extend(params);
+        let (code, t) = prove_edited_wrapper(
+            &w.join(name),
+            &unit,
+            "mulcmp_a4_b4_s2_rdy.v",
+            (from, to),
+            &[],
+        );
+        assert_eq!(code, Some(1), "{name}: {t}");
         let last = t.lines().last().unwrap_or("");
         assert!(
             last.starts_with("counterexample: ") && last.contains(" fails at cycle "),
             "{name}: {t}"
         );
-        let trace = Path::new(&work).join("sby/engine_0/trace.vcd");
+        let trace = w.join(name).join("job/sby/engine_0/trace.vcd");
         assert!(trace.is_file(), "{name}: no trace {}", trace.display());
     }
 }
