@@ -5,7 +5,9 @@
 //! near-singular and singular `R`, non-finite, zero and subnormal entries)
 //! with special rays (origin at `T` and one ulp away, ±0, ±inf, NaN,
 //! subnormal and huge components, NaN-payload `t` values); then seeded random
-//! vectors: random placements of several scale classes, origins at offsets
+//! vectors: random placements of several scale classes (one at the ends of
+//! the format, where the inversion's determinant overflows or underflows),
+//! origins at offsets
 //! `10^U(−4, 6)` from `T`, random directions, and one input in eight replaced
 //! by a special value or random bits. For `inverse=hw` the input is `R`, and
 //! the rotation hint is set on half of the pure rotations, one in sixteen of
@@ -271,10 +273,15 @@ impl TransformBench {
             let r = (1.0 - z * z).sqrt();
             [r * phi.cos(), r * phi.sin(), z]
         };
-        let (lo, hi) = match rng.below(6) {
+        // scales as powers of ten; class 6, the ends of the format: |det| ~ scale^3
+        // around the largest or smallest normal (the inversion's overflow in every mode)
+        let edge = f64::from(fmt.emax()) / 3.0 * std::f64::consts::LOG10_2;
+        let (lo, hi) = match rng.below(7) {
             0 => (-3.5, -2.5),
             1 => (2.5, 3.5),
             2 => (0.0, 0.0),
+            6 if rng.below(2) == 0 => (edge - 0.5, edge + 0.5),
+            6 => (-edge - 0.5, -edge + 0.5),
             _ => (-1.0, 1.0),
         };
         let mut scale = [(); 3].map(|_| sign(&mut rng) * 10f64.powf(range(&mut rng, lo, hi)));

@@ -63,8 +63,9 @@ pub enum DotStyle {
     /// operands widened (exactly), the origin's `O − T` subtracted there
     /// (exact unless the exponents differ by more than `F + 2`, then within
     /// `2^-(2F+3)` relative), a fused dot product rounded once in the wide
-    /// format, then rounded to the format. Within one ulp of the correctly
-    /// rounded `R⁻¹·(O − T)` (two roundings, the first `F + 2` bits finer);
+    /// format, then rounded to the format. Where `O − T` is exact, within one
+    /// ulp of the correctly rounded `R⁻¹·(O − T)` (two roundings, the first
+    /// `F + 2` bits finer; a rounded `O − T` followed by cancellation is not);
     /// the inversion (`inverse=hw`) as [`DotStyle::Dot3`].
     Wide,
 }
@@ -244,8 +245,10 @@ pub struct HwInverse {
     pub det: u64,
     /// `fl(1 / det)` (zero with the rotation hint)
     pub recip: u64,
-    /// an input is not finite, `det` is zero or not finite, or an entry of
-    /// `inv` is not finite
+    /// an input is not finite, `det` is zero or not finite, an entry of
+    /// `inv` is not finite, or a value of the sequence (a cofactor, `det`,
+    /// `recip`, an entry of `inv`) is ±max finite, where a directed mode
+    /// leaves an overflow
     pub singular: bool,
 }
 
@@ -305,7 +308,16 @@ pub fn invert_hw(
     let rc = recip(fmt, det, mode);
     let inv = adj.map(|a| mul(fmt, a, rc, mode));
     let det_ok = classify(fmt, det) == Class::Finite;
-    let singular = !inputs_finite || !det_ok || !inv.iter().all(|&x| fmt.is_finite(x));
+    // the directed modes round an overflow to ±max finite, not ±∞: a value at
+    // ±max finite anywhere in the sequence may be a silent overflow
+    let saturated = |x: u64| x & !fmt.sign_bit() == fmt.max_finite(false);
+    let overflowed = adj
+        .iter()
+        .chain(&inv)
+        .chain([&det, &rc])
+        .any(|&x| saturated(x));
+    let singular =
+        !inputs_finite || !det_ok || overflowed || !inv.iter().all(|&x| fmt.is_finite(x));
     HwInverse {
         inv,
         adj,

@@ -13,6 +13,16 @@ pub fn is_zero(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
     m.name_after(zero, v, "is_zero")
 }
 
+/// `v` is ±the largest finite value: where a directed rounding leaves an
+/// overflow (it rounds to ±∞ only away from zero).
+#[track_caller]
+pub fn is_max_finite(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {
+    let mag = m.slice(v, fmt.width() - 2, 0);
+    let max = m.uint(fmt.width() - 1, fmt.inf_bits() - 1);
+    let at_max = m.eq(mag, max);
+    m.name_after(at_max, v, "is_max_finite")
+}
+
 /// `v` is a NaN or an infinity (exponent field all ones).
 #[track_caller]
 pub fn is_special(m: &mut ModuleBuilder, fmt: Format, v: Sig) -> Sig {

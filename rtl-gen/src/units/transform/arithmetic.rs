@@ -253,13 +253,18 @@ pub(super) fn invert(
         })
         .collect();
     close(m, plan[k + 1]);
-    // det must be finite and nonzero, every entry of the inverse finite
+    // det must be finite and nonzero, every entry of the inverse finite, and no value of
+    // the sequence at ±max finite (a directed mode's overflow, which does not reach ±∞)
     let det_nf = is_special(m, fmt, det);
     let det_zero = is_zero(m, fmt, det);
     let mut failed = m.or(det_nf, det_zero);
     for x in &inv {
         let nf = is_special(m, fmt, *x);
         failed = m.or(failed, nf);
+    }
+    for x in adj.iter().chain(&inv).chain([&det, &rc]) {
+        let saturated = is_max_finite(m, fmt, *x);
+        failed = m.or(failed, saturated);
     }
     let use_inv = m.not(hint);
     let failed = m.and(failed, use_inv);

@@ -19,14 +19,15 @@
 //! style), determinant (a dot product), one reciprocal
 //! ([`crate::arith::recip`]), nine multiplications; a `rot_hint` input
 //! selects `Rᵀ` instead. A non-finite input entry, a zero or non-finite
-//! determinant or a non-finite computed `R⁻¹` raises `singular` and every
+//! determinant, a non-finite computed `R⁻¹` or a value of the inversion at
+//! ±max finite (a directed mode's overflow) raises `singular` and every
 //! vector output is the canonical NaN: the first component of each vector
 //! entering an engine is replaced by NaN, and every row's dot product reads it.
 
 use super::ports::{self, Record, Visit, Walk};
 use super::Description;
 use crate::arith::float::add::add_module;
-use crate::arith::float::classify::{is_special, is_zero};
+use crate::arith::float::classify::{is_max_finite, is_special, is_zero};
 use crate::arith::float::convert::convert_module;
 use crate::arith::float::dot3::dot3_module;
 use crate::arith::float::fma::fma_module;
@@ -72,7 +73,7 @@ crate::params! {
         round: Rounding = Rounding::Rne,
         /// dot-product style: separate mul/add, chained fma, fused dot3, or wide (O - T and a
         /// fused dot product in e(E+1)m(2F+2), then rounded to the format: within one ulp of
-        /// the correctly rounded result; needs E <= 10 and E + 2F <= 60)
+        /// the correctly rounded result where O - T is exact; needs E <= 10 and E + 2F <= 60)
         dot: Dot = Dot::Fma,
         /// R^-1 source: pre (input, from the scene builder) or hw (adjugate, determinant,
         /// reciprocal, scaling)
