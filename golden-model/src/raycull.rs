@@ -440,12 +440,23 @@ pub fn tile_range(samples: &[SampleState]) -> TileRange {
 /// (z·(far − near))` in f64 (0 at near, 1 at far, the usual perspective
 /// depth); unorm: `round(d·(2^N − 1))`; binary32: `d` rounded to nearest.
 /// Reversed (`Greater`/`GEqual`): `1 − d` the same way. `None` (clipped) when
-/// `z` is NaN or outside `[near, far]`.
+/// `z` is NaN or outside `[near, far]`. `far` may be `+∞` (`d = 1 − near/z`).
+/// Where the two products leave f64's normal range (planes near 10^±154 and
+/// beyond) `d` is formed as `(z − near)/z · far/(far − near)`, whose factors
+/// stay in range: the direct form gave NaN there, which the clamp made 0.
 pub fn quantize(format: DepthFormat, reversed: bool, z: f64, near: f64, far: f64) -> Option<u32> {
     if z.is_nan() || !(near..=far).contains(&z) || near <= 0.0 || far <= near {
         return None;
     }
-    let d = (far * (z - near) / (z * (far - near))).clamp(0.0, 1.0);
+    let (num, den) = (far * (z - near), z * (far - near));
+    let d = if num.is_normal() && den.is_normal() {
+        num / den
+    } else if far.is_infinite() {
+        (z - near) / z
+    } else {
+        (z - near) / z * (far / (far - near))
+    };
+    let d = d.clamp(0.0, 1.0);
     let d = if reversed { 1.0 - d } else { d };
     Some(match format {
         DepthFormat::Binary32 => (d as f32).to_bits(),
@@ -568,5 +579,30 @@ mod tests {
             let b = quantize(f, false, 20.0, 1.0, 100.0).unwrap();
             assert!(a < b);
         }
+    }
+
+    /// Planes at the ends of f64's range and an infinite far plane: the
+    /// codes of the formula's value, not the near code (found by an
+    /// independent audit: the direct form's products overflowed or
+    /// underflowed to NaN, which the clamp turned into 0).
+    #[test]
+    fn quantize_holds_at_the_ends_of_the_range() {
+        let u = DepthFormat::Unorm16;
+        // d = 1e300·(1e300 − 1)/(1e300·(1e300 − 1)) = 1: the far code
+        assert_eq!(quantize(u, false, 1e300, 1.0, 1e300), Some(0xffff));
+        // d = 2e-300·0.5e-300/(1.5e-300·1e-300) = 2/3: 43,690
+        assert_eq!(quantize(u, false, 1.5e-300, 1e-300, 2e-300), Some(0xaaaa));
+        assert_eq!(quantize(u, true, 1.5e-300, 1e-300, 2e-300), Some(0x5555));
+        // far = +inf: d = 1 − 1/50 = 0.98, round(0.98·65,535) = 64,224
+        assert_eq!(quantize(u, false, 50.0, 1.0, f64::INFINITY), Some(64_224));
+        let b = DepthFormat::Binary32;
+        assert_eq!(
+            quantize(b, false, 1.5e-300, 1e-300, 2e-300),
+            Some((2.0f32 / 3.0).to_bits())
+        );
+        assert_eq!(
+            quantize(b, false, 50.0, 1.0, f64::INFINITY),
+            Some(0.98f32.to_bits())
+        );
     }
 }
