@@ -763,6 +763,68 @@ impl Node {
 mod tests {
     use super::*;
 
+    /// The sign of `a + b − x`, exactly.
+    fn sum_vs(a: f64, b: f64, x: f64) -> std::cmp::Ordering {
+        let terms = [dyadic(a), dyadic(b), dyadic(-x)];
+        let low = terms.iter().map(|t| t.1).min().expect("three terms");
+        let total: IBig = terms
+            .iter()
+            .map(|(m, e)| m.clone() << (e - low) as usize)
+            .sum();
+        total.cmp(&IBig::ZERO)
+    }
+
+    /// `add_down_up_f64` brackets the exact sum by adjacent doubles, and
+    /// gives the sum twice when it is exact: values of both signs from 2^-1074
+    /// to 2^1000, neighbours and far apart.
+    #[test]
+    fn the_sum_rounded_down_and_up_brackets_the_exact_sum() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut pick = |next: &mut dyn FnMut() -> u64| {
+            let e = (next() % 2000) as i32 - 1000;
+            let m = 1.0 + (next() >> 12) as f64 / (1u64 << 52) as f64;
+            let v = m * 2f64.powi(e);
+            if next() % 2 == 0 {
+                -v
+            } else {
+                v
+            }
+        };
+        let mut inexact = 0;
+        for i in 0..20_000 {
+            let a = pick(&mut next);
+            let b = match i % 4 {
+                0 => a * 3.0,
+                1 => -a + f64::MIN_POSITIVE,
+                _ => pick(&mut next),
+            };
+            let (lo, hi) = add_down_up_f64(a, b);
+            assert_ne!(
+                sum_vs(a, b, lo),
+                std::cmp::Ordering::Less,
+                "{a:e} + {b:e}: {lo:e}"
+            );
+            assert_ne!(
+                sum_vs(a, b, hi),
+                std::cmp::Ordering::Greater,
+                "{a:e} + {b:e}: {hi:e}"
+            );
+            if lo != hi {
+                assert_eq!(lo.next_up(), hi, "{a:e} + {b:e}");
+                inexact += 1;
+            } else {
+                assert_eq!(sum_vs(a, b, lo), std::cmp::Ordering::Equal, "{a:e} + {b:e}");
+            }
+        }
+        assert!(inexact > 5_000, "{inexact} inexact sums");
+    }
+
     fn b(min: [f64; 3], max: [f64; 3]) -> ChildBox {
         ChildBox { min, max }
     }
