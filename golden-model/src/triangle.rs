@@ -539,3 +539,40 @@ fn ratio_f64(n: &dashu::integer::IBig, d: &dashu::integer::IBig) -> f64 {
     let ((hn, sn), (hd, sd)) = (top(n), top(d));
     hn / hd * (sn - sd).exp2()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `quotient`'s contract on both paths (binary32's native one and the
+    /// exact one): NaN for a zero or non-finite divisor or a non-finite
+    /// dividend, the correctly rounded quotient otherwise.
+    #[test]
+    fn the_quotient_is_nan_outside_its_contract() {
+        let e = FloatFormat::BINARY16;
+        for (fmt, one, zero, inf) in [
+            (
+                FloatFormat::BINARY32,
+                1f32.to_bits() as u64,
+                0,
+                f32::INFINITY.to_bits() as u64,
+            ),
+            (e, 0x3c00, 0, 0x7c00),
+        ] {
+            let neg_zero = zero | fmt.sign_bit();
+            for (n, d) in [
+                (one, zero),
+                (one, neg_zero),
+                (zero, zero),
+                (inf, one),
+                (one, inf),
+            ] {
+                assert!(fmt.is_nan(quotient(fmt, n, d)), "{fmt:?} {n:#x} / {d:#x}");
+            }
+            assert_eq!(quotient(fmt, one, one), one, "{fmt:?}");
+        }
+        let third = (1f32 / 3.0).to_bits() as u64;
+        let (one, three) = (1f32.to_bits() as u64, 3f32.to_bits() as u64);
+        assert_eq!(quotient(FloatFormat::BINARY32, one, three), third);
+    }
+}
