@@ -786,11 +786,11 @@ mod tests {
             x ^= x << 17;
             x
         };
-        let mut pick = |next: &mut dyn FnMut() -> u64| {
+        let pick = |next: &mut dyn FnMut() -> u64| {
             let e = (next() % 2000) as i32 - 1000;
             let m = 1.0 + (next() >> 12) as f64 / (1u64 << 52) as f64;
             let v = m * 2f64.powi(e);
-            if next() % 2 == 0 {
+            if next().is_multiple_of(2) {
                 -v
             } else {
                 v
