@@ -237,10 +237,22 @@ pub(super) fn invert(
         &plan[n2..n2 + nd],
     )[0];
     let det = m.name(det, "det");
+    // the checks are formed where each value is, so that one bit, not the value, is carried
+    // to the end: det must be finite and nonzero, and no value of the sequence at ±max
+    // finite (a directed mode's overflow, which does not reach ±∞)
+    let det_nf = is_special(m, fmt, det);
+    let det_zero = is_zero(m, fmt, det);
+    let mut failed = m.or(det_nf, det_zero);
+    for x in adj.iter().chain([&det]) {
+        let saturated = is_max_finite(m, fmt, *x);
+        failed = m.or(failed, saturated);
+    }
+    let failed_early = m.name(failed, "inversion_failed_early");
     let k = n2 + nd;
     let recip = recip_module(fmt, mode, plan[k]);
     let rc = rounded(m, "u_recip", &recip, &Operand { x: det });
     close(m, plan[k]);
+    let rc_saturated = is_max_finite(m, fmt, rc);
     let mul = mul_module(fmt, mode, plan[k + 1]);
     let inv: Vec<Sig> = (0..9)
         .map(|j| {
@@ -253,16 +265,11 @@ pub(super) fn invert(
         })
         .collect();
     close(m, plan[k + 1]);
-    // det must be finite and nonzero, every entry of the inverse finite, and no value of
-    // the sequence at ±max finite (a directed mode's overflow, which does not reach ±∞)
-    let det_nf = is_special(m, fmt, det);
-    let det_zero = is_zero(m, fmt, det);
-    let mut failed = m.or(det_nf, det_zero);
+    // every entry of the inverse finite and below ±max finite
+    let mut failed = m.or(failed_early, rc_saturated);
     for x in &inv {
         let nf = is_special(m, fmt, *x);
         failed = m.or(failed, nf);
-    }
-    for x in adj.iter().chain(&inv).chain([&det, &rc]) {
         let saturated = is_max_finite(m, fmt, *x);
         failed = m.or(failed, saturated);
     }
