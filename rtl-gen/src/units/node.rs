@@ -36,6 +36,7 @@ use super::node_sort::sort_slots;
 use super::ports::{self, Record, Visit, Walk};
 use super::{Description, AXES};
 use crate::arith::float::bits::{lzc, sadd, ssub, to_sint};
+use crate::arith::float::classify::is_max_finite;
 use crate::arith::float::compare::compare;
 use crate::arith::float::unpack::{normalize, unpack, Unpacked};
 use crate::arith::float::{sint_width, Format};
@@ -991,14 +992,12 @@ pub fn build(cfg: &Config) -> Module {
     // slope is 2^(m−1) shifted by z + F − 1.
     let zmax = q + 2 + g;
     let zbits = bits_for(u64::from(zmax));
-    let max_finite = m.uint(fmt.width() - 1, fmt.inf_bits() - 1);
     let slopes: Vec<Slope> = axes
         .iter()
         .enumerate()
         .map(|(a, ax)| {
             m.scope(&format!("slope_{}", AXES[a]), |m| {
-                let mag = m.slice(r.inv_d[a], fmt.width() - 2, 0);
-                let at_max = m.eq(mag, max_finite);
+                let at_max = is_max_finite(m, fmt, r.inv_d[a]);
                 let at_max = m.name(at_max, "inv_d_at_max");
                 let z = m.sub(ax.e_sum, e_min);
                 let zw = z.width() + 1;
