@@ -225,3 +225,238 @@ fn lut_product(nodes: &mut Vec<FlatNode>, a: usize, b: usize, ty: Ty, name: &str
         .collect();
     sum_terms(nodes, terms, ty, name)
 }
+
+#[cfg(test)]
+mod tests {
+    //! The split proved for every width, not sampled: each node it builds is
+    //! evaluated symbolically over the operands' bits (a value is a polynomial
+    //! in them, exact as long as it fits its wire, which every node checks),
+    //! and the result must be the whole product's polynomial. Distributivity
+    //! is the whole argument; what can break it is a piece or weight off by
+    //! one, or a wire too narrow for its sum, and both change the polynomial
+    //! or fail the check.
+    use super::*;
+    use crate::ir::BitOp;
+
+    /// A value as a polynomial in the bits `a_i` of `a` and `b_j` of `b`, at
+    /// most bilinear: `k + Σ ca_i·a_i + Σ cb_j·b_j + Σ cab_ij·a_i·b_j`. The
+    /// coefficients are never negative (the split only adds), so the value's
+    /// maximum is the sum of the coefficients.
+    #[derive(Clone, PartialEq, Debug)]
+    struct Poly {
+        k: u128,
+        a: Vec<u128>,
+        b: Vec<u128>,
+        ab: Vec<u128>,
+    }
+
+    impl Poly {
+        fn zero(wa: u32, wb: u32) -> Poly {
+            Poly {
+                k: 0,
+                a: vec![0; wa as usize],
+                b: vec![0; wb as usize],
+                ab: vec![0; (wa * wb) as usize],
+            }
+        }
+        fn coefficients(&self) -> impl Iterator<Item = u128> + '_ {
+            std::iter::once(self.k).chain(self.a.iter().chain(&self.b).chain(&self.ab).copied())
+        }
+        fn max(&self) -> Option<u128> {
+            self.coefficients().try_fold(0u128, |s, c| s.checked_add(c))
+        }
+        fn fits(&self, width: u32) -> bool {
+            self.max()
+                .is_some_and(|m| width >= 128 || m < 1u128 << width)
+        }
+        fn zip(&self, o: &Poly, f: impl Fn(u128, u128) -> Option<u128>) -> Option<Poly> {
+            let v = |x: &[u128], y: &[u128]| -> Option<Vec<u128>> {
+                x.iter().zip(y).map(|(&p, &q)| f(p, q)).collect()
+            };
+            Some(Poly {
+                k: f(self.k, o.k)?,
+                a: v(&self.a, &o.a)?,
+                b: v(&self.b, &o.b)?,
+                ab: v(&self.ab, &o.ab)?,
+            })
+        }
+        fn add(&self, o: &Poly) -> Option<Poly> {
+            self.zip(o, u128::checked_add)
+        }
+        fn shl(&self, s: u32) -> Option<Poly> {
+            let up =
+                |c: u128| (c == 0 || (s < 128 && c.leading_zeros() >= s)).then(|| c << s.min(127));
+            self.zip(self, |c, _| up(c))
+        }
+        /// Bits `hi..=lo`: exact when the value is below `2^(hi+1)` and `lo`
+        /// is 0, or when it is a set of disjoint bit fields (every term a
+        /// distinct power of two of one monomial, as a slice of an operand).
+        fn slice(&self, hi: u32, lo: u32) -> Option<Poly> {
+            if lo == 0 && self.fits(hi + 1) {
+                return Some(self.clone());
+            }
+            // the constant's bits are fields of their own (always 1)
+            let mut seen = self.k;
+            for c in self.a.iter().chain(&self.b).chain(&self.ab).copied() {
+                if c != 0 && (!c.is_power_of_two() || seen & c != 0) {
+                    return None;
+                }
+                seen |= c;
+            }
+            let keep = |c: u128| -> Option<u128> {
+                let field = if hi >= 127 {
+                    c
+                } else {
+                    c & ((1u128 << (hi + 1)) - 1)
+                };
+                Some(field >> lo)
+            };
+            self.zip(self, |c, _| keep(c))
+        }
+    }
+
+    /// The symbolic value of every node, in order (operands come first).
+    fn evaluate(nodes: &[FlatNode], wa: u32, wb: u32) -> Result<Vec<Poly>, String> {
+        let mut vals: Vec<Poly> = Vec::with_capacity(nodes.len());
+        for (i, n) in nodes.iter().enumerate() {
+            let v = |id: &NodeId| &vals[id.0 as usize];
+            let width = n.ty.width();
+            let val = match &n.op {
+                _ if n.ty.is_signed() => None,
+                Op::Input(0) => Some(Poly {
+                    a: (0..wa).map(|i| 1u128 << i).collect(),
+                    ..Poly::zero(wa, wb)
+                }),
+                Op::Input(1) => Some(Poly {
+                    b: (0..wb).map(|j| 1u128 << j).collect(),
+                    ..Poly::zero(wa, wb)
+                }),
+                Op::Const(c) => Some(Poly {
+                    k: *c,
+                    ..Poly::zero(wa, wb)
+                }),
+                Op::Cast(x) => Some(v(x).clone()),
+                Op::Slice(x, hi, lo) => v(x).slice(*hi, *lo),
+                Op::Add(x, y) => v(x).add(v(y)),
+                Op::Concat(parts) => {
+                    let mut acc = Some(Poly::zero(wa, wb));
+                    let mut at = 0;
+                    for p in parts.iter().rev() {
+                        acc = acc.and_then(|s| s.add(&v(p).shl(at)?));
+                        at += nodes[p.0 as usize].ty.width();
+                    }
+                    acc
+                }
+                Op::Mul(x, y) => bilinear(v(x), v(y)).or_else(|| bilinear(v(y), v(x))),
+                Op::Bit(BitOp::And, x, y) => {
+                    gate(v(x), v(y), width).or_else(|| gate(v(y), v(x), width))
+                }
+                _ => None,
+            };
+            let val = val.filter(|p| p.fits(width)).ok_or_else(|| {
+                format!("node {i} `{}` ({:?}, {}): not exact", n.name, n.op, n.ty)
+            })?;
+            vals.push(val);
+        }
+        Ok(vals)
+    }
+
+    /// `x · y` for `x` linear in `a`'s bits and `y` linear in `b`'s.
+    fn bilinear(x: &Poly, y: &Poly) -> Option<Poly> {
+        let only_a = |p: &Poly| p.k == 0 && p.b.iter().chain(&p.ab).all(|&c| c == 0);
+        let only_b = |p: &Poly| p.k == 0 && p.a.iter().chain(&p.ab).all(|&c| c == 0);
+        if !only_a(x) || !only_b(y) {
+            return None;
+        }
+        let mut r = Poly::zero(x.a.len() as u32, y.b.len() as u32);
+        for (i, &ca) in x.a.iter().enumerate() {
+            for (j, &cb) in y.b.iter().enumerate() {
+                r.ab[i * y.b.len() + j] = ca.checked_mul(cb)?;
+            }
+        }
+        Some(r)
+    }
+
+    /// `x AND y` where `y` is one bit `b_j` copied to all `width` bits
+    /// (`b_j·(2^width − 1)`) and `x` is linear in `a`'s bits and fits the
+    /// width: `x·b_j`.
+    fn gate(x: &Poly, y: &Poly, width: u32) -> Option<Poly> {
+        let ones = if width >= 128 {
+            u128::MAX
+        } else {
+            (1u128 << width) - 1
+        };
+        let nonzero: Vec<usize> = (0..y.b.len()).filter(|&j| y.b[j] != 0).collect();
+        let single = y.k == 0 && y.a.iter().chain(&y.ab).all(|&c| c == 0);
+        let [j] = nonzero[..] else { return None };
+        if !single || y.b[j] != ones || !x.fits(width) {
+            return None;
+        }
+        let mut bit = Poly::zero(x.a.len() as u32, y.b.len() as u32);
+        bit.b[j] = 1;
+        bilinear(x, &bit)
+    }
+
+    /// `Ok` when the split of a `wa × wb` product is the product.
+    fn prove_split(wa: u32, wb: u32, plant: impl Fn(&mut Vec<FlatNode>)) -> Result<(), String> {
+        let mut nodes = Vec::new();
+        let a = push(&mut nodes, Op::Input(0), Ty::UInt(wa), "a".into());
+        let b = push(&mut nodes, Op::Input(1), Ty::UInt(wb), "b".into());
+        let p = split_product(&mut nodes, a, b, Ty::UInt(wa + wb), "p");
+        plant(&mut nodes);
+        let vals = evaluate(&nodes, wa, wb)?;
+        let mut whole = Poly::zero(wa, wb);
+        for i in 0..wa {
+            for j in 0..wb {
+                whole.ab[(i * wb + j) as usize] = 1u128 << (i + j);
+            }
+        }
+        match vals[p] == whole {
+            true => Ok(()),
+            false => Err(format!("{wa}x{wb}: the split is not the product")),
+        }
+    }
+
+    #[test]
+    fn every_split_product_is_the_whole_product_at_every_width() {
+        let mut split = 0;
+        for wa in 1..=64 {
+            for wb in 1..=64 {
+                prove_split(wa, wb, |_| {}).unwrap_or_else(|e| panic!("{wa}x{wb}: {e}"));
+                split += usize::from(wa.max(wb) > DSP_BITS);
+            }
+        }
+        // the products the proof covers that are split at all (not one block)
+        assert_eq!(split, 64 * 64 - 18 * 18);
+    }
+
+    #[test]
+    fn a_wrong_split_is_not_proved() {
+        // a piece one bit short, a weight one bit off, a sum too narrow
+        let piece = |nodes: &mut Vec<FlatNode>| {
+            let n = nodes.iter_mut().find(|n| n.name == "p_a0").unwrap();
+            n.op = Op::Slice(NodeId(0), 16, 0);
+        };
+        let weight = |nodes: &mut Vec<FlatNode>| {
+            let n = nodes.iter_mut().find(|n| n.name == "p_l1_shift0").unwrap();
+            let Op::Concat(parts) = n.op.clone() else {
+                panic!()
+            };
+            let zeros = parts[1].0 as usize;
+            nodes[zeros].ty = Ty::UInt(nodes[zeros].ty.width() - 1);
+        };
+        // (`p_l1_sum0`, 18x18 + 6x18·2^18, needs 42 of its 43 bits: the
+        // carry bit is spare there, and dropping it is still exact)
+        let narrow = |bits: u32| {
+            move |nodes: &mut Vec<FlatNode>| {
+                let n = nodes.iter_mut().find(|n| n.name == "p_l1_sum0").unwrap();
+                n.ty = Ty::UInt(n.ty.width() - bits);
+            }
+        };
+        assert!(prove_split(24, 24, |_| {}).is_ok());
+        assert!(prove_split(24, 24, piece).is_err());
+        assert!(prove_split(24, 24, weight).is_err());
+        assert!(prove_split(24, 24, narrow(1)).is_ok());
+        assert!(prove_split(24, 24, narrow(2)).is_err());
+    }
+}
