@@ -299,3 +299,56 @@ fn rtz_reciprocal_keeps_tiny_directions_apart_from_zero() {
         "outside the contract: RNE's ∞ reads as d = 0"
     );
 }
+
+/// Outside the contract, as measured (docs/silhouette.md §6.2): an infinite
+/// origin is a miss or a hit at an infinite `t_enter`, never a hit at a
+/// finite one (the slab has no `invalid` output). The audit's reproducer
+/// hits at `+∞`; its mirror at `−∞`.
+#[test]
+fn conservative_slab_infinite_origin_is_a_miss_or_a_hit_at_infinity() {
+    let (inf, ninf) = (b(f32::INFINITY), b(f32::NEG_INFINITY));
+    let unit = SlabIn {
+        p_min: [b(0.0); 3],
+        p_max: [b(1.0); 3],
+        o: [ninf, b(0.5), b(0.5)],
+        inv_d: [b(1.0), inf, inf],
+        t_min: b(0.0),
+        t_max: inf,
+    };
+    let c = eval_conservative(F, &unit);
+    assert!(c.hit && c.t_enter == inf && c.t_exit == inf, "{c:x?}");
+    let mirror = SlabIn {
+        o: [inf, b(0.5), b(0.5)],
+        t_min: ninf,
+        ..unit
+    };
+    let c = eval_conservative(F, &mirror);
+    assert!(c.hit && c.t_enter == ninf, "{c:x?}");
+    // every infinite origin component against boxes, directions and segments
+    let values = [-2.0f32, -0.0, 0.0, 0.5, 1.0, 3.0, f32::INFINITY, f32::NEG_INFINITY];
+    let mut hits = 0;
+    for axis in 0..3 {
+        for o_inf in [inf, ninf] {
+            for &d in &values {
+                for &t_min in &values {
+                    for &t_max in &values {
+                        let mut x = SlabIn {
+                            inv_d: [inf; 3],
+                            t_min: b(t_min),
+                            t_max: b(t_max),
+                            ..unit
+                        };
+                        x.o = [b(0.5); 3];
+                        x.o[axis] = o_inf;
+                        x.inv_d[axis] = b(d);
+                        let c = eval_conservative(F, &x);
+                        let t = f32::from_bits(c.t_enter as u32);
+                        assert!(!c.hit || t.is_infinite(), "{x:x?}: {c:x?}");
+                        hits += usize::from(c.hit);
+                    }
+                }
+            }
+        }
+    }
+    assert!(hits > 0, "the case the docs describe is reached");
+}
