@@ -325,7 +325,16 @@ fn conservative_slab_infinite_origin_is_a_miss_or_a_hit_at_infinity() {
     let c = eval_conservative(F, &mirror);
     assert!(c.hit && c.t_enter == ninf, "{c:x?}");
     // every infinite origin component against boxes, directions and segments
-    let values = [-2.0f32, -0.0, 0.0, 0.5, 1.0, 3.0, f32::INFINITY, f32::NEG_INFINITY];
+    let values = [
+        -2.0f32,
+        -0.0,
+        0.0,
+        0.5,
+        1.0,
+        3.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+    ];
     let mut hits = 0;
     for axis in 0..3 {
         for o_inf in [inf, ninf] {

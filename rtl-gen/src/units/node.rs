@@ -739,7 +739,7 @@ struct Slope {
 /// A slope `sig · 2^z` and how the product meets it. `products=split`: the
 /// distance is clamped at `2^(sat − z)` (beyond it the product reaches the cap
 /// anyway) and shifted by `z`, so the product is `(q + g + 3) × (m + 1)` bits,
-/// one 18×18 block. `products=whole`: the significand is shifted once per node
+/// one 18×18 block at q ≤ 11 and m ≤ 17. `products=whole`: the significand is shifted once per node
 /// (`m + 1 + zmax` bits) and each child multiplies its distance by it, a
 /// `(q + g + 4) × (m + 1 + zmax)` product that one DSP48E1 (25×18) takes whole,
 /// with no shifter and no clamp per child.
@@ -1372,6 +1372,50 @@ mod tests {
     /// cells' unit and below it) and beyond the compared bits, for products
     /// narrower than, as wide as and wider than the compared bits. The node
     /// tests' random rays rarely land an exit exactly on a cell boundary.
+    /// `products=split` exists so that each child product fits one 18×18
+    /// block: the clamped, shifted distance is `q + g + 3` bits and the slope
+    /// `m + 1` (a wider wire holds the same values on a bigger multiplier,
+    /// which no evaluator test sees).
+    #[test]
+    fn every_split_child_product_fits_one_18x18_block() {
+        fn products(m: &Module, out: &mut Vec<(String, u32, u32)>) {
+            for n in &m.nodes {
+                if let crate::ir::Op::Mul(a, b) = n.op {
+                    let w = |id: crate::ir::NodeId| m.nodes[id.0 as usize].ty.width();
+                    out.push((n.name.clone(), w(a), w(b)));
+                }
+            }
+            for i in &m.instances {
+                products(&i.module, out);
+            }
+        }
+        for (q, mb) in [(4, 4), (8, 9), (11, 12)] {
+            let p = NodeParams {
+                box_bits: q,
+                slope_bits: mb,
+                stages: 0,
+                ..NodeParams::defaults()
+            };
+            let cfg = Node.config(&p).expect("a valid node");
+            assert_eq!(cfg.products, Products::Split);
+            let mut found = Vec::new();
+            products(&build(&cfg), &mut found);
+            let children: Vec<_> = found
+                .iter()
+                .filter(|(n, ..)| n.ends_with("product"))
+                .collect();
+            assert_eq!(children.len(), 6 * cfg.children as usize, "{found:?}");
+            for (name, wa, wb) in children {
+                assert_eq!(
+                    (*wa, *wb),
+                    (q + POS_FRAC + 3, mb + 1),
+                    "q = {q}, m = {mb}: {name}"
+                );
+                assert!(*wa <= 18 && *wb <= 18, "{name}");
+            }
+        }
+    }
+
     #[test]
     fn an_exit_admits_exactly_the_entries_its_product_passes() {
         let p = NodeParams {
