@@ -84,7 +84,8 @@ impl NodeBench {
         let (emin, emax) = (fmt.emin() as i64, fmt.emax() as i64);
         let exp: [i64; 3] = if rng.below(8) == 0 {
             // an end of the format's range, the frame's extent still finite
-            let top = emax - u.box_bits as i64 - 1;
+            // where the format can hold one (not in e3m2 with q = 8)
+            let top = (emax - u.box_bits as i64 - 1).max(emin);
             let e = if rng.below(2) == 0 {
                 emin + rng.below(4) as i64
             } else {
