@@ -343,6 +343,17 @@ pub struct ProveArgs {
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
 pub fn main(command: Command) -> ExitCode {
+    let given = match &command {
+        Command::Synth { params, .. } | Command::Depth { params, .. } => Some(params),
+        Command::Bringup(a) => Some(&a.params),
+        Command::Prove(a) => Some(&a.params),
+        Command::Board(a) => Some(&a.params),
+        _ => None,
+    };
+    if let Some(Err(e)) = given.map(|g| rtl_flow::params::given_once(g)) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     if let Command::Bringup(args) = command {
         return bringup(&args);
     }
@@ -727,8 +738,8 @@ pub struct BringupArgs {
     /// parameter key=value (repeatable)
     #[arg(short = 'p', value_name = "KEY=VALUE")]
     params: Vec<String>,
-    /// clock cycles per UART bit (12 MHz / 115200 baud = 104)
-    #[arg(long, default_value_t = 104)]
+    /// clock cycles per UART bit, at least 4 (12 MHz / 115200 baud = 104)
+    #[arg(long, default_value_t = 104, value_parser = clap::value_parser!(u32).range(4..))]
     cycles_per_bit: u32,
     /// name of the board top (power-on reset + wrapper)
     #[arg(long, default_value = "bringup_top")]
@@ -750,6 +761,17 @@ pub fn bringup(a: &BringupArgs) -> ExitCode {
         }
     };
     let b = Bringup::new(&g, a.cycles_per_bit);
+    // the board top is one more module beside the wrapper's: a Verilog name
+    // that is not already one of them (it would instantiate itself)
+    let taken: Vec<String> = b.files.iter().map(|f| f.module.clone()).collect();
+    if !rtl_gen::ir::is_identifier(&a.top) || taken.contains(&a.top) {
+        eprintln!(
+            "bringup: --top `{}` must be a Verilog identifier other than the design's modules ({})",
+            a.top,
+            taken.join(", ")
+        );
+        return ExitCode::from(2);
+    }
     let run = || -> Result<(), String> {
         let paths = b.write(&a.out).map_err(|e| e.to_string())?;
         b.lint(&a.out).map_err(|r| format!("lint warnings:\n{r}"))?;

@@ -352,6 +352,7 @@ pub fn sdc(g: &Generated, period_ns: f64) -> String {
 impl Generated {
     /// Writes the Verilog files, `<top>.ports.json` and `<top>.sdc` into `dir`.
     pub fn write(&self, dir: &Path, clock_period_ns: f64) -> Result<Vec<PathBuf>, FlowError> {
+        let created = (!dir.exists()).then_some(dir);
         std::fs::create_dir_all(dir).map_err(|e| FlowError::Io(dir.to_path_buf(), e))?;
         let mut written = Vec::new();
         let mut put = |name: String, text: &str| -> Result<(), FlowError> {
@@ -360,16 +361,25 @@ impl Generated {
             written.push(path);
             Ok(())
         };
-        for f in &self.files {
-            put(f.file_name.clone(), &f.text)?;
-        }
-        put(
-            format!("{}.sdc", self.module.name),
-            &sdc(self, clock_period_ns),
-        )?;
         let json = serde_json::to_string_pretty(&self.ports).expect("port list serialises");
-        put(format!("{}.ports.json", self.module.name), &(json + "\n"))?;
-        Ok(written)
+        let outcome = (|| {
+            for f in &self.files {
+                put(f.file_name.clone(), &f.text)?;
+            }
+            put(
+                format!("{}.sdc", self.module.name),
+                &sdc(self, clock_period_ns),
+            )?;
+            put(format!("{}.ports.json", self.module.name), &(json + "\n"))
+        })();
+        match outcome {
+            Ok(()) => Ok(written),
+            Err(e) => {
+                // nothing half-written: a design is all of its files or none
+                remove_written(&written, created);
+                Err(e)
+            }
+        }
     }
 
     /// Takes the text of every module file present in `dir` (same file name)
@@ -497,5 +507,17 @@ impl Generated {
         }
         report.vectors = next_out;
         report
+    }
+}
+
+/// Removes the files a failed command wrote, and the directory it created for
+/// them when that is left empty (best effort: the error that stopped it is the
+/// one reported), so that nothing half-written is left.
+pub fn remove_written(paths: &[PathBuf], created_dir: Option<&Path>) {
+    for p in paths {
+        let _ = std::fs::remove_file(p);
+    }
+    if let Some(dir) = created_dir {
+        let _ = std::fs::remove_dir(dir);
     }
 }

@@ -70,10 +70,40 @@ pub fn resolve(unit: &str, specs: &[ParamSpec], given: &[String]) -> Result<Para
     Params::check(unit, specs, pairs)
 }
 
+/// Refuses a key given twice in what a user typed (`-p k=1 -p k=2`, or `-p`
+/// beside the `--format` or `--round` that stands for it): which one should
+/// win is a guess. Internal callers override a user's value by appending
+/// after this check, so [`resolve`] itself keeps the last value.
+pub fn given_once(given: &[String]) -> Result<(), ParamError> {
+    let key = |g: &String| {
+        g.split_once('=')
+            .map_or(g.trim(), |(k, _)| k.trim())
+            .to_string()
+    };
+    for (i, a) in given.iter().enumerate() {
+        if let Some(b) = given[..i].iter().find(|b| key(b) == key(a)) {
+            return Err(ParamError::Combination(format!(
+                "parameter `{}` is given twice ({b} and {a}; --format sets exp_bits and \
+                 frac_bits, --round sets round)",
+                key(a)
+            )));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use rtl_gen::params::ParamSet;
+
+    #[test]
+    fn a_key_given_twice_is_refused() {
+        let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert!(given_once(&words(&["stages=2", "pipeline=plan"])).is_ok());
+        let e = given_once(&words(&["stages=2", "dsp=infer", " stages = 5"])).unwrap_err();
+        assert!(e.to_string().contains("`stages` is given twice"), "{e}");
+    }
 
     #[test]
     fn words_are_read_and_checked() {

@@ -505,6 +505,17 @@ pub fn merge(reports: &[(String, RunReport)]) -> Result<RunReport, String> {
         same!(verilog_hash);
         same!(seed);
         same!(total_vectors);
+        // the verdict is derived from the counts: a report whose verdict
+        // disagrees with them was edited, and merging would hide it
+        let mut derived = r.clone();
+        derived.update_verdict();
+        if derived.passed != r.passed {
+            return Err(format!(
+                "{name}: says passed = {} but its mismatches and error say {}: not a report \
+                 as rtl-gen writes it",
+                r.passed, derived.passed
+            ));
+        }
         if r.shard.count != n {
             return differs("the shard count", n.to_string(), r.shard.count.to_string());
         }

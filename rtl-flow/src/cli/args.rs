@@ -50,6 +50,7 @@ impl UnitArgs {
             };
             params.push(format!("round={mode}"));
         }
+        crate::params::given_once(&params).map_err(FlowError::Params)?;
         Ok(params)
     }
 
@@ -86,6 +87,13 @@ pub struct ReportArgs {
     /// Write the verdict as JUnit XML (one test case).
     #[arg(long, value_name = "FILE")]
     pub(super) junit: Option<PathBuf>,
+}
+
+impl ReportArgs {
+    /// The report files beside a command's main output, for [`super::check_outputs`].
+    pub(super) fn with<'a>(&'a self, out: &'a std::path::Path) -> [Option<&'a std::path::Path>; 3] {
+        [Some(out), self.report.as_deref(), self.junit.as_deref()]
+    }
 }
 
 #[derive(clap::Args)]

@@ -15,6 +15,11 @@ pub(super) fn write_vectors(
     seed: u64,
     out: &std::path::Path,
 ) -> Result<bool, FlowError> {
+    if first.checked_add(count).is_none() {
+        return Err(super::bad_usage(format!(
+            "--first {first} --count {count}: the vector indices pass 2^64 - 1"
+        )));
+    }
     let g = unit.generate()?;
     let tb = g.testbench();
     let format = byo::write_stimulus(&g, tb.as_ref(), seed, first, count, out)?;
@@ -36,6 +41,7 @@ pub(super) fn convert(
 ) -> Result<bool, FlowError> {
     let ports = match unit {
         Some(u) => {
+            crate::params::given_once(params).map_err(FlowError::Params)?;
             let g = crate::generate(&u, params)?;
             let mut p = g.ports.inputs.clone();
             if results {
@@ -56,6 +62,7 @@ pub(super) fn merge_reports(
     out: Option<PathBuf>,
     junit: Option<PathBuf>,
 ) -> Result<bool, FlowError> {
+    super::check_outputs(&[out.as_deref(), junit.as_deref()])?;
     let mut loaded = Vec::new();
     for p in paths {
         loaded.push((

@@ -389,9 +389,12 @@ fn emit(
     source_lines: bool,
     cocotb: Option<(u64, u64)>,
 ) -> Result<bool, FlowError> {
-    if !(period.is_finite() && period > 0.0) {
+    // 1 ps to 1 ms: the SDC's three decimals hold it, and no clock is outside it
+    if !(period.is_finite() && (0.001..=1e6).contains(&period)) {
         return Err(FlowError::Params(rtl_gen::params::ParamError::Combination(
-            format!("--clock-period-ns must be a positive number of nanoseconds, got {period}"),
+            format!(
+                "--clock-period-ns must be a number of nanoseconds in 0.001..=1e6, got {period}"
+            ),
         )));
     }
     let mut g = unit.generate()?;
@@ -399,18 +402,26 @@ fn emit(
         let options = rtl_gen::emit::EmitOptions { source_lines };
         g.files = rtl_gen::emit::emit_with(&g.module, rtl_gen::GENERATOR, options);
     }
+    let created = (!out.exists()).then_some(out);
     let mut written = g.write(out, period)?;
-    if let Some((vectors, seed)) = cocotb {
-        written.extend(crate::cocotb::write(&g, out, vectors, seed)?);
-    }
-    // FuseSoC and simulator filelists: the packaging a hardware team's flow reads
-    for (ext, text) in [
-        ("core", crate::package::core_file(&g)),
-        ("f", crate::package::filelist(&g)),
-    ] {
-        let path = out.join(format!("{}.{ext}", g.module.name));
-        std::fs::write(&path, text).map_err(|e| FlowError::Io(path.clone(), e))?;
-        written.push(path);
+    let mut rest = || -> Result<(), FlowError> {
+        if let Some((vectors, seed)) = cocotb {
+            written.extend(crate::cocotb::write(&g, out, vectors, seed)?);
+        }
+        // FuseSoC and simulator filelists: the packaging a hardware team's flow reads
+        for (ext, text) in [
+            ("core", crate::package::core_file(&g)),
+            ("f", crate::package::filelist(&g)),
+        ] {
+            let path = out.join(format!("{}.{ext}", g.module.name));
+            std::fs::write(&path, text).map_err(|e| FlowError::Io(path.clone(), e))?;
+            written.push(path);
+        }
+        Ok(())
+    };
+    if let Err(e) = rest() {
+        crate::remove_written(&written, created);
+        return Err(e);
     }
     for path in written {
         println!("wrote {}", path.display());
@@ -428,6 +439,36 @@ pub(super) fn out_dir(g: &Generated, out: Option<PathBuf>) -> PathBuf {
 
 pub(super) fn cache_dir(cache: Option<PathBuf>) -> PathBuf {
     cache.unwrap_or_else(sim::default_cache_root)
+}
+
+/// A command's output files, checked before it does any work, so that a
+/// bad path fails first and leaves nothing: each one's directory exists, it
+/// is not a directory itself, and no two are the same file (one would
+/// overwrite the other).
+pub(super) fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError> {
+    let paths: Vec<&std::path::Path> = paths.iter().flatten().copied().collect();
+    for (i, p) in paths.iter().enumerate() {
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        if dir.is_some_and(|d| !d.is_dir()) {
+            return Err(bad_usage(format!(
+                "{}: no such directory for this output",
+                p.display()
+            )));
+        }
+        if p.is_dir() {
+            return Err(bad_usage(format!(
+                "{}: is a directory, not an output file",
+                p.display()
+            )));
+        }
+        if paths[..i].contains(p) {
+            return Err(bad_usage(format!(
+                "{}: given as two outputs of one command",
+                p.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 pub(super) fn bad_usage(message: String) -> FlowError {
