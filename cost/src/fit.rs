@@ -254,9 +254,7 @@ pub fn fit(scene: &Scene, name: &str, o: &FitOptions) -> Result<Fit, Box<dyn std
         )
         .into());
     }
-    let (sw, sh) = (scene.render.width, scene.render.height);
-    let w = o.width.unwrap_or(sw).max(1);
-    let h = ((sh as u64 * w as u64) / sw as u64).max(1) as u32;
+    let (w, h) = scene.render.image_size(o.width, None)?;
     let start = Instant::now();
     let accel = Accel::build(scene, true);
     let anchor = Reduced::scene_anchor(&accel);

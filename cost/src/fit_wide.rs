@@ -117,6 +117,8 @@ pub fn fit_wide(
     if !(0.0..=1.0).contains(&target_rate) {
         return Err(format!("--target-rate {target_rate}: expected 0 to 1"));
     }
+    // the renders' height is the scene's scaled with `width`: both checked before any work
+    scene.render.image_size(Some(width), None)?;
     let mut candidates = Vec::new();
     for n in WIDTHS {
         let mut c = Candidate {

@@ -13,12 +13,11 @@
 //! covers the rounding of the transform unit (model-space rays are computed by
 //! it, world-space boxes are not).
 
-use crate::scene::{forward_affine, Scene};
+use crate::scene::{builder_inverse, forward_affine, Scene};
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::builder::{build_planes, BuildParams, CullPlanes};
 use golden_model::cull::bvh::{Bvh, Mesh, Node, NodeKind};
 use golden_model::float::{convert, FloatFormat, RoundingMode};
-use golden_model::transform::exact::scene_builder_inverse;
 use std::time::{Duration, Instant};
 
 /// Planes per node and their format (the cull unit's defaults, `docs/cull.md`).
@@ -380,9 +379,7 @@ impl Accel {
         let mut world = EMPTY;
         for inst in &scene.instances {
             let f = inst.transform;
-            let r_bits: [u64; 9] = std::array::from_fn(|k| b32(f[k / 3][k % 3]));
-            let inv_bits =
-                scene_builder_inverse(FloatFormat::BINARY32, RoundingMode::NearestEven, &r_bits);
+            let inv_bits = builder_inverse(&f);
             let inv: [f64; 9] = inv_bits.map(|b| f32::from_bits(b as u32) as f64);
             // the row-major R⁻¹ read as columns is R⁻ᵀ
             let normal_m = DMat3::from_cols_array(&inv);

@@ -8,8 +8,9 @@
 
 use crate::bvh::Accel;
 use crate::hybrid::{orders, render_async, render_sync, HybridOpts, Mode};
+use crate::output::Staged;
 use crate::render::{render, render_with};
-use crate::scene::Scene;
+use crate::scene::{ao_rays_in_range, Scene};
 use crate::stats::{bundle_savings, plane_savings, table, wide_table};
 use crate::tester::{BoxTester, Exact, Golden, Reduced, Slab};
 use crate::trace::{BundleOpts, TraceOpts, Tracer, TriTest};
@@ -300,13 +301,9 @@ pub enum Command {
 fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
     let mut s = Scene::load(&c.scene).map_err(|e| e.to_string())?;
     if let Some(a) = c.ao {
-        s.render.ao_rays = a;
+        s.render.ao_rays = ao_rays_in_range(a).map_err(|e| format!("--ao {e}"))?;
     }
-    let (sw, sh) = (s.render.width, s.render.height);
-    let w = c.width.unwrap_or(sw);
-    let h = c
-        .height
-        .unwrap_or(((sh as u64 * w as u64) / sw as u64).max(1) as u32);
+    let (w, h) = s.render.image_size(c.width, c.height)?;
     let opts = TraceOpts {
         planes: !c.no_planes,
         bundles: BundleOpts {
@@ -381,6 +378,8 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 opts.planes = false;
                 opts.f32_transform = true;
             }
+            let png = Staged::png(&out)?;
+            let hits_file = dump_hits.as_deref().map(Staged::new).transpose()?;
             let acc = build(&s, opts.planes);
             let tester: Box<dyn BoxTester> = match box_kind {
                 BoxKind::Golden => match reduced {
@@ -413,16 +412,16 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 Some((format, tlas_q, boxes)) => wide_name(format, tlas_q, boxes),
                 None => tester.name().to_string(),
             };
-            f.save_png(&out)?;
-            if let Some(path) = &dump_hits {
+            f.save_png(png.temp_path())?;
+            if let Some(staged) = &hits_file {
                 let header = format!(
                     "render --dump-hits: {} {w}x{h}, box tester {}{}\ncamera: pixel (x, y) looks along forward + sx*right + sy*up, sx, sy the pixel centre on the image plane at distance 1 (x right, y down); t in units of that direction",
                     s.path.display(),
                     tester_name,
                     box_format.as_deref().map(|b| format!(" {b}")).unwrap_or_default()
                 );
-                std::fs::write(path, f.hits_text(&header))
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                std::fs::write(staged.temp_path(), f.hits_text(&header))
+                    .map_err(|e| format!("{}: {e}", staged.temp_path().display()))?;
             }
             println!(
                 "{} {}x{}, box tester {}{}, bundles {}: {} rays in {:.2} s = {:.0} rays/s -> {}",
@@ -490,6 +489,10 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     bundle_savings(&f.stats, &g.stats)
                 );
             }
+            png.commit()?;
+            if let Some(staged) = hits_file {
+                staged.commit()?;
+            }
         }
         Command::Hybrid {
             c,
@@ -533,6 +536,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 return Err(format!("--group: {group} is not in 1..=8"));
             }
             let (s, w, h, opts) = setup(&c)?;
+            let png = Staged::png(&out)?;
             let acc = build(&s, opts.planes);
             let g = Golden::default();
             let base = HybridOpts {
@@ -546,7 +550,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 ..HybridOpts::default()
             };
             let sync = render_sync(&s, &acc, &g, opts, w, h, &base);
-            sync.save_png(&out)?;
+            sync.save_png(png.temp_path())?;
             println!(
                 "{} {}x{} hybrid; synchronous: {} rays traced in {:.2} s -> {}\n",
                 s.path.display(),
@@ -614,6 +618,8 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 }
             }
             println!();
+            // the image is the synchronous render's: kept also when an order differs (exit 1)
+            png.commit()?;
             let rtl_ok = tally.mismatches == 0 && tally.renders_differ == 0;
             if rtl && rtl_ok {
                 println!("raycull: {} tests through RTL, identical", tally.tests);
@@ -654,6 +660,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 );
             }
             let shape = wide.shape()?;
+            let png = out.as_deref().map(Staged::png).transpose()?;
             if shape.is_some() {
                 // single rays without cull planes, as `render --wide`
                 opts.planes = false;
@@ -670,8 +677,8 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 sim::default_cache_root().display()
             );
             let r = crate::rtl::rtl_loop(&s, &acc, wide_accel.as_ref(), opts, w, h, &work, true)?;
-            if let Some(out) = &out {
-                r.rtl.save_png(out)?;
+            if let Some(png) = &png {
+                r.rtl.save_png(png.temp_path())?;
             }
             println!(
                 "{} {}x{}, bundles {}: {} rays; golden render {:.2} s, RTL-answered render {:.2} s{}\n",
@@ -690,6 +697,9 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     .unwrap_or_default()
             );
             println!("{r}");
+            if let Some(png) = png {
+                png.commit()?;
+            }
             if !r.ok() {
                 return Ok(ExitCode::from(1));
             }
@@ -719,10 +729,10 @@ fn run(command: Command) -> Result<ExitCode, String> {
             let mut rows = Vec::new();
             for path in &scenes {
                 let s = Scene::load(path).map_err(|e| e.to_string())?;
-                let w = width.unwrap_or(s.render.width);
-                let h = height.unwrap_or(
-                    ((s.render.height as u64 * w as u64) / s.render.width as u64).max(1) as u32,
-                );
+                let (w, h) = s
+                    .render
+                    .image_size(width, height)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
                 let acc = Accel::build(&s, false);
                 let binary: usize = acc.tlas.nodes.len()
                     + acc.blas.iter().map(|b| b.bvh.nodes.len()).sum::<usize>();

@@ -9,7 +9,7 @@
 use crate::bundle::build_bundles;
 use crate::bvh::Accel;
 use crate::mesh::unit;
-use crate::scene::{Light, Scene};
+use crate::scene::{Camera, Light, Scene};
 use crate::stats::{RayKind, Stats};
 use crate::tester::BoxTester;
 use crate::trace::{TRay, TraceOpts, Tracer};
@@ -53,14 +53,19 @@ pub(crate) fn face_normal64(v: &[[f32; 3]; 3]) -> DVec3 {
     (v1 - v0).cross(v2 - v0)
 }
 
+/// The camera's unit `(forward, right, up)` in binary32 (the scene file checks it is finite).
+pub(crate) fn camera_basis(c: &Camera) -> (Vec3, Vec3, Vec3) {
+    let forward = unit_by_division!(Vec3::from(c.look_at) - Vec3::from(c.position));
+    let right = unit_by_division!(forward.cross(c.up.into()));
+    (forward, right, right.cross(forward))
+}
+
 impl Cam {
     /// The scene's camera for a `w`×`h` image.
     pub fn new(scene: &Scene, w: u32, h: u32) -> Cam {
         let c = &scene.camera;
         let o = Vec3::from(c.position);
-        let forward = unit_by_division!(Vec3::from(c.look_at) - o);
-        let right = unit_by_division!(forward.cross(c.up.into()));
-        let up = right.cross(forward);
+        let (forward, right, up) = camera_basis(c);
         Cam {
             o,
             forward,
@@ -299,12 +304,14 @@ impl Frame {
     }
     /// Writes a PNG.
     pub fn save_png(&self, path: &std::path::Path) -> Result<(), String> {
-        image::save_buffer(
+        // PNG whatever the name ends with: the CLI writes to a temporary name first
+        image::save_buffer_with_format(
             path,
             &self.rgb8(),
             self.w,
             self.h,
             image::ExtendedColorType::Rgb8,
+            image::ImageFormat::Png,
         )
         .map_err(|e| format!("{}: {e}", path.display()))
     }

@@ -31,6 +31,8 @@
 use crate::mesh;
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 use golden_model::cull::bvh::Mesh;
+use golden_model::float::{FloatFormat, RoundingMode};
+use golden_model::transform::exact::scene_builder_inverse;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::fmt;
@@ -65,6 +67,74 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+/// The largest image width or height in pixels, of the scene file's `render.width` and
+/// `render.height` and of every command's `--width` and `--height` (a frame's buffers are
+/// allocated up front: a larger size aborts on memory instead of rendering).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// The most shadow rays per shading point of an area light (`samples`).
+pub const MAX_LIGHT_SAMPLES: u32 = 256;
+
+/// The most AO rays per pixel (`render.ao_rays`, `--ao`): as many as an area light's
+/// samples; more only lengthens the render without a visible change.
+pub const MAX_AO_RAYS: u32 = 256;
+
+/// `side` (an image width or height) if it is in `1..=MAX_IMAGE_SIDE`, else what is wrong.
+fn image_side(side: u32) -> Result<u32, String> {
+    if side == 0 || side > MAX_IMAGE_SIDE {
+        return Err(format!("{side} is not in 1..={MAX_IMAGE_SIDE}"));
+    }
+    Ok(side)
+}
+
+/// `ao_rays` if it is in `0..=MAX_AO_RAYS`, else what is wrong.
+pub fn ao_rays_in_range(ao_rays: u32) -> Result<u32, String> {
+    if ao_rays > MAX_AO_RAYS {
+        return Err(format!("{ao_rays} is not in 0..={MAX_AO_RAYS}"));
+    }
+    Ok(ao_rays)
+}
+
+/// A TOML array of exactly `N` elements: serde's fixed-size arrays would drop extra ones
+/// silently (`position = [0, 1, 3, 99]`).
+struct Exactly<T, const N: usize>([T; N]);
+
+impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Exactly<T, N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<T>::deserialize(d)?;
+        let len = v.len();
+        v.try_into().map(Exactly).map_err(|_| {
+            serde::de::Error::invalid_length(len, &format!("an array of {N} elements").as_str())
+        })
+    }
+}
+
+/// `deserialize_with` of a fixed-size array field ([`Exactly`]).
+fn exactly<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<[T; N], D::Error> {
+    Exactly::deserialize(d).map(|a| a.0)
+}
+
+/// `deserialize_with` of an optional fixed-size array field ([`Exactly`]).
+fn exactly_opt<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<Option<[T; N]>, D::Error> {
+    Option::<Exactly<T, N>>::deserialize(d).map(|a| a.map(|a| a.0))
+}
+
+/// `deserialize_with` of an optional 3×4 matrix ([`Exactly`] rows of exactly 4).
+fn exactly_rows_opt<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<[[f64; 4]; 3]>, D::Error> {
+    Option::<Exactly<Exactly<f64, 4>, 3>>::deserialize(d).map(|m| m.map(|m| m.0.map(|r| r.0)))
+}
+
+/// `deserialize_with` of a list of colours ([`Exactly`] 3 channels each).
+fn exactly_colors<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f32; 3]>, D::Error> {
+    Vec::<Exactly<f32, 3>>::deserialize(d).map(|v| v.into_iter().map(|c| c.0).collect())
+}
 
 fn d_width() -> u32 {
     128
@@ -117,8 +187,30 @@ pub struct RenderSettings {
     #[serde(default = "d_ao_distance")]
     pub ao_distance: f32,
     /// colour of pixels whose primary ray misses
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly")]
     pub background: [f32; 3],
+}
+
+impl RenderSettings {
+    /// The size of a render: `width` (the `--width` option) or the scene's, `height`
+    /// (`--height`) or the scene's scaled with the width; each in `1..=MAX_IMAGE_SIDE`,
+    /// else an error naming the option.
+    pub fn image_size(
+        &self,
+        width: Option<u32>,
+        height: Option<u32>,
+    ) -> Result<(u32, u32), String> {
+        let w = image_side(width.unwrap_or(self.width)).map_err(|e| format!("--width {e}"))?;
+        let h = match height {
+            Some(h) => image_side(h).map_err(|e| format!("--height {e}"))?,
+            None => {
+                let scaled = (self.height as u64 * w as u64 / self.width as u64).max(1);
+                image_side(u32::try_from(scaled).unwrap_or(u32::MAX))
+                    .map_err(|e| format!("the height scaled to --width {w}: {e} (give --height)"))?
+            }
+        };
+        Ok((w, h))
+    }
 }
 
 impl Default for RenderSettings {
@@ -139,11 +231,13 @@ impl Default for RenderSettings {
 #[serde(deny_unknown_fields)]
 pub struct Camera {
     /// eye position
+    #[serde(deserialize_with = "exactly")]
     pub position: [f32; 3],
     /// point the camera looks at
+    #[serde(deserialize_with = "exactly")]
     pub look_at: [f32; 3],
     /// up vector (default +y)
-    #[serde(default = "d_up")]
+    #[serde(default = "d_up", deserialize_with = "exactly")]
     pub up: [f32; 3],
     /// vertical field of view in degrees
     #[serde(default = "d_fov")]
@@ -172,12 +266,16 @@ struct MeshDef {
 #[serde(deny_unknown_fields)]
 struct InstanceDef {
     mesh: String,
+    #[serde(default, deserialize_with = "exactly_rows_opt")]
     transform: Option<[[f64; 4]; 3]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
     translate: Option<[f64; 3]>,
     /// axis (3) and angle in degrees
+    #[serde(default, deserialize_with = "exactly_opt")]
     rotate: Option<[f64; 4]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
     scale: Option<[f64; 3]>,
-    #[serde(default = "d_color")]
+    #[serde(default = "d_color", deserialize_with = "exactly")]
     color: [f32; 3],
     /// 1 (default): opaque; below 1: translucent (the hybrid renderer blends it)
     #[serde(default = "d_one")]
@@ -188,15 +286,16 @@ struct InstanceDef {
 #[serde(deny_unknown_fields)]
 struct GridDef {
     mesh: String,
+    #[serde(deserialize_with = "exactly")]
     count: [u32; 2],
     spacing: f64,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly")]
     origin: [f64; 3],
     #[serde(default = "d_one")]
     scale: f32,
     #[serde(default)]
     seed: u64,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exactly_colors")]
     colors: Vec<[f32; 3]>,
 }
 
@@ -207,8 +306,10 @@ pub enum Light {
     /// A point light: radiant intensity `color` (falls off with 1/r²).
     Point {
         /// position
+        #[serde(deserialize_with = "exactly")]
         position: [f32; 3],
         /// intensity per channel
+        #[serde(deserialize_with = "exactly")]
         color: [f32; 3],
     },
     /// A parallelogram `corner + u·edge_u + v·edge_v`, `u, v ∈ [0,1]`, emitting
@@ -216,12 +317,16 @@ pub enum Light {
     /// shadow rays per shading point.
     Area {
         /// one corner
+        #[serde(deserialize_with = "exactly")]
         corner: [f32; 3],
         /// first edge
+        #[serde(deserialize_with = "exactly")]
         edge_u: [f32; 3],
         /// second edge
+        #[serde(deserialize_with = "exactly")]
         edge_v: [f32; 3],
         /// emitted radiance per channel
+        #[serde(deserialize_with = "exactly")]
         color: [f32; 3],
         /// shadow rays per shading point
         #[serde(default = "d_samples")]
@@ -295,7 +400,10 @@ fn err(file: &Path, field: impl Into<String>, message: impl Into<String>) -> Sce
 fn field_of_span(text: &str, span: std::ops::Range<usize>) -> String {
     // The key path is reconstructed from the table headers and the key on the
     // line of the span (good enough for error messages; exact for this format).
-    let upto = &text[..span.start.min(text.len())];
+    // through the end of the span's line: a span at a `[[lights]]` header (a light's own
+    // error, serde's tagged enums keep no field spans) belongs to that table
+    let start = span.start.min(text.len());
+    let upto = &text[..text[start..].find('\n').map_or(text.len(), |n| start + n)];
     let mut table = String::new();
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     for line in upto.lines() {
@@ -377,25 +485,32 @@ impl Scene {
     /// Parses scene text as if it were the file `path`.
     pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
         let def: SceneDef = toml::from_str(text).map_err(|e| {
+            // a span at an array element's header, not at a key: serde's tagged enums
+            // (`[[lights]]`) keep no field spans and toml then points at the first element
             let field = e
                 .span()
                 .map(|s| field_of_span(text, s))
-                .filter(|f| !f.is_empty())
+                .filter(|f| !f.is_empty() && !f.ends_with(']'))
                 .or_else(|| locate_section(text))
                 .unwrap_or_default();
             err(path, field, e.message().to_string())
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let r = &def.render;
-        if r.width == 0 || r.width > 16384 {
-            return Err(err(path, "render.width", "must be in 1..=16384"));
-        }
-        if r.height == 0 || r.height > 16384 {
-            return Err(err(path, "render.height", "must be in 1..=16384"));
-        }
+        image_side(r.width).map_err(|e| err(path, "render.width", e))?;
+        image_side(r.height).map_err(|e| err(path, "render.height", e))?;
+        ao_rays_in_range(r.ao_rays).map_err(|e| err(path, "render.ao_rays", e))?;
         if !(r.ao_distance > 0.0 && r.ao_distance.is_finite()) {
             return Err(err(path, "render.ao_distance", "must be positive"));
         }
+        if !(r.ambient >= 0.0 && r.ambient.is_finite()) {
+            return Err(err(
+                path,
+                "render.ambient",
+                format!("{}: must be finite and not negative", r.ambient),
+            ));
+        }
+        check_color(path, "render.background", r.background)?;
         let c = &def.camera;
         if !(c.fov_y > 0.0 && c.fov_y < 180.0) {
             return Err(err(path, "camera.fov_y", "must be in (0, 180) degrees"));
@@ -429,6 +544,18 @@ impl Scene {
                 ),
             ));
         }
+        // a zero `up`, or one along the view direction, leaves no camera basis (NaN rays)
+        let (_, right, up) = crate::render::camera_basis(c);
+        if !(right.is_finite() && up.is_finite() && up.length() > 0.0) {
+            return Err(err(
+                path,
+                "camera.up",
+                format!(
+                    "{:?}: must not be zero nor parallel to look_at − position",
+                    c.up
+                ),
+            ));
+        }
         let mut meshes = Vec::new();
         let mut names = BTreeMap::new();
         for (name, m) in &def.meshes {
@@ -459,6 +586,7 @@ impl Scene {
                 )
             })?;
             let transform = instance_transform(path, &field, inst)?;
+            check_color(path, format!("{field}.color"), inst.color)?;
             if !(inst.opacity > 0.0 && inst.opacity <= 1.0) {
                 return Err(err(
                     path,
@@ -482,16 +610,30 @@ impl Scene {
                     format!("no mesh named `{}` in [meshes]", grid.mesh),
                 )
             })?;
-            if grid.count[0] == 0 || grid.count[1] == 0 || grid.count[0] * grid.count[1] > 1_000_000
-            {
+            // in u64: the product of two u32 counts does not wrap
+            let count = grid.count[0] as u64 * grid.count[1] as u64;
+            if !(1..=1_000_000).contains(&count) {
                 return Err(err(
                     path,
                     format!("{field}.count"),
-                    "need 1..=1e6 instances",
+                    format!("{:?}: need 1..=1e6 instances", grid.count),
                 ));
             }
-            if !(grid.scale > 0.0) {
-                return Err(err(path, format!("{field}.scale"), "must be positive"));
+            if !grid.spacing.is_finite() {
+                return Err(err(path, format!("{field}.spacing"), "must be finite"));
+            }
+            if grid.origin.iter().any(|x| !x.is_finite()) {
+                return Err(err(path, format!("{field}.origin"), "must be finite"));
+            }
+            if !(grid.scale > 0.0 && grid.scale.is_finite()) {
+                return Err(err(
+                    path,
+                    format!("{field}.scale"),
+                    "must be positive and finite",
+                ));
+            }
+            for (k, &c) in grid.colors.iter().enumerate() {
+                check_color(path, format!("{field}.colors[{k}]"), c)?;
             }
             for ix in 0..grid.count[0] {
                 for iz in 0..grid.count[1] {
@@ -514,9 +656,11 @@ impl Scene {
                     } else {
                         grid.colors[(ix as usize * 7 + iz as usize * 3) % grid.colors.len()]
                     };
+                    let transform =
+                        checked_transform(path, &format!("{field} (instance x {ix}, z {iz})"), m)?;
                     instances.push(Instance {
                         mesh,
-                        transform: m.map(|row| row.map(|x| x as f32)),
+                        transform,
                         color,
                         opacity: 1.0,
                     });
@@ -527,15 +671,7 @@ impl Scene {
             return Err(err(path, "instances", "the scene places no instance"));
         }
         for (i, l) in def.lights.iter().enumerate() {
-            if let Light::Area { samples, .. } = l {
-                if *samples == 0 || *samples > 256 {
-                    return Err(err(
-                        path,
-                        format!("lights[{i}].samples"),
-                        "must be in 1..=256",
-                    ));
-                }
-            }
+            check_light(path, &format!("lights[{i}]"), l)?;
         }
         Ok(Scene {
             path: path.to_path_buf(),
@@ -556,7 +692,40 @@ impl Scene {
     }
 }
 
+/// The most quads per grass blade (`segments`).
+pub const MAX_GRASS_SEGMENTS: u32 = 1024;
+
+/// The most quads of a grass mesh (`blades × segments`, two triangles each): as many as
+/// the most blades (2e6) at the default 4 segments.
+pub const MAX_GRASS_QUADS: u64 = 8_000_000;
+
 fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh, SceneError> {
+    // a parameter of another shape would be ignored silently
+    let grass_only = [
+        ("blades", m.blades.is_some()),
+        ("segments", m.segments.is_some()),
+        ("height", m.height.is_some()),
+        ("width", m.width.is_some()),
+        ("size", m.size.is_some()),
+        ("seed", m.seed.is_some()),
+    ];
+    let shape = m.procedural.as_deref();
+    for (name, given) in grass_only {
+        if given && shape != Some("grass") {
+            return Err(err(
+                file,
+                format!("{field}.{name}"),
+                "only `procedural = \"grass\"` takes it",
+            ));
+        }
+    }
+    if m.subdivisions.is_some() && shape != Some("sphere") {
+        return Err(err(
+            file,
+            format!("{field}.subdivisions"),
+            "only `procedural = \"sphere\"` takes it",
+        ));
+    }
     match (&m.obj, &m.procedural) {
         (Some(_), Some(_)) => Err(err(
             file,
@@ -589,12 +758,49 @@ fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh,
                 if blades == 0 || blades > 2_000_000 {
                     return Err(err(file, format!("{field}.blades"), "must be in 1..=2e6"));
                 }
-                Ok(mesh::grass(
-                    blades,
-                    m.segments.unwrap_or(4),
+                let segments = m.segments.unwrap_or(4);
+                if segments == 0 || segments > MAX_GRASS_SEGMENTS {
+                    return Err(err(
+                        file,
+                        format!("{field}.segments"),
+                        format!("{segments} is not in 1..={MAX_GRASS_SEGMENTS}"),
+                    ));
+                }
+                let quads = blades as u64 * segments as u64;
+                if quads > MAX_GRASS_QUADS {
+                    return Err(err(
+                        file,
+                        format!("{field}.segments"),
+                        format!("blades × segments = {quads}: at most {MAX_GRASS_QUADS} quads"),
+                    ));
+                }
+                let (height, width, size) = (
                     m.height.unwrap_or(1.0),
                     m.width.unwrap_or(0.02),
                     m.size.unwrap_or(1.0),
+                );
+                for (name, v, least) in [("height", height, 0.0), ("width", width, 0.0)] {
+                    if !(v > least && v.is_finite()) {
+                        return Err(err(
+                            file,
+                            format!("{field}.{name}"),
+                            format!("{v}: must be positive and finite"),
+                        ));
+                    }
+                }
+                if !(size >= 0.0 && size.is_finite()) {
+                    return Err(err(
+                        file,
+                        format!("{field}.size"),
+                        format!("{size}: must be finite and not negative"),
+                    ));
+                }
+                Ok(mesh::grass(
+                    blades,
+                    segments,
+                    height,
+                    width,
+                    size,
                     m.seed.unwrap_or(1),
                 ))
             }
@@ -612,6 +818,77 @@ fn build_mesh(file: &Path, dir: &Path, field: &str, m: &MeshDef) -> Result<Mesh,
 pub(crate) fn forward_affine(f: &[[f32; 4]; 3]) -> DAffine3 {
     let col = |j: usize| DVec3::new(f[0][j] as f64, f[1][j] as f64, f[2][j] as f64);
     DAffine3::from_cols(col(0), col(1), col(2), col(3))
+}
+
+/// A colour, intensity or radiance must be finite and not negative.
+fn check_color(file: &Path, field: impl Into<String>, c: [f32; 3]) -> Result<(), SceneError> {
+    if c.iter().all(|x| *x >= 0.0 && x.is_finite()) {
+        return Ok(());
+    }
+    Err(err(
+        file,
+        field,
+        format!("{c:?}: channels must be finite and not negative"),
+    ))
+}
+
+/// A light's points finite, its colour a colour, an area light's edges spanning an area,
+/// its samples in `1..=MAX_LIGHT_SAMPLES`.
+fn check_light(file: &Path, field: &str, light: &Light) -> Result<(), SceneError> {
+    let finite = |name: &str, v: [f32; 3]| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(err(
+                file,
+                format!("{field}.{name}"),
+                format!("{v:?}: coordinates must be finite"),
+            ))
+        }
+    };
+    match light {
+        Light::Point { position, color } => {
+            finite("position", *position)?;
+            check_color(file, format!("{field}.color"), *color)
+        }
+        Light::Area {
+            corner,
+            edge_u,
+            edge_v,
+            color,
+            samples,
+        } => {
+            finite("corner", *corner)?;
+            finite("edge_u", *edge_u)?;
+            finite("edge_v", *edge_v)?;
+            // the emitting side and the sample density come from edge_u × edge_v
+            let n = Vec3::from(*edge_u).cross(Vec3::from(*edge_v));
+            if !(n.is_finite() && n.length_squared() > 0.0) {
+                return Err(err(
+                    file,
+                    format!("{field}.edge_v"),
+                    format!("{edge_u:?} × {edge_v:?}: the edges must span a finite, nonzero area"),
+                ));
+            }
+            check_color(file, format!("{field}.color"), *color)?;
+            if *samples == 0 || *samples > MAX_LIGHT_SAMPLES {
+                return Err(err(
+                    file,
+                    format!("{field}.samples"),
+                    format!("{samples} is not in 1..={MAX_LIGHT_SAMPLES}"),
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// `R⁻¹` of an instance's binary32 rows ([`Instance::transform`]) as the scene builder
+/// stores it: row-major binary32 bits, the exact inverse rounded once
+/// (`scene_builder_inverse`, the transform unit's `inverse=pre`).
+pub(crate) fn builder_inverse(f: &[[f32; 4]; 3]) -> [u64; 9] {
+    let r_bits: [u64; 9] = std::array::from_fn(|k| f[k / 3][k % 3].to_bits() as u64);
+    scene_builder_inverse(FloatFormat::BINARY32, RoundingMode::NearestEven, &r_bits)
 }
 
 /// `R = Rot(axis, angle)·diag(scale)`, `T = translate`, or the explicit 3×4.
@@ -643,21 +920,35 @@ fn instance_transform(
         let t = inst.translate.unwrap_or([0.0; 3]);
         [0, 1, 2].map(|i| rs.row(i).extend(t[i]).to_array())
     };
+    checked_transform(file, &format!("{field}.transform"), m)
+}
+
+/// The binary32 rows of a forward instance transform `[R | T]` (of `[[instances]]` and of
+/// every instance of `[[grids]]`), if the scene builder can use them: finite entries, `R`
+/// not singular and its inverse, as the builder stores it (`scene_builder_inverse`, each
+/// entry rounded once), finite in binary32 (else the instance silently vanishes).
+fn checked_transform(
+    file: &Path,
+    field: &str,
+    m: [[f64; 4]; 3],
+) -> Result<[[f32; 4]; 3], SceneError> {
     let f = m.map(|row| row.map(|x| x as f32));
     if f.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(err(
-            file,
-            format!("{field}.transform"),
-            "entries must be finite f32",
-        ));
+        return Err(err(file, field, "entries must be finite f32"));
     }
     // expanded along the first row, as the singularity check always was
     let det = forward_affine(&f).matrix3.transpose().determinant();
     if det == 0.0 || !det.is_finite() {
+        return Err(err(file, field, "the linear part is singular"));
+    }
+    if builder_inverse(&f)
+        .iter()
+        .any(|&b| !f32::from_bits(b as u32).is_finite())
+    {
         return Err(err(
             file,
-            format!("{field}.transform"),
-            "the linear part is singular",
+            field,
+            "the inverse of the linear part overflows binary32 (a scale too small)",
         ));
     }
     Ok(f)
