@@ -100,7 +100,7 @@ pub enum Command {
         #[arg(long, default_value_t = 8)]
         recip_stages: u32,
         /// width of the renders that measure box tests per ray
-        #[arg(long, default_value_t = 96)]
+        #[arg(long, default_value_t = 96, value_parser = image_side())]
         width: u32,
         /// scenes whose box tests per ray amortise the reciprocal (default: scenes/*.toml)
         #[arg(long)]
@@ -157,7 +157,7 @@ pub enum Command {
         #[arg(default_values = ["scenes/cornell.toml", "scenes/field.toml", "scenes/grass.toml"])]
         scenes: Vec<PathBuf>,
         /// image width of each render
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 64, value_parser = image_side())]
         width: u32,
         /// use only synthesis results already in the cache (no Yosys run)
         #[arg(long)]
@@ -342,6 +342,11 @@ pub struct ProveArgs {
 }
 
 /// Runs one subcommand: exit 0, or 2 with the error printed.
+/// An image side the renderer accepts (the scene file's limit).
+fn image_side() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(1..=i64::from(scene::scene::MAX_IMAGE_SIDE))
+}
+
 pub fn main(command: Command) -> ExitCode {
     let given = match &command {
         Command::Synth { params, .. } | Command::Depth { params, .. } => Some(params),
@@ -530,6 +535,10 @@ fn run(command: Command) -> Result<(), Box<dyn std::error::Error>> {
             exact_all,
             wide,
         } => {
+            rtl_flow::check_outputs(&[json.as_deref()])?;
+            if out.is_file() {
+                return Err(format!("--out {}: a file, not a directory", out.display()).into());
+            }
             let sc = crate::fit::load(&scene)?;
             let name = scene.display().to_string();
             if wide {

@@ -510,6 +510,36 @@ impl Generated {
     }
 }
 
+/// A command's output files, checked before it does any work, so that a
+/// bad path fails first and leaves nothing: each one's directory exists, it
+/// is not a directory itself, and no two are the same file (one would
+/// overwrite the other).
+pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError> {
+    let paths: Vec<&std::path::Path> = paths.iter().flatten().copied().collect();
+    for (i, p) in paths.iter().enumerate() {
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        if dir.is_some_and(|d| !d.is_dir()) {
+            return Err(cli::bad_usage(format!(
+                "{}: no such directory for this output",
+                p.display()
+            )));
+        }
+        if p.is_dir() {
+            return Err(cli::bad_usage(format!(
+                "{}: is a directory, not an output file",
+                p.display()
+            )));
+        }
+        if paths[..i].contains(p) {
+            return Err(cli::bad_usage(format!(
+                "{}: given as two outputs of one command",
+                p.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Removes the files a failed command wrote, and the directory it created for
 /// them when that is left empty (best effort: the error that stopped it is the
 /// one reported), so that nothing half-written is left.

@@ -216,3 +216,32 @@ fn outputs_are_checked_before_the_work() {
     );
     assert!(!merged.exists());
 }
+
+/// `fit` checks its JSON path before the fit (it wrote the design and its
+/// report, then failed on the JSON), and the cost tools' render widths are
+/// the scene file's image sides.
+#[test]
+fn cost_commands_check_outputs_and_widths_first() {
+    let dir = scratch("cost");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml");
+    let out = dir.join("fit");
+    let json = dir.join("nodir").join("f.json");
+    refused(
+        &[
+            "fit",
+            scene,
+            "--no-synth",
+            "--out",
+            s(&out),
+            "--json",
+            s(&json),
+        ],
+        "no such directory",
+    );
+    assert!(!out.exists(), "fit left {}", out.display());
+    for command in ["per-ray", "boxes"] {
+        for width in ["0", "100000"] {
+            refused(&[command, "--width", width], "1..=16384");
+        }
+    }
+}

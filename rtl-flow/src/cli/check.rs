@@ -206,7 +206,7 @@ pub(super) fn sim_file(
     cache: Option<PathBuf>,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    super::check_outputs(&reports.with(&files.out))?;
+    crate::check_outputs(&reports.with(&files.out))?;
     let mut g = unit.generate()?;
     if let Some(v) = verilog {
         let n = g.use_verilog_from(v)?;
@@ -243,7 +243,7 @@ pub(super) fn golden_file(
     files: &FileArgs,
     reports: &ReportArgs,
 ) -> Result<bool, FlowError> {
-    super::check_outputs(&reports.with(&files.out))?;
+    crate::check_outputs(&reports.with(&files.out))?;
     let g = unit.generate()?;
     let mut base = RunReport::new("golden", &g);
     base.input = Some(files.input.display().to_string());

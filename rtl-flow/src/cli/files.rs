@@ -62,7 +62,7 @@ pub(super) fn merge_reports(
     out: Option<PathBuf>,
     junit: Option<PathBuf>,
 ) -> Result<bool, FlowError> {
-    super::check_outputs(&[out.as_deref(), junit.as_deref()])?;
+    crate::check_outputs(&[out.as_deref(), junit.as_deref()])?;
     let mut loaded = Vec::new();
     for p in paths {
         loaded.push((
