@@ -1086,3 +1086,32 @@ fn reorigin_node_is_conservative() {
         rate(&base)
     );
 }
+
+/// The parameters' ranges, ends included: the ray format's exponent up to 10
+/// bits (the wide format's), children 2, 4, 8, q 4..=16, K 4..=24, f 0..=16;
+/// each refused value says which.
+#[test]
+fn node_parameters_are_checked_at_their_ends() {
+    let f = |e, m| FloatFormat::new(e, m).unwrap();
+    assert!(NodeParams::new(f(10, 20), 4, 8).is_ok());
+    let e = NodeParams::new(FloatFormat::BINARY64, 4, 8).unwrap_err();
+    assert!(e.contains("11 exponent bits"), "{e}");
+    for (children, q) in [(2, 4), (8, 16)] {
+        assert!(NodeParams::new(FloatFormat::BINARY32, children, q).is_ok());
+    }
+    for (children, q, says) in [(3, 8, "children"), (4, 3, "box_bits"), (4, 17, "box_bits")] {
+        let e = NodeParams::new(FloatFormat::BINARY32, children, q).unwrap_err();
+        assert!(e.contains(says), "{e}");
+    }
+    let b32 = FloatFormat::BINARY32;
+    assert!(NodeParams::with_precision(b32, 4, 8, 4, 0).is_ok());
+    assert!(NodeParams::with_precision(b32, 4, 8, 24, 16).is_ok());
+    for (k, frac, says) in [
+        (3, 4, "grid_bits"),
+        (25, 4, "grid_bits"),
+        (12, 17, "grid_frac"),
+    ] {
+        let e = NodeParams::with_precision(b32, 4, 8, k, frac).unwrap_err();
+        assert!(e.contains(says), "{e}");
+    }
+}
