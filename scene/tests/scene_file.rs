@@ -178,22 +178,7 @@ fn non_finite_vertex_names_the_mesh_and_the_vertex() {
 }
 
 /// A minimal valid scene with a point light, its instance placed by translate/rotate/scale.
-const LIT: &str = r#"
-[render]
-width = 8
-height = 8
-[camera]
-position = [0.0, 1.0, 3.0]
-look_at = [0.0, 0.0, 0.0]
-[meshes.q]
-procedural = "quad"
-[[instances]]
-mesh = "q"
-[[lights]]
-kind = "point"
-position = [0.0, 3.0, 0.0]
-color = [5.0, 5.0, 5.0]
-"#;
+const LIT: &str = include_str!("data/lit.toml");
 
 /// `LIT` with `extra` appended (a later table, or keys of the last one).
 fn lit_with(extra: &str) -> String {

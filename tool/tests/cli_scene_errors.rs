@@ -9,21 +9,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The smallest valid scene: 8x8, a quad, a point light.
-const SCENE: &str = r#"[render]
-width = 8
-height = 8
-[camera]
-position = [0.0, 1.0, 3.0]
-look_at = [0.0, 0.0, 0.0]
-[meshes.q]
-procedural = "quad"
-[[instances]]
-mesh = "q"
-[[lights]]
-kind = "point"
-position = [0.0, 3.0, 0.0]
-color = [5.0, 5.0, 5.0]
-"#;
+const SCENE: &str = include_str!("../../scene/tests/data/lit.toml");
 
 /// A fresh folder holding `B.toml` (`SCENE` with `extra` appended).
 fn folder(tag: &str, extra: &str) -> PathBuf {
