@@ -690,3 +690,27 @@ pub fn box_interval(
     );
     s.hit.then_some((s.t_enter, s.t_exit))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The binary32 fast path is taken for a valid ray (the renderer's cull
+    /// tests go through it: its results are the generic path's, so only this
+    /// sees it switched off) and declined for an invalid one.
+    #[test]
+    fn binary32_rays_take_the_fast_path_unless_invalid() {
+        let b = |x: f32| x.to_bits() as u64;
+        let plane = FloatFormat::new(5, 10).expect("binary16");
+        let cfg = Config::new(FloatFormat::BINARY32, plane, 2).expect("a valid configuration");
+        let normals = [[0x3c00, 0, 0], [0, 0x3c00, 0]];
+        let (o, r) = ([b(1.0), b(2.0), b(3.0)], [b(0.5), b(0.25), b(0.0)]);
+        let mut terms = [NormalTerm::default(); 2];
+        let mut b_los = [0u64; 2];
+        let mut fast =
+            |d: [u64; 3]| normal_terms_f32(&cfg, &o, &d, &r, &normals, &mut terms, &mut b_los);
+        assert!(fast([b(0.5), b(-1.0), b(2.0)]));
+        assert!(!fast([b(f32::NAN), b(-1.0), b(2.0)]));
+        assert!(!fast([b(f32::INFINITY), b(-1.0), b(2.0)]));
+    }
+}
