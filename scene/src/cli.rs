@@ -172,7 +172,7 @@ pub enum Command {
         #[arg(long = "box", value_enum, default_value = "golden")]
         box_kind: BoxKind,
         /// also render without cull planes and report what the planes saved
-        #[arg(long)]
+        #[arg(long, conflicts_with = "no_planes")]
         plane_savings: bool,
         /// also render without bundles and report the box tests the bundles saved, net
         #[arg(long)]
@@ -229,7 +229,7 @@ pub enum Command {
         shuffles: u64,
         /// with --rtl: directory for the generated Verilog and the vector streams
         /// (default: target/rtl-loop/<pid>)
-        #[arg(long)]
+        #[arg(long, requires = "rtl")]
         work: Option<PathBuf>,
     },
     /// RTL in the loop: record every box, transform, cull and triangle test of

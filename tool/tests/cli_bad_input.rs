@@ -245,3 +245,53 @@ fn cost_commands_check_outputs_and_widths_first() {
         }
     }
 }
+
+/// Options that would do nothing, or pass on nothing, are refused: a check
+/// of 0 vectors (it printed PASS), a cocotb test of none, `--plane-savings`
+/// without planes, `hybrid --work` without `--rtl`.
+#[test]
+fn options_that_would_do_nothing_are_refused() {
+    let dir = scratch("nothing");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml");
+    let png = dir.join("x.png");
+    for (args, says) in [
+        (&["check", "fadd", "--vectors", "0"][..], "--vectors"),
+        (
+            &[
+                "emit",
+                "fadd",
+                "--out",
+                s(&dir.join("e")),
+                "--cocotb",
+                "--cocotb-vectors",
+                "0",
+            ],
+            "--cocotb-vectors",
+        ),
+        (
+            &[
+                "render",
+                scene,
+                "--out",
+                s(&png),
+                "--no-planes",
+                "--plane-savings",
+            ],
+            "cannot be used with",
+        ),
+        (
+            &[
+                "hybrid",
+                scene,
+                "--out",
+                s(&png),
+                "--work",
+                s(&dir.join("w")),
+            ],
+            "--rtl",
+        ),
+    ] {
+        refused(args, says);
+    }
+    assert!(files_in(&dir).is_empty(), "{:?}", files_in(&dir));
+}

@@ -45,7 +45,8 @@ pub enum Command {
         #[arg(long)]
         cocotb: bool,
         /// Vectors of the cocotb test.
-        #[arg(long, default_value_t = 1000, value_name = "N", requires = "cocotb")]
+        #[arg(long, default_value_t = 1000, value_name = "N", requires = "cocotb",
+              value_parser = clap::value_parser!(u64).range(1..))]
         cocotb_vectors: u64,
         /// Seed of the cocotb test's random vectors.
         #[arg(long, default_value_t = 1, requires = "cocotb")]
@@ -56,8 +57,9 @@ pub enum Command {
     Check {
         #[command(flatten)]
         unit: UnitArgs,
-        /// Number of vectors (corner cases first, then seeded random ones).
-        #[arg(long, default_value_t = 1_000_000)]
+        /// Number of vectors (corner cases first, then seeded random ones); a check of none
+        /// would pass on nothing.
+        #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u64).range(1..))]
         vectors: u64,
         /// Seed of the random vectors.
         #[arg(long, default_value_t = 1)]
