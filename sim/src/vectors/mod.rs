@@ -81,17 +81,9 @@ pub fn parse_header(line: &str, stream: &str) -> Result<Vec<Port>, SimError> {
                 format!("port {i}: `{name}` is not a port name (letters, digits, `_`)"),
             );
         }
-        let width = match width.parse::<u32>() {
-            // Canonical decimal only, as writers produce it: the harness
-            // compares header lines byte for byte.
-            Ok(w)
-                if (1..=MAX_WIDTH).contains(&w)
-                    && width.bytes().all(|b| b.is_ascii_digit())
-                    && !width.starts_with('0') =>
-            {
-                w
-            }
-            _ => {
+        let width = match port_width(width) {
+            Some(w) => w,
+            None => {
                 return err(
                     Some(name),
                     format!("width `{width}` is not a number in 1..={MAX_WIDTH}"),
@@ -242,6 +234,18 @@ pub(super) fn check_len(what: &str, got: usize, want: usize) -> Result<(), SimEr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Text and binary headers read a width one way: canonical decimal
+    /// (the text header took `+16` and `016`, the binary one refused them).
+    #[test]
+    fn a_port_width_is_canonical_decimal() {
+        for (text, width) in [("1", Some(1)), ("16", Some(16)), ("64", Some(MAX_WIDTH))] {
+            assert_eq!(port_width(text), width, "{text}");
+        }
+        for bad in ["+16", "016", "0", "", "65", "16\r", "-1", "0x10", " 16"] {
+            assert_eq!(port_width(bad), None, "{bad:?}");
+        }
+    }
 
     fn ports() -> Vec<Port> {
         vec![
@@ -586,4 +590,13 @@ odd flag:1  a wide   # header, widths optional with a port list
         assert_eq!(left.len(), 2, "no temporary file left behind");
         std::fs::remove_dir_all(&dir).unwrap();
     }
+}
+
+/// A port width as a header states it: canonical decimal in `1..=MAX_WIDTH`
+/// (no sign, no leading zero), as writers produce it: the harness compares
+/// header lines byte for byte, and text and binary headers read one way.
+pub(crate) fn port_width(text: &str) -> Option<u32> {
+    let canonical = text.bytes().all(|b| b.is_ascii_digit()) && !text.starts_with('0');
+    let w = text.parse::<u32>().ok()?;
+    (canonical && (1..=MAX_WIDTH).contains(&w)).then_some(w)
 }

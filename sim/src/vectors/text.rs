@@ -97,9 +97,9 @@ impl<R: BufRead> TextReader<R> {
         for tok in content.split_ascii_whitespace() {
             let (name, width) = match tok.split_once(':') {
                 Some((n, w)) => {
-                    let width = match w.parse::<u32>() {
-                        Ok(w) if (1..=MAX_WIDTH).contains(&w) => w,
-                        _ => {
+                    let width = match super::port_width(w) {
+                        Some(w) => w,
+                        None => {
                             return Err(SimError::format(
                                 &r.stream,
                                 at,
