@@ -512,7 +512,7 @@ impl Generated {
 
 /// A command's output files, checked before it does any work, so that a
 /// bad path fails first and leaves nothing: each one's directory exists, it
-/// is not a directory itself, and no two are the same file (one would
+/// is not a directory or a device, and no two are the same file (one would
 /// overwrite the other).
 pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError> {
     let paths: Vec<&std::path::Path> = paths.iter().flatten().copied().collect();
@@ -527,6 +527,14 @@ pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError
         if p.is_dir() {
             return Err(cli::bad_usage(format!(
                 "{}: is a directory, not an output file",
+                p.display()
+            )));
+        }
+        // outputs are written beside and renamed into place: a device would
+        // be replaced by a file, not written to
+        if p.exists() && !p.is_file() {
+            return Err(cli::bad_usage(format!(
+                "{}: not a regular file",
                 p.display()
             )));
         }

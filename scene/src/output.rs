@@ -25,6 +25,10 @@ impl Staged {
         if target.is_dir() {
             return Err(format!("{shown}: is a folder, not a file name"));
         }
+        // the rename would replace a device or a FIFO by a file, not write to it
+        if target.exists() && !target.is_file() {
+            return Err(format!("{shown}: not a regular file"));
+        }
         let name = target
             .file_name()
             .ok_or_else(|| format!("{shown}: not a file name"))?;

@@ -183,6 +183,37 @@ fn outputs_are_checked_before_the_work() {
         refused(&a, says);
         assert!(!golden.exists(), "{a:?} left {}", golden.display());
     }
+    // outputs are renamed into place: a special file would be replaced (as
+    // root, `--out /dev/full` replaced the device); a FIFO stands for one here
+    let fifo = dir.join("fifo");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", fifo.display());
+    let a = run(&[]);
+    let mut a: Vec<&str> = a.iter().map(String::as_str).collect();
+    let out_at = a.iter().position(|x| *x == s(&golden)).unwrap();
+    a[out_at] = s(&fifo);
+    refused(&a, "not a regular file");
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(!kind.is_file(), "the FIFO was replaced by a file");
+    // the renderer's outputs too
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml");
+    let png = dir.join("x.png");
+    refused(
+        &[
+            "render",
+            scene,
+            "--width",
+            "8",
+            "--out",
+            s(&png),
+            "--dump-hits",
+            s(&fifo),
+        ],
+        "not a regular file",
+    );
+    assert!(!png.exists());
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(!kind.is_file(), "the FIFO was replaced by a file");
     // a report, then merge-reports: a bad junit path leaves no merged report
     let report = dir.join("r.json");
     let a = run(&["--report", s(&report)]);
