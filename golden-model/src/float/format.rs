@@ -285,6 +285,28 @@ impl RoundingMode {
 mod tests {
     use super::*;
 
+    /// The named values at the ends of the range, as bits, against their
+    /// IEEE encodings (the stimulus draws its range-end vectors from them).
+    #[test]
+    fn the_range_end_values_are_their_ieee_encodings() {
+        let f = FloatFormat::BINARY32;
+        let ends = [
+            (f.min_subnormal(false), 0x0000_0001),
+            (f.max_subnormal(false), 0x007f_ffff),
+            (f.min_normal(false), 0x0080_0000),
+            (f.max_subnormal(true), 0x807f_ffff),
+            (f.min_subnormal(true), 0x8000_0001),
+        ];
+        for (got, want) in ends {
+            assert_eq!(got, want, "{got:#x} for {want:#x}");
+        }
+        let h = FloatFormat::BINARY16;
+        assert_eq!(
+            (h.max_subnormal(false), h.max_subnormal(true)),
+            (0x03ff, 0x83ff)
+        );
+    }
+
     #[test]
     fn every_format_name_and_its_short_form_parse() {
         for (names, f) in [
