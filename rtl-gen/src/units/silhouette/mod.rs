@@ -409,6 +409,34 @@ impl Description for Silhouette {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::ParamSet;
+
+    /// A block's name carries its own stages, not the unit's: two units of
+    /// different depths whose axis blocks differ must not share a module name.
+    #[test]
+    fn the_axis_block_is_named_for_its_own_stages() {
+        for stages in [0, 4, 12] {
+            let p = SilhouetteParams {
+                stages,
+                ..SilhouetteParams::defaults()
+            };
+            let cfg = Silhouette.config(&p).expect("a valid silhouette");
+            let unit = build(&cfg);
+            let axis = &unit
+                .instances
+                .iter()
+                .find(|i| i.name == "u_axis_x")
+                .unwrap()
+                .module;
+            let diff = StagePlan::new(stages).diff;
+            assert_eq!(axis.latency, diff, "stages={stages}");
+            assert!(
+                axis.name.ends_with(&format!("_s{diff}")),
+                "stages={stages}: {}",
+                axis.name
+            );
+        }
+    }
 
     #[test]
     fn stage_plan_covers_every_register_and_registers_outputs_first() {
