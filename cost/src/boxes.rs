@@ -147,7 +147,7 @@ pub fn scene_loads(scenes: &[&Path], width: u32) -> Result<Vec<SceneLoad>, Strin
     let mut out = Vec::new();
     for path in scenes {
         let s = scene::scene::Scene::load(path).map_err(|e| e.to_string())?;
-        let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+        let (_, h) = s.render.image_size(Some(width), None)?;
         let opts = TraceOpts {
             planes: false,
             bundles: BundleOpts {

@@ -341,12 +341,12 @@ pub struct ProveArgs {
     lemmas: Vec<String>,
 }
 
-/// Runs one subcommand: exit 0, or 2 with the error printed.
 /// An image side the renderer accepts (the scene file's limit).
 fn image_side() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(1..=i64::from(scene::scene::MAX_IMAGE_SIDE))
 }
 
+/// Runs one subcommand: exit 0, or 2 with the error printed.
 pub fn main(command: Command) -> ExitCode {
     let given = match &command {
         Command::Synth { params, .. } | Command::Depth { params, .. } => Some(params),

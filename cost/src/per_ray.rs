@@ -122,7 +122,7 @@ pub struct Workload {
 /// transactions and rays are that type's alone.
 pub fn workloads(scene: &Path, width: u32, by_kind: bool) -> Result<Vec<Workload>, String> {
     let s = Scene::load(scene).map_err(|e| e.to_string())?;
-    let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+    let (_, h) = s.render.image_size(Some(width), None)?;
     let with_planes = Accel::build(&s, true);
     let name = scene
         .file_name()
@@ -223,7 +223,7 @@ pub fn wide_workload_of(
     format: WideFormat,
     tlas_box_bits: u32,
 ) -> Result<WideWorkload, String> {
-    let h = ((s.render.height as u64 * width as u64) / s.render.width as u64).max(1) as u32;
+    let (_, h) = s.render.image_size(Some(width), None)?;
     let acc = Accel::build(s, false);
     let wide = WideAccel::build(&acc, format, tlas_box_bits)?;
     let opts = TraceOpts::single_rays();

@@ -19,7 +19,7 @@ fn frames(name: &str, w: u32) -> (scene::render::Frame, scene::render::Frame) {
         .join(name);
     let mut s = Scene::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     s.render.ao_rays = 1;
-    let h = ((s.render.height as u64 * w as u64) / s.render.width as u64).max(1) as u32;
+    let (_, h) = s.render.image_size(Some(w), None).expect("an image size");
     let acc = Accel::build(&s, false);
     let with = |tri| {
         let o = TraceOpts {
