@@ -45,8 +45,9 @@ pub struct Common {
     #[arg(long)]
     height: Option<u32>,
     /// maximum rays per bundle (seed 000: 4, 16, 32, 64); 0 or 1 disables bundles
-    #[arg(long, default_value_t = 16)]
-    bundle: usize,
+    /// [default: 16; none with --wide, whose traversal is single-ray]
+    #[arg(long)]
+    bundle: Option<usize>,
     /// do not place or use cull planes
     #[arg(long)]
     no_planes: bool,
@@ -57,6 +58,27 @@ pub struct Common {
     #[arg(long, value_enum)]
     tri: Option<TriKind>,
 }
+
+impl Common {
+    /// `--bundle`, or its default.
+    fn bundle_size(&self) -> usize {
+        self.bundle.unwrap_or(DEFAULT_BUNDLE)
+    }
+
+    /// Refuses `--bundle` beside `--wide`: the wide traversal is single-ray, and a bundle
+    /// size it would not use is a request it cannot honour.
+    fn single_ray(&self, wide: &WideOpts) -> Result<(), String> {
+        match (wide.wide, self.bundle) {
+            (Some(n), Some(b)) => Err(format!(
+                "--wide {n} traces single rays: no --bundle (given {b})"
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Rays per bundle when `--bundle` is not given.
+const DEFAULT_BUNDLE: usize = 16;
 
 /// A traversal over a wide BVH instead of the binary one (docs/wide.md, docs/node.md).
 #[derive(clap::Args, Clone, Copy)]
@@ -307,8 +329,8 @@ fn setup(c: &Common) -> Result<(Scene, u32, u32, TraceOpts), String> {
     let opts = TraceOpts {
         planes: !c.no_planes,
         bundles: BundleOpts {
-            enabled: c.bundle >= 2,
-            max_size: c.bundle.max(2),
+            enabled: c.bundle_size() >= 2,
+            max_size: c.bundle_size().max(2),
             ..BundleOpts::default()
         },
         f32_transform: false,
@@ -348,6 +370,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             dump_hits,
             wide,
         } => {
+            c.single_ray(&wide)?;
             let (s, w, h, mut opts) = setup(&c)?;
             let dop = wide.dop.map(DopArg::select);
             let wide = wide.shape()?;
@@ -642,6 +665,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             }
         }
         Command::RtlLoop { c, wide, out, work } => {
+            c.single_ray(&wide)?;
             let (s, w, h, mut opts) = setup(&c)?;
             opts.tri = match c.tri {
                 None | Some(TriKind::Golden) => TriTest::Golden,

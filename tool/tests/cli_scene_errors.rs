@@ -111,6 +111,22 @@ fn image_sizes_out_of_range_are_errors_for_every_command() {
 }
 
 #[test]
+fn a_bundle_size_beside_wide_is_an_error() {
+    // the wide traversal is single-ray: a --bundle it would ignore is refused, on both
+    // commands that trace over the wide BVH (the default bundle size is not a request)
+    for (cmd, out) in [("render", &["-o", "o.png"][..]), ("rtl-loop", &[][..])] {
+        let mut args = vec![cmd, "B.toml", "--wide", "4", "--bundle", "64"];
+        args.extend(out);
+        refused(
+            &format!("wide-bundle-{cmd}"),
+            "",
+            &args,
+            "--wide 4 traces single rays: no --bundle (given 64)",
+        );
+    }
+}
+
+#[test]
 fn ao_rays_out_of_range_are_errors() {
     refused(
         "ao",
