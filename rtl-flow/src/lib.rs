@@ -538,7 +538,7 @@ pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError
                 p.display()
             )));
         }
-        if paths[..i].contains(p) {
+        if paths[..i].iter().any(|q| same_file(q, p)) {
             return Err(cli::bad_usage(format!(
                 "{}: given as two outputs of one command",
                 p.display()
@@ -546,6 +546,19 @@ pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError
         }
     }
     Ok(())
+}
+
+/// Whether two output paths name one file: the same after their links are
+/// followed (where a write goes, [`sim::through_links`]) and their folders
+/// resolved (`./a` and `a`).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolved = |p: &Path| {
+        let p = sim::through_links(p);
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        let dir = dir.unwrap_or(Path::new("."));
+        (std::fs::canonicalize(dir).ok(), p.file_name().map(|n| n.to_owned()))
+    };
+    a == b || resolved(a) == resolved(b)
 }
 
 /// Removes the files a failed command wrote, and the directory it created for

@@ -19,9 +19,11 @@ pub struct Staged {
 }
 
 impl Staged {
-    /// Stages `target`: an error if it is a folder or its folder cannot take a file.
+    /// Stages `target` (written through it when it is a symbolic link,
+    /// [`sim::through_links`]): an error if it is a folder or its folder cannot take a file.
     pub fn new(target: &Path) -> Result<Staged, String> {
         let shown = target.display();
+        let target = &sim::through_links(target);
         if target.is_dir() {
             return Err(format!("{shown}: is a folder, not a file name"));
         }

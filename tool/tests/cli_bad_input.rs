@@ -214,6 +214,29 @@ fn outputs_are_checked_before_the_work() {
     assert!(!png.exists());
     let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
     assert!(!kind.is_file(), "the FIFO was replaced by a file");
+    // an output that is a symbolic link is written through it: the link stays, the file it
+    // names gets the output (a rename onto the link replaced the link and left the file
+    // stale); one file named twice through a link is two outputs on one file
+    let real = dir.join("real.txt");
+    std::fs::write(&real, "stale").unwrap();
+    let link = dir.join("link.txt");
+    std::os::unix::fs::symlink("real.txt", &link).unwrap();
+    let a = run(&[]);
+    let mut a: Vec<&str> = a.iter().map(String::as_str).collect();
+    a[out_at] = s(&link);
+    let o = rtl_gen(&a);
+    assert!(o.status.success(), "{a:?}: {}", text(&o));
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    let written = std::fs::read_to_string(&real).unwrap();
+    assert!(written.len() > 5 && written != "stale", "{written}");
+    a.extend(["--report", s(&real)]);
+    refused(&a, "two outputs");
+    let png_link = dir.join("img.png");
+    std::os::unix::fs::symlink("real.png", &png_link).unwrap();
+    let o = rtl_gen(&["render", scene, "--width", "8", "--out", s(&png_link)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::symlink_metadata(&png_link).unwrap().file_type().is_symlink());
+    assert!(std::fs::metadata(dir.join("real.png")).unwrap().len() > 0);
     // a report, then merge-reports: a bad junit path leaves no merged report
     let report = dir.join("r.json");
     let a = run(&["--report", s(&report)]);

@@ -3,7 +3,7 @@
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::*;
 use crate::error::SimError;
@@ -85,15 +85,39 @@ pub fn detect_format(path: &Path) -> Result<VecFormat, SimError> {
     })
 }
 
+/// The file a write to `path` should replace: `path` itself, or when it is a
+/// symbolic link the file at the end of its links (followed as the shell's `>`
+/// follows them: relative links against the link's folder, a dangling one to
+/// the file it names). An output renamed into place onto the link itself would
+/// replace the link by a file and leave the file it points to stale.
+pub fn through_links(path: &Path) -> PathBuf {
+    let mut at = path.to_path_buf();
+    // a loop of links ends here, and the write then fails on the link, naming it
+    for _ in 0..40 {
+        match std::fs::read_link(&at) {
+            Ok(to) => {
+                at = match at.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                }
+            }
+            Err(_) => break,
+        }
+    }
+    at
+}
+
 /// Writes `dst` all or nothing: `write` gets a temporary file beside `dst`
 /// (and `dst`'s name for messages); on success the temporary file is
-/// renamed to `dst`, on failure it is removed and `dst` is left as it was,
-/// so a reader never sees a half-written file.
+/// renamed to `dst` (through its links, [`through_links`]), on failure it is
+/// removed and `dst` is left as it was, so a reader never sees a half-written
+/// file.
 pub fn write_atomically<T>(
     dst: &Path,
     write: impl FnOnce(File, &str) -> Result<T, SimError>,
 ) -> Result<T, SimError> {
     let dst_name = dst.display().to_string();
+    let dst = &through_links(dst);
     let file_name = dst
         .file_name()
         .ok_or_else(|| SimError::Invalid(format!("{dst_name}: not a file name")))?;
