@@ -24,13 +24,16 @@ pub fn file_names(top: &str) -> [String; 3] {
 }
 
 /// Writes the vectors `0..vectors` of `seed`, their golden results and the
-/// cocotb test into `dir` (beside the unit's Verilog); returns the paths.
+/// cocotb test into `dir` (beside the unit's Verilog); each path is added to
+/// `written` before its file is written, so that a caller rolling back a
+/// failure removes every file begun, the failed one too.
 pub fn write(
     g: &Generated,
     dir: &Path,
     vectors: u64,
     seed: u64,
-) -> Result<Vec<PathBuf>, FlowError> {
+    written: &mut Vec<PathBuf>,
+) -> Result<(), FlowError> {
     let [vec_name, golden_name, test_name] = file_names(&g.module.name);
     let (vec_path, golden_path, test_path) = (
         dir.join(&vec_name),
@@ -38,7 +41,9 @@ pub fn write(
         dir.join(&test_name),
     );
     let tb = g.testbench();
+    written.push(vec_path.clone());
     byo::write_stimulus(g, tb.as_ref(), seed, 0, vectors, &vec_path)?;
+    written.push(golden_path.clone());
     byo::run_file(
         g,
         None,
@@ -47,9 +52,9 @@ pub fn write(
         &golden_path,
         byo::Mode::Golden,
     )?;
+    written.push(test_path.clone());
     std::fs::write(&test_path, test_text(g, &vec_name, &golden_name))
-        .map_err(|e| FlowError::Io(test_path.clone(), e))?;
-    Ok(vec![vec_path, golden_path, test_path])
+        .map_err(|e| FlowError::Io(test_path, e))
 }
 
 /// A Python list of (name, width) pairs.

@@ -110,6 +110,15 @@ fn emit_is_all_or_nothing() {
         "fadd_e8m23_rne_s2_top.sdc",
     );
     assert_eq!(files_in(&out), vec![out.join("fadd_e8m23_rne_s2_top.sdc")]);
+    // the cocotb files too: the vectors written before the golden results failed are removed
+    let out = dir.join("c");
+    let golden = out.join("fadd_e8m23_rne_s2_top.golden.txt");
+    std::fs::create_dir_all(&golden).unwrap();
+    refused(
+        &["emit", "fadd", "--out", s(&out), "--cocotb", "--cocotb-vectors", "3"],
+        "golden.txt",
+    );
+    assert_eq!(files_in(&out), vec![golden]);
     // clock periods the SDC cannot state
     for period in ["1e-300", "0.0004", "1e300", "0", "nan"] {
         refused(

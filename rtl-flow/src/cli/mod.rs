@@ -408,7 +408,7 @@ fn emit(
     let mut written = g.write(out, period)?;
     let mut rest = || -> Result<(), FlowError> {
         if let Some((vectors, seed)) = cocotb {
-            written.extend(crate::cocotb::write(&g, out, vectors, seed)?);
+            crate::cocotb::write(&g, out, vectors, seed, &mut written)?;
         }
         // FuseSoC and simulator filelists: the packaging a hardware team's flow reads
         for (ext, text) in [
@@ -416,8 +416,8 @@ fn emit(
             ("f", crate::package::filelist(&g)),
         ] {
             let path = out.join(format!("{}.{ext}", g.module.name));
-            std::fs::write(&path, text).map_err(|e| FlowError::Io(path.clone(), e))?;
-            written.push(path);
+            written.push(path.clone());
+            std::fs::write(&path, text).map_err(|e| FlowError::Io(path, e))?;
         }
         Ok(())
     };
