@@ -301,15 +301,13 @@ struct GridDef {
 
 /// `[[lights]]`.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
-#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+#[serde(try_from = "LightDef")]
 pub enum Light {
     /// A point light: radiant intensity `color` (falls off with 1/r²).
     Point {
         /// position
-        #[serde(deserialize_with = "exactly")]
         position: [f32; 3],
         /// intensity per channel
-        #[serde(deserialize_with = "exactly")]
         color: [f32; 3],
     },
     /// A parallelogram `corner + u·edge_u + v·edge_v`, `u, v ∈ [0,1]`, emitting
@@ -317,21 +315,85 @@ pub enum Light {
     /// shadow rays per shading point.
     Area {
         /// one corner
-        #[serde(deserialize_with = "exactly")]
         corner: [f32; 3],
         /// first edge
-        #[serde(deserialize_with = "exactly")]
         edge_u: [f32; 3],
         /// second edge
-        #[serde(deserialize_with = "exactly")]
         edge_v: [f32; 3],
         /// emitted radiance per channel
-        #[serde(deserialize_with = "exactly")]
         color: [f32; 3],
         /// shadow rays per shading point
-        #[serde(default = "d_samples")]
         samples: u32,
     },
+}
+
+/// A `[[lights]]` table as written: one struct for both kinds, so that an error in
+/// a value names its key (serde's internally tagged enums keep no field spans);
+/// [`Light`]'s `TryFrom` then asks each kind for its own keys.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightDef {
+    kind: LightKind,
+    #[serde(default, deserialize_with = "exactly_opt")]
+    position: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
+    corner: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
+    edge_u: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
+    edge_v: Option<[f32; 3]>,
+    #[serde(default, deserialize_with = "exactly_opt")]
+    color: Option<[f32; 3]>,
+    samples: Option<u32>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum LightKind {
+    Point,
+    Area,
+}
+
+impl TryFrom<LightDef> for Light {
+    type Error = String;
+
+    fn try_from(l: LightDef) -> Result<Light, String> {
+        let (kind, keys) = match l.kind {
+            LightKind::Point => ("point", "`position`, `color`"),
+            LightKind::Area => ("area", "`corner`, `edge_u`, `edge_v`, `color`, `samples`"),
+        };
+        let need = |v: Option<[f32; 3]>, key: &str| {
+            v.ok_or_else(|| format!("missing field `{key}` (a {kind} light takes {keys})"))
+        };
+        let refuse = |given: bool, key: &str| match given {
+            true => Err(format!(
+                "field `{key}` is not a {kind} light's (it takes {keys})"
+            )),
+            false => Ok(()),
+        };
+        match l.kind {
+            LightKind::Point => {
+                refuse(l.corner.is_some(), "corner")?;
+                refuse(l.edge_u.is_some(), "edge_u")?;
+                refuse(l.edge_v.is_some(), "edge_v")?;
+                refuse(l.samples.is_some(), "samples")?;
+                Ok(Light::Point {
+                    position: need(l.position, "position")?,
+                    color: need(l.color, "color")?,
+                })
+            }
+            LightKind::Area => {
+                refuse(l.position.is_some(), "position")?;
+                Ok(Light::Area {
+                    corner: need(l.corner, "corner")?,
+                    edge_u: need(l.edge_u, "edge_u")?,
+                    edge_v: need(l.edge_v, "edge_v")?,
+                    color: need(l.color, "color")?,
+                    samples: l.samples.unwrap_or_else(d_samples),
+                })
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -401,7 +463,8 @@ fn field_of_span(text: &str, span: std::ops::Range<usize>) -> String {
     // The key path is reconstructed from the table headers and the key on the
     // line of the span (good enough for error messages; exact for this format).
     // through the end of the span's line: a span at a `[[lights]]` header (a light's own
-    // error, serde's tagged enums keep no field spans) belongs to that table
+    // error, a key its kind misses or does not take: no key has the span) belongs to that
+    // table
     let start = span.start.min(text.len());
     let upto = &text[..text[start..].find('\n').map_or(text.len(), |n| start + n)];
     let mut table = String::new();
@@ -485,8 +548,8 @@ impl Scene {
     /// Parses scene text as if it were the file `path`.
     pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
         let def: SceneDef = toml::from_str(text).map_err(|e| {
-            // a span at an array element's header, not at a key: serde's tagged enums
-            // (`[[lights]]`) keep no field spans and toml then points at the first element
+            // a span at an array element's header, not at a key (a light's own error):
+            // toml may point at the first element, so the failing one is searched for
             let field = e
                 .span()
                 .map(|s| field_of_span(text, s))

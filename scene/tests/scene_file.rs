@@ -350,11 +350,10 @@ fn fixed_length_arrays_refuse_other_lengths() {
             "height = 8\nbackground = [0, 0, 0, 1]",
             "render.background",
         ),
-        // a light's error names the light, not the key (serde's tagged enums keep no spans)
         (
             "color = [5.0, 5.0, 5.0]",
             "color = [5.0, 5.0, 5.0, 5.0]",
-            "lights[0]",
+            "lights[0].color",
         ),
     ] {
         let m = bad(&LIT.replace(from, to));
@@ -514,15 +513,25 @@ fn a_transform_whose_inverse_overflows_binary32_is_refused() {
 
 #[test]
 fn errors_in_lights_and_grids_name_their_table() {
+    // a value's error names its key; a key missing from or foreign to the light's kind
+    // names the light and the key
     let m = bad(&LIT.replace("color = [5.0, 5.0, 5.0]", "color = \"white\""));
-    assert!(m.contains("field `lights[0]"), "{m}");
+    assert!(m.contains("field `lights[0].color`"), "{m}");
     let m = bad(&LIT.replace("position = [0.0, 3.0, 0.0]\n", ""));
     assert!(
-        m.contains("field `lights[0]") && m.contains("position"),
+        m.contains("field `lights[0]`") && m.contains("missing field `position`"),
+        "{m}"
+    );
+    let m = bad(&LIT.replace(
+        "position = [0.0, 3.0",
+        "edge_u = [1.0, 0.0, 0.0]\nposition = [0.0, 3.0",
+    ));
+    assert!(
+        m.contains("field `lights[0]`") && m.contains("`edge_u` is not a point light's"),
         "{m}"
     );
     let m = bad(&area_light("samples = \"many\""));
-    assert!(m.contains("field `lights[1]"), "{m}");
+    assert!(m.contains("field `lights[1].samples`"), "{m}");
     let m = bad(&lit_with(
         "[[grids]]\nmesh = \"q\"\ncount = [2, 2]\nspacing = \"wide\"",
     ));
