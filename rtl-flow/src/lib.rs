@@ -517,26 +517,8 @@ impl Generated {
 pub fn check_outputs(paths: &[Option<&std::path::Path>]) -> Result<(), FlowError> {
     let paths: Vec<&std::path::Path> = paths.iter().flatten().copied().collect();
     for (i, p) in paths.iter().enumerate() {
-        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
-        if dir.is_some_and(|d| !d.is_dir()) {
-            return Err(cli::bad_usage(format!(
-                "{}: no such directory for this output",
-                p.display()
-            )));
-        }
-        if p.is_dir() {
-            return Err(cli::bad_usage(format!(
-                "{}: is a directory, not an output file",
-                p.display()
-            )));
-        }
-        // outputs are written beside and renamed into place: a device would
-        // be replaced by a file, not written to
-        if p.exists() && !p.is_file() {
-            return Err(cli::bad_usage(format!(
-                "{}: not a regular file",
-                p.display()
-            )));
+        if let Some(problem) = sim::output_problem(p) {
+            return Err(cli::bad_usage(problem));
         }
         if paths[..i].iter().any(|q| same_file(q, p)) {
             return Err(cli::bad_usage(format!(
@@ -556,7 +538,10 @@ fn same_file(a: &Path, b: &Path) -> bool {
         let p = sim::through_links(p);
         let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
         let dir = dir.unwrap_or(Path::new("."));
-        (std::fs::canonicalize(dir).ok(), p.file_name().map(|n| n.to_owned()))
+        (
+            std::fs::canonicalize(dir).ok(),
+            p.file_name().map(|n| n.to_owned()),
+        )
     };
     a == b || resolved(a) == resolved(b)
 }

@@ -20,17 +20,14 @@ pub struct Staged {
 
 impl Staged {
     /// Stages `target` (written through it when it is a symbolic link,
-    /// [`sim::through_links`]): an error if it is a folder or its folder cannot take a file.
+    /// [`sim::through_links`]): an error if it cannot take an output ([`sim::output_problem`])
+    /// or its folder cannot take a file.
     pub fn new(target: &Path) -> Result<Staged, String> {
         let shown = target.display();
+        if let Some(problem) = sim::output_problem(target) {
+            return Err(problem);
+        }
         let target = &sim::through_links(target);
-        if target.is_dir() {
-            return Err(format!("{shown}: is a folder, not a file name"));
-        }
-        // the rename would replace a device or a FIFO by a file, not write to it
-        if target.exists() && !target.is_file() {
-            return Err(format!("{shown}: not a regular file"));
-        }
         let name = target
             .file_name()
             .ok_or_else(|| format!("{shown}: not a file name"))?;

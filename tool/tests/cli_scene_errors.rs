@@ -169,13 +169,13 @@ fn outputs_are_checked_before_the_work_and_a_failure_leaves_none() {
             "--dump-hits",
             "nodir/h.txt",
         ],
-        "nodir/h.txt: cannot write",
+        "nodir/h.txt: no such directory for this output",
     );
     refused(
         "png-nodir",
         "",
         &["render", "B.toml", "-o", "nodir/o.png"],
-        "nodir/o.png: cannot write",
+        "nodir/o.png: no such directory for this output",
     );
     // a folder as the hits file (the folder is the test's own, left as it was)
     let dir = folder("dump-dir", "");
@@ -186,7 +186,10 @@ fn outputs_are_checked_before_the_work_and_a_failure_leaves_none() {
     );
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("sub: is a folder"), "{err}");
+    assert!(
+        err.contains("sub: is a directory, not an output file"),
+        "{err}"
+    );
     assert_eq!(left_behind(&dir), ["sub"]);
 }
 
@@ -226,7 +229,7 @@ fn scene_values_that_would_run_for_hours_are_errors() {
         "light-color",
         "[[lights]]\nkind = \"point\"\nposition = [0.0, 3.0, 0.0]\ncolor = \"white\"\n",
         &render,
-        "field `lights[1]`",
+        "field `lights[1].color`",
     );
     refused(
         "tiny-scale",

@@ -107,6 +107,25 @@ pub fn through_links(path: &Path) -> PathBuf {
     at
 }
 
+/// Why `path` cannot take a command's output, if it cannot: its folder is
+/// missing, it is a folder, or it is a device, FIFO or socket (outputs are
+/// written beside and renamed into place, which would replace such a file by
+/// a regular one instead of writing to it). Links are followed. The one check
+/// of every command's output paths, made before the command's work.
+pub fn output_problem(path: &Path) -> Option<String> {
+    let shown = path.display();
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    if dir.is_some_and(|d| !d.is_dir()) {
+        Some(format!("{shown}: no such directory for this output"))
+    } else if path.is_dir() {
+        Some(format!("{shown}: is a directory, not an output file"))
+    } else if path.exists() && !path.is_file() {
+        Some(format!("{shown}: not a regular file"))
+    } else {
+        None
+    }
+}
+
 /// Writes `dst` all or nothing: `write` gets a temporary file beside `dst`
 /// (and `dst`'s name for messages); on success the temporary file is
 /// renamed to `dst` (through its links, [`through_links`]), on failure it is
