@@ -115,7 +115,15 @@ fn emit_is_all_or_nothing() {
     let golden = out.join("fadd_e8m23_rne_s2_top.golden.txt");
     std::fs::create_dir_all(&golden).unwrap();
     refused(
-        &["emit", "fadd", "--out", s(&out), "--cocotb", "--cocotb-vectors", "3"],
+        &[
+            "emit",
+            "fadd",
+            "--out",
+            s(&out),
+            "--cocotb",
+            "--cocotb-vectors",
+            "3",
+        ],
         "golden.txt",
     );
     assert_eq!(files_in(&out), vec![golden]);
@@ -235,7 +243,10 @@ fn outputs_are_checked_before_the_work() {
     a[out_at] = s(&link);
     let o = rtl_gen(&a);
     assert!(o.status.success(), "{a:?}: {}", text(&o));
-    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
     let written = std::fs::read_to_string(&real).unwrap();
     assert!(written.len() > 5 && written != "stale", "{written}");
     a.extend(["--report", s(&real)]);
@@ -244,7 +255,10 @@ fn outputs_are_checked_before_the_work() {
     std::os::unix::fs::symlink("real.png", &png_link).unwrap();
     let o = rtl_gen(&["render", scene, "--width", "8", "--out", s(&png_link)]);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(std::fs::symlink_metadata(&png_link).unwrap().file_type().is_symlink());
+    assert!(std::fs::symlink_metadata(&png_link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
     assert!(std::fs::metadata(dir.join("real.png")).unwrap().len() > 0);
     // a report, then merge-reports: a bad junit path leaves no merged report
     let report = dir.join("r.json");
