@@ -105,9 +105,10 @@ pub struct WideOpts {
     /// with --wide: BLAS nodes also carry each slot's extent along diagonal directions,
     /// tested in the same cells (the cull-plane study, docs/node.md §11; the model only):
     /// `all` (the default) the four body diagonals at every node, a 14-DOP with the box;
-    /// `one` one direction per node of the ten body and face diagonals, chosen by the builder
+    /// `one` one direction per node of the ten body and face diagonals, chosen by the builder;
+    /// `normal` one per node of those ten and the node's own quantised normals
     #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors"],
-          num_args = 0..=1, default_missing_value = "all", value_name = "all|one")]
+          num_args = 0..=1, default_missing_value = "all", value_name = "all|one|normal")]
     dop: Option<DopArg>,
 }
 
@@ -116,6 +117,7 @@ pub struct WideOpts {
 enum DopArg {
     All,
     One,
+    Normal,
 }
 
 impl DopArg {
@@ -123,6 +125,7 @@ impl DopArg {
         match self {
             DopArg::All => DopSelect::All,
             DopArg::One => DopSelect::One,
+            DopArg::Normal => DopSelect::Normal,
         }
     }
 }

@@ -677,15 +677,24 @@ pub const DOP_DIRS: [[i32; 3]; 10] = [
     [0, 1, -1],
 ];
 
-/// Which of [`DOP_DIRS`] a BLAS node carries.
+/// Which directions a BLAS node carries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DopSelect {
     /// the four body diagonals at every node
     All,
-    /// one direction per node, of all ten, chosen by the builder: the one that
-    /// shrinks its slots most where rays and triangles are ([`direction_score`])
+    /// one direction per node, of all ten [`DOP_DIRS`], chosen by the builder: the one
+    /// that shrinks its slots most where rays and triangles are ([`direction_score`])
     One,
+    /// one direction per node, chosen as `One` does from the ten and from the node's own
+    /// normals: the area-weighted mean normal of each slot's triangles and of all of
+    /// them, quantised to integer components in `-NORMAL_STEPS..=NORMAL_STEPS` (issue
+    /// 37's per-node normals, against `One`'s fixed palette)
+    Normal,
 }
+
+/// The largest component of a quantised per-node normal ([`DopSelect::Normal`]): a
+/// direction of small integers keeps `n·o` and `n·d` sums of shifted components.
+pub const NORMAL_STEPS: i32 = 4;
 
 /// One BLAS node's extra axes, one per carried direction.
 #[derive(Debug, Clone)]
@@ -698,8 +707,8 @@ pub struct DopNode {
 /// per slot the q-bit extent of its triangles, outward.
 #[derive(Debug, Clone)]
 pub struct DopAxis {
-    /// the direction, an index into [`DOP_DIRS`]
-    pub dir: usize,
+    /// the direction (small integers: one of [`DOP_DIRS`] or a quantised normal)
+    pub dir: [i32; 3],
     /// frame origin `U`
     pub origin: Dyadic,
     /// frame step exponent `e`
@@ -718,10 +727,16 @@ fn dyadic(v: f64) -> Dyadic {
     }
 }
 
-/// `n·v` of an f32 point, rounded down and up (binary64, two steps outward).
+/// `n·v` of an f32 point, rounded down and up. Each term `n_a·v_a` is exact in
+/// binary64 (a 24-bit significand times a small integer); the two additions round
+/// by at most `2^−53` of the sum of magnitudes each, so the bounds widen by
+/// `2^−51` of it (a fixed number of steps from the result, as before 2026-12-07,
+/// is too few when terms cancel: `2^60 + 1 − 2^60` sums to 0).
 fn along(n: [i32; 3], v: [f32; 3]) -> (f64, f64) {
-    let x: f64 = (0..3).map(|a| n[a] as f64 * v[a] as f64).sum();
-    (x.next_down().next_down(), x.next_up().next_up())
+    let terms = (0..3).map(|a| n[a] as f64 * v[a] as f64);
+    let x: f64 = terms.clone().sum();
+    let slack = terms.map(f64::abs).sum::<f64>() * f64::powi(2.0, -51);
+    ((x - slack).next_down(), (x + slack).next_up())
 }
 
 /// Extents of a slot's triangles: along [`DOP_DIRS`], along the axes, and how
@@ -773,17 +788,17 @@ impl SlotExtent {
 /// area (how often a ray visits it) times its triangles (the work below it)
 /// times how much the extent along `j` shrinks the slot's box projected on
 /// `j` (`1 − extent / projection`): a SAH-like proxy of the tests it cuts.
-fn direction_score(slots: &[SlotExtent], j: usize) -> f64 {
-    let n = DOP_DIRS[j];
+fn direction_score(slots: &[SlotExtent], n: [i32; 3], extent: &[(f64, f64)]) -> f64 {
     slots
         .iter()
-        .filter(|s| s.triangles > 0)
-        .map(|s| {
+        .zip(extent)
+        .filter(|(s, _)| s.triangles > 0)
+        .map(|(s, &(lo, hi))| {
             let e: Vec<f64> = (0..3).map(|a| s.box_hi[a] - s.box_lo[a]).collect();
             let area = 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
             let projection: f64 = (0..3).map(|a| n[a].abs() as f64 * e[a]).sum();
             let shrink = if projection > 0.0 {
-                (1.0 - (s.hi[j] - s.lo[j]) / projection).max(0.0)
+                (1.0 - (hi - lo) / projection).max(0.0)
             } else {
                 0.0
             };
@@ -792,13 +807,92 @@ fn direction_score(slots: &[SlotExtent], j: usize) -> f64 {
         .sum()
 }
 
+/// The extent along `n` of triangles `tris` of `mesh`, outward (`(∞, −∞)` for none).
+fn extent_along(n: [i32; 3], mesh: &Mesh, tris: &[u32]) -> (f64, f64) {
+    let mut e = (f64::INFINITY, f64::NEG_INFINITY);
+    for &t in tris {
+        for v in mesh.corners(t) {
+            let (lo, hi) = along(n, v);
+            e = (e.0.min(lo), e.1.max(hi));
+        }
+    }
+    e
+}
+
+/// The area-weighted mean normal of triangles `tris`, quantised to integer
+/// components of at most [`NORMAL_STEPS`] (the sign of a direction does not
+/// matter to an extent, so it is made canonical); `None` when it is zero.
+fn quantised_normal(mesh: &Mesh, tris: &[u32]) -> Option<[i32; 3]> {
+    let mut sum = [0f64; 3];
+    for &t in tris {
+        let [a, b, c] = mesh.corners(t).map(|v| v.map(f64::from));
+        let (u, w) = (
+            [0, 1, 2].map(|k| b[k] - a[k]),
+            [0, 1, 2].map(|k| c[k] - a[k]),
+        );
+        let cross = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        // a mesh's neighbours face the same side: one orientation, summed
+        for k in 0..3 {
+            sum[k] += cross[k];
+        }
+    }
+    let big = sum.iter().fold(0f64, |m, x| m.max(x.abs()));
+    if !(big > 0.0 && big.is_finite()) {
+        return None;
+    }
+    let mut n = sum.map(|x| (x / big * f64::from(NORMAL_STEPS)).round() as i32);
+    if let Some(&first) = n.iter().find(|&&x| x != 0) {
+        if first < 0 {
+            n = n.map(|x| -x);
+        }
+    }
+    (n != [0; 3]).then_some(n)
+}
+
+/// The triangles below every node of `bvh`, bottom-up (the per-node normal study).
+fn triangles_below(bvh: &WideBvh) -> Vec<Vec<u32>> {
+    let mut below: Vec<Vec<u32>> = vec![Vec::new(); bvh.nodes.len()];
+    for id in (0..bvh.nodes.len()).rev() {
+        let mut all = Vec::new();
+        for i in 0..MAX_CHILDREN {
+            match bvh.nodes[id].child(i) {
+                ChildRef::Leaf { first, count } => {
+                    all.extend_from_slice(&bvh.prims[first as usize..(first + count) as usize])
+                }
+                ChildRef::Inner(c) => all.extend_from_slice(&below[c as usize]),
+                ChildRef::Empty => {}
+            }
+        }
+        below[id] = all;
+    }
+    below
+}
+
 /// The k-DOP extents of every node of `bvh` (a BLAS of `mesh`), bottom-up.
 fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
     let q_max = bvh.format.q_max() as i64;
     let mut node_extent = vec![SlotExtent::NONE; bvh.nodes.len()];
     let mut out: Vec<Option<DopNode>> = vec![None; bvh.nodes.len()];
+    let below = match select {
+        DopSelect::Normal => triangles_below(bvh),
+        _ => Vec::new(),
+    };
     for id in (0..bvh.nodes.len()).rev() {
         let node = &bvh.nodes[id];
+        // each slot's triangles (the per-node normal study only)
+        let slot_tris = |i: usize| -> &[u32] {
+            match node.child(i) {
+                ChildRef::Leaf { first, count } => {
+                    &bvh.prims[first as usize..(first + count) as usize]
+                }
+                ChildRef::Inner(c) => &below[c as usize],
+                ChildRef::Empty => &[],
+            }
+        };
         let mut slots = [SlotExtent::NONE; MAX_CHILDREN];
         for (i, slot) in slots.iter_mut().enumerate() {
             match node.child(i) {
@@ -819,29 +913,55 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
             ext.merge(sl);
         }
         node_extent[id] = ext;
-        let dirs: Vec<usize> = match select {
-            DopSelect::All => (0..4).collect(),
-            DopSelect::One => {
-                let scores: Vec<f64> = (0..DOP_DIRS.len())
-                    .map(|j| direction_score(&slots, j))
+        // per carried direction, the slots' extents along it
+        let palette = |j: usize| -> ([i32; 3], Vec<(f64, f64)>) {
+            (
+                DOP_DIRS[j],
+                slots.iter().map(|s| (s.lo[j], s.hi[j])).collect(),
+            )
+        };
+        let best = |candidates: Vec<([i32; 3], Vec<(f64, f64)>)>| {
+            candidates
+                .into_iter()
+                .map(|(n, e)| (direction_score(&slots, n, &e), n, e))
+                .max_by(|a, b| a.0.total_cmp(&b.0))
+                .map(|(_, n, e)| (n, e))
+                .expect("ten directions at least")
+        };
+        let dirs: Vec<([i32; 3], Vec<(f64, f64)>)> = match select {
+            DopSelect::All => (0..4).map(palette).collect(),
+            DopSelect::One => vec![best((0..DOP_DIRS.len()).map(palette).collect())],
+            DopSelect::Normal => {
+                let mut candidates: Vec<_> = (0..DOP_DIRS.len()).map(palette).collect();
+                let mut normals: Vec<[i32; 3]> = (0..MAX_CHILDREN)
+                    .filter_map(|i| quantised_normal(mesh, slot_tris(i)))
+                    .chain(quantised_normal(mesh, &below[id]))
                     .collect();
-                let best = (0..DOP_DIRS.len())
-                    .max_by(|&a, &b| scores[a].total_cmp(&scores[b]))
-                    .expect("ten directions");
-                vec![best]
+                normals.sort_unstable();
+                normals.dedup();
+                for n in normals {
+                    let e = (0..MAX_CHILDREN)
+                        .map(|i| extent_along(n, mesh, slot_tris(i)))
+                        .collect();
+                    candidates.push((n, e));
+                }
+                vec![best(candidates)]
             }
         };
         let mut dop = DopNode { axes: Vec::new() };
-        for j in dirs {
-            let origin = dyadic(if ext.lo[j].is_finite() {
-                ext.lo[j]
-            } else {
-                0.0
-            });
-            let range = ext.hi[j] - ext.lo[j];
+        for (n, slot_ext) in dirs {
+            let (ext_lo, ext_hi) = slot_ext
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &(a, b)| {
+                    (l.min(a), h.max(b))
+                });
+            let origin = dyadic(if ext_lo.is_finite() { ext_lo } else { 0.0 });
+            let range = ext_hi - ext_lo;
             let exp = if range.is_finite() && range > 0.0 {
-                // the least e with Q·2^e ≥ range (rounded up in f64 once more)
-                let mut e = (range / q_max as f64).log2().ceil() as i64 - 1;
+                // the least e with Q·2^e ≥ range (rounded up in f64 once more), searched
+                // up from below it (range/Q underflows to 0 for the few-subnormal range of
+                // an extent at 0, which a flat patch through the origin has)
+                let mut e = range.log2().floor() as i64 - i64::from(bvh.format.box_bits()) - 1;
                 while (q_max as f64) * (e as f64).exp2() < range.next_up() {
                     e += 1;
                 }
@@ -851,19 +971,19 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
             };
             let mut lo = [0u16; MAX_CHILDREN];
             let mut hi = [0u16; MAX_CHILDREN];
-            for (i, sl) in slots.iter().enumerate() {
-                if !sl.lo[j].is_finite() {
+            for (i, &(sl_lo, sl_hi)) in slot_ext.iter().enumerate() {
+                if !sl_lo.is_finite() {
                     continue;
                 }
                 let rel = |v: f64, up: bool| {
                     let k = dyadic(v).sub(&origin).div_pow2_round(exp, up);
                     i64::try_from(k).unwrap_or(q_max).clamp(0, q_max) as u16
                 };
-                lo[i] = rel(sl.lo[j], false);
-                hi[i] = rel(sl.hi[j], true);
+                lo[i] = rel(sl_lo, false);
+                hi[i] = rel(sl_hi, true);
             }
             dop.axes.push(DopAxis {
-                dir: j,
+                dir: n,
                 origin,
                 exp,
                 lo,
@@ -882,13 +1002,11 @@ fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
     dop.axes
         .iter()
         .map(|axis| {
-            let n = DOP_DIRS[axis.dir];
-            // n·v exactly: the components are 0 or ±1
+            let n = axis.dir;
+            // n·v exactly: the components are small integers
             let dot = |v: &[Dyadic; 3]| {
-                (0..3).fold(dyadic(0.0), |acc, a| match n[a].signum() {
-                    1 => acc.add(&v[a]),
-                    -1 => acc.sub(&v[a]),
-                    _ => acc,
+                (0..3).fold(dyadic(0.0), |acc, a| {
+                    acc.add(&v[a].mul(&dyadic(f64::from(n[a]))))
                 })
             };
             ExtraAxis {
@@ -901,4 +1019,60 @@ fn dop_axes(dop: &DopNode, o: [u64; 3], d: [u64; 3]) -> Vec<ExtraAxis> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `along` bounds `n·v` when its terms cancel (a fixed number of steps from the rounded
+    /// sum did not: `2^60 + 1 − 2^60` sums to 0 in binary64) and for the largest components.
+    #[test]
+    fn along_bounds_the_exact_dot_product() {
+        let big = 2f32.powi(60);
+        for (n, v, exact) in [
+            ([1, 1, 1], [big, 1.0, -big], 1.0),
+            ([4, -3, 2], [1.5, 0.25, -0.125], 5.0),
+            ([0, 0, 4], [7.0, -7.0, 0.0], 0.0),
+            ([1, 1, -1], [f32::MAX, f32::MAX, f32::MAX], f32::MAX as f64),
+        ] {
+            let (lo, hi) = along(n, v);
+            assert!(
+                lo <= exact && exact <= hi,
+                "{n:?}·{v:?} = {exact} in [{lo}, {hi}]"
+            );
+        }
+    }
+
+    /// A per-node normal is the canonical quantised direction of the triangles' mean normal.
+    #[test]
+    fn a_flat_patch_has_its_own_normal() {
+        // a square at z = 2, wound clockwise seen from above: the normal points down and
+        // is made canonical (first nonzero component positive)
+        let square = Mesh {
+            vertices: vec![
+                [0.0, 0.0, 2.0],
+                [0.0, 1.0, 2.0],
+                [1.0, 1.0, 2.0],
+                [1.0, 0.0, 2.0],
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        assert_eq!(
+            quantised_normal(&square, &[0, 1]),
+            Some([0, 0, NORMAL_STEPS])
+        );
+        // a tilted one keeps its proportions to the nearest step: (1, 0, 2) → (2, 0, 4)
+        let tilted = Mesh {
+            vertices: vec![[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, -1.0]],
+            triangles: vec![[0, 1, 2]],
+        };
+        assert_eq!(quantised_normal(&tilted, &[0]), Some([2, 0, 4]));
+        // a degenerate triangle has none
+        let line = Mesh {
+            vertices: vec![[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
+            triangles: vec![[0, 1, 2]],
+        };
+        assert_eq!(quantised_normal(&line, &[0]), None);
+    }
 }

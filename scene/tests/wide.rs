@@ -14,7 +14,7 @@ use scene::render::{render, render_with, Frame};
 use scene::scene::Scene;
 use scene::tester::Golden;
 use scene::trace::{TraceOpts, Tracer};
-use scene::wide::{primary, Boxes, DopSelect, WideAccel, WideBvh, TLAS_BOX_BITS};
+use scene::wide::{primary, Boxes, DopSelect, WideAccel, WideBvh, DOP_DIRS, TLAS_BOX_BITS};
 use std::cmp::Ordering;
 use std::path::Path;
 
@@ -477,7 +477,7 @@ fn binary32_render(name: &str) -> (Scene, Accel, Frame) {
 /// 19.2 %).
 #[test]
 fn diagonal_extents_cut_triangle_tests() {
-    for (name, floors) in [("grass", [0.40, 0.28]), ("bunny", [0.15, 0.15])] {
+    for (name, floors) in [("grass", [0.40, 0.28, 0.30]), ("bunny", [0.15, 0.15, 0.28])] {
         let (s, acc, bin) = binary32_render(name);
         let (opts, golden) = (TraceOpts::single_rays(), Golden::default());
         let format = WideFormat::new(FloatFormat::BINARY32, 4, 8).unwrap();
@@ -485,12 +485,22 @@ fn diagonal_extents_cut_triangle_tests() {
         let plain = WideAccel::build(&acc, format, TLAS_BOX_BITS).unwrap();
         let all = plain.clone().with_dop(&meshes, DopSelect::All);
         let one = plain.clone().with_dop(&meshes, DopSelect::One);
-        assert!(
-            one.dop.iter().flatten().all(|n| n.axes.len() == 1),
-            "{name}: one direction per node"
-        );
+        let normal = plain.clone().with_dop(&meshes, DopSelect::Normal);
+        for (what, w) in [("one", &one), ("normal", &normal)] {
+            assert!(
+                w.dop.iter().flatten().all(|n| n.axes.len() == 1),
+                "{name}: {what}: one direction per node"
+            );
+        }
+        // the per-node normals are directions of their own, not only the palette's
+        let own = normal
+            .dop
+            .iter()
+            .flatten()
+            .filter(|n| !DOP_DIRS.contains(&n.axes[0].dir));
+        assert!(own.count() > 0, "{name}: no node chose its own normal");
         let mut tri_tests = Vec::new();
-        for wide in [&plain, &all, &one] {
+        for wide in [&plain, &all, &one, &normal] {
             let tracer = Tracer::new(&s, &acc, &golden, opts).with_wide(wide, Boxes::Node);
             let f = render_with(&s, &acc, &tracer, 40, 28, false);
             if let Some(p) = first_difference(&f, &bin) {
@@ -498,7 +508,7 @@ fn diagonal_extents_cut_triangle_tests() {
             }
             tri_tests.push(f.stats.total().tri_tests as f64);
         }
-        for (k, (what, floor)) in ["four diagonals", "one direction"]
+        for (k, (what, floor)) in ["four diagonals", "one direction", "one per-node normal"]
             .iter()
             .zip(floors)
             .enumerate()
