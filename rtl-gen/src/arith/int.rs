@@ -138,3 +138,35 @@ pub fn umul_module(width_a: u32, width_b: u32, stages: u32) -> Arc<Module> {
             .expect("multiplier generator is type-correct for every width"),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::Evaluator;
+
+    /// `umul_module` delays the full product by exactly `stages` cycles at every depth,
+    /// including the stages past its adder tree's depth (registers that only delay: a
+    /// mutant that dropped them kept every product and lost the latency).
+    #[test]
+    fn the_multiplier_has_its_latency_and_its_product() {
+        for (wa, wb) in [(1, 1), (5, 3), (8, 8), (11, 24), (24, 24)] {
+            for stages in 1..=6 {
+                let m = umul_module(wa, wb, stages);
+                assert_eq!(m.latency, stages, "{wa}x{wb} s{stages}");
+                let mut e = Evaluator::new(&m);
+                let mut x = 0x0123_4567_89ab_cdefu128 ^ u128::from(wa * 31 + wb * 7 + stages);
+                let mut sent = Vec::new();
+                for t in 0..40 {
+                    x = x.wrapping_mul(0x9e37_79b9_7f4a_7c15).wrapping_add(1);
+                    let (a, b) = ((x >> 7) & ((1 << wa) - 1), (x >> 70) & ((1 << wb) - 1));
+                    sent.push(a * b);
+                    let out = e.step(&[a, b]);
+                    if t >= stages as usize {
+                        let want = sent[t - stages as usize];
+                        assert_eq!(out, vec![want], "{wa}x{wb} s{stages} cycle {t}");
+                    }
+                }
+            }
+        }
+    }
+}
