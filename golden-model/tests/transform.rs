@@ -460,3 +460,16 @@ fn wide_style_is_within_one_rounding_of_the_stored_inverse_product() {
     assert!(wide_max <= 6e-8, "wide: {wide_max:.3e}");
     assert!(fma_max > 1e-7, "fma: {fma_max:.3e}");
 }
+
+/// The dot styles' parameter words (the `transform` unit's `dot=` values) and their
+/// parse: each word names its style, and no other word (an empty one) names any.
+#[test]
+fn every_dot_style_has_its_word_and_parses_back() {
+    let words: Vec<&str> = DotStyle::ALL.iter().map(|s| s.word()).collect();
+    assert_eq!(words, ["separate", "fma", "dot3", "wide"]);
+    for s in DotStyle::ALL {
+        assert_eq!(DotStyle::parse(s.word()), Some(s), "{}", s.word());
+    }
+    assert_eq!(DotStyle::parse(""), None);
+    assert_eq!(DotStyle::parse("FMA"), None);
+}
