@@ -217,7 +217,8 @@ mod tests {
 
     /// Against the golden operator: random operands of small formats (a
     /// third of them special or zero), and of the cull unit's formats, at
-    /// stages 0 and 3.
+    /// stages 0 and 3, and at one register per step plus one (registers inside
+    /// the multiplier and past the last step, which 3 stages never place).
     #[test]
     fn matches_the_golden_operator() {
         let f = |e, m| Format::new(e, m).unwrap();
@@ -236,7 +237,9 @@ mod tests {
         };
         for (fa, fb, to, n) in cases {
             let (ga, gb, gt) = (golden_format(fa), golden_format(fb), golden_format(to));
-            for stages in [0u32, 3] {
+            let one_per_step = DOT3_FLOOR_RAW_STEPS + ROUND_STEPS + 1;
+            for stages in [0u32, 3, one_per_step] {
+                let n = if stages > 3 { n / 10 } else { n };
                 let module = dot3_floor_module(fa, fb, to, stages);
                 let mut ev = Evaluator::new(&module);
                 let mut pick = |g: golden_model::float::FloatFormat| {
