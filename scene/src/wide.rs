@@ -819,10 +819,9 @@ fn extent_along(n: [i32; 3], mesh: &Mesh, tris: &[u32]) -> (f64, f64) {
     e
 }
 
-/// The area-weighted mean normal of triangles `tris`, quantised to integer
-/// components of at most [`NORMAL_STEPS`] (the sign of a direction does not
-/// matter to an extent, so it is made canonical); `None` when it is zero.
-fn quantised_normal(mesh: &Mesh, tris: &[u32]) -> Option<[i32; 3]> {
+/// The sum of triangles `tris`' normals weighted by area (twice the area: the cross
+/// products of their edges, one orientation).
+fn normal_sum(mesh: &Mesh, tris: &[u32]) -> [f64; 3] {
     let mut sum = [0f64; 3];
     for &t in tris {
         let [a, b, c] = mesh.corners(t).map(|v| v.map(f64::from));
@@ -840,6 +839,13 @@ fn quantised_normal(mesh: &Mesh, tris: &[u32]) -> Option<[i32; 3]> {
             sum[k] += cross[k];
         }
     }
+    sum
+}
+
+/// A normal sum ([`normal_sum`]) as a direction: quantised to integer components of
+/// at most [`NORMAL_STEPS`] (the sign of a direction does not matter to an extent, so
+/// it is made canonical); `None` when it is zero.
+fn quantised(sum: [f64; 3]) -> Option<[i32; 3]> {
     let big = sum.iter().fold(0f64, |m, x| m.max(x.abs()));
     if !(big > 0.0 && big.is_finite()) {
         return None;
@@ -933,9 +939,18 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
             DopSelect::One => vec![best((0..DOP_DIRS.len()).map(palette).collect())],
             DopSelect::Normal => {
                 let mut candidates: Vec<_> = (0..DOP_DIRS.len()).map(palette).collect();
-                let mut normals: Vec<[i32; 3]> = (0..MAX_CHILDREN)
-                    .filter_map(|i| quantised_normal(mesh, slot_tris(i)))
-                    .chain(quantised_normal(mesh, &below[id]))
+                // each slot's normal sum, and the node's as theirs added (its triangles
+                // are the slots')
+                let sums: Vec<[f64; 3]> = (0..MAX_CHILDREN)
+                    .map(|i| normal_sum(mesh, slot_tris(i)))
+                    .collect();
+                let node_sum = sums
+                    .iter()
+                    .fold([0f64; 3], |a, s| [a[0] + s[0], a[1] + s[1], a[2] + s[2]]);
+                let mut normals: Vec<[i32; 3]> = sums
+                    .into_iter()
+                    .chain([node_sum])
+                    .filter_map(quantised)
                     .collect();
                 normals.sort_unstable();
                 normals.dedup();
@@ -1059,7 +1074,7 @@ mod tests {
             triangles: vec![[0, 1, 2], [0, 2, 3]],
         };
         assert_eq!(
-            quantised_normal(&square, &[0, 1]),
+            quantised(normal_sum(&square, &[0, 1])),
             Some([0, 0, NORMAL_STEPS])
         );
         // a tilted one keeps its proportions to the nearest step: (1, 0, 2) → (2, 0, 4)
@@ -1067,12 +1082,12 @@ mod tests {
             vertices: vec![[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, -1.0]],
             triangles: vec![[0, 1, 2]],
         };
-        assert_eq!(quantised_normal(&tilted, &[0]), Some([2, 0, 4]));
+        assert_eq!(quantised(normal_sum(&tilted, &[0])), Some([2, 0, 4]));
         // a degenerate triangle has none
         let line = Mesh {
             vertices: vec![[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
             triangles: vec![[0, 1, 2]],
         };
-        assert_eq!(quantised_normal(&line, &[0]), None);
+        assert_eq!(quantised(normal_sum(&line, &[0])), None);
     }
 }
