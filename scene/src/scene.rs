@@ -586,13 +586,7 @@ impl Scene {
             ("camera.look_at", c.look_at),
             ("camera.up", c.up),
         ] {
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(err(
-                    path,
-                    field,
-                    format!("{v:?}: coordinates must be finite"),
-                ));
-            }
+            check_point(path, field, v)?;
         }
         // the camera basis is built in f32 (render::Cam): its squared length must not overflow
         let (eye, at) = (Vec3::from(c.position), Vec3::from(c.look_at));
@@ -685,9 +679,7 @@ impl Scene {
             if !grid.spacing.is_finite() {
                 return Err(err(path, format!("{field}.spacing"), "must be finite"));
             }
-            if grid.origin.iter().any(|x| !x.is_finite()) {
-                return Err(err(path, format!("{field}.origin"), "must be finite"));
-            }
+            check_point(path, format!("{field}.origin"), grid.origin)?;
             if !(grid.scale > 0.0 && grid.scale.is_finite()) {
                 return Err(err(
                     path,
@@ -883,6 +875,23 @@ pub(crate) fn forward_affine(f: &[[f32; 4]; 3]) -> DAffine3 {
     DAffine3::from_cols(col(0), col(1), col(2), col(3))
 }
 
+/// A point or a vector (a position, an edge, a direction) must have finite coordinates.
+fn check_point<T: Copy + Into<f64> + std::fmt::Debug>(
+    file: &Path,
+    field: impl Into<String>,
+    v: [T; 3],
+) -> Result<(), SceneError> {
+    if v.iter().all(|&x| x.into().is_finite()) {
+        Ok(())
+    } else {
+        Err(err(
+            file,
+            field,
+            format!("{v:?}: coordinates must be finite"),
+        ))
+    }
+}
+
 /// A colour, intensity or radiance must be finite and not negative.
 fn check_color(file: &Path, field: impl Into<String>, c: [f32; 3]) -> Result<(), SceneError> {
     if c.iter().all(|x| *x >= 0.0 && x.is_finite()) {
@@ -898,17 +907,7 @@ fn check_color(file: &Path, field: impl Into<String>, c: [f32; 3]) -> Result<(),
 /// A light's points finite, its colour a colour, an area light's edges spanning an area,
 /// its samples in `1..=MAX_LIGHT_SAMPLES`.
 fn check_light(file: &Path, field: &str, light: &Light) -> Result<(), SceneError> {
-    let finite = |name: &str, v: [f32; 3]| {
-        if v.iter().all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            Err(err(
-                file,
-                format!("{field}.{name}"),
-                format!("{v:?}: coordinates must be finite"),
-            ))
-        }
-    };
+    let finite = |name: &str, v: [f32; 3]| check_point(file, format!("{field}.{name}"), v);
     match light {
         Light::Point { position, color } => {
             finite("position", *position)?;
