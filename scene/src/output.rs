@@ -5,9 +5,6 @@
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU32, Ordering};
-
-static NEXT_SERIAL: AtomicU32 = AtomicU32::new(0);
 
 /// An output file on its way: the temporary file beside `target` is created at once
 /// (so an unwritable target fails before the work), removed if the command fails
@@ -28,15 +25,7 @@ impl Staged {
             return Err(problem);
         }
         let target = &sim::through_links(target);
-        let name = target
-            .file_name()
-            .ok_or_else(|| format!("{shown}: not a file name"))?;
-        let mut temp_name = std::ffi::OsString::from(".");
-        temp_name.push(name);
-        // process and output number: two outputs of one run never share a temporary file
-        let serial = NEXT_SERIAL.fetch_add(1, Ordering::Relaxed);
-        temp_name.push(format!(".{}-{serial}.partial", std::process::id()));
-        let temp = target.with_file_name(temp_name);
+        let temp = sim::temp_beside(target).ok_or_else(|| format!("{shown}: not a file name"))?;
         File::create(&temp).map_err(|e| format!("{shown}: cannot write: {e}"))?;
         Ok(Staged {
             target: target.to_path_buf(),

@@ -37,4 +37,4 @@ pub use vectors::{
     binary_to_text, convert_file, text_to_binary, BinReader, BinWriter, TextReader, TextWriter,
     VecFormat,
 };
-pub use vectors::{detect_format, output_problem, through_links, write_atomically};
+pub use vectors::{detect_format, output_problem, temp_beside, through_links, write_atomically};

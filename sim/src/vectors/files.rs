@@ -4,6 +4,7 @@
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use super::*;
 use crate::error::SimError;
@@ -126,6 +127,20 @@ pub fn output_problem(path: &Path) -> Option<String> {
     }
 }
 
+/// The temporary file an output `dst` is written to before it is renamed into
+/// place: beside it (a rename stays on one file system), hidden, named for the
+/// process and numbered, so that two outputs of one run never share one; `None`
+/// when `dst` has no file name.
+pub fn temp_beside(dst: &Path) -> Option<PathBuf> {
+    static NEXT: AtomicU32 = AtomicU32::new(0);
+    let name = dst.file_name()?;
+    let serial = NEXT.fetch_add(1, Ordering::Relaxed);
+    let mut temp = std::ffi::OsString::from(".");
+    temp.push(name);
+    temp.push(format!(".tmp-{}-{serial}", std::process::id()));
+    Some(dst.with_file_name(temp))
+}
+
 /// Writes `dst` all or nothing: `write` gets a temporary file beside `dst`
 /// (and `dst`'s name for messages); on success the temporary file is
 /// renamed to `dst` (through its links, [`through_links`]), on failure it is
@@ -137,14 +152,8 @@ pub fn write_atomically<T>(
 ) -> Result<T, SimError> {
     let dst_name = dst.display().to_string();
     let dst = &through_links(dst);
-    let file_name = dst
-        .file_name()
+    let tmp = temp_beside(dst)
         .ok_or_else(|| SimError::Invalid(format!("{dst_name}: not a file name")))?;
-    let tmp = dst.with_file_name(format!(
-        ".{}.tmp-{}",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
     let f = File::create(&tmp).map_err(|e| SimError::io(format!("creating {dst_name}"), e))?;
     let result = write(f, &dst_name).and_then(|v| {
         std::fs::rename(&tmp, dst)

@@ -17,8 +17,8 @@ mod text;
 
 pub use binary::{BinReader, BinWriter};
 pub use files::{
-    binary_to_text, convert_file, detect_format, output_problem, text_to_binary, through_links,
-    write_atomically, VecFormat,
+    binary_to_text, convert_file, detect_format, output_problem, temp_beside, text_to_binary,
+    through_links, write_atomically, VecFormat,
 };
 pub use text::{parse_value, TextReader, TextWriter};
 
