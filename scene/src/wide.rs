@@ -878,6 +878,9 @@ fn triangles_below(bvh: &WideBvh) -> Vec<Vec<u32>> {
     below
 }
 
+/// A direction a node may carry, with each slot's extent along it (outward).
+type Carried = ([i32; 3], Vec<(f64, f64)>);
+
 /// The k-DOP extents of every node of `bvh` (a BLAS of `mesh`), bottom-up.
 fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
     let q_max = bvh.format.q_max() as i64;
@@ -920,13 +923,13 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
         }
         node_extent[id] = ext;
         // per carried direction, the slots' extents along it
-        let palette = |j: usize| -> ([i32; 3], Vec<(f64, f64)>) {
+        let palette = |j: usize| -> Carried {
             (
                 DOP_DIRS[j],
                 slots.iter().map(|s| (s.lo[j], s.hi[j])).collect(),
             )
         };
-        let best = |candidates: Vec<([i32; 3], Vec<(f64, f64)>)>| {
+        let best = |candidates: Vec<Carried>| {
             candidates
                 .into_iter()
                 .map(|(n, e)| (direction_score(&slots, n, &e), n, e))
@@ -934,7 +937,7 @@ fn dop_tree(bvh: &WideBvh, mesh: &Mesh, select: DopSelect) -> Vec<DopNode> {
                 .map(|(_, n, e)| (n, e))
                 .expect("ten directions at least")
         };
-        let dirs: Vec<([i32; 3], Vec<(f64, f64)>)> = match select {
+        let dirs: Vec<Carried> = match select {
             DopSelect::All => (0..4).map(palette).collect(),
             DopSelect::One => vec![best((0..DOP_DIRS.len()).map(palette).collect())],
             DopSelect::Normal => {
