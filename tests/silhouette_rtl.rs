@@ -196,7 +196,7 @@ fn silhouette_ray_mode_bfloat16_balanced_ecp5_dsp_blocks_with_bubbles() {
         .module
         .instances
         .iter()
-        .filter(|i| i.module.vendor_cell.is_some())
+        .filter(|i| i.module.vendor.is_some())
         .count();
     assert!(blocks >= 9, "{}: {blocks} MULT18X18D blocks", g.module.name);
     run("sil_ray_bf16_dsp", "silhouette", &p, 14, Some(3));

@@ -12,11 +12,11 @@ use golden_model::float::FloatFormat;
 use golden_model::triangle::eval;
 use rtl_flow::triangle::TriangleBench;
 
-/// (exp_bits, frac_bits, round, outputs, stages, pipeline, products)
+/// (exp_bits, frac_bits, round, outputs, stages, pipeline, other parameters)
 /// (the unit's plan is the delay-balanced placement, so `pipeline=balanced`
 /// builds the same registers; checked once by hand: e8m7 full s5 balanced,
-/// 1,000,000 vectors, 0 mismatches). The binary32 configuration is the
-/// renderer's (`render rtl-loop` shares its harness).
+/// 1,000,000 vectors, 0 mismatches). The first binary32 configuration and
+/// the last are the renderer's (`render rtl-loop` shares their harnesses).
 type Case = (
     u32,
     u32,
@@ -27,15 +27,24 @@ type Case = (
     &'static str,
 );
 const CASES: &[Case] = &[
-    (8, 23, "rne", "full", 8, "plan", "split"),
-    (8, 7, "rtz", "full", 4, "plan", "split"),
-    (5, 6, "rdn", "hit", 0, "plan", "split"),
+    (8, 23, "rne", "full", 8, "plan", ""),
+    (8, 7, "rtz", "full", 4, "plan", ""),
+    (5, 6, "rdn", "hit", 0, "plan", ""),
     // the issue-42 format (binary16's range, internal e9m10), a directed mode
-    (5, 10, "rup", "full", 2, "plan", "split"),
+    (5, 10, "rup", "full", 2, "plan", ""),
     // t as numerator and denominator, the segment test by products (issue 42)
-    (8, 23, "rne", "tnum", 8, "plan", "split"),
-    // the cost target's configuration: whole products for xc7 (issue 42)
-    (8, 23, "rne", "tnum", 8, "plan", "whole"),
+    (8, 23, "rne", "tnum", 8, "plan", ""),
+    // the cost target's configuration (issue 42): whole products, the
+    // segment by logarithms, 24 DSP48E1 blocks on xc7
+    (
+        8,
+        23,
+        "rne",
+        "tnum",
+        8,
+        "plan",
+        "products=whole segment=log dsp=xc7 dsp_blocks=24",
+    ),
 ];
 
 fn params(c: &Case) -> Vec<String> {
@@ -50,9 +59,7 @@ fn params(c: &Case) -> Vec<String> {
         format!("stages={}", c.4),
         format!("pipeline={}", c.5),
     ]);
-    if c.6 != "split" {
-        p.push(format!("products={}", c.6));
-    }
+    p.extend(c.6.split_whitespace().map(str::to_string));
     p
 }
 
@@ -124,15 +131,21 @@ fn triangle_matches_golden_model_in_the_evaluator_in_every_mode() {
         (8, 23, "rtz", "tnum"),
         (5, 10, "rdn", "tnum"),
         (8, 23, "rup", "hit"),
+        // the conservative segment test by logarithms, at both ends of K
+        (8, 23, "rne", "tnum segment=log"),
+        (5, 10, "rtz", "hit segment=log"),
+        (8, 7, "rdn", "tnum segment=log"),
     ];
     for &(e, f, round, outputs) in cases {
-        let p = [
+        let mut p = vec![
             format!("exp_bits={e}"),
             format!("frac_bits={f}"),
             format!("round={round}"),
-            format!("outputs={outputs}"),
             "stages=0".to_string(),
         ];
+        let mut words = outputs.split(' ');
+        p.push(format!("outputs={}", words.next().unwrap()));
+        p.extend(words.map(str::to_string));
         let p: Vec<&str> = p.iter().map(String::as_str).collect();
         let (g, _) = generate("triangle_eval_modes", "triangle", &p);
         evaluated(&g, 3_000, 5);

@@ -303,6 +303,20 @@ pub struct TriNum {
     pub t_den: u64,
 }
 
+/// How the `outputs=hit|tnum` unit tests the segment without a division.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Segment {
+    /// `t_min ≤ T/det ≤ t_max` and `|T/det| ≥ 2^(emax+1)` decided exactly
+    /// (products of `T`, `det` and the bounds): [`eval_tnum`].
+    #[default]
+    Exact,
+    /// The same three decisions on approximate base-2 logarithms,
+    /// conservatively ([`segment_log`]): every `t` within the segment is
+    /// accepted and every `t` beyond the format's range flagged; a `t` up
+    /// to a factor ~1.3 outside a bound may be accepted too.
+    Log,
+}
+
 /// The unit's answer with `outputs=tnum`: the datapath of [`eval_with`]
 /// up to `T` and `det`, then the segment test without a division, exact:
 /// `t_min ≤ T/det ≤ t_max` as `t_min·|det| ≤ T·sgn(det) ≤ t_max·|det|`, and
@@ -310,26 +324,81 @@ pub struct TriNum {
 /// `invalid`. Its `hit` can differ from [`eval_with`]'s only where the
 /// rounded `t` of the latter and the exact ratio lie on two sides of a
 /// bound (within an ulp or two of it); [`finish_t`] gives `full`'s `t`.
+/// The same as [`eval_tnum_with`] with [`Segment::Exact`].
 pub fn eval_tnum(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriNum {
-    use crate::exact::ray_box::{decode as decode_bound, Exact};
-    use crate::transform::exact::decode;
-    use dashu::integer::IBig;
+    eval_tnum_with(fmt, mode, Segment::Exact, x)
+}
+
+/// The unit's answer with `outputs=tnum` and the segment test `segment`:
+/// the datapath of [`eval_with`] up to `T` and `det` (the same `invalid`
+/// for non-finite input, `kz = 3` or three zero edge functions, the same
+/// misses outside the triangle), then the three decisions `after_min`
+/// (`t ≥ t_min`), `before_max` (`t ≤ t_max`) and `far`
+/// (`|t| ≥ 2^(emax+1)`) of `t = T/det`: exact ([`Segment::Exact`], as
+/// [`eval_tnum`]) or approximate and conservative ([`Segment::Log`],
+/// [`segment_log`]). Not `after_min && before_max`: no hit (not
+/// `invalid`); else `far`: no hit and `invalid`; else a hit with
+/// `t_num = T`, `t_den = det`.
+///
+/// With [`Segment::Log`] a hit of [`Segment::Exact`] is always a hit (the
+/// same `T` and `det`), and an `invalid` of it always `invalid`; the log
+/// test may also accept a `t` somewhat outside the segment, or flag a hit
+/// with `|t|` a little below `2^(emax+1)` `invalid` (factors in
+/// [`segment_log`]): the caller, which divides `T/det` once per accepted
+/// hit ([`finish_t`]), re-decides the segment on the quotient.
+pub fn eval_tnum_with(fmt: FloatFormat, mode: RoundingMode, segment: Segment, x: &TriIn) -> TriNum {
     let Some(d) = datapath(fmt, mode, x) else {
         return TriNum {
             invalid: true,
             ..TriNum::default()
         };
     };
-    let w = d.w;
     if d.invalid || !d.inside {
         return TriNum {
             invalid: d.invalid || d.undecided,
             ..TriNum::default()
         };
     }
-    // finite and det ≠ 0 here: T' = T·sgn(det) against bound·|det|
-    let (tm, te) = decode(w, d.t_num).expect("T is finite");
-    let (dm, de) = decode(w, d.det).expect("det is finite");
+    // finite and det ≠ 0 here (T and det zero or normal in w)
+    let (after_min, before_max, far) = match segment {
+        Segment::Exact => segment_exact(fmt, d.w, d.t_num, d.det, x.t_min, x.t_max),
+        Segment::Log => segment_log(fmt, d.t_num, d.det, x.t_min, x.t_max),
+    };
+    if !(after_min && before_max) {
+        return TriNum::default();
+    }
+    if far {
+        return TriNum {
+            invalid: true,
+            ..TriNum::default()
+        };
+    }
+    TriNum {
+        hit: true,
+        invalid: false,
+        t_num: d.t_num,
+        t_den: d.det,
+    }
+}
+
+/// The exact segment test of `t = T/det` (`T`, `det` finite in `w`,
+/// `det ≠ 0`; the bounds in `fmt`, not NaN): `(t ≥ t_min, t ≤ t_max,
+/// |t| ≥ 2^(emax+1))`, as `t_min·|det| ≤ T·sgn(det) ≤ t_max·|det|` and
+/// `|T| ≥ 2^(emax+1)·|det|` in big integers.
+fn segment_exact(
+    fmt: FloatFormat,
+    w: FloatFormat,
+    t_num: u64,
+    det: u64,
+    t_min: u64,
+    t_max: u64,
+) -> (bool, bool, bool) {
+    use crate::exact::ray_box::{decode as decode_bound, Exact};
+    use crate::transform::exact::decode;
+    use dashu::integer::IBig;
+    // T' = T·sgn(det) against bound·|det|
+    let (tm, te) = decode(w, t_num).expect("T is finite");
+    let (dm, de) = decode(w, det).expect("det is finite");
     let (tm, dm) = if dm < IBig::ZERO {
         (-tm, -dm)
     } else {
@@ -356,24 +425,149 @@ pub fn eval_tnum(fmt: FloatFormat, mode: RoundingMode, x: &TriIn) -> TriNum {
         Exact::NegInf | Exact::NaN => false,
         Exact::Fin { m, e } => cmp(IBig::from(m), e as i64) != Greater,
     };
-    if !(at_least(x.t_min) && at_most(x.t_max)) {
-        return TriNum::default();
-    }
     // |T'| ≥ 2^(emax+1)·|det|
     let big = |sign: i64| cmp(IBig::from(sign), fmt.emax() as i64 + 1);
     let far = big(1) != Less || big(-1) != Greater;
-    if far {
-        return TriNum {
-            invalid: true,
-            ..TriNum::default()
+    (at_least(t_min), at_most(t_max), far)
+}
+
+/// The constants `(K, C)` of [`segment_log`] for `fmt`: `K = min(8, F)`
+/// fraction bits in each logarithm, and the margin
+/// `C = ⌈2^K · 0.1721427⌉ + 2` in units of `2^−K` (47 for `K = 8`, 25 for
+/// 7, 14 for 6, 5 for 4): at least `2δ·2^K` with
+/// `δ = 0.0860713… + 2^−K` the most by which a truncated Mitchell logarithm
+/// (exponent plus the top `K` fraction bits) falls below `log2` of a
+/// normal value (`max(log2(1+f) − f) = 0.08607133…` at
+/// `f = 1/ln 2 − 1`, plus the truncation, below `2^−K`).
+pub fn log_segment_constants(fmt: FloatFormat) -> (u32, i64) {
+    let k = fmt.frac_bits().min(8);
+    // ⌈2^K · 1721427 / 10^7⌉ + 2, in integers
+    let c = ((1i64 << k) * 1_721_427 + 9_999_999) / 10_000_000 + 2;
+    (k, c)
+}
+
+/// The `segment=log` test of `t = T/det` (`outputs=hit|tnum`), bit for bit
+/// as the hardware does it: `(after_min, before_max, far)`, approximating
+/// `t ≥ t_min`, `t ≤ t_max` and `|t| ≥ 2^(emax+1)` by comparisons of
+/// base-2 logarithms taken as Mitchell does, the biased exponent followed
+/// by the top `K` fraction bits, with the margin `C`
+/// ([`log_segment_constants`]).
+///
+/// `t_num` (`T`) and `det` (`D`) are bit patterns of
+/// [`internal_format`]`(fmt)` (`Ew` exponent bits, `fmt`'s `F` fraction
+/// bits), each zero or normal, `D ≠ 0` (as the datapath gives them);
+/// `t_min` (`L`) and `t_max` (`H`) bit patterns of `fmt` (`Ef` exponent
+/// bits, bias `b`), anything but NaN (a NaN bound reads as an infinity;
+/// it is `invalid` upstream). Panics if `fmt` has no internal format.
+///
+/// - `lT = (T >> (F−K)) mod 2^(Ew+K)`, `lD` likewise; `q = lT − lD`;
+/// - a bound `X` with exponent field 0 (zero or subnormal) has
+///   `lX = 2^K` (the magnitude `2^(1−b)`), else
+///   `lX = (X >> (F−K)) mod 2^(Ef+K)`; `rX = q + b·2^K − lX`, about
+///   `2^K·log2(|t| / |X|)`;
+/// - `H` equal to ±0 or a negative subnormal counts as zero (moved up), a
+///   positive subnormal as `2^(1−b)` (moved up); `L` equal to ±0 or a
+///   positive subnormal counts as zero (moved down), a negative subnormal
+///   as `−2^(1−b)` (moved down);
+/// - `before_max`: `H = ±∞` gives `H > 0`; else `T = 0` gives `H ≥ 0` (`H`
+///   as counted); else `H` zero gives `t < 0`; else `t, H > 0` gives
+///   `rH ≤ C`; `t, H < 0` gives `rH ≥ −C`; opposite signs give `t < 0`;
+/// - `after_min` the mirror image (`L = ±∞` gives `L < 0`, `T = 0` gives
+///   `L ≤ 0`, `L` zero gives `t > 0`, `t, L > 0` gives `rL ≥ −C`,
+///   `t, L < 0` gives `rL ≤ C`, opposite signs `t > 0`);
+/// - `far`: `T ≠ 0` and `q ≥ (emax+1)·2^K − C`.
+///
+/// **Guarantee.** `2^−K·r` exceeds the exact `log2(|t|/|X|)` by more than
+/// `−δ` and less than `2δ` (`T`'s logarithm falls short by `[0, δ)`, those
+/// of `D` and the bound, subtracted, by `[0, δ)` each), and `2^−K·q`
+/// differs from `log2|t|` by less than `δ`; `C ≥ 2δ·2^K`. So, exactly:
+/// `before_max` is true whenever `t ≤ t_max`, `after_min` whenever
+/// `t ≥ t_min`, and `far` whenever `|t| ≥ 2^(emax+1)`: the test never
+/// loses a hit of the exact test nor lets a `t` beyond the format's range
+/// through.
+///
+/// **Where it is loose** (`K = 8`, `C = 47`: `C·2^−K + δ = 0.274`,
+/// `C·2^−K + 2δ = 0.364`). A `t` beyond a bound of its own sign may be
+/// accepted: where beyond means a larger magnitude (`t > t_max > 0`,
+/// `t < t_min < 0`; `T`'s logarithm alone errs that way) by a factor below
+/// `2^(C·2^−K + δ)` ≈ 1.21 (about 1.18 attainable; binary32 tests measure
+/// 1.174); where it means a smaller magnitude (`0 < t < t_min`,
+/// `t_max < t < 0`; those of `det` and the bound err that way) by a factor
+/// below `2^(C·2^−K + 2δ)` ≈ 1.29, i.e. `t` down to ≈ 0.78·`t_min`
+/// (0.787 attainable and measured: not the 1.2 of the other side). A bound
+/// of the other sign than `t`, zero, or infinite is decided exactly, with
+/// subnormal bounds moved outward as above (a `t` up to ~1.21 beyond
+/// `2^(1−b)` may pass such a bound). `far` may also flag a `t` with
+/// `|t| > 2^(emax+1 − C·2^−K − δ)` ≈ `2^(emax+1)/1.21` (measured from
+/// 0.842·`2^(emax+1)`): a hit just below the range is then `invalid`. The
+/// caller divides once per accepted hit and re-decides on the quotient.
+pub fn segment_log(
+    fmt: FloatFormat,
+    t_num: u64,
+    det: u64,
+    t_min: u64,
+    t_max: u64,
+) -> (bool, bool, bool) {
+    let w = internal_format(fmt).expect("segment_log: the format has no internal format");
+    let (k, c) = log_segment_constants(fmt);
+    let f = fmt.frac_bits();
+    let (ew, ef) = (w.exp_bits(), fmt.exp_bits());
+    let bias_f = fmt.bias() as i64;
+    let emax_f = bias_f;
+    // biased exponent and top K fraction bits, sign dropped
+    let log_w = |v: u64| ((v >> (f - k)) & ((1u64 << (ew + k)) - 1)) as i64;
+    let (lt, ld) = (log_w(t_num), log_w(det));
+    let sign_w = |v: u64| (v >> (ew + f)) & 1 == 1;
+    let s_t = sign_w(t_num) ^ sign_w(det);
+    let z_t = (t_num >> f) & ((1u64 << ew) - 1) == 0;
+    let q = lt - ld;
+    // a bound: (l, sign, denormal, infinite, nonzero fraction)
+    let bound = |x: u64| {
+        let x = x & fmt.mask();
+        let exp = (x >> f) & ((1u64 << ef) - 1);
+        let (d, i) = (exp == 0, exp == (1u64 << ef) - 1);
+        let l = if d {
+            1i64 << k
+        } else {
+            ((x >> (f - k)) & ((1u64 << (ef + k)) - 1)) as i64
         };
-    }
-    TriNum {
-        hit: true,
-        invalid: false,
-        t_num: d.t_num,
-        t_den: d.det,
-    }
+        (l, (x >> (ef + f)) & 1 == 1, d, i, x & fmt.frac_mask() != 0)
+    };
+    let (l_h, s_h, d_h, i_h, frac_h) = bound(t_max);
+    let (l_l, s_l, d_l, i_l, frac_l) = bound(t_min);
+    let z_h = d_h && (!frac_h || s_h);
+    let z_l = d_l && (!frac_l || !s_l);
+    let r_h = q + (bias_f << k) - l_h;
+    let r_l = q + (bias_f << k) - l_l;
+    let (gt_h, lt_h, gt_l, lt_l) = (r_h > c, r_h < -c, r_l > c, r_l < -c);
+    let before_max = if i_h {
+        !s_h
+    } else if z_t {
+        !s_h || z_h
+    } else if z_h {
+        s_t
+    } else if !s_t && !s_h {
+        !gt_h
+    } else if s_t && s_h {
+        !lt_h
+    } else {
+        s_t
+    };
+    let after_min = if i_l {
+        s_l
+    } else if z_t {
+        s_l || z_l
+    } else if z_l {
+        !s_t
+    } else if !s_t && !s_l {
+        !lt_l
+    } else if s_t && s_l {
+        !gt_l
+    } else {
+        !s_t
+    };
+    let far = !z_t && q >= ((emax_f + 1) << k) - c;
+    (after_min, before_max, far)
 }
 
 /// `t` from an `outputs=tnum` answer, rounded as `outputs=full` rounds it

@@ -188,7 +188,7 @@ fn pairs(mut one: impl FnMut(u64, u64), seed: u64) {
         let b = match rng.below(6) {
             0 => operand(&mut rng, f, &sp),
             1 => a ^ f.sign_bit(),
-            2 => (a ^ f.sign_bit()).wrapping_add(rng.below(5) - 2) & f.mask(),
+            2 => (a ^ f.sign_bit()).wrapping_add(rng.below(5).wrapping_sub(2)) & f.mask(),
             3 => operand_near(&mut rng, f, a, 30),
             _ => operand_near(&mut rng, f, a, 3),
         };
@@ -268,7 +268,7 @@ fn fma_binary32_nearest() {
         let c = match rng.below(4) {
             0 => operand(&mut rng, f, &sp),
             1 => p ^ f.sign_bit(), // cancellation of the rounded product
-            2 => (p ^ f.sign_bit()).wrapping_add(rng.below(5) - 2) & f.mask(),
+            2 => (p ^ f.sign_bit()).wrapping_add(rng.below(5).wrapping_sub(2)) & f.mask(),
             _ => operand_near(&mut rng, f, p, 30),
         };
         one(a, b, c);

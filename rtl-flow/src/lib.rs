@@ -269,6 +269,32 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
             module.description, done.products
         );
     }
+    if flow.dsp == Dsp::Xc7 {
+        let budget = (flow.dsp_blocks > 0).then_some(flow.dsp_blocks);
+        let (hard, done) = rtl_gen::retime::xc7_dsp::xc7_hand_map(&module, budget)
+            .map_err(ParamError::Combination)?;
+        if done.products == 0 && budget.is_none() {
+            return Err(ParamError::Combination(format!(
+                "dsp=xc7: `{}` has no 24x24 unsigned product to put on one DSP48E1",
+                module.name
+            ))
+            .into());
+        }
+        module = hard;
+        let suffix = budget.map_or(String::new(), |b| b.to_string());
+        module.name = format!("{}_xc7dsp{suffix}", module.name);
+        module.params.insert("dsp".into(), flow.dsp.word().into());
+        if let Some(b) = budget {
+            module.params.insert("dsp_blocks".into(), b.to_string());
+        }
+        module.description = format!(
+            "{} {} products of 24x24 bits on one DSP48E1 each (dsp=xc7): {} blocks as Yosys maps \
+             the unit, {} before.",
+            module.description, done.products, done.blocks_after, done.blocks_before
+        );
+    } else if flow.dsp_blocks > 0 {
+        return Err(ParamError::Combination("dsp_blocks applies to dsp=xc7".into()).into());
+    }
     if flow.handshake == Handshake::Ready {
         module = rtl_gen::handshake::with_ready(&module)
             .map_err(|e| ParamError::Combination(format!("handshake=ready: {e}")))?;

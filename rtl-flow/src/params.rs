@@ -24,6 +24,8 @@ rtl_gen::choice! {
         Infer = "infer",
         /// ECP5 MULT18X18D cells with their output registers
         Ecp5 = "ecp5",
+        /// 7-series: a 24x24 product on one DSP48E1 and hand-placed LUT rows
+        Xc7 = "xc7",
     }
 }
 
@@ -47,8 +49,14 @@ rtl_gen::params! {
         /// multiplier blocks: infer (plain `*`, any synthesis tool maps it) or ecp5 (each
         /// registered product of at most 18x18 bits written as an ECP5 MULT18X18D with its own
         /// output register, so the route back from the DSP row is a path of its own; Verilog
-        /// for ECP5 synthesis, same function and latency)
+        /// for ECP5 synthesis, same function and latency) or xc7 (a 24x24 unsigned product of a
+        /// flat datapath on one DSP48E1, which takes a*signed(b[17:0]), the rest
+        /// a*(b[23:18] + b[17]) in hand-placed LUT6/CARRY4 rows, about 87 LUT per block saved;
+        /// Verilog for 7-series synthesis, same function and latency)
         dsp: Dsp = Dsp::Infer,
+        /// dsp=xc7 only: at most this many DSP48E1 blocks as Yosys maps the unit, the earliest
+        /// products in the datapath moved to one block first; 0: every 24x24 product on one
+        dsp_blocks: u32 [0..=100000] = 0,
         /// interface: valid (in_valid/out_valid, fixed latency, no backpressure) or ready
         /// (adds in_ready and out_ready: the consumer may stall; credits and an output FIFO of
         /// latency + 1 entries around the same core, same latency and one transaction per cycle

@@ -16,7 +16,9 @@ use super::stimulus::VectorRng;
 use super::Testbench;
 use golden_model::float::{nudge, to_f64};
 use golden_model::float::{FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_tnum, eval_with, other_axes, shear, TriIn, TriNum, TriOut};
+use golden_model::triangle::{
+    eval_tnum_with, eval_with, other_axes, shear, Segment, TriIn, TriNum, TriOut,
+};
 use rtl_gen::units::ports;
 use rtl_gen::units::triangle::{Config, Outputs, TriangleIn, TriangleOut};
 
@@ -124,6 +126,21 @@ impl TriangleBench {
                 let one = from_f64(fmt, 1.0);
                 x.t_min = nudge(fmt, one, r.below(9) as i64 - 4);
                 x.t_max = nudge(fmt, one, r.below(9) as i64 - 4);
+                // bounds a few per cent around t, where `segment=log` decides by
+                // its margin; or the ray reversed, t = -1 between negative bounds
+                match r.below(4) {
+                    0 => {
+                        x.t_min = q(rnd(&mut r, 0.7, 1.0));
+                        x.t_max = q(rnd(&mut r, 1.0, 1.35));
+                    }
+                    1 => {
+                        let back = d.map(|c| c ^ (1u64 << (fmt.width() - 1)));
+                        (x.kz, x.s) = shear(fmt, back);
+                        x.t_min = q(-rnd(&mut r, 0.7, 1.35));
+                        x.t_max = q(-rnd(&mut r, 0.7, 1.35));
+                    }
+                    _ => {}
+                }
             }
             1 => {
                 x.t_min = q(rnd(&mut r, -2.0, 1.5));
@@ -276,6 +293,13 @@ impl TriangleBench {
     pub fn outputs(&self) -> Outputs {
         self.unit.outputs
     }
+    /// How `hit` and `tnum` test the segment.
+    pub fn segment(&self) -> Segment {
+        match self.unit.segment {
+            rtl_gen::units::triangle::Segment::Exact => Segment::Exact,
+            rtl_gen::units::triangle::Segment::Log => Segment::Log,
+        }
+    }
 }
 
 impl sim::Golden for TriangleBench {
@@ -292,7 +316,7 @@ impl sim::Golden for TriangleBench {
                 }
             }
             Outputs::Hit | Outputs::Tnum => {
-                let out = eval_tnum(self.fmt, self.mode, &x);
+                let out = eval_tnum_with(self.fmt, self.mode, self.segment(), &x);
                 TriangleOut {
                     hit: out.hit as u64,
                     invalid: out.invalid as u64,

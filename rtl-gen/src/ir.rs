@@ -282,26 +282,50 @@ pub struct Module {
     /// input is data input 0 and the valid output is data output 0 in the IR,
     /// named `in_valid`/`out_valid`
     pub handshake: Option<Handshake>,
-    /// `Some` when a vendor's hard block implements this module in synthesis
-    pub vendor_cell: Option<VendorCell>,
+    /// `Some` when a vendor's cells implement this module in synthesis
+    pub vendor: Option<VendorBody>,
 }
 
-/// A vendor's hard block (an FPGA primitive) that implements a module in
-/// synthesis. The module's own nodes and registers stay its behaviour: the
-/// evaluator, the re-timer and simulation read them, and the emitter writes
-/// both, the cell under `` `ifdef SYNTHESIS `` (which Yosys defines and
-/// Verilator and Icarus do not).
+/// A vendor's cells (FPGA primitives) that implement a module in synthesis.
+/// The module's own nodes and registers stay its behaviour: the evaluator,
+/// the re-timer and simulation read them, and the emitter writes both, the
+/// cells under `` `ifdef SYNTHESIS `` (which Yosys defines and Verilator and
+/// Icarus do not).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VendorBody {
+    /// whose cell library the cells come from (synthesis reads it)
+    pub library: CellLibrary,
+    /// nets between cells, with their widths
+    pub nets: Vec<(String, u32)>,
+    /// the cells, in the order written
+    pub cells: Vec<VendorCell>,
+}
+
+/// An FPGA family whose primitives a [`VendorBody`] instantiates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellLibrary {
+    /// Lattice ECP5 (`MULT18X18D`)
+    Ecp5,
+    /// AMD/Xilinx 7-series (`DSP48E1`, `LUT6`, `CARRY4`)
+    Xc7,
+}
+
+/// One vendor cell.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct VendorCell {
     /// cell type, e.g. `MULT18X18D`
     pub cell: String,
-    /// string-valued parameters of the cell
+    /// instance name
+    pub name: String,
+    /// parameters, each value a Verilog constant as written (`"CLK0"` with
+    /// its quotes, `64'h8000000000000000`, `0`)
     pub params: Vec<(String, String)>,
-    /// the connected pins, in order; a pin not listed is left open
-    pub pins: Vec<(String, CellPin)>,
+    /// the connected pins, in order, each its bits from the least
+    /// significant (one bit: a scalar); a pin not listed is left open
+    pub pins: Vec<(String, Vec<CellPin>)>,
 }
 
-/// What one pin of a [`VendorCell`] connects to.
+/// What one pin bit of a [`VendorCell`] connects to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CellPin {
     /// the module's clock
@@ -320,6 +344,13 @@ pub enum CellPin {
         /// index into the module's outputs
         port: usize,
         /// bit of that output
+        bit: u32,
+    },
+    /// bit `bit` of the body's net `net`
+    Net {
+        /// index into [`VendorBody::nets`]
+        net: usize,
+        /// bit of that net
         bit: u32,
     },
 }
@@ -449,23 +480,26 @@ impl Module {
                 ));
             }
         }
-        if let Some(cell) = &self.vendor_cell {
-            for (pin, c) in &cell.pins {
-                let fits = match *c {
-                    CellPin::Clock | CellPin::Const(_) => true,
-                    CellPin::Input { port, bit } => {
-                        self.inputs.get(port).is_some_and(|p| bit < p.ty.width())
+        if let Some(body) = &self.vendor {
+            for cell in &body.cells {
+                for (pin, bits) in &cell.pins {
+                    let fits = |c: &CellPin| match *c {
+                        CellPin::Clock | CellPin::Const(_) => true,
+                        CellPin::Input { port, bit } => {
+                            self.inputs.get(port).is_some_and(|p| bit < p.ty.width())
+                        }
+                        CellPin::Output { port, bit } => self
+                            .outputs
+                            .get(port)
+                            .is_some_and(|(p, _)| bit < p.ty.width()),
+                        CellPin::Net { net, bit } => body.nets.get(net).is_some_and(|n| bit < n.1),
+                    };
+                    if bits.is_empty() || !bits.iter().all(fits) {
+                        return Err(format!(
+                            "module {}: pin {pin} of its {} {} connects to a missing bit",
+                            self.name, cell.cell, cell.name
+                        ));
                     }
-                    CellPin::Output { port, bit } => self
-                        .outputs
-                        .get(port)
-                        .is_some_and(|(p, _)| bit < p.ty.width()),
-                };
-                if !fits {
-                    return Err(format!(
-                        "module {}: pin {pin} of its {} connects to a missing port bit",
-                        self.name, cell.cell
-                    ));
                 }
             }
         }

@@ -48,7 +48,7 @@ use golden_model::node::NodeOut;
 use golden_model::node_reorigin::ReoriginParams;
 use golden_model::silhouette::{BundleIn, Verdict};
 use golden_model::transform::{InstanceTransform, ModelRay, WorldRay};
-use golden_model::triangle::{TriIn, TriNum, TriOut};
+use golden_model::triangle::{Segment, TriIn, TriNum, TriOut};
 use rtl_flow::cull::CullBench;
 use rtl_flow::cull_ray::CullRayBench;
 use rtl_flow::node::NodeBench;
@@ -156,6 +156,9 @@ impl Stream {
                 "stages=8",
                 "pipeline=plan",
                 "products=whole",
+                "segment=log",
+                "dsp=xc7",
+                "dsp_blocks=24",
             ],
             Stream::Node | Stream::NodeTlas => {
                 // the configuration of tests/node_rtl.rs at this shape
@@ -300,15 +303,31 @@ impl LoopUnits {
                 "not the renderer's plane configuration".into(),
             );
         }
-        for (s, bench, outputs) in [
-            (Stream::Triangle, &self.triangle, Outputs::Full),
-            (Stream::TriangleTnum, &self.triangle_tnum, Outputs::Tnum),
+        for (s, bench, outputs, segment) in [
+            (
+                Stream::Triangle,
+                &self.triangle,
+                Outputs::Full,
+                Segment::Exact,
+            ),
+            (
+                Stream::TriangleTnum,
+                &self.triangle_tnum,
+                Outputs::Tnum,
+                golden.tnum_segment,
+            ),
         ] {
             if bench.format() != golden.triangle
                 || bench.mode() != RoundingMode::NearestEven
                 || bench.outputs() != outputs
+                || bench.segment() != segment
             {
-                return mismatch(s, format!("binary32, RNE, outputs={outputs} expected"));
+                return mismatch(
+                    s,
+                    format!(
+                        "binary32, RNE, outputs={outputs}, the renderer's segment test expected"
+                    ),
+                );
             }
         }
         for (s, bench, q) in [

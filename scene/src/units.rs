@@ -90,6 +90,9 @@ pub struct GoldenUnits {
     pub cull: cull::Config,
     /// the triangle test's format
     pub triangle: FloatFormat,
+    /// the segment test of the `outputs=tnum` triangle unit: by logarithms,
+    /// conservative (the shader re-decides `t <= t_max` after dividing)
+    pub tnum_segment: triangle::Segment,
 }
 
 static GOLDEN: LazyLock<GoldenUnits> = LazyLock::new(|| GoldenUnits {
@@ -102,6 +105,7 @@ static GOLDEN: LazyLock<GoldenUnits> = LazyLock::new(|| GoldenUnits {
     cull: cull::Config::new(FloatFormat::BINARY32, PLANE_FMT, PLANES_K)
         .expect("the renderer's plane configuration is valid"),
     triangle: FloatFormat::BINARY32,
+    tnum_segment: triangle::Segment::Log,
 });
 
 impl GoldenUnits {
@@ -125,7 +129,12 @@ impl Units for GoldenUnits {
         triangle::eval(self.triangle, x)
     }
     fn triangle_tnum(&self, x: &TriIn) -> TriNum {
-        triangle::eval_tnum(self.triangle, RoundingMode::NearestEven, x)
+        triangle::eval_tnum_with(
+            self.triangle,
+            RoundingMode::NearestEven,
+            self.tnum_segment,
+            x,
+        )
     }
     fn node(&self, x: &NodeTestIn) -> NodeOut {
         node_reorigin::eval(x.params, x.ray, *x.d, x.t_start, x.node)

@@ -54,7 +54,7 @@ pub use pnr::{
     parse_fmax, parse_lcs, parse_utilisation, Device, DEVICES, ECP5_DEVICE, ECP5_DSPS, ECP5_LUTS,
     MAX_FILL,
 };
-use script::{cells_by_type, has_ecp5_cells, sum_prefix, ECP5_CELLS};
+use script::{cell_library, cells_by_type, has_ecp5_cells, sum_prefix, ECP5_CELLS};
 pub use script::{coarse_commands, parse_ltp, yosys_script};
 pub use table::{table_header, table_row};
 use tools::yosys;
@@ -323,6 +323,28 @@ pub fn scratch_dir(tag: &str) -> Result<PathBuf, SynthError> {
 
 /// Runs the flows of `o` on `g`.
 pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
+    let xc7_only;
+    let o = match cell_library(g) {
+        Some(rtl_gen::ir::CellLibrary::Xc7)
+            if o.generic || o.ice40 || o.ecp5 || o.pnr || o.pnr_ecp5 =>
+        {
+            eprintln!(
+                "{}: dsp=xc7 instantiates 7-series DSP48E1, LUT6 and CARRY4 cells, so only \
+                 synth_xilinx runs",
+                g.module.name
+            );
+            xc7_only = SynthOptions {
+                generic: false,
+                ice40: false,
+                ecp5: false,
+                pnr: false,
+                pnr_ecp5: false,
+                ..o.clone()
+            };
+            &xc7_only
+        }
+        _ => o,
+    };
     let ecp5_only;
     let o = if has_ecp5_cells(g) && (o.generic || o.ice40 || o.xilinx || o.pnr) {
         eprintln!(
@@ -477,7 +499,7 @@ fn run_in(g: &Generated, o: &SynthOptions, dir: &Path) -> Result<SynthReport, Sy
             xilinx: flow == "xilinx",
             ..o.clone()
         };
-        let script = yosys_script(&g.module.name, &files, &only, has_ecp5_cells(g));
+        let script = yosys_script(&g.module.name, &files, &only, cell_library(g));
         let name = format!("run_{flow}.ys");
         std::fs::write(dir.join(&name), &script).map_err(io("script"))?;
         yosys(dir, &name, &format!("yosys_{flow}.log"))?;

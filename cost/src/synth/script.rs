@@ -2,6 +2,7 @@
 //! type, logic depth).
 
 use super::*;
+use rtl_gen::ir::CellLibrary;
 
 pub(super) fn coarse_without_share(flow: &str) -> &'static str {
     // The `coarse` label of synth_ice40 / synth_ecp5 (synth_lattice -family
@@ -36,21 +37,40 @@ pub fn coarse_commands(flow: &str) -> Vec<String> {
         .collect()
 }
 
-/// True when the unit instantiates ECP5 cells (`dsp=ecp5`).
-pub(super) fn has_ecp5_cells(g: &Generated) -> bool {
-    g.module.hierarchy().iter().any(|m| m.vendor_cell.is_some())
+/// The FPGA family whose cells the unit instantiates, if any (`dsp=ecp5`,
+/// `dsp=xc7`).
+pub(super) fn cell_library(g: &Generated) -> Option<CellLibrary> {
+    g.module
+        .hierarchy()
+        .iter()
+        .find_map(|m| m.vendor.as_ref().map(|v| v.library))
 }
 
-/// Yosys's ECP5 cell declarations, read before a design that instantiates
-/// them so that `hierarchy -check` knows them.
-pub(super) const ECP5_CELLS: &str = "read_verilog -lib +/lattice/cells_bb_ecp5.v\n";
+/// True when the unit instantiates ECP5 cells (`dsp=ecp5`).
+pub(super) fn has_ecp5_cells(g: &Generated) -> bool {
+    cell_library(g) == Some(CellLibrary::Ecp5)
+}
+
+/// Yosys's declarations of a family's cells, read before a design that
+/// instantiates them so that `hierarchy -check` knows them.
+fn cell_declarations(library: CellLibrary) -> &'static str {
+    match library {
+        CellLibrary::Ecp5 => ECP5_CELLS,
+        CellLibrary::Xc7 => "read_verilog -lib +/xilinx/cells_sim.v\n",
+    }
+}
 
 /// The Yosys script for the unit `top` whose files are `files`
-/// (`ecp5_cells`: the unit instantiates ECP5 cells).
-pub fn yosys_script(top: &str, files: &[String], o: &SynthOptions, ecp5_cells: bool) -> String {
+/// (`cells`: the family whose cells the unit instantiates).
+pub fn yosys_script(
+    top: &str,
+    files: &[String],
+    o: &SynthOptions,
+    cells: Option<CellLibrary>,
+) -> String {
     let mut s = String::new();
-    if ecp5_cells {
-        s += ECP5_CELLS;
+    if let Some(library) = cells {
+        s += cell_declarations(library);
     }
     s += &format!("read_verilog {}\n", files.join(" "));
     s += &format!("hierarchy -check -top {top}\ndesign -save orig\n");

@@ -645,7 +645,7 @@ impl ModuleBuilder {
             instances: self.instances,
             latency,
             handshake,
-            vendor_cell: None,
+            vendor: None,
         };
         module.check_well_formed().map_err(|message| {
             BuildErrors(vec![DslError {

@@ -261,8 +261,8 @@ pub fn lower(m: &Module, generator: &str, is_top: bool, options: super::EmitOpti
     let mut items = writer.declarations_and_assigns(options);
     items.extend(writer.register_blocks());
     writer.instances(&mut items);
-    if let Some(cell) = &m.vendor_cell {
-        items = vec![writer.vendor_cell(cell, items)];
+    if let Some(body) = &m.vendor {
+        items = vec![writer.vendor_body(body, items)];
     }
     VModule {
         header: header(m, generator, is_top),
@@ -463,44 +463,67 @@ impl Writer<'_> {
         }
     }
 
-    /// The module body for synthesis: the vendor cell on its ports, wired
-    /// pin by pin; `items` (the generic logic) stays for simulation.
-    fn vendor_cell(&self, cell: &VendorCell, items: Vec<Item>) -> Item {
+    /// The module body for synthesis: the vendor cells on its ports and
+    /// their nets, wired bit by bit; `items` (the generic logic) stays for
+    /// simulation.
+    fn vendor_body(&self, body: &VendorBody, items: Vec<Item>) -> Item {
         let m = self.m;
-        let bit = |name: &str, ty: Ty, bit: u32| match ty.width() {
+        let bit = |name: &str, width: u32, bit: u32| match width {
             1 => Expr::Ident(name.to_string()),
             _ => Expr::Select(name.to_string(), bit, bit),
         };
-        let connections = cell
-            .pins
+        let pin_bit = |c: &CellPin| match *c {
+            CellPin::Clock => Expr::Ident(control::CLOCK.into()),
+            CellPin::Const(v) => Expr::Literal {
+                width: 1,
+                value: v as u128,
+            },
+            CellPin::Input { port, bit: b } => {
+                bit(&m.inputs[port].name, m.inputs[port].ty.width(), b)
+            }
+            CellPin::Output { port, bit: b } => {
+                let p = &m.outputs[port].0;
+                bit(&p.name, p.ty.width(), b)
+            }
+            CellPin::Net { net, bit: b } => {
+                let (name, width) = &body.nets[net];
+                bit(name, *width, b)
+            }
+        };
+        let mut hard: Vec<Item> = body
+            .nets
             .iter()
-            .map(|(pin, c)| {
-                let e = match *c {
-                    CellPin::Clock => Expr::Ident(control::CLOCK.into()),
-                    CellPin::Const(v) => Expr::Literal {
-                        width: 1,
-                        value: v as u128,
-                    },
-                    CellPin::Input { port, bit: b } => {
-                        bit(&m.inputs[port].name, m.inputs[port].ty, b)
-                    }
-                    CellPin::Output { port, bit: b } => {
-                        let p = &m.outputs[port].0;
-                        bit(&p.name, p.ty, b)
-                    }
-                };
-                (pin.clone(), e)
+            .map(|(name, width)| {
+                Item::Wire(Decl {
+                    name: name.clone(),
+                    width: *width,
+                    signed: false,
+                    unused: None,
+                })
             })
             .collect();
-        let hard = Item::Instance {
-            module: cell.cell.clone(),
-            params: cell.params.clone(),
-            name: "hard_block".into(),
-            connections,
-        };
+        for cell in &body.cells {
+            let connections = cell
+                .pins
+                .iter()
+                .map(|(pin, bits)| {
+                    let e = match bits.as_slice() {
+                        [one] => pin_bit(one),
+                        _ => Expr::Concat(bits.iter().rev().map(pin_bit).collect()),
+                    };
+                    (pin.clone(), e)
+                })
+                .collect();
+            hard.push(Item::Instance {
+                module: cell.cell.clone(),
+                params: cell.params.clone(),
+                name: cell.name.clone(),
+                connections,
+            });
+        }
         Item::Ifdef {
             symbol: "SYNTHESIS".into(),
-            then: vec![hard],
+            then: hard,
             otherwise: items,
         }
     }

@@ -186,7 +186,7 @@ fn items(out: &mut String, items_: &[Item]) {
                     let k = params.len();
                     for (i, (p, v)) in params.iter().enumerate() {
                         let comma = if i + 1 < k { "," } else { "" };
-                        let _ = writeln!(out, "{INDENT}{INDENT}.{p}(\"{v}\"){comma}");
+                        let _ = writeln!(out, "{INDENT}{INDENT}.{p}({v}){comma}");
                     }
                     let _ = writeln!(out, "{INDENT}) {name} (");
                 }

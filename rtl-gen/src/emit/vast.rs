@@ -77,7 +77,8 @@ pub enum Item {
     Instance {
         /// module instantiated
         module: String,
-        /// string-valued parameters (none for generated modules)
+        /// parameters, each value a Verilog constant as written (none for
+        /// generated modules)
         params: Vec<(String, String)>,
         /// instance name
         name: String,

@@ -12,7 +12,7 @@
 //!
 //! The product becomes an instance of a small module whose nodes are its
 //! behaviour (a product and a register, for the evaluator and Verilator) and
-//! whose [`VendorCell`] is the MULT18X18D Yosys instantiates; latency and
+//! whose [`VendorBody`] is the MULT18X18D Yosys instantiates; latency and
 //! function are unchanged, so the unit's golden model checks it as before.
 
 use crate::ir::*;
@@ -157,28 +157,28 @@ fn mult18(ta: Ty, tb: Ty, tp: Ty) -> Module {
                 (false, true) => CellPin::Input { port, bit: w - 1 },
                 (false, false) => CellPin::Const(false),
             };
-            pins.push((format!("{letter}{i}"), pin));
+            pins.push((format!("{letter}{i}"), vec![pin]));
         }
     }
     for i in 0..DSP_BITS {
-        pins.push((format!("C{i}"), CellPin::Const(false)));
+        pins.push((format!("C{i}"), vec![CellPin::Const(false)]));
     }
     for p in ["SIGNEDA", "SIGNEDB"] {
-        pins.push((p.into(), CellPin::Const(signed)));
+        pins.push((p.into(), vec![CellPin::Const(signed)]));
     }
     for p in ["SOURCEA", "SOURCEB"] {
-        pins.push((p.into(), CellPin::Const(false)));
+        pins.push((p.into(), vec![CellPin::Const(false)]));
     }
-    pins.push(("CLK0".into(), CellPin::Clock));
+    pins.push(("CLK0".into(), vec![CellPin::Clock]));
     for k in 1..4 {
-        pins.push((format!("CLK{k}"), CellPin::Const(false)));
+        pins.push((format!("CLK{k}"), vec![CellPin::Const(false)]));
     }
     for k in 0..4 {
-        pins.push((format!("CE{k}"), CellPin::Const(true)));
-        pins.push((format!("RST{k}"), CellPin::Const(false)));
+        pins.push((format!("CE{k}"), vec![CellPin::Const(true)]));
+        pins.push((format!("RST{k}"), vec![CellPin::Const(false)]));
     }
     for i in 0..tp.width() {
-        pins.push((format!("P{i}"), CellPin::Output { port: 0, bit: i }));
+        pins.push((format!("P{i}"), vec![CellPin::Output { port: 0, bit: i }]));
     }
     let sign = if signed { "s" } else { "u" };
     let port = |name: &str, ty: Ty| Port {
@@ -199,14 +199,19 @@ fn mult18(ta: Ty, tb: Ty, tp: Ty) -> Module {
         instances: Vec::new(),
         latency: 1,
         handshake: None,
-        vendor_cell: Some(VendorCell {
-            cell: "MULT18X18D".into(),
-            params: vec![
-                ("REG_OUTPUT_CLK".into(), "CLK0".into()),
-                ("GSR".into(), "DISABLED".into()),
-                ("RESETMODE".into(), "SYNC".into()),
-            ],
-            pins,
+        vendor: Some(VendorBody {
+            library: CellLibrary::Ecp5,
+            nets: Vec::new(),
+            cells: vec![VendorCell {
+                cell: "MULT18X18D".into(),
+                name: "hard_block".into(),
+                params: vec![
+                    ("REG_OUTPUT_CLK".into(), "\"CLK0\"".into()),
+                    ("GSR".into(), "\"DISABLED\"".into()),
+                    ("RESETMODE".into(), "\"SYNC\"".into()),
+                ],
+                pins,
+            }],
         }),
     }
 }

@@ -34,6 +34,7 @@ pub mod hard_dsp;
 mod registers;
 mod schedule;
 mod split;
+pub mod xc7_dsp;
 
 pub use delay_model::delay;
 

@@ -81,6 +81,16 @@ crate::choice! {
     }
 }
 
+crate::choice! {
+    /// How `outputs=hit|tnum` test the segment `t_min <= T/det <= t_max`.
+    pub enum Segment {
+        /// exact comparisons of products (two 24x24 products at binary32)
+        Exact = "exact",
+        /// conservative comparisons of base-2 logarithms (no product)
+        Log = "log",
+    }
+}
+
 crate::params! {
     /// The triangle unit's parameters.
     pub struct TriangleParams {
@@ -102,6 +112,12 @@ crate::params! {
         /// each product one multiplication (a 7-series DSP48E1 takes 25x18 and sums a wider
         /// product's pieces in its cascade: half the DSP48 and no LUT adders)
         products: Products = Products::Split,
+        /// hit|tnum only: exact (t_min*|det| <= T*sgn(det) <= t_max*|det| by exact products) or
+        /// log (conservative: base-2 logarithms as exponent and top 8 fraction bits, a margin
+        /// for Mitchell's error; never rejects a t in the segment, accepts up to about 1.2x
+        /// beyond a bound and flags |t| within that factor below the format's range invalid:
+        /// the caller re-decides after dividing; no multiplier)
+        segment: Segment = Segment::Exact,
     }
 }
 
@@ -149,6 +165,8 @@ pub struct Config {
     pub stages: u32,
     /// how the retimer flattens products
     pub products: Products,
+    /// how `hit` and `tnum` test the segment
+    pub segment: Segment,
 }
 
 impl Config {
@@ -173,8 +191,12 @@ pub fn triangle_name(cfg: &Config) -> String {
         Products::Split => "",
         Products::Whole => "_whole",
     };
+    let segment = match cfg.segment {
+        Segment::Exact => "",
+        Segment::Log => "_logseg",
+    };
     format!(
-        "triangle_{}{round}_{out}{products}_s{}",
+        "triangle_{}{round}_{out}{products}{segment}_s{}",
         cfg.fmt.tag(),
         cfg.stages
     )
@@ -436,6 +458,7 @@ pub fn build(cfg: &Config) -> Module {
     let t_num = rounded(&mut m, "u_t_num", &mul, &Pair::new(s[2], weighted));
     let det_zero = m.scope("det", |m| unpack(m, wf, det).zero);
 
+    let (bound_min, bound_max) = (t_min, t_max);
     let t_min = rounded(&mut m, "u_widen_t_min", &widen, &Source::new(t_min));
     let t_max = rounded(&mut m, "u_widen_t_max", &widen, &Source::new(t_max));
     let (t_rounded, after_min, before_max, far) = if cfg.full() {
@@ -456,8 +479,10 @@ pub fn build(cfg: &Config) -> Module {
     } else {
         // step 5 without a division: t_min·|det| <= T·sgn(det) <= t_max·|det|
         // and 2^(emax+1)·|det| <= |T| (a t beyond fmt), exact products
-        let (after_min, before_max, far) =
-            segment_by_products(&mut m, cfg, det, t_num, t_min, t_max);
+        let (after_min, before_max, far) = match cfg.segment {
+            Segment::Exact => segment_by_products(&mut m, cfg, det, t_num, t_min, t_max),
+            Segment::Log => segment_by_logs(&mut m, cfg, det, t_num, bound_min, bound_max),
+        };
         (None, after_min, before_max, far)
     };
     let far = m.name(far, "t_beyond_format");
@@ -569,6 +594,134 @@ fn segment_by_products(
     (after_min, before_max, far)
 }
 
+/// `(K, C)` of `segment=log` for `frac_bits` fraction bits: logarithms
+/// carry `K = min(8, F)` fraction bits, and the margin `C` (in units of
+/// `2^-K`) covers twice the error of one: Mitchell's `log2(1 + f) − f`
+/// below 0.0860714, truncation below `2^-K` (`C = ⌈0.1721427·2^K⌉ + 2`:
+/// 47 at K = 8).
+pub fn log_margin(frac_bits: u32) -> (u32, i128) {
+    let k = frac_bits.min(8);
+    let c = ((1i128 << k) * 1_721_427 + 9_999_999) / 10_000_000 + 2;
+    (k, c)
+}
+
+/// The segment test of `segment=log`: `(after_min, before_max, far)` from
+/// base-2 logarithms, each the biased exponent and the top `K` fraction
+/// bits (Mitchell's approximation), of `T`, `det` (in the internal format)
+/// and the raw bounds (in the unit's). With `r = log T − log det − log
+/// bound` the approximation's `r` lies within `(−1, 2)` errors of one
+/// logarithm of the exact one, so comparing `r` with `±C` never rejects a
+/// `t` inside the segment (`golden_model::triangle::segment_log`, whose
+/// tests prove it against exact fractions). A subnormal bound is moved
+/// outward to `±2^emin` or to 0, an infinite one passes or stops all.
+fn segment_by_logs(
+    m: &mut ModuleBuilder,
+    cfg: &Config,
+    det: Sig,
+    t_num: Sig,
+    t_min: Sig,
+    t_max: Sig,
+) -> (Sig, Sig, Sig) {
+    let (fmt, wf) = (cfg.fmt, cfg.wide);
+    let f = fmt.frac_bits;
+    let (k, c) = log_margin(f);
+    // T and det are zero or normal in wf (internal_format)
+    let l_t = m.slice(t_num, wf.width() - 2, f - k);
+    let l_t = m.name(l_t, "t_num_log");
+    let l_d = m.slice(det, wf.width() - 2, f - k);
+    let l_d = m.name(l_d, "det_log");
+    let q = m.sub(l_t, l_d);
+    let q = m.name(q, "t_log");
+    let t_exp = m.slice(t_num, wf.width() - 2, f);
+    let t_nonzero = m.any_set(t_exp);
+    let t_zero = m.not(t_nonzero);
+    let (t_sign, det_sign) = (m.msb(t_num), m.msb(det));
+    let t_negative = m.xor(t_sign, det_sign);
+    let t_positive = m.not(t_negative);
+    let width = q.width() + 2;
+    let bias = m.sint(width, (fmt.bias() as i128) << k);
+    let q_unbiased = m.add(q, bias);
+    let above = m.sint(width, c);
+    let below = m.sint(width, -c);
+    // per bound: is it infinite, its sign, whether it reads as 0, and r
+    // compared with ±C
+    let bound = |m: &mut ModuleBuilder, x: Sig, name: &str, upper: bool| {
+        m.scope(name, |m| {
+            let exp = m.slice(x, fmt.width() - 2, f);
+            let normal_or_more = m.any_set(exp);
+            let small = m.not(normal_or_more);
+            let infinite = m.all_ones(exp);
+            let sign = m.msb(x);
+            let frac = m.slice(x, f - 1, 0);
+            let frac_set = m.any_set(frac);
+            let frac_zero = m.not(frac_set);
+            // ±0, or a subnormal moved toward 0 (down for t_min, up for t_max)
+            let toward_zero = if upper { sign } else { m.not(sign) };
+            let reads_zero = m.or(frac_zero, toward_zero);
+            let zero = m.and(small, reads_zero);
+            let zero = m.name(zero, "reads_zero");
+            // a subnormal moved away from 0 reads as ±2^emin
+            let smallest = m.uint(fmt.exp_bits + k, 1u128 << k);
+            let log = m.slice(x, fmt.width() - 2, f - k);
+            let log = m.mux(small, smallest, log);
+            let log = m.name(log, "log");
+            let pad = m.uint(1, 0);
+            let log = m.cat(&[pad, log]);
+            let log = m.as_sint(log);
+            let r = m.sub(q_unbiased, log);
+            let r = m.name(r, "log_ratio");
+            let gt = m.gt(r, above);
+            let lt = m.lt(r, below);
+            (infinite, sign, zero, gt, lt)
+        })
+    };
+    let (h_inf, h_neg, h_zero, h_gt, h_lt) = bound(m, t_max, "t_max", true);
+    let (l_inf, l_neg, l_zero, l_gt, l_lt) = bound(m, t_min, "t_min", false);
+    let decide = |m: &mut ModuleBuilder, name: &str, inf, neg, zero, gt, lt, upper: bool| {
+        m.scope(name, |m| {
+            let pos = m.not(neg);
+            // t = T/det and the bound both positive, both negative, or of
+            // opposite signs; toward the bound's side within the margin
+            let (same_pos, same_neg, mixed) = if upper {
+                // t <= H
+                let not_gt = m.not(gt);
+                let not_lt = m.not(lt);
+                (not_gt, not_lt, t_negative)
+            } else {
+                // t >= L
+                let not_lt = m.not(lt);
+                let not_gt = m.not(gt);
+                (not_lt, not_gt, t_positive)
+            };
+            let both_pos = m.and(t_positive, pos);
+            let both_neg = m.and(t_negative, neg);
+            let x = m.mux(both_neg, same_neg, mixed);
+            let x = m.mux(both_pos, same_pos, x);
+            // the bound reads as 0: the sign of t decides
+            let x = m.mux(zero, mixed, x);
+            // t = 0: the bound's sign decides (0 <= H iff H >= 0)
+            let at_zero = if upper {
+                m.or(pos, zero)
+            } else {
+                m.or(neg, zero)
+            };
+            let x = m.mux(t_zero, at_zero, x);
+            // an infinite bound passes all or stops all
+            let all = if upper { pos } else { neg };
+            m.mux(inf, all, x)
+        })
+    };
+    let before_max = decide(m, "t_to_max", h_inf, h_neg, h_zero, h_gt, h_lt, true);
+    let after_min = decide(m, "t_from_min", l_inf, l_neg, l_zero, l_gt, l_lt, false);
+    // |t| >= 2^(emax+1), with the margin: flagged
+    let limit = m.sint(width, (((fmt.emax() + 1) as i128) << k) - c);
+    let far = m.scope("t_far", |m| {
+        let beyond = m.ge(q, limit);
+        m.and(t_nonzero, beyond)
+    });
+    (after_min, before_max, far)
+}
+
 impl Description for Triangle {
     type Params = TriangleParams;
     type Config = Config;
@@ -576,6 +729,12 @@ impl Description for Triangle {
     const SUMMARY: &'static str = "watertight ray/triangle test (Woop et al. 2013): hit, t and barycentrics, any rounding mode, edge functions as differences of rounded products";
     fn config(&self, p: &TriangleParams) -> Result<Config, ParamError> {
         let fmt = super::float_ops::format(p.exp_bits, p.frac_bits, Self::NAME)?;
+        if p.outputs == Outputs::Full && p.segment == Segment::Log {
+            return Err(ParamError::Combination(format!(
+                "{}: segment=log applies to outputs=hit|tnum (full compares the divided t)",
+                Self::NAME
+            )));
+        }
         let wide = internal_format(fmt)
             .map_err(|e| ParamError::Combination(format!("{}: {e}", Self::NAME)))?;
         Ok(Config {
@@ -585,6 +744,7 @@ impl Description for Triangle {
             outputs: p.outputs,
             stages: p.stages,
             products: p.products,
+            segment: p.segment,
         })
     }
     fn generate(&self, cfg: &Config) -> Module {
