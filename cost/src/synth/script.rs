@@ -51,6 +51,10 @@ pub(super) fn has_ecp5_cells(g: &Generated) -> bool {
     cell_library(g) == Some(CellLibrary::Ecp5)
 }
 
+/// Yosys's ECP5 cell declarations, read before a design that instantiates
+/// them so that `hierarchy -check` knows them.
+pub(super) const ECP5_CELLS: &str = "read_verilog -lib +/lattice/cells_bb_ecp5.v\n";
+
 /// Yosys's declarations of a family's cells, read before a design that
 /// instantiates them so that `hierarchy -check` knows them.
 fn cell_declarations(library: CellLibrary) -> &'static str {
