@@ -11,14 +11,17 @@
 //! parameter scaled by `s_z`): every triangle's hit must agree (0 holes, 0
 //! wrong hits), the exact hits must be 2, and `t` within 4 ulps of the
 //! exact `t`. `outputs=tnum` ([`eval_tnum`]) gives the same hits, and its
-//! `t` finished in software ([`finish_t`]) is `outputs=full`'s bit for bit.
+//! `t` finished in software ([`finish_t`]) is `outputs=full`'s bit for bit;
+//! `segment=log` gives `outputs=tnum`'s answer.
 //!
 //! CI sweeps a few scales per format and mode (both ends of the range, 1,
 //! and two between); `TRIANGLE_RANGE=full` sweeps every `k` (the release
 //! run, `scripts/release.sh`).
 
 use golden_model::float::{from_f64, to_f64, FloatFormat, RoundingMode};
-use golden_model::triangle::{eval_tnum, eval_with, exact, finish_t, shear, TriIn};
+use golden_model::triangle::{
+    eval_tnum, eval_tnum_with, eval_with, exact, finish_t, shear, Segment, TriIn,
+};
 
 /// The offsets tried, in multiples of the cube's size (`2^j`), capped
 /// where the format no longer holds the cube exactly.
@@ -95,6 +98,10 @@ fn cube(fmt: FloatFormat, mode: RoundingMode, k: i32, j: Option<i32>) -> Option<
             // outputs=tnum: the same hit, and t finished in software as full rounds it
             let num = eval_tnum(fmt, mode, &x);
             assert_eq!((num.hit, num.invalid), (got.hit, false), "tnum: {what}");
+            // segment=log decides [0, inf) as the exact test does (t = 2/3, 4/3 is
+            // far from the format's end), at every scale
+            let log = eval_tnum_with(fmt, mode, Segment::Log, &x);
+            assert_eq!(log, num, "tnum segment=log: {what}");
             if num.hit {
                 assert_eq!(
                     finish_t(fmt, mode, num.t_num, num.t_den),
