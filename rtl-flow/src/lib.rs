@@ -230,6 +230,11 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
     let specs = param_specs(&entry);
     let params = params::resolve(unit, &specs, given)?;
     let flow = FlowParams::from_params(&params);
+    // the budget of blocks applies to dsp=xc7 alone (refused below otherwise)
+    let params = match flow.dsp {
+        Dsp::Xc7 => params,
+        _ => params.without("dsp_blocks"),
+    };
     let mut module = entry.unit.build(&params)?;
     let mut balance = None;
     if flow.pipeline == Pipeline::Balanced {
@@ -275,7 +280,8 @@ pub fn generate(unit: &str, given: &[String]) -> Result<Generated, FlowError> {
             .map_err(ParamError::Combination)?;
         if done.products == 0 && budget.is_none() {
             return Err(ParamError::Combination(format!(
-                "dsp=xc7: `{}` has no 24x24 unsigned product to put on one DSP48E1",
+                "dsp=xc7: `{}` has no 24x24 unsigned product to put on one DSP48E1 (a unit's \
+                 products=whole keeps its significand products whole)",
                 module.name
             ))
             .into());

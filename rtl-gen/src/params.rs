@@ -210,6 +210,15 @@ impl Params {
             .unwrap_or_else(|| panic!("parameter `{key}` was not checked against its table"))
     }
 
+    /// The same values without `key`: a parameter that does not apply to
+    /// this configuration, left out of its headers (a reader of the
+    /// values takes the default for a missing key).
+    pub fn without(&self, key: &str) -> Params {
+        let mut values = self.values.clone();
+        values.remove(key);
+        Params { values }
+    }
+
     /// All values, sorted by key.
     pub fn values(&self) -> &BTreeMap<String, String> {
         &self.values
