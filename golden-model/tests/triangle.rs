@@ -626,3 +626,43 @@ fn the_internal_format_is_the_narrowest_that_holds_the_datapath() {
         }
     }
 }
+
+/// A format without an internal format (binary64's exponent) has no
+/// datapath: every transaction is flagged `invalid`, never a silent miss,
+/// whatever the output mode.
+#[test]
+fn a_format_without_an_internal_format_flags_every_transaction() {
+    use golden_model::triangle::{eval_tnum_with, internal_format, Segment};
+    let fmt = FloatFormat::BINARY64;
+    assert!(internal_format(fmt).is_none());
+    let one = 1f64.to_bits();
+    let x = TriIn {
+        o: [0, 0, 0],
+        kz: 2,
+        s: [0, 0, one],
+        a: [(-1f64).to_bits(), (-1f64).to_bits(), one],
+        b: [one, (-1f64).to_bits(), one],
+        c: [0, one, one],
+        t_min: 0,
+        t_max: f64::INFINITY.to_bits(),
+    };
+    let full = eval_with(fmt, RoundingMode::NearestEven, &x);
+    assert!(full.invalid && !full.hit, "{full:?}");
+    for segment in [Segment::Exact, Segment::Log] {
+        let num = eval_tnum_with(fmt, RoundingMode::NearestEven, segment, &x);
+        assert!(num.invalid && !num.hit, "{segment:?}: {num:?}");
+    }
+    // the same ray and triangle in binary32 hit at t = 1
+    let f = |v: u64| (f64::from_bits(v) as f32).to_bits() as u64;
+    let x32 = TriIn {
+        o: x.o.map(f),
+        s: x.s.map(f),
+        a: x.a.map(f),
+        b: x.b.map(f),
+        c: x.c.map(f),
+        t_max: f(x.t_max),
+        ..x
+    };
+    let hit = eval_with(F32, RoundingMode::NearestEven, &x32);
+    assert!(hit.hit && !hit.invalid, "{hit:?}");
+}

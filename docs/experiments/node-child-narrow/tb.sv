@@ -1,5 +1,6 @@
 // Icarus check of child.v against a behavioural reference in 64-bit integers.
-// iverilog -g2012 [-DEXACT] -DOWN=<own module> -DNV=<vectors> -o sim tb.sv child.v hand.v hm_8x9.v dsp2.v cells_sim.v
+// iverilog -g2012 [-DEXACT] [-DF2] [-DFULL -DOWN=<own module>] -DNV=<vectors> -o sim \
+//   child.v tb.sv hand.v hm_8x9.v hm_8x10.v dsp2.v cells_sim.v      (child.v first: its macros)
 // Checks, per vector: xn/xf and hit/entry of the three own-logic modules (fed the exact
 // products) and of the five whole children, bit for bit against the reference in the same
 // flavour; in the narrow flavour also conservativeness against the exact sums (W = 20, D = 0):
@@ -9,6 +10,14 @@
 `endif
 module tb;
   localparam int W = `W, D = `D;
+`ifdef F2
+  localparam int F2 = 1;   // far product xf*(s + 1), s1 = s + 1 a per-node input
+  `define S1C .s1(s1),
+`else
+  localparam int F2 = 0;
+  `define S1C
+`endif
+  reg [29:0] s1;
   localparam longint AMAX = (64'sd1 << 19) - (64'sd1 << 17);   // contract on every A (20-bit unit)
   reg [23:0] lo, hi; reg [2:0] neg; reg valid;
   reg [3*W-1:0] an, af; reg [26:0] s; reg [W-1:0] ts, te;
@@ -27,11 +36,11 @@ module tb;
   // whole children (-DFULL; slow in Icarus: the DSP48E1 model)
   wire chit[5]; wire [15:0] cent[5];
 `ifdef FULL
-  child_mul   c0(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), .t_start(ts), .t_end(te), .hit(chit[0]), .entry(cent[0]));
-  child_booth c1(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), .t_start(ts), .t_end(te), .hit(chit[1]), .entry(cent[1]));
-  child_dsp3  c2(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), .t_start(ts), .t_end(te), .hit(chit[2]), .entry(cent[2]));
-  child_dsp2  c3(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), .t_start(ts), .t_end(te), .hit(chit[3]), .entry(cent[3]));
-  child_dsp1  c4(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), .t_start(ts), .t_end(te), .hit(chit[4]), .entry(cent[4]));
+  child_mul   c0(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), `S1C .t_start(ts), .t_end(te), .hit(chit[0]), .entry(cent[0]));
+  child_booth c1(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), `S1C .t_start(ts), .t_end(te), .hit(chit[1]), .entry(cent[1]));
+  child_dsp3  c2(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), `S1C .t_start(ts), .t_end(te), .hit(chit[2]), .entry(cent[2]));
+  child_dsp2  c3(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), `S1C .t_start(ts), .t_end(te), .hit(chit[3]), .entry(cent[3]));
+  child_dsp1  c4(.lo(lo), .hi(hi), .neg(neg), .valid(valid), .an(an), .af(af), .s(s), `S1C .t_start(ts), .t_end(te), .hit(chit[4]), .entry(cent[4]));
   localparam int NC = 5;
 `else
   localparam int NC = 0;
@@ -53,7 +62,7 @@ module tb;
     tn = t0; tf = t1;
     for (int i = 0; i < 3; i++) begin
       nr = ra_n[i] + ((xn[i] * si[i]) >> dd);
-      fr = ra_f[i] + ((xf[i] * si[i]) >> dd);
+      fr = ra_f[i] + ((xf[i] * (si[i] + F2)) >> dd);
       if (nr > tn) tn = nr;
       if (fr < tf) tf = fr;
     end
@@ -95,7 +104,7 @@ module tb;
         endcase
         lo[8*i+:8] = l; hi[8*i+:8] = hh;
         xn[i] = neg[i] ? 255 - hh : l; xf[i] = neg[i] ? 255 - l : hh;
-        s[9*i+:9] = si[i];
+        s[9*i+:9] = si[i]; s1[10*i+:10] = si[i] + 1;
       end
       case (mode)
         3: begin ts20 = rnd(-(64'sd1 << 19), (64'sd1 << 19) - 1); te20 = rnd(-(64'sd1 << 19), (64'sd1 << 19) - 1); end
@@ -109,7 +118,7 @@ module tb;
       ref_eval(ts20, te20, 0, tne, he);
       if (mode >= 6) begin
         tf20 = te20;
-        for (int i = 0; i < 3; i++) begin fr = af20[i] + xf[i] * si[i]; if (fr < tf20) tf20 = fr; end
+        for (int i = 0; i < 3; i++) begin fr = af20[i] + xf[i] * (si[i] + F2); if (fr < tf20) tf20 = fr; end
         if (mode == 6) te20 = tne + rnd(-20, 20); else ts20 = tf20 + rnd(-20, 20);
         if (te20 > (64'sd1 << 19) - 1) te20 = (64'sd1 << 19) - 1;
         if (te20 < -(64'sd1 << 19)) te20 = -(64'sd1 << 19);
@@ -121,14 +130,14 @@ module tb;
       for (int i = 0; i < 3; i++) begin
         a_n[i] = fl(an20[i], D); a_f[i] = ce(af20[i], D);
         an[W*i+:W] = a_n[i]; af[W*i+:W] = a_f[i];
-        pn[17*i+:17] = xn[i] * si[i]; pf[17*i+:17] = xf[i] * si[i];
+        pn[17*i+:17] = xn[i] * si[i]; pf[17*i+:17] = xf[i] * (si[i] + F2);
       end
       t0 = fl(ts20, D); t1 = fl(te20, D); ts = t0; te = t1;
       for (int i = 0; i < 3; i++) begin ra_n[i] = a_n[i]; ra_f[i] = a_f[i]; end
       ref_eval(t0, t1, D, tn, h);
       // contract: every sum fits W bits
       for (int i = 0; i < 3; i++)
-        if (a_n[i] + ((xn[i] * si[i]) >> D) >= (64'sd1 << (W - 1)) || a_f[i] + ((xf[i] * si[i]) >> D) >= (64'sd1 << (W - 1))) ovf++;
+        if (a_n[i] + ((xn[i] * si[i]) >> D) >= (64'sd1 << (W - 1)) || a_f[i] + ((xf[i] * (si[i] + F2)) >> D) >= (64'sd1 << (W - 1))) ovf++;
       #1;
       hits += h; exact_hits += he;
       if (tn == t1) ties++;
