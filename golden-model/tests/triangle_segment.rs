@@ -5,6 +5,9 @@
 //! for bit the Python model `docs/experiments/triangle-dsp24/segment_model.py`
 //! at binary32; and on random triangles it loses no hit of the exact test.
 
+mod common;
+
+use common::Rng;
 use dashu::integer::IBig;
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{
@@ -17,20 +20,21 @@ const F32: FloatFormat = FloatFormat::BINARY32;
 const E5M10: FloatFormat = FloatFormat::BINARY16;
 const E8M7: FloatFormat = FloatFormat::BFLOAT16;
 
-/// SplitMix64: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
+/// The draws these tests make, on the shared generator.
+trait Draws {
     /// uniform in `[lo, hi]`
+    fn int(&mut self, lo: i64, hi: i64) -> i64;
+    /// `n` uniform bits
+    fn bits(&mut self, n: u32) -> u64;
+    /// true with `percent` per cent
+    fn chance(&mut self, percent: u64) -> bool;
+    /// uniform in `[lo, hi)`
+    fn real(&mut self, lo: f64, hi: f64) -> f64;
+}
+
+impl Draws for Rng {
     fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.next() % (hi - lo + 1) as u64) as i64
+        self.range(lo, hi)
     }
     fn bits(&mut self, n: u32) -> u64 {
         if n == 0 {
@@ -40,13 +44,10 @@ impl Rng {
         }
     }
     fn chance(&mut self, percent: u64) -> bool {
-        self.next() % 100 < percent
+        self.below(100) < percent
     }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
+    fn real(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * ((self.next() >> 11) as f64 / (1u64 << 53) as f64)
     }
 }
 
@@ -383,7 +384,7 @@ fn loose_factors(fmt: FloatFormat) -> (i64, i64, i64) {
 
 fn measure(fmt: FloatFormat, n: u64, seed: u64) -> Measured {
     let w = internal_format(fmt).expect("an internal format");
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let emax1 = fmt.emax() as i64 + 1;
     let (up, low, far_f) = loose_factors(fmt);
     let mut m = Measured {
@@ -623,16 +624,16 @@ fn bits(x: f32) -> u64 {
 /// aimed at it (barycentrics in `[−0.2, 1.2]`, so t ≈ 1 at the aim), the
 /// direction scaled by `scale`.
 fn random_ray(rng: &mut Rng, scale: f64) -> TriIn {
-    let tri = [0; 3].map(|_| [0; 3].map(|_| rng.range(-1.0, 1.0) as f32));
-    let radius = rng.range(2.0, 8.0);
+    let tri = [0; 3].map(|_| [0; 3].map(|_| rng.real(-1.0, 1.0) as f32));
+    let radius = rng.real(2.0, 8.0);
     let o = loop {
-        let v = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let v = [0; 3].map(|_| rng.real(-1.0, 1.0));
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         if n > 0.1 && n <= 1.0 {
             break v.map(|x| (x / n * radius) as f32);
         }
     };
-    let (b1, b2) = (rng.range(-0.2, 1.2), rng.range(-0.2, 1.2));
+    let (b1, b2) = (rng.real(-0.2, 1.2), rng.real(-0.2, 1.2));
     let aim: [f64; 3] = [0, 1, 2].map(|i| {
         let (a, b, c) = (tri[0][i] as f64, tri[1][i] as f64, tri[2][i] as f64);
         a + b1 * (b - a) + b2 * (c - a)
@@ -711,7 +712,7 @@ fn compare(x: &TriIn, c: &mut Compared) {
 /// `far`.
 #[test]
 fn log_segment_keeps_every_exact_hit() {
-    let mut rng = Rng(77);
+    let mut rng = Rng::new(77);
     let (mut upper, mut lower, mut far) = (
         Compared::default(),
         Compared::default(),
@@ -720,7 +721,7 @@ fn log_segment_keeps_every_exact_hit() {
     for _ in 0..100_000 {
         // random t_max, t_min = 0
         let mut x = random_ray(&mut rng, 1.0);
-        x.t_max = bits(rng.range(-4.0, 4.0).exp2() as f32);
+        x.t_max = bits(rng.real(-4.0, 4.0).exp2() as f32);
         compare(&x, &mut upper);
         // random t_min, t_max = ∞
         x.t_min = x.t_max;
@@ -729,7 +730,7 @@ fn log_segment_keeps_every_exact_hit() {
     }
     for _ in 0..20_000 {
         // t ≈ c·2^127, c in [1, 2): around the far threshold 2^128
-        let scale = (-127.0f64).exp2() / rng.range(1.0, 2.0);
+        let scale = (-127.0f64).exp2() / rng.real(1.0, 2.0);
         let x = random_ray(&mut rng, scale);
         compare(&x, &mut far);
     }
