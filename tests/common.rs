@@ -3,7 +3,8 @@
 #![allow(dead_code)] // each test file uses a subset
 
 use rtl_flow::{self, Generated};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// A fresh directory under the target dir for one test's outputs.
 pub fn scratch(name: &str) -> PathBuf {
@@ -103,4 +104,32 @@ pub fn check_unit(
     evaluated(&g, eval_vectors, seed);
     let report = cross_checked(&g, &dir, vectors, seed);
     (g, report)
+}
+
+/// Writes the testbench `bench` as `<name>.v` into `dir`, compiles it with
+/// `sources` in Icarus (`flags` first) and runs it; returns what it printed.
+/// A missing Icarus fails the test with a message.
+pub fn icarus(dir: &Path, name: &str, bench: &str, sources: &[PathBuf], flags: &[&str]) -> String {
+    let tb = dir.join(format!("{name}.v"));
+    std::fs::write(&tb, bench).expect("write the testbench");
+    let exe = dir.join(format!("{name}.vvp"));
+    let out = Command::new("iverilog")
+        .args(flags)
+        .arg("-o")
+        .arg(&exe)
+        .arg(&tb)
+        .args(sources)
+        .output()
+        .unwrap_or_else(|e| panic!("iverilog (Icarus Verilog) is needed for this test: {e}"));
+    assert!(
+        out.status.success(),
+        "iverilog: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = Command::new("vvp")
+        .arg("-n")
+        .arg(&exe)
+        .output()
+        .expect("vvp runs");
+    String::from_utf8_lossy(&run.stdout).into_owned()
 }

@@ -10,7 +10,6 @@ mod common;
 
 use rtl_flow::Generated;
 use std::path::Path;
-use std::process::Command;
 
 /// Units of different latencies: a combinational core (latency 0, the FIFO
 /// of one entry), a short and a long pipeline.
@@ -190,28 +189,8 @@ endmodule
 
 /// Compiles `bench` with the unit's files in Icarus and runs it.
 fn icarus(g: &Generated, dir: &Path, bench: &str) -> String {
-    let tb = dir.join("tb_x.v");
-    std::fs::write(&tb, bench).unwrap();
-    let exe = dir.join("tb_x.vvp");
-    let mut compile = Command::new("iverilog");
-    compile.arg("-g2005").arg("-o").arg(&exe).arg(&tb);
-    for f in &g.files {
-        compile.arg(dir.join(&f.file_name));
-    }
-    let out = compile
-        .output()
-        .unwrap_or_else(|e| panic!("iverilog (Icarus Verilog) is needed for this test: {e}"));
-    assert!(
-        out.status.success(),
-        "iverilog: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let run = Command::new("vvp")
-        .arg("-n")
-        .arg(&exe)
-        .output()
-        .expect("vvp runs");
-    String::from_utf8_lossy(&run.stdout).into_owned()
+    let sources: Vec<_> = g.files.iter().map(|f| dir.join(&f.file_name)).collect();
+    common::icarus(dir, "tb_x", bench, &sources, &["-g2005"])
 }
 
 #[test]

@@ -7,7 +7,6 @@ mod common;
 
 use common::generate;
 use std::path::Path;
-use std::process::Command;
 
 /// Yosys's simulation models of the 7-series cells (`LUT6`, `CARRY4`,
 /// `DSP48E1`), beside the `yosys` the set-up installs
@@ -90,28 +89,14 @@ module tb;
     end
 endmodule
 ";
-    let tb = dir.join("tb_xc7_product.v");
-    std::fs::write(&tb, bench).unwrap();
-    let exe = dir.join("tb_xc7_product.vvp");
-    let out = Command::new("iverilog")
-        .args(["-g2012", "-DSYNTHESIS", "-o"])
-        .arg(&exe)
-        .arg(&tb)
-        .arg(dir.join(&product.file_name))
-        .arg(xc7_cell_models())
-        .output()
-        .unwrap_or_else(|e| panic!("iverilog (Icarus Verilog) is needed for this test: {e}"));
-    assert!(
-        out.status.success(),
-        "iverilog: {}",
-        String::from_utf8_lossy(&out.stderr)
+    let sources = [dir.join(&product.file_name), xc7_cell_models()];
+    let log = common::icarus(
+        &dir,
+        "tb_xc7_product",
+        bench,
+        &sources,
+        &["-g2012", "-DSYNTHESIS"],
     );
-    let run = Command::new("vvp")
-        .arg("-n")
-        .arg(&exe)
-        .output()
-        .expect("vvp runs");
-    let log = String::from_utf8_lossy(&run.stdout);
     assert!(log.contains("DONE wrong=0"), "{log}");
 }
 

@@ -17,7 +17,6 @@
 
 use crate::ir::*;
 use std::collections::{BTreeMap, HashMap};
-use std::panic::Location;
 use std::sync::Arc;
 
 /// Operand width of a MULT18X18D.
@@ -127,14 +126,7 @@ fn harden_here(m: &mut Module) -> Hardened {
 /// share signedness.
 fn mult18(ta: Ty, tb: Ty, tp: Ty) -> Module {
     let signed = ta.is_signed();
-    let here = Location::caller();
-    let node = |op: Op, ty: Ty, name: &str| Node {
-        op,
-        ty,
-        name: name.into(),
-        named: true,
-        location: here,
-    };
+    let node = super::cell_node;
     let id = |i: u32| NodeId(i);
     let nodes = vec![
         node(Op::Input(0), ta, "a"),

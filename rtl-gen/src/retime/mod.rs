@@ -39,7 +39,7 @@ pub mod xc7_dsp;
 pub use delay_model::delay;
 
 use crate::builder::{BuildErrors, ModuleBuilder, Sig};
-use crate::ir::{Module, Op};
+use crate::ir::{Module, Node, Op, Ty};
 use graph::{analyse, Graph};
 use schedule::{
     as_late_as_possible, as_soon_as_possible, last_stage, period_of, register_bits, Schedule,
@@ -184,4 +184,17 @@ fn replay(m: &Module, g: &Graph, s: &Schedule, last: u32) -> Result<Module, Buil
         b.output(&port.name, sig[*o].expect("outputs are live"));
     }
     b.finish()
+}
+
+/// A named node of a small behavioural module written here (a hard block's
+/// behaviour), located at its caller.
+#[track_caller]
+fn cell_node(op: Op, ty: Ty, name: &str) -> Node {
+    Node {
+        op,
+        ty,
+        name: name.into(),
+        named: true,
+        location: std::panic::Location::caller(),
+    }
 }

@@ -17,7 +17,6 @@
 
 use crate::ir::*;
 use std::collections::BTreeMap;
-use std::panic::Location;
 use std::sync::Arc;
 
 /// Operand width the structure takes (both operands, unsigned).
@@ -155,14 +154,7 @@ fn booth_bit(a_j: bool, a_jm1: bool, [x0, x1, x2]: [bool; 3]) -> bool {
 /// The product module: `p = a·b` (24x24 unsigned), one DSP48E1 and the rest
 /// in LUTs and `CARRY4`s in synthesis.
 fn product_module() -> Module {
-    let here = Location::caller();
-    let node = |op: Op, ty: Ty, name: &str| Node {
-        op,
-        ty,
-        name: name.into(),
-        named: true,
-        location: here,
-    };
+    let node = super::cell_node;
     let operand = Ty::UInt(OPERAND_BITS);
     let product = Ty::UInt(2 * OPERAND_BITS);
     let nodes = vec![
