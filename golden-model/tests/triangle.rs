@@ -2,6 +2,8 @@
 //! rays, watertightness at the shared edges of real meshes, degenerate and
 //! non-finite input (issue #16).
 
+mod common;
+
 use golden_model::cull::bvh::{parse_obj, Mesh};
 use golden_model::float::FloatFormat;
 use golden_model::float::RoundingMode;
@@ -48,17 +50,7 @@ impl Rng {
 
 /// The unit's input for the ray `o + t·d`, `t` in `[0, ∞]`.
 fn transaction(o: [f32; 3], d: [f32; 3], tri: [[f32; 3]; 3]) -> TriIn {
-    let (kz, s) = shear(F32, d.map(bits));
-    TriIn {
-        o: o.map(bits),
-        kz,
-        s,
-        a: tri[0].map(bits),
-        b: tri[1].map(bits),
-        c: tri[2].map(bits),
-        t_min: bits(0.0),
-        t_max: bits(f32::INFINITY),
-    }
+    common::triangle_ray(o, d, tri)
 }
 
 fn exact_hit(o: [f32; 3], d: [f32; 3], tri: [[f32; 3]; 3]) -> Option<exact::Hit> {

@@ -11,8 +11,7 @@ use common::Rng;
 use dashu::integer::IBig;
 use golden_model::float::{FloatFormat, RoundingMode};
 use golden_model::triangle::{
-    eval_tnum, eval_tnum_with, internal_format, log_segment_constants, segment_log, shear, Segment,
-    TriIn,
+    eval_tnum, eval_tnum_with, internal_format, log_segment_constants, segment_log, Segment, TriIn,
 };
 use std::cmp::Ordering::{self, *};
 
@@ -639,17 +638,7 @@ fn random_ray(rng: &mut Rng, scale: f64) -> TriIn {
         a + b1 * (b - a) + b2 * (c - a)
     });
     let d = [0, 1, 2].map(|i| ((aim[i] - o[i] as f64) * scale) as f32);
-    let (kz, s) = shear(F32, d.map(bits));
-    TriIn {
-        o: o.map(bits),
-        kz,
-        s,
-        a: tri[0].map(bits),
-        b: tri[1].map(bits),
-        c: tri[2].map(bits),
-        t_min: bits(0.0),
-        t_max: bits(f32::INFINITY),
-    }
+    common::triangle_ray(o, d, tri)
 }
 
 /// What the log test did differently from the exact one.

@@ -174,3 +174,20 @@ impl Tally {
         self.checked
     }
 }
+
+/// The binary32 triangle unit's input for the ray `o + t·d`, `t` in
+/// `[0, ∞]`, against the triangle `tri` (shear constants from `d`).
+pub fn triangle_ray(o: [f32; 3], d: [f32; 3], tri: [[f32; 3]; 3]) -> golden_model::triangle::TriIn {
+    let bits = |x: f32| x.to_bits() as u64;
+    let (kz, s) = golden_model::triangle::shear(FloatFormat::BINARY32, d.map(bits));
+    golden_model::triangle::TriIn {
+        o: o.map(bits),
+        kz,
+        s,
+        a: tri[0].map(bits),
+        b: tri[1].map(bits),
+        c: tri[2].map(bits),
+        t_min: bits(0.0),
+        t_max: bits(f32::INFINITY),
+    }
+}
