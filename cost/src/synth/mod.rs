@@ -321,46 +321,48 @@ pub fn scratch_dir(tag: &str) -> Result<PathBuf, SynthError> {
     Ok(base)
 }
 
-/// Runs the flows of `o` on `g`.
-pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
-    let xc7_only;
-    let o = match cell_library(g) {
-        Some(rtl_gen::ir::CellLibrary::Xc7)
-            if o.generic || o.ice40 || o.ecp5 || o.pnr || o.pnr_ecp5 =>
-        {
-            eprintln!(
-                "{}: dsp=xc7 instantiates 7-series DSP48E1, LUT6 and CARRY4 cells, so only \
-                 synth_xilinx runs",
-                g.module.name
-            );
-            xc7_only = SynthOptions {
+/// The flows of `o` narrowed to the family whose cells `g` instantiates,
+/// and why, when `o` asks for any other (`None`: nothing to narrow).
+fn own_flows(g: &Generated, o: &SynthOptions) -> Option<(SynthOptions, &'static str)> {
+    use rtl_gen::ir::CellLibrary;
+    match cell_library(g)? {
+        CellLibrary::Ecp5 if o.generic || o.ice40 || o.xilinx || o.pnr => Some((
+            SynthOptions {
+                generic: false,
+                ice40: false,
+                xilinx: false,
+                pnr: false,
+                ..o.clone()
+            },
+            "dsp=ecp5 instantiates ECP5 MULT18X18D blocks, so only synth_ecp5 and nextpnr-ecp5 run",
+        )),
+        CellLibrary::Xc7 if o.generic || o.ice40 || o.ecp5 || o.pnr || o.pnr_ecp5 => Some((
+            SynthOptions {
                 generic: false,
                 ice40: false,
                 ecp5: false,
                 pnr: false,
                 pnr_ecp5: false,
                 ..o.clone()
-            };
-            &xc7_only
+            },
+            "dsp=xc7 instantiates 7-series DSP48E1, LUT6 and CARRY4 cells, so only synth_xilinx \
+             runs",
+        )),
+        _ => None,
+    }
+}
+
+/// Runs the flows of `o` on `g`.
+pub fn run(g: &Generated, o: &SynthOptions) -> Result<SynthReport, SynthError> {
+    // a unit that instantiates one family's cells synthesises for that family alone
+    let own_family;
+    let o = match own_flows(g, o) {
+        Some((only, why)) => {
+            eprintln!("{}: {why}", g.module.name);
+            own_family = only;
+            &own_family
         }
-        _ => o,
-    };
-    let ecp5_only;
-    let o = if has_ecp5_cells(g) && (o.generic || o.ice40 || o.xilinx || o.pnr) {
-        eprintln!(
-            "{}: dsp=ecp5 instantiates ECP5 MULT18X18D blocks, so only synth_ecp5 and nextpnr-ecp5 run",
-            g.module.name
-        );
-        ecp5_only = SynthOptions {
-            generic: false,
-            ice40: false,
-            xilinx: false,
-            pnr: false,
-            ..o.clone()
-        };
-        &ecp5_only
-    } else {
-        o
+        None => o,
     };
     let texts: Vec<&str> = g.files.iter().map(|f| f.text.as_str()).collect();
     // only when set, so the entries of the default placer stay valid
