@@ -255,12 +255,10 @@ pub(crate) fn node_products(q: u32) -> rtl_gen::retime::Products {
 /// The units of a ray's traversal over a wide BVH: role, unit and parameters
 /// (binary32): the `node` unit at the BLAS and the TLAS shape, the
 /// conservative slab of each tree's root, the transform, and the triangle
-/// test with `outputs=tnum` (the renderer's `--tri tnum` gives the `full`
-/// image bit for bit, the division in software), its segment test by
-/// logarithms and 24 DSP48E1 blocks (whole products, eight of them on one
-/// block with the rest in hand-placed LUTs: issue 42's cost target; the
-/// node unit's products whole where its child products stay one block,
-/// `rtl_gen::units::node::xc7_products`).
+/// test the renderer's `--tri tnum` answers from
+/// ([`rtl_flow::triangle::RENDER_TNUM`]: it gives the `full` image bit for
+/// bit, the division in software); the node unit's products whole where its
+/// child products stay one block, `rtl_gen::units::node::xc7_products`.
 pub fn wide_roles(
     format: WideFormat,
     tlas_box_bits: u32,
@@ -286,14 +284,7 @@ pub fn wide_roles(
         (
             "triangle test (t as T/det, divided in software per hit)",
             "triangle",
-            fixed(&[
-                "outputs=tnum",
-                "products=whole",
-                "segment=log",
-                "stages=8",
-                "dsp=xc7",
-                "dsp_blocks=24",
-            ]),
+            fixed(rtl_flow::triangle::RENDER_TNUM),
         ),
     ]
 }

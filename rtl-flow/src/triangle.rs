@@ -302,6 +302,19 @@ impl TriangleBench {
     }
 }
 
+/// The `triangle` build a renderer's `--tri tnum` answers from, that
+/// `rtl-loop` streams through and `per-ray` costs (issue 42's cost target:
+/// binary32, `t` as `T/det` divided in software per hit, the segment by
+/// logarithms, 24 DSP48E1 blocks on xc7).
+pub const RENDER_TNUM: &[&str] = &[
+    "outputs=tnum",
+    "products=whole",
+    "segment=log",
+    "stages=8",
+    "dsp=xc7",
+    "dsp_blocks=24",
+];
+
 impl sim::Golden for TriangleBench {
     fn eval(&self, v: &[u64], outputs: &mut [u64]) {
         let x = self.from_ports(v);

@@ -149,17 +149,7 @@ impl Stream {
                 "stages=8",
                 "pipeline=plan",
             ],
-            Stream::TriangleTnum => &[
-                "exp_bits=8",
-                "frac_bits=23",
-                "outputs=tnum",
-                "stages=8",
-                "pipeline=plan",
-                "products=whole",
-                "segment=log",
-                "dsp=xc7",
-                "dsp_blocks=24",
-            ],
+            Stream::TriangleTnum => rtl_flow::triangle::RENDER_TNUM,
             Stream::Node | Stream::NodeTlas => {
                 // the configuration of tests/node_rtl.rs at this shape
                 let (n, q) = match self {
