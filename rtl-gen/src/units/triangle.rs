@@ -647,18 +647,14 @@ fn segment_by_logs(
     // compared with ±C
     let bound = |m: &mut ModuleBuilder, x: Sig, name: &str, upper: bool| {
         m.scope(name, |m| {
-            let exp = m.slice(x, fmt.width() - 2, f);
-            let normal_or_more = m.any_set(exp);
-            let small = m.not(normal_or_more);
-            let infinite = m.all_ones(exp);
-            let sign = m.msb(x);
-            let frac = m.slice(x, f - 1, 0);
-            let frac_set = m.any_set(frac);
-            let frac_zero = m.not(frac_set);
+            // (a NaN bound makes the transaction invalid: its decision is not read)
+            let u = unpack(m, fmt, x);
+            let (infinite, sign) = (u.inf, u.sign);
+            let small = m.or(u.zero, u.sub);
             // ±0, or a subnormal moved toward 0 (down for t_min, up for t_max)
             let toward_zero = if upper { sign } else { m.not(sign) };
-            let reads_zero = m.or(frac_zero, toward_zero);
-            let zero = m.and(small, reads_zero);
+            let sub_to_zero = m.and(u.sub, toward_zero);
+            let zero = m.or(u.zero, sub_to_zero);
             let zero = m.name(zero, "reads_zero");
             // a subnormal moved away from 0 reads as ±2^emin
             let smallest = m.uint(fmt.exp_bits + k, 1u128 << k);
