@@ -319,18 +319,40 @@ pub fn wide_areas(
         .collect()
 }
 
-/// LUT-cycles and DSP-cycles per ray of a wide render with [`wide_areas`].
-pub fn wide_cost_per_ray(k: &KindStats, areas: &[Area]) -> (f64, f64) {
-    let tests = wide_tests(k);
+/// What the culling oracle (`scene::oracle`: perfect and free culling inside the node tests
+/// of the same tree) would still spend, in [`wide_roles`] order: root box tests priced 0.
+fn wide_oracle_tests(k: &KindStats) -> [u64; 5] {
+    [
+        k.oracle_blas_node_tests,
+        k.oracle_tlas_node_tests,
+        0,
+        k.oracle_transforms,
+        k.oracle_tri_tests,
+    ]
+}
+
+/// LUT-cycles and DSP-cycles per ray of `rays` rays making `tests` transactions.
+fn cycles_per_ray(tests: [u64; 5], rays: u64, areas: &[Area]) -> (f64, f64) {
     let sum = |f: fn(&Area) -> u64| {
         tests
             .iter()
             .zip(areas)
             .map(|(&n, a)| n as f64 * f(a) as f64)
             .sum::<f64>()
-            / k.rays.max(1) as f64
+            / rays.max(1) as f64
     };
     (sum(|a| a.luts), sum(|a| a.dsps))
+}
+
+/// LUT-cycles and DSP-cycles per ray of a wide render with [`wide_areas`].
+pub fn wide_cost_per_ray(k: &KindStats, areas: &[Area]) -> (f64, f64) {
+    cycles_per_ray(wide_tests(k), k.rays, areas)
+}
+
+/// LUT-cycles and DSP-cycles per ray of the culling oracle on a wide render, priced as
+/// [`wide_cost_per_ray`] prices the render itself.
+pub fn wide_oracle_cost_per_ray(k: &KindStats, areas: &[Area]) -> (f64, f64) {
+    cycles_per_ray(wide_oracle_tests(k), k.rays, areas)
 }
 
 /// The wide report: with `areas`, the units and per scene the LUT-cycles and
@@ -414,6 +436,48 @@ pub fn wide_markdown(loads: &[WideWorkload], areas: Option<&[Area]>) -> String {
                 w.format.children(),
                 w.format.box_bits(),
                 w.scene
+            );
+        }
+    }
+    s += &oracle_markdown(loads, areas);
+    s
+}
+
+/// The culling oracle against the render without planes (`scene::oracle`): per scene the
+/// transactions per ray of both, then with `areas` the lines
+/// `oracle culling (free, perfect) / no planes LUT-cycles per ray: <scene> <ratio>` and the
+/// same of DSP-cycles.
+fn oracle_markdown(loads: &[WideWorkload], areas: Option<&[Area]>) -> String {
+    let mut s = String::from(
+        "\nCulling oracle (perfect, free culling inside the node tests of the same tree; root box \
+         tests 0) against the render without planes, per ray, no planes → oracle:\n\n\
+         | scene | BLAS node tests | TLAS node tests | root box tests | transforms | triangle tests |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for w in loads {
+        let k = &w.node;
+        let _ = write!(s, "| {} |", w.scene);
+        for (a, o) in wide_tests(k).iter().zip(wide_oracle_tests(k)) {
+            let _ = write!(s, " {:.3} → {:.3} |", k.per_ray(*a), k.per_ray(o));
+        }
+        s.push('\n');
+    }
+    if let Some(areas) = areas {
+        s.push('\n');
+        for w in loads {
+            let (l, d) = wide_cost_per_ray(&w.node, areas);
+            let (ol, od) = wide_oracle_cost_per_ray(&w.node, areas);
+            let _ = writeln!(
+                s,
+                "oracle culling (free, perfect) / no planes LUT-cycles per ray: {} {:.4}",
+                w.scene,
+                ol / l
+            );
+            let _ = writeln!(
+                s,
+                "oracle culling (free, perfect) / no planes DSP-cycles per ray: {} {:.4}",
+                w.scene,
+                od / d
             );
         }
     }

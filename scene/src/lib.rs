@@ -12,6 +12,7 @@ pub mod cli;
 pub mod hybrid;
 pub mod hybrid_rtl;
 pub mod mesh;
+pub mod oracle;
 pub mod output;
 pub mod render;
 pub mod rtl;

@@ -83,6 +83,17 @@ pub struct KindStats {
     /// ... box tests of a tree's root before its first node test (`node`
     /// unit: one per tree entered, a conservative slab on the root's box)
     pub root_box_tests: u64,
+    /// culling oracle (`crate::oracle`, wide traversal): BLAS node tests a perfect, free
+    /// culler inside the node tests of the same tree would still make (the path to the hit's
+    /// leaf slot)
+    pub oracle_blas_node_tests: u64,
+    /// ... TLAS node tests (the path to the hit instance's leaf slot; the root's test for a
+    /// ray that hits nothing, if the traversal made it)
+    pub oracle_tlas_node_tests: u64,
+    /// ... instance transforms (one per hit)
+    pub oracle_transforms: u64,
+    /// ... triangle tests (every triangle of the hit's leaf slot; one for an any-hit ray)
+    pub oracle_tri_tests: u64,
 }
 
 impl KindStats {
@@ -112,6 +123,10 @@ impl KindStats {
         self.child_tests += o.child_tests;
         self.tlas_node_visits += o.tlas_node_visits;
         self.root_box_tests += o.root_box_tests;
+        self.oracle_blas_node_tests += o.oracle_blas_node_tests;
+        self.oracle_tlas_node_tests += o.oracle_tlas_node_tests;
+        self.oracle_transforms += o.oracle_transforms;
+        self.oracle_tri_tests += o.oracle_tri_tests;
     }
     /// `x` per ray.
     pub fn per_ray(&self, x: u64) -> f64 {

@@ -34,6 +34,7 @@
 //! the binary BVH (docs/scene.md §3's argument; tested).
 
 use crate::bvh::Accel;
+use crate::oracle::Oracle;
 use crate::render::Cam;
 use crate::scene::Scene;
 use crate::stats::{KindStats, RayKind, Stats};
@@ -209,6 +210,8 @@ pub struct WideAccel {
     /// the cull-plane study (docs/node.md §11): per mesh, per BLAS node, the
     /// extents of its slots' triangles along [`DOP_DIRS`]; empty when not built
     pub dop: Vec<Vec<DopNode>>,
+    /// the culling oracle's maps (hit primitive → depth of its leaf slot's node)
+    pub oracle: Oracle,
 }
 
 /// The shape of the TLAS nodes: `format` with `tlas_box_bits` bits per integer.
@@ -243,6 +246,7 @@ impl WideAccel {
         let tlas = WideBvh::build(&accel.tlas, tlas_format).map_err(|e| format!("TLAS: {e}"))?;
         Ok(WideAccel {
             format,
+            oracle: Oracle::new(accel, &tlas, &blas),
             tlas,
             blas,
             dop: Vec::new(),
@@ -299,6 +303,7 @@ impl Tracer<'_> {
     ) {
         let (o, d) = (bits3(r.o_w), bits3(r.d_w));
         let inv_d = slab_reciprocal(FloatFormat::BINARY32, &d);
+        let tlas_tests = st.tlas_node_visits;
         self.walk(
             &wide.tlas,
             true,
@@ -334,6 +339,8 @@ impl Tracer<'_> {
                 }
             },
         );
+        // the TLAS root's node test, if made, is its first
+        wide.oracle.count(r, st.tlas_node_visits > tlas_tests, st);
     }
 
     /// Depth-first walk of one wide tree with the ray `(o, inv_d)` of its
