@@ -110,7 +110,7 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
     p.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut front: Vec<(f64, f64)> = Vec::new();
     for q in p {
-        if front.last().map_or(true, |l| q.1 < l.1) {
+        if front.last().is_none_or(|l| q.1 < l.1) {
             front.push(q);
         }
     }

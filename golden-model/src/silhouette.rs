@@ -300,12 +300,12 @@ pub fn eval_trace(cfg: &Config, x: &BundleIn) -> Trace {
     read.extend([x.t_min, x.t_max]);
     let nan = read.iter().any(|&v| cls(v) == Class::NaN);
     let mut invalid = false;
-    for i in 0..3 {
-        for v in [x.o_lo[i], o_hi[i], x.d_lo[i], x.d_hi[i]] {
+    for (i, &o_hi) in o_hi.iter().enumerate() {
+        for v in [x.o_lo[i], o_hi, x.d_lo[i], x.d_hi[i]] {
             invalid |= cls(v) == Class::Inf;
         }
         invalid |= !le(f, x.d_lo[i], x.d_hi[i]);
-        invalid |= !le(f, x.o_lo[i], o_hi[i]);
+        invalid |= !le(f, x.o_lo[i], o_hi);
     }
     invalid &= !nan;
     let mut empty = !le(f, x.t_min, x.t_max) || is_inf(x.t_min, false) || is_inf(x.t_max, true);

@@ -166,7 +166,7 @@ pub fn internal_format(fmt: FloatFormat) -> Option<FloatFormat> {
     let g = emin - f;
     let bias_needed = (6 * emax + 16).max(1 - 6 * g);
     (fmt.exp_bits()..=FloatFormat::MAX_EXP_BITS)
-        .find(|&e| (1i64 << (e - 1)) - 1 >= bias_needed)
+        .find(|&e| (1i64 << (e - 1)) > bias_needed)
         .and_then(|e| FloatFormat::new(e, fmt.frac_bits()).ok())
 }
 

@@ -172,7 +172,7 @@ fn no_vertex_lies_strictly_on_the_empty_side_of_any_stored_plane() {
                     let w = Dyadic::from_bits(pf, wb).expect("finite stored distance");
                     for v in &vd {
                         let h = height(pf, n, v, &r);
-                        let o = h.cmp(&w);
+                        let o = h.cmp_exact(&w);
                         assert!(
                             o.is_le(),
                             "{name} {pf}: node {id} (parent {:?}) normal {n:x?}: vertex {v:?} at {} above w = {}",

@@ -116,7 +116,7 @@ fn fit_w(f: FloatFormat, pf: FloatFormat, n: &[u64; 3], pts: &[[u64; 3]], c: &[D
             let pi = Dyadic::from_bits(f, p[i]).unwrap();
             s = s.add(&ni.mul(&pi.sub(&c[i])));
         }
-        if best.as_ref().is_none_or(|b| s.cmp(b).is_gt()) {
+        if best.as_ref().is_none_or(|b| s.cmp_exact(b).is_gt()) {
             best = Some(s);
         }
     }
@@ -458,7 +458,7 @@ fn no_wrongful_culls_on_random_and_adversarial_cases() {
                     break;
                 };
                 let (f, pf, k) = configs[c];
-                let seed = 0xC011_0000 + (c as u64) << 20 ^ (kind as u64) << 8 ^ shard;
+                let seed = (0xC011_0000 + (c as u64)) << 20 ^ (kind as u64) << 8 ^ shard;
                 let st = chunk(f, pf, k, kind, seed, per_job / shards);
                 results.lock().unwrap().push((c, kind, st));
             });

@@ -114,7 +114,7 @@ fn silhouette_class(what: &str, fmts: &[FloatFormat], seed: u64) {
     let mut k = 0u64;
     while eq.checked < n {
         let f = fmts[(k % fmts.len() as u64) as usize];
-        let origin = if k / fmts.len() as u64 % 2 == 0 {
+        let origin = if (k / fmts.len() as u64).is_multiple_of(2) {
             OriginMode::Shared
         } else {
             OriginMode::Bounded

@@ -526,7 +526,7 @@ fn flat_closed_tetrahedra_are_hit_or_flagged() {
         for _ in 0..10_000 {
             let k = (rng.next() % 240) as i32 - 120;
             let scale = 2f32.powi(k);
-            let flat = rng.next() % 4 != 0;
+            let flat = !rng.next().is_multiple_of(4);
             let p: [[f32; 3]; 4] = [1.0f32, -1.0, 1.0, -1.0].map(|side| {
                 let x = side * (1.0 + ulp * (rng.next() % 16) as f32);
                 let lean = if flat { 1 } else { 1 << 12 };
@@ -535,7 +535,15 @@ fn flat_closed_tetrahedra_are_hit_or_flagged() {
                 [x * scale, y * scale, z * scale]
             });
             let o = [0.0f32; 3];
-            let d = [0.0f32, 0.0, if rng.next() % 2 == 0 { 1.0 } else { -1.0 }];
+            let d = [
+                0.0f32,
+                0.0,
+                if rng.next().is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                },
+            ];
             let faces = tetrahedron(p);
             let exact = faces.iter().any(|&f| {
                 exact::intersect(

@@ -552,8 +552,10 @@ fn log_segment_constants_follow_the_derivation() {
 /// (its `sL`-derived answers printed as `bool`).
 #[test]
 fn log_segment_matches_the_python_model() {
+    // (T, D, L, H) and the triple (after_min, before_max, far)
+    type Case = (u64, u64, u64, u64, (bool, bool, bool));
     #[rustfmt::skip]
-    let vectors: [(u64, u64, u64, u64, (bool, bool, bool)); 21] = [
+    let vectors: [Case; 21] = [
         // t = 1.5 = t_min = t_max
         (0x200400000, 0x200000000, 0x3fc00000, 0x3fc00000, (true, true, false)),
         // t = 1.2574 accepted at 0.787 t_min

@@ -452,6 +452,9 @@ impl Generated {
     }
 }
 
+/// A failing vector: its index, inputs, golden outputs and evaluator outputs.
+pub type FailingVector = (u64, Vec<u64>, Vec<u64>, Vec<u64>);
+
 /// Result of running vectors through the IR evaluator against the golden model.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct EvalReport {
@@ -459,8 +462,8 @@ pub struct EvalReport {
     pub vectors: u64,
     /// vectors with at least one differing output
     pub mismatches: u64,
-    /// the first failing vector: index, inputs, golden outputs, evaluator outputs
-    pub first: Option<(u64, Vec<u64>, Vec<u64>, Vec<u64>)>,
+    /// the first failing vector
+    pub first: Option<FailingVector>,
 }
 
 impl fmt::Display for EvalReport {

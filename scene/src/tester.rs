@@ -403,7 +403,7 @@ impl<T: BoxTester> BoxTester for Checked<T> {
         let hit = self.inner.ray(x);
         if !hit {
             let k = self.misses.fetch_add(1, Ordering::Relaxed);
-            if self.exact_all || k % Self::SAMPLE == 0 || self.binary32.ray(x) {
+            if self.exact_all || k.is_multiple_of(Self::SAMPLE) || self.binary32.ray(x) {
                 self.exact_checks.fetch_add(1, Ordering::Relaxed);
                 if Exact.ray(x) {
                     self.false_misses.fetch_add(1, Ordering::Relaxed);

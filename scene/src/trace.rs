@@ -874,13 +874,16 @@ impl<'a> Tracer<'a> {
     }
 }
 
+/// A ray's origin and direction bits in the space a tree is traced in.
+type RaySpace<'a> = dyn Fn(&TRay) -> ([u64; 3], [u64; 3]) + 'a;
+
 /// The bundle's bounds (box fields left zero), or `None` when the splitting
 /// metric says split: a direction component changes sign across the bundle,
 /// or the normalised directions spread more than `max_spread` on some axis.
 fn bundle_bounds(
     idxs: &[usize],
     rays: &[TRay],
-    od: &dyn Fn(&TRay) -> ([u64; 3], [u64; 3]),
+    od: &RaySpace<'_>,
     max_spread: f32,
 ) -> Option<BundleBox> {
     let f = |b: u64| f32::from_bits(b as u32);

@@ -34,8 +34,8 @@ fn bits(v: f32) -> u64 {
 /// beside it), sometimes with zero direction components; `true` for the
 /// grazing kinds (corner, edge, just outside).
 fn case(r: &mut Rng, centre: [f32; 3], size: f64, dist: f64, world: bool) -> (RayBox, bool) {
-    let lo = [0, 1, 2].map(|i| centre[i] - r.range(0.0, size) as f32);
-    let hi = [0, 1, 2].map(|i| lo[i] + r.range(0.0, size) as f32);
+    let lo = [0, 1, 2].map(|i| centre[i] - r.range(0.0, size));
+    let hi = [0, 1, 2].map(|i| lo[i] + r.range(0.0, size));
     let kind = r.next() % 6;
     let target = [0, 1, 2].map(|i| match kind {
         // a corner or an edge of the box: grazing
@@ -52,12 +52,12 @@ fn case(r: &mut Rng, centre: [f32; 3], size: f64, dist: f64, world: bool) -> (Ra
     });
     let o = [0, 1, 2].map(|i| target[i] + r.range(-dist, dist));
     let mut d = [0, 1, 2].map(|i| target[i] - o[i]);
-    if r.next() % 8 == 0 {
+    if r.next().is_multiple_of(8) {
         // axis-parallel: the origin moved onto the target's coordinate
         let a = (r.next() % 3) as usize;
         d[a] = 0.0;
     }
-    let t_max = if r.next() % 4 == 0 {
+    let t_max = if r.next().is_multiple_of(4) {
         f32::INFINITY
     } else {
         r.range(0.5, 2.0)

@@ -67,9 +67,10 @@
 //! maximum of the cut entries): **child_i**: if slot i is
 //! valid and every valid slot is reported, or the segment is not empty, the
 //! internal parts, `meet_i` and slot i's cells lemmas hold, the slot is
-//! reported hit, and its entry is 0 or, live, for some slab axis with `dn
-//! > 0`, at most `C` (`over_lo`) or at most `dn·S_lo`. With `dn_a = entry_a·2^g − from_hi_a`, `df_a =
-//! exit_a·2^g − from_lo_a` (the child's planes in the mirrored frame),
+//! reported hit, and its entry is 0 or, live, for some slab axis with
+//! `dn > 0`, at most `C` (`over_lo`) or at most `dn·S_lo`. With
+//! `dn_a = entry_a·2^g − from_hi_a`, `df_a = exit_a·2^g − from_lo_a` (the
+//! child's planes in the mirrored frame),
 //! `meet_i`: `df_a ≥ 0` on every axis and `dn_a ≤ 0` on a parallel one; for
 //! slab axes a, b: `dn_a ≤ 0`, or `df_b > 0` with `over_hi_b` or
 //! `df_b·S_hi_b ≥ C`, or neither flag and `dn_a·S_lo_a ≤ df_b·S_hi_b`; and

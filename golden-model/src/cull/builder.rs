@@ -248,7 +248,7 @@ impl Verts {
         let bound = near
             .iter()
             .map(|&j| height(pf, n, &self.exact[j], r))
-            .reduce(|a, b| if b.cmp(&a).is_gt() { b } else { a })?;
+            .reduce(|a, b| if b.cmp_exact(&a).is_gt() { b } else { a })?;
         let w = bound.round_to(pf, RoundingMode::Up);
         (w & !pf.sign_bit() != pf.inf(false)).then_some(w)
     }

@@ -104,7 +104,7 @@ impl Dyadic {
         self.m.cmp(&IBig::ZERO)
     }
     /// Exact comparison.
-    pub fn cmp(&self, other: &Dyadic) -> Ordering {
+    pub fn cmp_exact(&self, other: &Dyadic) -> Ordering {
         let (a, b, _) = self.align(other);
         a.cmp(&b)
     }
@@ -159,7 +159,9 @@ pub struct DyadicRatio {
 
 impl ExactCmp for DyadicRatio {
     fn exact_cmp(&self, other: &DyadicRatio) -> Ordering {
-        self.num.mul(&other.den).cmp(&other.num.mul(&self.den))
+        self.num
+            .mul(&other.den)
+            .cmp_exact(&other.num.mul(&self.den))
     }
 }
 
@@ -277,8 +279,8 @@ pub fn region_hit(fmt: FloatFormat, pf: FloatFormat, x: &RegionIn) -> RegionResu
     for i in 0..3 {
         match d[i].signum() {
             Ordering::Equal => {
-                if p_min[i].cmp(&o[i]) == Ordering::Greater
-                    || o[i].cmp(&p_max[i]) == Ordering::Greater
+                if p_min[i].cmp_exact(&o[i]) == Ordering::Greater
+                    || o[i].cmp_exact(&p_max[i]) == Ordering::Greater
                 {
                     empty = true;
                 }

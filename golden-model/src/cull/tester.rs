@@ -353,6 +353,13 @@ fn crossing_of(cf: FloatFormat, b_lo: u64) -> Crossing {
     }
 }
 
+/// The operators [`normal_terms_steps`] runs, generic or dispatching: a sum rounded down and up,
+type AddDownUp = fn(FloatFormat, u64, u64) -> DownUp;
+/// ... a dot product rounded down,
+type Dot3Floor = fn(FloatFormat, FloatFormat, FloatFormat, [u64; 3], [u64; 3]) -> u64;
+/// ... and a reciprocal.
+type Recip = fn(FloatFormat, u64, RoundingMode) -> u64;
+
 /// The steps of [`ray_terms`] with the generic operators (`generic`) or the
 /// dispatching ones (their fast paths where they have one), into `terms`
 /// and `b_los` (`cfg.k` entries each); returns `invalid`.
@@ -368,11 +375,7 @@ fn normal_terms_steps(
     b_los: &mut [u64],
 ) -> bool {
     let (f, cf, pf) = (cfg.ray, cfg.crossing(), cfg.plane);
-    let (add_du, dot, rcp): (
-        fn(FloatFormat, u64, u64) -> DownUp,
-        fn(FloatFormat, FloatFormat, FloatFormat, [u64; 3], [u64; 3]) -> u64,
-        fn(FloatFormat, u64, RoundingMode) -> u64,
-    ) = if generic {
+    let (add_du, dot, rcp): (AddDownUp, Dot3Floor, Recip) = if generic {
         (add_down_up_generic, dot3_floor_generic, recip_generic)
     } else {
         (add_down_up, dot3_floor, recip)

@@ -7,10 +7,10 @@ use crate::ir::*;
 impl ModuleBuilder {
     #[track_caller]
     fn expect_arith(&mut self, what: &str, a: Sig, b: Sig) -> bool {
-        let ok = match (a.ty, b.ty) {
-            (Ty::UInt(_), Ty::UInt(_)) | (Ty::SInt(_), Ty::SInt(_)) => true,
-            _ => false,
-        };
+        let ok = matches!(
+            (a.ty, b.ty),
+            (Ty::UInt(_), Ty::UInt(_)) | (Ty::SInt(_), Ty::SInt(_))
+        );
         if !ok {
             let name = format!("{}, {}", self.name_of(a.id), self.name_of(b.id));
             self.error(

@@ -42,11 +42,9 @@ pub(super) fn analyse(m: &Module, products: super::Products) -> Result<Graph, St
         }
     }
     let mut users: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for i in 0..n {
-        if live[i] {
-            for o in flat.nodes[i].op.operands() {
-                users[o.0 as usize].push(i);
-            }
+    for (i, node) in flat.nodes.iter().enumerate().filter(|&(i, _)| live[i]) {
+        for o in node.op.operands() {
+            users[o.0 as usize].push(i);
         }
     }
     let delay: Vec<f64> = flat

@@ -346,7 +346,7 @@ fn cells() -> VendorBody {
             .map(|i| if value >> i & 1 == 1 { one } else { zero })
             .collect()
     };
-    let opmode = 0b011_01_01; // Z = C, Y = M, X = M
+    let opmode = 0b0110101; // Z = C (011), Y = M (01), X = M (01)
     let mut pins = vec![
         ("A".to_string(), a_pin),
         ("B".into(), b_pin),

@@ -138,7 +138,7 @@ pub fn internal_format(fmt: Format) -> Result<Format, String> {
     let g = emin - f;
     let bias = (6 * emax + 16).max(1 - 6 * g);
     let e = (fmt.exp_bits..=11)
-        .find(|&e| (1i64 << (e - 1)) - 1 >= bias)
+        .find(|&e| (1i64 << (e - 1)) > bias)
         .ok_or_else(|| {
             format!(
                 "{}: the triangle unit's internal format needs an exponent bias of at least \

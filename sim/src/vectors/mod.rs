@@ -232,6 +232,15 @@ pub(super) fn check_len(what: &str, got: usize, want: usize) -> Result<(), SimEr
     }
 }
 
+/// A port width as a header states it: canonical decimal in `1..=MAX_WIDTH`
+/// (no sign, no leading zero), as writers produce it: the harness compares
+/// header lines byte for byte, and text and binary headers read one way.
+pub(crate) fn port_width(text: &str) -> Option<u32> {
+    let canonical = text.bytes().all(|b| b.is_ascii_digit()) && !text.starts_with('0');
+    let w = text.parse::<u32>().ok()?;
+    (canonical && (1..=MAX_WIDTH).contains(&w)).then_some(w)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -591,13 +600,4 @@ odd flag:1  a wide   # header, widths optional with a port list
         assert_eq!(left.len(), 2, "no temporary file left behind");
         std::fs::remove_dir_all(&dir).unwrap();
     }
-}
-
-/// A port width as a header states it: canonical decimal in `1..=MAX_WIDTH`
-/// (no sign, no leading zero), as writers produce it: the harness compares
-/// header lines byte for byte, and text and binary headers read one way.
-pub(crate) fn port_width(text: &str) -> Option<u32> {
-    let canonical = text.bytes().all(|b| b.is_ascii_digit()) && !text.starts_with('0');
-    let w = text.parse::<u32>().ok()?;
-    (canonical && (1..=MAX_WIDTH).contains(&w)).then_some(w)
 }

@@ -498,7 +498,7 @@ mod tests {
             let (fb, bias) = (fmt.frac_bits, fmt.bias() as u64);
             // a value with a biased exponent within 2^(E-2) of the bias, or zero
             let value = |r: u64| {
-                if r % 16 == 0 {
+                if r.is_multiple_of(16) {
                     return (r >> 8 & 1) << (fmt.width() - 1);
                 }
                 let span = 1u64 << (fmt.exp_bits - 2);
@@ -521,7 +521,7 @@ mod tests {
                         let sign = 1u64 << (fmt.width() - 1);
                         let mut b = if ra & 2 == 0 && a & !sign != 0 {
                             // near a: cancellation when the signs differ
-                            a ^ (rb & 0xff) ^ (rb >> 40 & 1) * sign
+                            a ^ (rb & 0xff) ^ ((rb >> 40 & 1) * sign)
                         } else {
                             value(rb)
                         };
