@@ -284,6 +284,37 @@ pub fn eval_with(
     node: &NodeIn,
     extra: &[ExtraAxis],
 ) -> NodeOut {
+    eval_inner(p, ray, d, t_start, node, extra, None)
+}
+
+/// The ray's position bounds on the box axes given from outside, for the carried-position
+/// study (docs/node.md §12): for the start `T` the node test uses and axis `a` (`parallel`:
+/// the ray's direction component is zero), `(x_lo, x_hi)` in `2^−g` steps of the node's
+/// frame, rounded outward (inward for a parallel axis), before the clamp.
+pub type Positions<'a> = &'a dyn Fn(&Dyadic, usize, bool) -> (IBig, IBig);
+
+/// [`eval`] with the box axes' positions from `at` instead of the window sums: the rest of
+/// the test (cells, slopes, window end, children) as [`eval`]'s. A design study, not a unit.
+pub fn eval_carried(
+    p: &ReoriginParams,
+    ray: &Ray,
+    d: [u64; 3],
+    t_start: u64,
+    node: &NodeIn,
+    at: Positions,
+) -> NodeOut {
+    eval_inner(p, ray, d, t_start, node, &[], Some(at))
+}
+
+fn eval_inner(
+    p: &ReoriginParams,
+    ray: &Ray,
+    d: [u64; 3],
+    t_start: u64,
+    node: &NodeIn,
+    extra: &[ExtraAxis],
+    at: Option<Positions>,
+) -> NodeOut {
     let fmt = p.fmt;
     let q = p.box_bits;
     let q_max = (1i64 << q) - 1;
@@ -428,16 +459,26 @@ pub fn eval_with(
     });
     let mut raws: Vec<Option<Raw>> = Vec::new();
     let mut axes: Vec<Option<AxisTerms>> = Vec::new();
-    for ax in box_axes.chain(extra_axes) {
-        // the position at T in units 2^(e − g), outward: o − O + T·d in the window (a
-        // parallel axis's product is zero)
-        let floor = ax.e - g - i64::from(p.window_floor);
-        let (lo, hi, b) = window_sum(&[ax.o, ax.origin.neg(), t_term.mul(&ax.d)], w, floor);
-        // outward for a slab axis (⌊lo⌋, ⌈hi⌉); inward for a parallel one (⌈lo⌉, ⌊hi⌋):
-        // there an integer plane p is certainly beyond x when p > ⌊hi⌋ or p < ⌈lo⌉
+    for (a, ax) in box_axes.chain(extra_axes).enumerate() {
         let parallel = ax.recip.is_none();
-        let x_lo = clamp(Dyadic::new(lo, b).div_pow2_round(ax.e - g, parallel));
-        let x_hi = clamp(Dyadic::new(hi, b).div_pow2_round(ax.e - g, !parallel));
+        let (x_lo, x_hi) = match at {
+            Some(at) if a < 3 => at(&t_term.v, a, parallel),
+            _ => {
+                // the position at T in units 2^(e − g), outward: o − O + T·d in the
+                // window (a parallel axis's product is zero)
+                let floor = ax.e - g - i64::from(p.window_floor);
+                let terms = [ax.o, ax.origin.neg(), t_term.mul(&ax.d)];
+                let (lo, hi, b) = window_sum(&terms, w, floor);
+                // outward for a slab axis (⌊lo⌋, ⌈hi⌉); inward for a parallel one (⌈lo⌉,
+                // ⌊hi⌋): there an integer plane p is certainly beyond x when p > ⌊hi⌋ or
+                // p < ⌈lo⌉
+                (
+                    Dyadic::new(lo, b).div_pow2_round(ax.e - g, parallel),
+                    Dyadic::new(hi, b).div_pow2_round(ax.e - g, !parallel),
+                )
+            }
+        };
+        let (x_lo, x_hi) = (clamp(x_lo), clamp(x_hi));
         let Some((ra, rb, mirror)) = ax.recip else {
             axes.push(Some(AxisTerms::Parallel { x_lo, x_hi }));
             raws.push(None);

@@ -110,6 +110,12 @@ pub struct WideOpts {
     #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors"],
           num_args = 0..=1, default_missing_value = "all", value_name = "all|one|normal")]
     dop: Option<DopArg>,
+    /// with --wide: the carried-position study (docs/node.md §12; the model only): each
+    /// node's ray position computed from its parent's, kept to F fraction bits below the
+    /// position grid's, instead of the node unit's window sums
+    #[arg(long, requires = "wide", conflicts_with_all = ["exact_boxes", "anchors", "dop"],
+          value_name = "F", value_parser = clap::value_parser!(u32).range(0..=32))]
+    carried: Option<u32>,
 }
 
 /// `--dop`'s directions ([`DopSelect`]).
@@ -142,6 +148,8 @@ impl WideOpts {
             Boxes::Exact
         } else if self.anchors {
             Boxes::Anchored
+        } else if let Some(f) = self.carried {
+            Boxes::Carried(f)
         } else {
             Boxes::Node
         };
@@ -159,6 +167,11 @@ fn wide_name(format: WideFormat, tlas_box_bits: u32, boxes: Boxes) -> String {
         ),
         Boxes::Node => format!(
             "node unit N={} q={} (TLAS q={tlas_box_bits})",
+            format.children(),
+            format.box_bits()
+        ),
+        Boxes::Carried(f) => format!(
+            "node model with carried positions F={f} N={} q={} (TLAS q={tlas_box_bits})",
             format.children(),
             format.box_bits()
         ),
@@ -680,7 +693,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     )
                 }
             };
-            if wide.exact_boxes || wide.anchors || wide.dop.is_some() {
+            if wide.exact_boxes || wide.anchors || wide.dop.is_some() || wide.carried.is_some() {
                 return Err(
                     "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors or --dop"
                         .into(),

@@ -50,6 +50,7 @@ use golden_model::node_reorigin::{self, ExtraAxis, ReoriginParams};
 use golden_model::slab::{eval_conservative, SlabIn};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
 use rayon::prelude::*;
+use std::rc::Rc;
 
 /// An axis-aligned binary32 box `(min, max)`.
 pub type Box32 = ([f32; 3], [f32; 3]);
@@ -289,6 +290,21 @@ pub enum Boxes {
     /// the parent's entry for it as its start, the root the entry of a
     /// conservative slab on its box
     Node,
+    /// the `node` unit's test with the ray's position carried down from the parent
+    /// (`node_reorigin::eval_carried`, the carried-position study of docs/node.md §12; the
+    /// model only): the root's position exact, then each node's from its parent's by
+    /// exact arithmetic rounded outward to `2^−(g + F)` steps, `F` the field
+    Carried(u32),
+}
+
+/// The ray's position at a node's start as the carried-position study hands it to the
+/// node's children: the start `T`, per axis the bounds from the node's frame origin (whole
+/// multiples of `2^(e − g − F)`), and that origin.
+#[derive(Debug)]
+struct Carry {
+    t: Dyadic,
+    x: [(Dyadic, Dyadic); 3],
+    origin: [Dyadic; 3],
 }
 
 impl Tracer<'_> {
@@ -369,12 +385,12 @@ impl Tracer<'_> {
             .expect("a wide format is a valid node shape");
         let study = ReoriginParams::new(FloatFormat::BINARY32, n, bvh.format.box_bits());
         let bytes = match boxes {
-            Boxes::Anchored | Boxes::Node => bvh.format.record_bytes(),
+            Boxes::Anchored | Boxes::Node | Boxes::Carried(_) => bvh.format.record_bytes(),
             Boxes::Exact => bvh.format.baseline_bytes(),
         } as u64;
         // the start of each node's test (re-origin study): the root's from a box test
         let root_start = match boxes {
-            Boxes::Node => {
+            Boxes::Node | Boxes::Carried(_) => {
                 let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
                 for (i, (l, h)) in bvh.exact[0].iter().enumerate() {
                     if bvh.nodes[0].valid >> i & 1 == 1 {
@@ -402,10 +418,11 @@ impl Tracer<'_> {
             }
             _ => 0,
         };
-        let mut stack = vec![(0u32, root_start)];
+        let mut stack: Vec<(u32, u64, Option<Rc<Carry>>)> = vec![(0, root_start, None)];
+        let mut carry_next: Option<Rc<Carry>> = None;
         let mut order: Vec<usize> = Vec::with_capacity(n);
         let mut starts = [0u64; MAX_CHILDREN];
-        while let Some((id, t_start)) = stack.pop() {
+        while let Some((id, t_start, carried)) = stack.pop() {
             if r.done {
                 return;
             }
@@ -467,6 +484,73 @@ impl Tracer<'_> {
                         };
                     }
                 }
+                Boxes::Carried(frac) => {
+                    let ray = NodeRay {
+                        o,
+                        inv_d,
+                        t_min: 0,
+                        t_max,
+                    };
+                    let (g, frac) = (i64::from(study.pos_frac), i64::from(frac));
+                    let value = |b: u64| dyadic(f32::from_bits(b as u32) as f64);
+                    let origin = node.frame.origin.map(value);
+                    let exp = node.frame.exp.map(i64::from);
+                    // the bounds at T, whole multiples of 2^(e − g − F): the root's from
+                    // the exact position, a child's from its parent's, each rounded outward
+                    let position = |t: &Dyadic, a: usize| -> (Dyadic, Dyadic) {
+                        let unit = exp[a] - g - frac;
+                        let outward = |v: &Dyadic| {
+                            (
+                                Dyadic::new(v.div_pow2_round(unit, false), unit),
+                                Dyadic::new(v.div_pow2_round(unit, true), unit),
+                            )
+                        };
+                        let moved = t.mul(&value(d[a]));
+                        match &carried {
+                            None => outward(&value(o[a]).add(&moved).sub(&origin[a])),
+                            Some(c) => {
+                                let shift = c.origin[a]
+                                    .sub(&origin[a])
+                                    .add(&moved)
+                                    .sub(&c.t.mul(&value(d[a])));
+                                let (lo, hi) = &c.x[a];
+                                (outward(&lo.add(&shift)).0, outward(&hi.add(&shift)).1)
+                            }
+                        }
+                    };
+                    // onto the position grid, outward (inward for a parallel axis)
+                    let at = |t: &Dyadic, a: usize, parallel: bool| {
+                        let (lo, hi) = position(t, a);
+                        let grid = exp[a] - g;
+                        (
+                            lo.div_pow2_round(grid, parallel),
+                            hi.div_pow2_round(grid, !parallel),
+                        )
+                    };
+                    let out = node_reorigin::eval_carried(
+                        &study,
+                        &ray,
+                        d,
+                        t_start,
+                        &NodeIn::from_wide(node),
+                        &at,
+                    );
+                    carry_next = match &out.t_base {
+                        Bound::Fin(t) => Some(Rc::new(Carry {
+                            t: t.clone(),
+                            x: [0, 1, 2].map(|a| position(t, a)),
+                            origin,
+                        })),
+                        Bound::NegInf => None,
+                    };
+                    for s in out.slots.iter().filter(|s| s.hit) {
+                        order.push(s.child as usize);
+                        starts[s.child as usize] = match out.entry_value(s) {
+                            Bound::Fin(v) => f32_down(&v),
+                            Bound::NegInf => 0,
+                        };
+                    }
+                }
                 Boxes::Exact => {
                     let mut hits: Vec<(u32, usize)> = (0..n)
                         .filter(|&i| node.valid >> i & 1 == 1)
@@ -491,7 +575,7 @@ impl Tracer<'_> {
             }
             for &i in order.iter().rev() {
                 if let ChildRef::Inner(c) = node.child(i) {
-                    stack.push((c, starts[i]));
+                    stack.push((c, starts[i], carry_next.clone()));
                 }
             }
         }
