@@ -695,7 +695,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             };
             if wide.exact_boxes || wide.anchors || wide.dop.is_some() || wide.carried.is_some() {
                 return Err(
-                    "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors or --dop"
+                    "rtl-loop --wide runs the node unit: no --exact-boxes, --anchors, --dop or --carried"
                         .into(),
                 );
             }
