@@ -292,8 +292,9 @@ pub enum Boxes {
     Node,
     /// the `node` unit's test with the ray's position carried down from the parent
     /// (`node_reorigin::eval_carried`, the carried-position study of docs/node.md §12; the
-    /// model only): the root's position exact, then each node's from its parent's by
-    /// exact arithmetic rounded outward to `2^−(g + F)` steps, `F` the field
+    /// model only): the root's position from the ray, each other node's from its parent's
+    /// bounds by exact arithmetic, every one rounded outward to `2^−(g + F)` steps, `F` the
+    /// field
     Carried(u32),
 }
 
