@@ -467,18 +467,13 @@ fn oracle_markdown(loads: &[WideWorkload], areas: Option<&[Area]>) -> String {
         for w in loads {
             let (l, d) = wide_cost_per_ray(&w.node, areas);
             let (ol, od) = wide_oracle_cost_per_ray(&w.node, areas);
-            let _ = writeln!(
-                s,
-                "oracle culling (free, perfect) / no planes LUT-cycles per ray: {} {:.4}",
-                w.scene,
-                ol / l
-            );
-            let _ = writeln!(
-                s,
-                "oracle culling (free, perfect) / no planes DSP-cycles per ray: {} {:.4}",
-                w.scene,
-                od / d
-            );
+            for (what, ratio) in [("LUT", ol / l), ("DSP", od / d)] {
+                let _ = writeln!(
+                    s,
+                    "oracle culling (free, perfect) / no planes {what}-cycles per ray: {} {ratio:.4}",
+                    w.scene
+                );
+            }
         }
     }
     s

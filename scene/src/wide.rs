@@ -45,7 +45,7 @@ use golden_model::cull::bvh::Mesh;
 use golden_model::cull::bvh::{Bvh, NodeKind};
 use golden_model::cull::tester::slab_reciprocal;
 use golden_model::float::FloatFormat;
-use golden_model::node::{self, Bound, Dyadic, NodeIn, NodeParams, Ray as NodeRay};
+use golden_model::node::{self, Bound, Dyadic, NodeIn, NodeOut, NodeParams, Ray as NodeRay};
 use golden_model::node_reorigin::{self, ExtraAxis, ReoriginParams};
 use golden_model::slab::{eval_conservative, SlabIn};
 use golden_model::wide::{encode, ChildBox, ChildKind, ChildRef, Node, WideFormat, MAX_CHILDREN};
@@ -420,7 +420,6 @@ impl Tracer<'_> {
             _ => 0,
         };
         let mut stack: Vec<(u32, u64, Option<Rc<Carry>>)> = vec![(0, root_start, None)];
-        let mut carry_next: Option<Rc<Carry>> = None;
         let mut order: Vec<usize> = Vec::with_capacity(n);
         let mut starts = [0u64; MAX_CHILDREN];
         while let Some((id, t_start, carried)) = stack.pop() {
@@ -433,30 +432,22 @@ impl Tracer<'_> {
             st.tlas_node_visits += u64::from(tlas);
             st.node_bytes += bytes;
             st.child_tests += node.valid.count_ones() as u64;
-            let t_max = r.box_t_max();
+            let ray = NodeRay {
+                o,
+                inv_d,
+                t_min: 0,
+                t_max: r.box_t_max(),
+            };
             order.clear();
+            // the position this node hands its children (the carried-position study)
+            let mut carry_next = None;
             match boxes {
                 Boxes::Anchored => {
                     // the node tester: slots sorted, hits first, nearer first
-                    let out = node::eval(
-                        params,
-                        &NodeRay {
-                            o,
-                            inv_d,
-                            t_min: 0,
-                            t_max,
-                        },
-                        &NodeIn::from_wide(node),
-                    );
+                    let out = node::eval(params, &ray, &NodeIn::from_wide(node));
                     order.extend(out.slots.iter().filter(|s| s.hit).map(|s| s.child as usize));
                 }
                 Boxes::Node => {
-                    let ray = NodeRay {
-                        o,
-                        inv_d,
-                        t_min: 0,
-                        t_max,
-                    };
                     let node_in = NodeIn::from_wide(node);
                     let out = match dop {
                         // the cull-plane study's extra axes: the model only
@@ -477,21 +468,9 @@ impl Tracer<'_> {
                             node: &node_in,
                         }),
                     };
-                    for s in out.slots.iter().filter(|s| s.hit) {
-                        order.push(s.child as usize);
-                        starts[s.child as usize] = match out.entry_value(s) {
-                            Bound::Fin(v) => f32_down(&v),
-                            Bound::NegInf => 0,
-                        };
-                    }
+                    take_hits(&out, &mut order, &mut starts);
                 }
                 Boxes::Carried(frac) => {
-                    let ray = NodeRay {
-                        o,
-                        inv_d,
-                        t_min: 0,
-                        t_max,
-                    };
                     let (g, frac) = (i64::from(study.pos_frac), i64::from(frac));
                     let value = |b: u64| dyadic(f32::from_bits(b as u32) as f64);
                     let origin = node.frame.origin.map(value);
@@ -544,19 +523,13 @@ impl Tracer<'_> {
                         })),
                         Bound::NegInf => None,
                     };
-                    for s in out.slots.iter().filter(|s| s.hit) {
-                        order.push(s.child as usize);
-                        starts[s.child as usize] = match out.entry_value(s) {
-                            Bound::Fin(v) => f32_down(&v),
-                            Bound::NegInf => 0,
-                        };
-                    }
+                    take_hits(&out, &mut order, &mut starts);
                 }
                 Boxes::Exact => {
                     let mut hits: Vec<(u32, usize)> = (0..n)
                         .filter(|&i| node.valid >> i & 1 == 1)
                         .filter_map(|i| {
-                            let out = box_test(bvh.exact[id][i], o, inv_d, t_max);
+                            let out = box_test(bvh.exact[id][i], o, inv_d, ray.t_max);
                             // entry distances (non-negative here) order as their bits
                             out.hit.then_some((out.t_enter as u32 & 0x7fff_ffff, i))
                         })
@@ -580,6 +553,18 @@ impl Tracer<'_> {
                 }
             }
         }
+    }
+}
+
+/// A node test's hit slots in its order into `order`, and each one's entry, rounded down to
+/// binary32, into `starts` (the start of that child's own test).
+fn take_hits(out: &NodeOut, order: &mut Vec<usize>, starts: &mut [u64; MAX_CHILDREN]) {
+    for s in out.slots.iter().filter(|s| s.hit) {
+        order.push(s.child as usize);
+        starts[s.child as usize] = match out.entry_value(s) {
+            Bound::Fin(v) => f32_down(&v),
+            Bound::NegInf => 0,
+        };
     }
 }
 
